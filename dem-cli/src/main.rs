@@ -1,1 +1,39 @@
-fn main() {}
+//! `dem`: the command line of the workspace. Argument parsing, progress and messages only; the
+//! work is done by the libraries.
+
+use clap::{Parser, Subcommand};
+use std::process::ExitCode;
+
+mod bench;
+mod clump;
+
+#[derive(Parser)]
+#[command(name = "dem", version, about = "2D DEM of brittle-material machining")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Grain outlines (files or folders) to disc-clump templates (improved ORC or ORC).
+    Clump(clump::ClumpArgs),
+    /// Speed benchmarks; the last line printed is the figure.
+    #[command(subcommand)]
+    Bench(bench::BenchKind),
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Clump(a) => clump::run(a),
+        Command::Bench(k) => bench::run(k),
+    };
+    match result {
+        Ok(code) => code,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(2)
+        }
+    }
+}

@@ -1,1 +1,7 @@
+//! validation: reproduces the published tables (Ye & Xu 2010) from the project's data and writes
+//! the reproducibility report. Each case is one module; `report` runs them and writes Markdown
+//! and JSON.
 
+pub mod clump_sweep;
+pub mod report;
+pub mod table1;

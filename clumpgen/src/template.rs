@@ -1,0 +1,243 @@
+//! The clump template: a versioned JSON record of one grain's disc clump, everything in SI units
+//! in the grain's centroid frame (not rotated; the principal angle is recorded). The schema is
+//! documented field by field in `docs/template-schema.md`; [`Template::load`] reads it back and
+//! checks it, naming the file and the field at fault.
+
+use crate::massfit::Residuals;
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+
+/// Schema identifier written in every template; bump on incompatible change.
+pub const SCHEMA: &str = "clumpgen.template/1";
+
+/// How the disc masses were assigned.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Method {
+    /// Improved ORC (Ye & Xu 2010): masses solved so that mass, centroid and inertia are exact.
+    Improved,
+    /// Classic ORC (Ashmawy et al. 2003): uniform-density discs summed, overlaps counted twice.
+    Orc,
+}
+
+impl Method {
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::Improved => "improved",
+            Method::Orc => "orc",
+        }
+    }
+}
+
+/// One disc of the clump (m, m, m, kg), centre in the grain's centroid frame.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Disc {
+    pub x: f64,
+    pub y: f64,
+    pub r: f64,
+    pub m: f64,
+}
+
+/// Where the outline came from.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Source {
+    pub file: String,
+    pub sha256: String,
+    /// Units the outline file was read in (`m`, `mm`, `um`, `px`).
+    pub units: String,
+    /// Outline vertices after cleaning (and resampling, if asked).
+    pub vertices: usize,
+    /// Grain centroid in the file's own coordinates, converted to metres (SI), so a clump can be
+    /// put back where the grain was.
+    pub centroid_m: [f64; 2],
+    pub warnings: Vec<String>,
+}
+
+/// Fill parameters as used (absolute lengths, m).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct FillRecord {
+    pub cover_target: f64,
+    pub r_min: f64,
+    pub r_max: f64,
+    pub max_discs: usize,
+    pub raster: usize,
+    /// `cover_reached`, `max_discs` or `no_room`.
+    pub stop: crate::fill::StopReason,
+    /// Discs added after the fill to make the mass fit feasible.
+    pub repair_discs: usize,
+    /// Every disc satisfies `r ≤ distance(centre, outline) + inside_tolerance` (m).
+    pub inside_tolerance: f64,
+    /// Lower bound on solved masses, as a fraction of the prior (improved method).
+    pub mass_floor: f64,
+    /// The prior the improved method stays closest to.
+    pub prior: String,
+}
+
+/// Mass properties: mass (kg), centroid (m, grain centroid frame), moment of inertia about the
+/// z axis through the grain centroid (kg·m²), and area (m²).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct MassProps {
+    pub mass: f64,
+    pub centroid: [f64; 2],
+    /// About the grain's centroid (what the consistency equation (3) of Ye & Xu constrains).
+    pub inertia: f64,
+    /// About the clump's own mass centre (= `inertia − mass·|centroid|²`).
+    pub inertia_own: f64,
+    /// Area the mass stands for: the grain area for the target; `Σπr²` for the clump (overlaps
+    /// counted twice, as ORC does).
+    pub area: f64,
+}
+
+/// Area cover of the clump.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct CoverRecord {
+    /// `A_r = area(union of discs ∩ grain) / area(grain)`.
+    pub value: f64,
+    /// Bound on the absolute error of `value` (floating-point rounding; the union is exact).
+    pub bound: f64,
+    /// Area of the union of the discs (m²).
+    pub union_area: f64,
+}
+
+/// Grain geometry.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Shape {
+    pub area: f64,
+    pub perimeter: f64,
+    /// Polar second moment of area about the centroid (m⁴).
+    pub j: f64,
+    /// Angle of the long (minimum second moment) axis from +x (rad).
+    pub principal_angle: f64,
+    pub r_eq: f64,
+    pub aspect_ratio: f64,
+    pub circularity: f64,
+    pub solidity: f64,
+}
+
+/// A clump template (see the module docs).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Template {
+    pub schema: String,
+    pub id: String,
+    pub generator: String,
+    pub source: Source,
+    /// Always `{"length": "m", "mass": "kg", "inertia": "kg m^2"}`.
+    pub units: std::collections::BTreeMap<String, String>,
+    /// kg/m³.
+    pub density: f64,
+    /// Disc thickness t (m); masses are `ρ·t·area`.
+    pub thickness: f64,
+    pub method: Method,
+    pub fill: FillRecord,
+    pub discs: Vec<Disc>,
+    pub target: MassProps,
+    pub achieved: MassProps,
+    pub residuals: Residuals,
+    pub cover: CoverRecord,
+    pub shape: Shape,
+}
+
+/// Errors reading or writing a template.
+#[derive(Debug, thiserror::Error)]
+pub enum TemplateError {
+    #[error("{file}: cannot read: {source}")]
+    Io {
+        file: String,
+        source: std::io::Error,
+    },
+    #[error("{file}: not a clump template: {source}")]
+    Json {
+        file: String,
+        source: serde_json::Error,
+    },
+    #[error("{file}: schema is {found:?}, expected {SCHEMA:?}")]
+    Schema { file: String, found: String },
+    #[error("{file}: field {field}: {reason}")]
+    Field {
+        file: String,
+        field: String,
+        reason: String,
+    },
+}
+
+impl Template {
+    /// Checks invariants every consumer relies on: finite numbers, positive radii and masses,
+    /// positive density and thickness. `file` names the template in the error.
+    pub fn check(&self, file: &str) -> Result<(), TemplateError> {
+        let bad = |field: String, reason: &str| TemplateError::Field {
+            file: file.to_string(),
+            field,
+            reason: reason.to_string(),
+        };
+        if self.schema != SCHEMA {
+            return Err(TemplateError::Schema {
+                file: file.to_string(),
+                found: self.schema.clone(),
+            });
+        }
+        for (name, v) in [("density", self.density), ("thickness", self.thickness)] {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(bad(name.into(), "must be a positive finite number"));
+            }
+        }
+        if self.discs.is_empty() {
+            return Err(bad("discs".into(), "no discs"));
+        }
+        for (i, d) in self.discs.iter().enumerate() {
+            for (k, v) in [("x", d.x), ("y", d.y), ("r", d.r), ("m", d.m)] {
+                if !v.is_finite() {
+                    return Err(bad(format!("discs[{i}].{k}"), "not a finite number"));
+                }
+            }
+            if d.r <= 0.0 {
+                return Err(bad(format!("discs[{i}].r"), "radius must be positive"));
+            }
+            if d.m <= 0.0 {
+                return Err(bad(format!("discs[{i}].m"), "mass must be positive"));
+            }
+        }
+        for (name, p) in [("target", &self.target), ("achieved", &self.achieved)] {
+            let vals = [p.mass, p.centroid[0], p.centroid[1], p.inertia, p.inertia_own, p.area];
+            if vals.iter().any(|v| !v.is_finite()) {
+                return Err(bad(name.into(), "contains a non-finite number"));
+            }
+        }
+        Ok(())
+    }
+
+    /// Reads and checks a template.
+    pub fn load(path: &Path) -> Result<Template, TemplateError> {
+        let file = path.display().to_string();
+        let text = std::fs::read_to_string(path).map_err(|source| TemplateError::Io {
+            file: file.clone(),
+            source,
+        })?;
+        Self::from_json(&text, &file)
+    }
+
+    /// Parses and checks a template from JSON text; `file` names it in errors.
+    pub fn from_json(text: &str, file: &str) -> Result<Template, TemplateError> {
+        let t: Template = serde_json::from_str(text).map_err(|source| TemplateError::Json {
+            file: file.to_string(),
+            source,
+        })?;
+        t.check(file)?;
+        Ok(t)
+    }
+
+    /// Pretty JSON text, after [`Template::check`] (so no NaN is ever written).
+    pub fn to_json(&self, file: &str) -> Result<String, TemplateError> {
+        self.check(file)?;
+        let mut s = serde_json::to_string_pretty(self).expect("template serialises");
+        s.push('\n');
+        Ok(s)
+    }
+
+    /// Writes the template atomically (temporary file in the same folder, then rename).
+    pub fn save(&self, path: &Path) -> Result<(), TemplateError> {
+        let file = path.display().to_string();
+        let text = self.to_json(&file)?;
+        crate::io::write_atomic(path, text.as_bytes())
+            .map_err(|source| TemplateError::Io { file, source })
+    }
+}

@@ -1,0 +1,100 @@
+//! `dem bench`: speed figures (never timed tests). Each variant prints its figure as its last line.
+
+use clap::{Args, Subcommand};
+use clumpgen::batch::collect_inputs;
+use clumpgen::{make_template, read_outline, ClumpParams, Outline, ReadOptions, Units};
+use rayon::prelude::*;
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::Instant;
+
+#[derive(Subcommand)]
+pub enum BenchKind {
+    /// Clump generation: grains per second at the given cover, on one thread and on all.
+    Clump(ClumpBench),
+}
+
+#[derive(Args)]
+pub struct ClumpBench {
+    /// Outline files or folders.
+    #[arg(default_value = "data/outlines")]
+    inputs: Vec<PathBuf>,
+    #[arg(long, default_value_t = 0.95)]
+    cover: f64,
+    /// Repetitions; the median is reported.
+    #[arg(long, default_value_t = 3)]
+    repeats: usize,
+    /// Units override for the outline files (e.g. px with --px-scale).
+    #[arg(long)]
+    units: Option<String>,
+    #[arg(long)]
+    px_scale: Option<f64>,
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+fn clump(b: ClumpBench) -> Result<ExitCode, String> {
+    let units = b
+        .units
+        .as_deref()
+        .map(|u| Units::parse(u, b.px_scale).map_err(|e| e.to_string()))
+        .transpose()?;
+    let read = ReadOptions {
+        units,
+        ..ReadOptions::default()
+    };
+    let inputs = collect_inputs(&b.inputs).map_err(|e| e.to_string())?;
+    let outlines: Vec<Outline> = inputs
+        .iter()
+        .filter_map(|i| read_outline(&i.path, &read).ok())
+        .collect();
+    if outlines.is_empty() {
+        return Err("no readable outlines".into());
+    }
+    let p = ClumpParams {
+        cover: b.cover,
+        ..ClumpParams::default()
+    };
+    let run = |threads: usize| -> Result<(f64, usize), String> {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .map_err(|e| e.to_string())?;
+        let mut rates = vec![];
+        let mut ok = 0;
+        for _ in 0..b.repeats.max(1) {
+            let t0 = Instant::now();
+            ok = pool.install(|| {
+                outlines
+                    .par_iter()
+                    .filter(|o| make_template(o, &p).is_ok())
+                    .count()
+            });
+            rates.push(outlines.len() as f64 / t0.elapsed().as_secs_f64());
+        }
+        Ok((median(rates), ok))
+    };
+    let all = rayon::current_num_threads();
+    let (one, ok) = run(1)?;
+    let (many, _) = run(all)?;
+    println!(
+        "grains: {} ({} succeeded), cover target {}, median of {} runs",
+        outlines.len(),
+        ok,
+        b.cover,
+        b.repeats
+    );
+    println!("1 thread:  {one:.1} grains/s ({:.3} ms/grain)", 1e3 / one);
+    println!("{all} threads: {many:.1} grains/s");
+    println!("grains/s: {many:.1}");
+    Ok(ExitCode::SUCCESS)
+}
+
+pub fn run(k: BenchKind) -> Result<ExitCode, String> {
+    match k {
+        BenchKind::Clump(b) => clump(b),
+    }
+}
