@@ -1,0 +1,364 @@
+//! Reading, validating and normalizing grain outlines.
+//!
+//! Input formats are described in [`text`](self) docs: CSV / whitespace / tab text files of
+//! `x y` pairs and JSON `{"units": ..., "points": [[x, y], ...]}` (chosen by a `.json`
+//! extension). Units come from [`ReadOptions::units`] if given (it overrides the file), else
+//! from the file (`# units: m` comment or JSON `"units"`), else millimetres.
+//!
+//! Processing order, all in input units until step 7:
+//! 1. parse (line-numbered errors for unparsable lines and non-finite numbers);
+//! 2. drop consecutive exact duplicates (with a warning) and an exact repeated closing point
+//!    (silently);
+//! 3. require ≥ 3 distinct points;
+//! 4. subtract the local origin, the bounding-box centre of the raw points (so UTM-sized
+//!    coordinates keep their precision: subtracting nearby floats is exact, Sterbenz lemma);
+//! 5. reject negligible area (|A| ≤ 1e-12 (w + h)², w×h the bounding box);
+//! 6. reject self-intersection ([`find_self_intersection`]);
+//! 7. make counter-clockwise, scale to metres, optionally [`resample`].
+
+mod text;
+mod validate;
+
+use std::path::Path;
+
+use serde::{Deserialize, Serialize};
+use sha2::{Digest, Sha256};
+
+pub use validate::{find_self_intersection, SelfHit};
+
+use crate::error::{EdgeRef, OutlineError, Pos};
+use crate::props::signed_area;
+use crate::units::Units;
+use text::RawOutline;
+
+/// Options of [`read_outline`] / [`parse_outline`].
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
+pub struct ReadOptions {
+    /// Units of the file; overrides what the file declares. `None`: the file's declaration,
+    /// else millimetres.
+    pub units: Option<Units>,
+    /// Resample the outline to this many points equally spaced along its perimeter.
+    pub resample: Option<usize>,
+}
+
+/// A validated grain outline in SI units and a local frame.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Outline {
+    /// File stem, e.g. `"grain-007"`.
+    pub name: String,
+    /// The path as given.
+    pub source: String,
+    /// Hex SHA-256 of the file bytes.
+    pub sha256: String,
+    /// Units the file was read in.
+    pub units: Units,
+    /// Local origin in metres (bounding-box centre of the raw points), already subtracted from
+    /// `points`: input point = (points + origin) / metres_per_unit.
+    pub origin: [f64; 2],
+    /// Vertices in metres, local frame, counter-clockwise, no repeated closing point, no
+    /// consecutive duplicates.
+    pub points: Vec<[f64; 2]>,
+    /// Non-fatal remarks (dropped duplicates, overridden units).
+    pub warnings: Vec<String>,
+}
+
+/// Read an outline file (JSON if the extension is `.json`, case-insensitive; text otherwise).
+pub fn read_outline(path: &Path, opts: &ReadOptions) -> Result<Outline, OutlineError> {
+    let source = path.display().to_string();
+    let bytes = std::fs::read(path).map_err(|e| OutlineError::Io {
+        file: source.clone(),
+        source: e,
+    })?;
+    let text = String::from_utf8(bytes.clone()).map_err(|e| OutlineError::Io {
+        file: source.clone(),
+        source: std::io::Error::new(std::io::ErrorKind::InvalidData, e),
+    })?;
+    let name = path
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let json = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("json"));
+    parse_outline(&text, &name, &source, json, opts)
+}
+
+/// Parse outline text already in memory; `source` names it in errors, `json` picks the format.
+/// `sha256` is that of the UTF-8 bytes of `text`.
+pub fn parse_outline(
+    text: &str,
+    name: &str,
+    source: &str,
+    json: bool,
+    opts: &ReadOptions,
+) -> Result<Outline, OutlineError> {
+    let raw = if json {
+        text::parse_json(text)
+    } else {
+        text::parse_text(text)
+    }
+    .map_err(|e| e.with_file(source))?;
+    let sha256 = Sha256::digest(text.as_bytes())
+        .iter()
+        .map(|b| format!("{b:02x}"))
+        .collect();
+    let mut warnings = Vec::new();
+    let units = resolve_units(&raw, source, opts, &mut warnings)?;
+    let (pts, pos, idx) = drop_duplicates(&raw, &mut warnings);
+
+    let mut distinct = pts.clone();
+    distinct.sort_by(|a, b| a[0].total_cmp(&b[0]).then(a[1].total_cmp(&b[1])));
+    distinct.dedup();
+    if distinct.len() < 3 {
+        return Err(OutlineError::TooFewPoints {
+            file: source.to_string(),
+            distinct: distinct.len(),
+        });
+    }
+
+    let (lo, hi) = bbox(&pts);
+    let origin = [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])];
+    let mut local: Vec<[f64; 2]> = pts
+        .iter()
+        .map(|p| [p[0] - origin[0], p[1] - origin[1]])
+        .collect();
+    let (w, h) = (hi[0] - lo[0], hi[1] - lo[1]);
+    let area = signed_area(&local);
+    if !(area.abs() > 1e-12 * (w + h) * (w + h)) {
+        return Err(OutlineError::ZeroArea {
+            file: source.to_string(),
+            area,
+            width: w,
+            height: h,
+            units: units.name(),
+        });
+    }
+    if let Some(hit) = find_self_intersection(&local) {
+        let n = local.len();
+        let edge = |e: usize| EdgeRef {
+            vertices: [idx[e], idx[(e + 1) % n]],
+            pos: [pos[e], pos[(e + 1) % n]],
+        };
+        return Err(OutlineError::SelfIntersection {
+            file: source.to_string(),
+            a: edge(hit.edge_a),
+            b: edge(hit.edge_b),
+            point: [hit.point[0] + origin[0], hit.point[1] + origin[1]],
+            units: units.name(),
+        });
+    }
+    let mut pos = pos;
+    if area < 0.0 {
+        local.reverse();
+        pos.reverse();
+    }
+    let s = units.metres_per_unit();
+    let mut points = Vec::with_capacity(local.len());
+    for (p, ps) in local.iter().zip(&pos) {
+        let q = [p[0] * s, p[1] * s];
+        if !(q[0].is_finite() && q[1].is_finite()) {
+            return Err(OutlineError::NonFinite {
+                file: source.to_string(),
+                pos: *ps,
+                text: format!("({}, {}) {} x {s} m", p[0], p[1], units.name()),
+            });
+        }
+        points.push(q);
+    }
+    let origin_m = [origin[0] * s, origin[1] * s];
+    if let Some(n) = opts.resample {
+        points = resample_checked(&points, n, source)?;
+    }
+    Ok(Outline {
+        name: name.to_string(),
+        source: source.to_string(),
+        sha256,
+        units,
+        origin: origin_m,
+        points,
+        warnings,
+    })
+}
+
+fn resolve_units(
+    raw: &RawOutline,
+    source: &str,
+    opts: &ReadOptions,
+    warnings: &mut Vec<String>,
+) -> Result<Units, OutlineError> {
+    let declared_scale = raw.metres_per_px.map(|(v, _)| v);
+    if let Some(u) = opts.units {
+        if let Units::Px { metres_per_px } = u {
+            if !(metres_per_px.is_finite() && metres_per_px > 0.0) {
+                return Err(OutlineError::BadScale {
+                    file: source.to_string(),
+                    pos: None,
+                    value: metres_per_px,
+                });
+            }
+        }
+        if let Some((text, p)) = &raw.units {
+            // Report a differing declaration; compare by name only (px scales are not declared
+            // by name).
+            let same = Units::parse(text, declared_scale.or(Some(1.0)))
+                .map(|d| d.name() == u.name())
+                .unwrap_or(false);
+            if !same {
+                warnings.push(format!(
+                    "file declares units {text:?} ({p}); read as {} as requested",
+                    u.name()
+                ));
+            }
+        }
+        return Ok(u);
+    }
+    match &raw.units {
+        Some((text, p)) => {
+            let scale_pos = raw.metres_per_px.map(|(_, sp)| sp).unwrap_or(*p);
+            Units::parse(text, declared_scale).map_err(|e| {
+                let at = if matches!(e, OutlineError::BadScale { .. }) {
+                    scale_pos
+                } else {
+                    *p
+                };
+                e.with_file(source).at(at)
+            })
+        }
+        None => Ok(Units::Mm),
+    }
+}
+
+/// Drop consecutive exact duplicates (warned) and an exact repeated closing point (silent).
+/// Returns the kept points, their positions and their indices among the file's points.
+fn drop_duplicates(
+    raw: &RawOutline,
+    warnings: &mut Vec<String>,
+) -> (Vec<[f64; 2]>, Vec<Pos>, Vec<usize>) {
+    let mut pts: Vec<[f64; 2]> = Vec::with_capacity(raw.points.len());
+    let mut pos = Vec::with_capacity(raw.points.len());
+    let mut idx = Vec::with_capacity(raw.points.len());
+    let mut dropped: Vec<Pos> = Vec::new();
+    for (k, (p, ps)) in raw.points.iter().zip(&raw.pos).enumerate() {
+        if pts.last() == Some(p) {
+            dropped.push(*ps);
+        } else {
+            pts.push(*p);
+            pos.push(*ps);
+            idx.push(k);
+        }
+    }
+    if pts.len() > 1 && pts.first() == pts.last() {
+        pts.pop();
+        pos.pop();
+        idx.pop();
+    }
+    if !dropped.is_empty() {
+        // "dropped 3 consecutive duplicate points (lines 17, 40, 41)"
+        const SHOW: usize = 10;
+        let nums: Vec<String> = dropped
+            .iter()
+            .take(SHOW)
+            .map(|p| match p {
+                Pos::Line(l) => l.to_string(),
+                Pos::Point(k) => k.to_string(),
+            })
+            .collect();
+        let kind = match (dropped[0], dropped.len()) {
+            (Pos::Line(_), 1) => "line",
+            (Pos::Line(_), _) => "lines",
+            (Pos::Point(_), 1) => "point",
+            (Pos::Point(_), _) => "points",
+        };
+        let more = if dropped.len() > SHOW {
+            format!(", ... and {} more", dropped.len() - SHOW)
+        } else {
+            String::new()
+        };
+        warnings.push(format!(
+            "dropped {} consecutive duplicate point{} ({kind} {}{more})",
+            dropped.len(),
+            if dropped.len() == 1 { "" } else { "s" },
+            nums.join(", ")
+        ));
+    }
+    (pts, pos, idx)
+}
+
+fn bbox(p: &[[f64; 2]]) -> ([f64; 2], [f64; 2]) {
+    let mut lo = [f64::INFINITY; 2];
+    let mut hi = [f64::NEG_INFINITY; 2];
+    for q in p {
+        for k in 0..2 {
+            lo[k] = lo[k].min(q[k]);
+            hi[k] = hi[k].max(q[k]);
+        }
+    }
+    (lo, hi)
+}
+
+fn resample_checked(
+    points: &[[f64; 2]],
+    n: usize,
+    source: &str,
+) -> Result<Vec<[f64; 2]>, OutlineError> {
+    if n < 3 {
+        return Err(OutlineError::BadOption {
+            file: source.to_string(),
+            reason: format!("resample to {n} points: need at least 3"),
+        });
+    }
+    let r = resample(points, n);
+    if let Some(hit) = find_self_intersection(&r) {
+        return Err(OutlineError::BadOption {
+            file: source.to_string(),
+            reason: format!(
+                "resampling to {n} points makes the outline intersect itself (resampled edges \
+                 {} and {}); use more points",
+                hit.edge_a, hit.edge_b
+            ),
+        });
+    }
+    if signed_area(&r) <= 0.0 {
+        return Err(OutlineError::BadOption {
+            file: source.to_string(),
+            reason: format!("resampling to {n} points leaves no area; use more points"),
+        });
+    }
+    Ok(r)
+}
+
+/// `n` points equally spaced along the perimeter of the closed polygon `points`, starting at
+/// `points[0]` and keeping its orientation: output point k lies on the polygon at arc length
+/// k·P/n from `points[0]` (P the perimeter). Ye & Xu (2010) resample each grain outline into
+/// equally spaced points before filling it. Corners between samples are cut, so the area
+/// converges to the polygon's as O(1/n²). Returns an empty vector for `n == 0` or no points,
+/// and `n` copies of the point for a zero-length outline.
+pub fn resample(points: &[[f64; 2]], n: usize) -> Vec<[f64; 2]> {
+    let m = points.len();
+    if n == 0 || m == 0 {
+        return Vec::new();
+    }
+    let mut cum = Vec::with_capacity(m + 1);
+    cum.push(0.0);
+    for i in 0..m {
+        let (a, b) = (points[i], points[(i + 1) % m]);
+        cum.push(cum[i] + (b[0] - a[0]).hypot(b[1] - a[1]));
+    }
+    let total = cum[m];
+    if total == 0.0 {
+        return vec![points[0]; n];
+    }
+    let mut out = Vec::with_capacity(n);
+    let mut e = 0;
+    for k in 0..n {
+        let s = total * k as f64 / n as f64;
+        while e + 1 < m && cum[e + 1] <= s {
+            e += 1;
+        }
+        let len = cum[e + 1] - cum[e];
+        let (a, b) = (points[e], points[(e + 1) % m]);
+        let t = if len > 0.0 { (s - cum[e]) / len } else { 0.0 };
+        out.push([a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])]);
+    }
+    out
+}
