@@ -1,12 +1,39 @@
-//! Grain outlines to disc clumps with exact mass, centroid and inertia.
+//! clumpgen: grain outlines to disc clumps whose mass, centroid and moment of inertia equal the
+//! real grain's (the "improved ORC" method of Ye & Xu 2010), saved as JSON templates.
+//!
+//! The pipeline for one grain ([`clump::make_template`]):
+//!
+//! ```text
+//! outline file ── outline::read_outline ──► Outline (SI, local origin, CCW, validated)
+//!     │ props::polygon_props, descriptors::shape_descriptors   (exact, Green's theorem)
+//!     ▼
+//! fill::Filler::run          minimum-residual-area discs until the cover target (exact cover)
+//!     ▼
+//! massfit::fit_masses        Σm = m_p, Σm·x = 0, Σm·y = 0, ΣI = I_p, m_i > 0 (QP, active set)
+//!     │ (infeasible → Filler::repair_disc near the boundary, then solve again)
+//!     ▼
+//! template::Template         versioned JSON, written atomically; Template::load reads it back
+//! ```
+//!
+//! [`batch::run_batch`] runs many grains in parallel (a clump library).
 
+pub mod batch;
+pub mod clump;
+pub mod cover;
 pub mod descriptors;
 pub mod error;
+pub mod fill;
+pub mod geom;
+pub mod hausdorff;
+pub mod io;
+pub mod massfit;
 pub mod outline;
 pub mod props;
 pub mod synth;
+pub mod template;
 pub mod units;
 
+pub use clump::{make_template, ClumpError, ClumpParams, Length};
 pub use descriptors::{convex_hull, shape_descriptors, ShapeDescriptors};
 pub use error::OutlineError;
 pub use outline::{
@@ -14,4 +41,5 @@ pub use outline::{
 };
 pub use props::{polygon_props, PolygonProps};
 pub use synth::{scale_to_area, synth_grain, SynthParams};
+pub use template::{Method, Template};
 pub use units::Units;
