@@ -76,7 +76,7 @@ impl Default for ClumpParams {
 #[derive(Debug, thiserror::Error)]
 pub enum ClumpError {
     #[error(transparent)]
-    Outline(#[from] crate::error::OutlineError),
+    Outline(Box<crate::error::OutlineError>),
     #[error("{file}: invalid parameter: {reason}")]
     Params { file: String, reason: String },
     #[error("{file}: no disc of radius >= r_min = {r_min:.3e} m fits inside the outline")]
@@ -90,6 +90,12 @@ pub enum ClumpError {
     },
     #[error(transparent)]
     Template(#[from] crate::template::TemplateError),
+}
+
+impl From<crate::error::OutlineError> for ClumpError {
+    fn from(e: crate::error::OutlineError) -> Self {
+        ClumpError::Outline(Box::new(e))
+    }
 }
 
 fn check_params(p: &ClumpParams, file: &str) -> Result<(), ClumpError> {
@@ -151,7 +157,9 @@ pub fn make_template(outline: &Outline, p: &ClumpParams) -> Result<Template, Clu
     if !(r_min > 0.0 && r_max >= r_min) {
         return Err(ClumpError::Params {
             file,
-            reason: format!("need 0 < r_min <= r_max, got r_min = {r_min:e} m, r_max = {r_max:e} m"),
+            reason: format!(
+                "need 0 < r_min <= r_max, got r_min = {r_min:e} m, r_max = {r_max:e} m"
+            ),
         });
     }
     let fp = FillParams {
@@ -194,7 +202,12 @@ pub fn make_template(outline: &Outline, p: &ClumpParams) -> Result<Template, Clu
         Method::Orc => filler
             .discs
             .iter()
-            .map(|d| Disc { x: d.x, y: d.y, r: d.r, m: uniform(d) })
+            .map(|d| Disc {
+                x: d.x,
+                y: d.y,
+                r: d.r,
+                m: uniform(d),
+            })
             .collect(),
         Method::Improved => {
             let t = MassTargets {
@@ -211,7 +224,12 @@ pub fn make_template(outline: &Outline, p: &ClumpParams) -> Result<Template, Clu
                             .discs
                             .iter()
                             .zip(m)
-                            .map(|(d, m)| Disc { x: d.x, y: d.y, r: d.r, m })
+                            .map(|(d, m)| Disc {
+                                x: d.x,
+                                y: d.y,
+                                r: d.r,
+                                m,
+                            })
                             .collect();
                     }
                     Err(e) => {

@@ -409,7 +409,14 @@ impl<'a> Filler<'a> {
                     .iter()
                     .any(|o| (o.x - c[0]).hypot(o.y - c[1]) < o.r + r);
                 if !clash && best.is_none_or(|(s, _)| score > s) {
-                    best = Some((score, Circle { x: c[0], y: c[1], r }));
+                    best = Some((
+                        score,
+                        Circle {
+                            x: c[0],
+                            y: c[1],
+                            r,
+                        },
+                    ));
                 }
             }
         }
@@ -519,11 +526,11 @@ mod tests {
         let mut d = [0.0; 11];
         let (mut v, mut z) = ([0usize; 11], [0.0; 12]);
         edt_1d(&f, &mut d, &mut v, &mut z);
-        for q in 0..11 {
+        for (q, &dq) in d.iter().enumerate() {
             let brute = (0..11)
                 .map(|p| (q as f64 - p as f64).powi(2) + f[p])
                 .fold(f64::INFINITY, f64::min);
-            assert_eq!(d[q], brute, "q = {q}");
+            assert_eq!(dq, brute, "q = {q}");
         }
     }
 

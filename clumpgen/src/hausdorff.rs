@@ -60,7 +60,15 @@ mod tests {
         // Square of half-side 1 and its inscribed unit disc: the farthest outline points are the
         // corners, at √2 − 1 from the disc.
         let sq = [[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]];
-        let d = boundary_deviation(&sq, &[Circle { x: 0.0, y: 0.0, r: 1.0 }], 1e-3);
+        let d = boundary_deviation(
+            &sq,
+            &[Circle {
+                x: 0.0,
+                y: 0.0,
+                r: 1.0,
+            }],
+            1e-3,
+        );
         assert!((d.hausdorff - (2f64.sqrt() - 1.0)).abs() < 1e-12);
     }
 
@@ -69,7 +77,15 @@ mod tests {
         // A disc of radius 0.2 at the centre: its boundary is 0.8 from the sides, and the
         // corners are √2 − 0.2 from it.
         let sq = [[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]];
-        let d = boundary_deviation(&sq, &[Circle { x: 0.0, y: 0.0, r: 0.2 }], 1e-3);
+        let d = boundary_deviation(
+            &sq,
+            &[Circle {
+                x: 0.0,
+                y: 0.0,
+                r: 0.2,
+            }],
+            1e-3,
+        );
         assert!((d.hausdorff - (2f64.sqrt() - 0.2)).abs() < 1e-12);
     }
 }

@@ -213,7 +213,13 @@ pub fn fit_masses(
         }
         let lambda = solve4(&a, &m0, &free, rhs);
         let p: Vec<f64> = (0..n)
-            .map(|i| if free[i] { -m0[i] * (g[i] - a[i].dot(&lambda)) } else { 0.0 })
+            .map(|i| {
+                if free[i] {
+                    -m0[i] * (g[i] - a[i].dot(&lambda))
+                } else {
+                    0.0
+                }
+            })
             .collect();
         let pnorm = p.iter().map(|v| v.abs()).fold(0.0, f64::max);
         if pnorm <= 1e-15 {

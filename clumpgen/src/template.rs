@@ -197,7 +197,14 @@ impl Template {
             }
         }
         for (name, p) in [("target", &self.target), ("achieved", &self.achieved)] {
-            let vals = [p.mass, p.centroid[0], p.centroid[1], p.inertia, p.inertia_own, p.area];
+            let vals = [
+                p.mass,
+                p.centroid[0],
+                p.centroid[1],
+                p.inertia,
+                p.inertia_own,
+                p.area,
+            ];
             if vals.iter().any(|v| !v.is_finite()) {
                 return Err(bad(name.into(), "contains a non-finite number"));
             }

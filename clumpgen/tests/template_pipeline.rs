@@ -11,7 +11,11 @@ fn ngon_csv(n: usize, r_mm: f64, cx: f64, cy: f64) -> String {
     let mut s = String::from("x,y\n");
     for k in 0..n {
         let t = k as f64 / n as f64 * 2.0 * PI;
-        s.push_str(&format!("{},{}\n", cx + r_mm * t.cos(), cy + r_mm * t.sin()));
+        s.push_str(&format!(
+            "{},{}\n",
+            cx + r_mm * t.cos(),
+            cy + r_mm * t.sin()
+        ));
     }
     s
 }
@@ -63,7 +67,10 @@ fn orc_sums_uniform_discs_and_reports_its_deviation() {
     }
     // Overlaps are counted twice, so the ORC clump is heavier than its cover alone would be.
     assert!(t.achieved.mass > rho_t * t.cover.union_area);
-    assert!(t.residuals.max() > 1e-6, "ORC should not match the grain exactly");
+    assert!(
+        t.residuals.max() > 1e-6,
+        "ORC should not match the grain exactly"
+    );
     // The improved clump of the same L is exact.
     let ti = template_of(text, &ClumpParams::default());
     assert!(ti.residuals.max() <= 1e-9);
@@ -125,14 +132,28 @@ fn shipped_outlines_meet_the_targets() {
         assert!(t.discs.iter().all(|d| d.m > 0.0), "{name}");
         assert!(t.residuals.mass_rel <= 1e-9, "{name}: {:?}", t.residuals);
         assert!(t.residuals.inertia_rel <= 1e-9, "{name}: {:?}", t.residuals);
-        assert!(t.residuals.centroid_rel <= 1e-9, "{name}: {:?}", t.residuals);
+        assert!(
+            t.residuals.centroid_rel <= 1e-9,
+            "{name}: {:?}",
+            t.residuals
+        );
         // Discs inside the outline (in the centroid frame) within the stated tolerance.
         let c = clumpgen::props::polygon_props(&ol.points).centroid;
-        let poly: Vec<[f64; 2]> = ol.points.iter().map(|q| [q[0] - c[0], q[1] - c[1]]).collect();
+        let poly: Vec<[f64; 2]> = ol
+            .points
+            .iter()
+            .map(|q| [q[0] - c[0], q[1] - c[1]])
+            .collect();
         for d in &t.discs {
-            assert!(clumpgen::geom::point_in_polygon([d.x, d.y], &poly), "{name}");
+            assert!(
+                clumpgen::geom::point_in_polygon([d.x, d.y], &poly),
+                "{name}"
+            );
             let room = distance_to_boundary([d.x, d.y], &poly);
-            assert!(d.r <= room + t.fill.inside_tolerance, "{name}: {d:?} room {room}");
+            assert!(
+                d.r <= room + t.fill.inside_tolerance,
+                "{name}: {d:?} room {room}"
+            );
         }
     }
 }

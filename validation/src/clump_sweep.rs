@@ -90,7 +90,11 @@ pub fn sweep(
                     let circles: Vec<Circle> = t
                         .discs
                         .iter()
-                        .map(|d| Circle { x: d.x, y: d.y, r: d.r })
+                        .map(|d| Circle {
+                            x: d.x,
+                            y: d.y,
+                            r: d.r,
+                        })
                         .collect();
                     let r_eq = t.shape.r_eq;
                     let dev = boundary_deviation(&poly, &circles, h_rel * r_eq);

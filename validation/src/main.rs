@@ -14,7 +14,11 @@ struct Args {
     #[arg(long, default_value = "report")]
     out: PathBuf,
     /// Cover targets of the clump-generation sweep.
-    #[arg(long, value_delimiter = ',', default_value = "0.8,0.85,0.9,0.93,0.95,0.97,0.98")]
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "0.8,0.85,0.9,0.93,0.95,0.97,0.98"
+    )]
     covers: Vec<f64>,
     /// Timing repeats per grain in the sweep (best of N).
     #[arg(long, default_value_t = 3)]

@@ -18,7 +18,8 @@ pub struct ReportOptions {
 }
 
 fn write(path: &Path, text: &str) -> Result<(), String> {
-    clumpgen::io::write_atomic(path, text.as_bytes()).map_err(|e| format!("{}: {e}", path.display()))
+    clumpgen::io::write_atomic(path, text.as_bytes())
+        .map_err(|e| format!("{}: {e}", path.display()))
 }
 
 fn json<T: serde::Serialize>(v: &T) -> String {

@@ -74,7 +74,14 @@ pub fn table1(outline: &Path, reference: &Path, base: &ClumpParams) -> Result<Ta
         ..*base
     };
     let make = |m: Method| -> Result<Template, String> {
-        make_template(&ol, &ClumpParams { method: m, ..params }).map_err(|e| e.to_string())
+        make_template(
+            &ol,
+            &ClumpParams {
+                method: m,
+                ..params
+            },
+        )
+        .map_err(|e| e.to_string())
     };
     let orc = make(Method::Orc)?;
     let imp = make(Method::Improved)?;
@@ -111,13 +118,18 @@ pub fn table1(outline: &Path, reference: &Path, base: &ClumpParams) -> Result<Ta
         density_kg_m3: DENSITY,
         thickness_m: thickness,
         params,
-        rows: vec![row("real", None), row("orc", Some(&orc)), row("improved", Some(&imp))],
-        note: "Area of a clump = its mass / (rho t): for ORC the sum of disc areas (overlaps counted \
+        rows: vec![
+            row("real", None),
+            row("orc", Some(&orc)),
+            row("improved", Some(&imp)),
+        ],
+        note:
+            "Area of a clump = its mass / (rho t): for ORC the sum of disc areas (overlaps counted \
                twice), for improved ORC the grain area. Centroid deviation = clump mass centre \
                minus grain centroid. Inertia about the body's own mass centre. rho t chosen so the \
                real grain's inertia equals the paper's; the paper's outline is not published, so \
                the grain is a stand-in of the same area."
-            .into(),
+                .into(),
     })
 }
 
@@ -154,7 +166,11 @@ impl Table1 {
                 format!("{v:.3e}")
             }
         };
-        s.push_str(&line("area (mm²)", &|w| (w.area_mm2, w.paper_area_mm2), &f2));
+        s.push_str(&line(
+            "area (mm²)",
+            &|w| (w.area_mm2, w.paper_area_mm2),
+            &f2,
+        ));
         s.push_str(&line(
             "centroid X deviation (mm)",
             &|w| (w.centroid_dx_mm, w.paper_centroid_dx_mm),
