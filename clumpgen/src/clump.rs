@@ -64,7 +64,7 @@ impl Default for ClumpParams {
             r_min: Length::OfReq(0.02),
             r_max: Length::OfReq(1.0),
             max_discs: 64,
-            raster: 96,
+            raster: 64,
             mass_floor: 1e-3,
             tolerance: 1e-10,
             max_repairs: 8,

@@ -243,29 +243,46 @@ impl<'a> Filler<'a> {
     pub fn next_disc(&mut self, r_min: f64, r_max: f64) -> Option<Circle> {
         self.distance_transform();
         let (nx, ny) = (self.nx, self.ny);
-        // Local maxima of the distance transform over the uncovered cells.
+        // Local maxima of the distance transform over the uncovered cells (8-neighbourhood;
+        // ties go to the lower index so a plateau keeps exactly one representative). Cells off
+        // the grid count as 0, which the distance transform never exceeds on an uncovered cell.
         let mut cand: Vec<(f64, usize)> = Vec::new();
+        let d2 = &self.dist2;
+        let at = |x: isize, y: isize| -> f64 {
+            if x < 0 || y < 0 || x >= nx as isize || y >= ny as isize {
+                0.0
+            } else {
+                d2[y as usize * nx + x as usize]
+            }
+        };
         for iy in 0..ny {
             for ix in 0..nx {
                 let i = iy * nx + ix;
-                let d = self.dist2[i];
+                let d = d2[i];
                 if d <= 0.0 {
                     continue;
                 }
-                let mut is_max = true;
-                'nb: for jy in iy.saturating_sub(1)..=(iy + 1).min(ny - 1) {
-                    for jx in ix.saturating_sub(1)..=(ix + 1).min(nx - 1) {
-                        let j = jy * nx + jx;
-                        // Strict on one side so plateaus keep exactly one representative.
-                        if self.dist2[j] > d || (self.dist2[j] == d && j < i) {
-                            is_max = false;
-                            break 'nb;
-                        }
-                    }
+                let (x, y) = (ix as isize, iy as isize);
+                // Neighbours after i in index order must be strictly lower, before i not higher.
+                let later = [
+                    at(x + 1, y),
+                    at(x - 1, y + 1),
+                    at(x, y + 1),
+                    at(x + 1, y + 1),
+                ];
+                if later.iter().any(|&v| v >= d) {
+                    continue;
                 }
-                if is_max {
-                    cand.push((d, i));
+                let earlier = [
+                    at(x - 1, y),
+                    at(x - 1, y - 1),
+                    at(x, y - 1),
+                    at(x + 1, y - 1),
+                ];
+                if earlier.iter().any(|&v| v > d) {
+                    continue;
                 }
+                cand.push((d, i));
             }
         }
         cand.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));

@@ -26,7 +26,7 @@ pub struct ClumpArgs {
     #[arg(long, default_value = "1.0")]
     rmax: String,
     /// Largest number of discs per clump (the paper's cutting specimens use 9).
-    #[arg(long, default_value_t = 64)]
+    #[arg(long, default_value_t = ClumpParams::default().max_discs)]
     max_discs: usize,
     /// `improved` (exact mass, centroid, inertia) or `orc` (summed uniform discs).
     #[arg(long, default_value = "improved")]
@@ -46,8 +46,9 @@ pub struct ClumpArgs {
     /// Resample each outline to this many equally spaced points first.
     #[arg(long)]
     resample: Option<usize>,
-    /// Raster cells along a grain's longer side (steers the fill only).
-    #[arg(long, default_value_t = 64)]
+    /// Raster cells along a grain's longer side (steers the fill only; refined ×2, ×4 where it
+    /// is too coarse to reach the cover).
+    #[arg(long, default_value_t = ClumpParams::default().raster)]
     raster: usize,
     /// Worker threads (default: all cores).
     #[arg(long)]
