@@ -124,7 +124,7 @@ pub fn parse_outline(
         .collect();
     let (w, h) = (hi[0] - lo[0], hi[1] - lo[1]);
     let area = signed_area(&local);
-    if !(area.abs() > 1e-12 * (w + h) * (w + h)) {
+    if area.is_nan() || area.abs() <= 1e-12 * (w + h) * (w + h) {
         return Err(OutlineError::ZeroArea {
             file: source.to_string(),
             area,
@@ -135,9 +135,11 @@ pub fn parse_outline(
     }
     if let Some(hit) = find_self_intersection(&local) {
         let n = local.len();
-        let edge = |e: usize| EdgeRef {
-            vertices: [idx[e], idx[(e + 1) % n]],
-            pos: [pos[e], pos[(e + 1) % n]],
+        let edge = |e: usize| {
+            Box::new(EdgeRef {
+                vertices: [idx[e], idx[(e + 1) % n]],
+                pos: [pos[e], pos[(e + 1) % n]],
+            })
         };
         return Err(OutlineError::SelfIntersection {
             file: source.to_string(),
