@@ -1,8 +1,10 @@
 //! Reading, validating and normalizing grain outlines.
 //!
-//! Input formats are described in [`text`](self) docs: CSV / whitespace / tab text files of
-//! `x y` pairs and JSON `{"units": ..., "points": [[x, y], ...]}` (chosen by a `.json`
-//! extension). Units come from [`ReadOptions::units`] if given (it overrides the file), else
+//! Input formats: CSV / whitespace / tab text files of `x y` pairs (one per line, `#` comments
+//! anywhere, an optional header line such as `x,y` before the first point, an optional
+//! repeated closing point) and JSON `{"units": "mm", "points": [[x, y], ...]}` (chosen by a
+//! `.json` extension). Text files declare units in a comment `units: m`, and a pixel size in
+//! `metres_per_px: 1e-4`; JSON files in the `"units"` and `"metres_per_px"` keys. Units come from [`ReadOptions::units`] if given (it overrides the file), else
 //! from the file (`# units: m` comment or JSON `"units"`), else millimetres.
 //!
 //! Processing order, all in input units until step 7:
