@@ -107,8 +107,10 @@ pub enum OutlineError {
     )]
     SelfIntersection {
         file: String,
-        a: EdgeRef,
-        b: EdgeRef,
+        /// The lower-numbered edge (boxed to keep the error small).
+        a: Box<EdgeRef>,
+        /// The other edge.
+        b: Box<EdgeRef>,
         /// A common point of the two edges, in input units and input (not local) coordinates.
         point: [f64; 2],
         units: String,

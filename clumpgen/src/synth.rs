@@ -5,26 +5,36 @@
 //! J. Zhao, "Fourier–Voronoi-based generation of realistic samples for discrete modelling of
 //! granular materials", Granular Matter 14, 621–638, 2012):
 //!
-//! 1. vertex angles θ_i = φ₀ + 2π(i + j_i)/n, jitter j_i uniform in [−0.3, 0.3] (so strictly
-//!    increasing);
-//! 2. radius r(θ) = (1 + Σ_{k=3}^{K} a_k cos(kθ + φ_k)) · Π_d (1 − δ_d exp(−((θ−θ_d)/w_d)²)),
-//!    with K = min(n/4, 32), random phases φ_k, amplitudes a_k = g_k k^(−1.5) (g_k standard
-//!    normal) rescaled so that their RMS Σ a_k²/2 equals `roughness`²; 1 to 3 dents of depth
-//!    δ_d = concavity·U(0.5, 1) and half-width w_d = U(0.25, 0.6) rad; r is clamped to ≥ 0.15.
-//!    A polygon whose vertices have positive radii at strictly increasing angles (gaps < π) is
+//! 1. polar radius r(θ) = r_e(θ) · max(0.15, (1 + Σ_{k=3}^{K} a_k cos(kθ + φ_k)) ·
+//!    Π_d (1 − δ_d exp(−((θ−θ_d)/w_d)²))), where r_e is the radius of an ellipse of semi-axes
+//!    √AR and 1/√AR; K = min(n/4, 32); random phases φ_k; amplitudes a_k = g_k k^(−1.8)
+//!    (g_k standard normal) rescaled so that the RMS of the series, √(Σ a_k²/2), equals
+//!    `roughness`; 1 to 3 dents of depth δ_d = concavity·U(0.5, 1), half-width
+//!    w_d = U(0.25, 0.6) rad at uniform random angles θ_d;
+//! 2. sample it finely (16 n points at equal angles from a random start angle), then
+//!    [`resample`] to n points equally spaced along the perimeter. These points lie on a
+//!    star-shaped outline (positive radius) in angular order, so the polygon through them is
 //!    star-shaped about the origin, hence simple;
 //! 3. rotate into the principal frame, scale the axes so the second moments of area are in the
-//!    ratio `aspect_ratio`² (then √(i_max/i_min) = aspect_ratio exactly), rotate by a random
-//!    angle: an affine map, which keeps the polygon simple and counter-clockwise;
+//!    ratio `aspect_ratio`² (then √(i_max/i_min) = aspect_ratio exactly; the ellipse base
+//!    makes this a small correction), rotate by a random angle: an affine map, which keeps
+//!    the polygon simple and counter-clockwise;
 //! 4. scale about the centroid to area π·mean_radius² and put the centroid at the origin.
 //!
 //! The generator is SplitMix64 (G. Steele, D. Lea, C. Flood, "Fast splittable pseudorandom
-//! number generators", OOPSLA 2014; constants as in Java's `SplittableRandom`), so results are
-//! identical on every platform for a given seed.
+//! number generators", OOPSLA 2014; constants as in Java's `SplittableRandom`), so a seed gives
+//! the same polygon on every run. Across platforms the last bits may differ, since `sin`,
+//! `cos`, `exp` and `powf` of the platform's math library are not correctly rounded.
 
 use serde::{Deserialize, Serialize};
 
+use crate::outline::resample;
 use crate::props::polygon_props;
+
+/// Decay exponent β of the Fourier amplitudes, a_k ∝ k^(−β).
+const SPECTRAL_EXPONENT: f64 = 1.8;
+/// Lower bound of the perturbation factor, so radii stay positive.
+const MIN_RELATIVE_RADIUS: f64 = 0.15;
 
 /// Parameters of [`synth_grain`].
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -34,8 +44,8 @@ pub struct SynthParams {
     /// Inertia aspect ratio √(i_max/i_min) of the result; values below 1 (or non-finite)
     /// are taken as 1.
     pub aspect_ratio: f64,
-    /// RMS relative amplitude of the radial Fourier perturbation (harmonics 3..K); 0.02–0.1
-    /// looks like a worn grain, 0.15 and up like a rough, angular one.
+    /// RMS relative amplitude of the radial Fourier perturbation (harmonics 3..K); 0.02–0.05
+    /// looks like a worn grain, 0.08–0.12 like a rough, irregular one.
     pub roughness: f64,
     /// Depth of the 1–3 Gaussian dents as a fraction of the radius (0 = none; 0.3–0.6 gives
     /// clear concavities, solidity ≈ 0.85–0.95).
@@ -86,24 +96,29 @@ impl SplitMix64 {
 pub fn synth_grain(seed: u64, p: &SynthParams) -> Vec<[f64; 2]> {
     use std::f64::consts::PI;
     let n = p.n_points.max(8);
+    let ar = if p.aspect_ratio.is_finite() && p.aspect_ratio > 1.0 {
+        p.aspect_ratio
+    } else {
+        1.0
+    };
     let mut rng = SplitMix64::new(seed);
     let phase0 = rng.range(0.0, 2.0 * PI);
-    let theta: Vec<f64> = (0..n)
-        .map(|i| phase0 + 2.0 * PI * (i as f64 + rng.range(-0.3, 0.3)) / n as f64)
-        .collect();
 
     // Fourier roughness.
     let kmax = (n / 4).clamp(3, 32);
     let mut harm: Vec<(f64, f64, f64)> = (3..=kmax)
         .map(|k| {
             let k = k as f64;
-            (k, rng.normal() * k.powf(-1.5), rng.range(0.0, 2.0 * PI))
+            (
+                k,
+                rng.normal() * k.powf(-SPECTRAL_EXPONENT),
+                rng.range(0.0, 2.0 * PI),
+            )
         })
         .collect();
     let power: f64 = harm.iter().map(|h| 0.5 * h.1 * h.1).sum();
-    let rough = p.roughness.max(0.0);
     if power > 0.0 {
-        let f = rough / power.sqrt();
+        let f = p.roughness.max(0.0) / power.sqrt();
         for h in &mut harm {
             h.1 *= f;
         }
@@ -121,28 +136,31 @@ pub fn synth_grain(seed: u64, p: &SynthParams) -> Vec<[f64; 2]> {
         .collect();
     let final_rot = rng.range(-PI, PI);
 
-    let pts: Vec<[f64; 2]> = theta
-        .iter()
-        .map(|&t| {
-            let mut r = 1.0;
+    // Fine star-shaped polygon around an ellipse of the requested aspect ratio.
+    let (ea, eb) = (ar.sqrt(), 1.0 / ar.sqrt());
+    let m = 16 * n;
+    let fine: Vec<[f64; 2]> = (0..m)
+        .map(|i| {
+            let t = phase0 + 2.0 * PI * i as f64 / m as f64;
+            let (c, s) = (t.cos(), t.sin());
+            let r_ell = 1.0 / ((c / ea).powi(2) + (s / eb).powi(2)).sqrt();
+            let mut f = 1.0;
             for &(k, a, ph) in &harm {
-                r += a * (k * t + ph).cos();
+                f += a * (k * t + ph).cos();
             }
-            for &(c, depth, w) in &dents {
-                let d = (t - c + PI).rem_euclid(2.0 * PI) - PI;
-                r *= 1.0 - depth * (-(d / w) * (d / w)).exp();
+            for &(dc, depth, w) in &dents {
+                let d = (t - dc + PI).rem_euclid(2.0 * PI) - PI;
+                f *= 1.0 - depth * (-(d / w) * (d / w)).exp();
             }
-            let r = r.max(0.15);
-            [r * t.cos(), r * t.sin()]
+            let r = r_ell * f.max(MIN_RELATIVE_RADIUS);
+            [r * c, r * s]
         })
         .collect();
+    // Equal spacing along the perimeter. The samples lie on the star-shaped fine outline in
+    // angular order, so the polygon through them is star-shaped too, hence simple.
+    let pts = resample(&fine, n);
 
-    // Affine map to the requested aspect ratio and a random orientation.
-    let ar = if p.aspect_ratio.is_finite() && p.aspect_ratio > 1.0 {
-        p.aspect_ratio
-    } else {
-        1.0
-    };
+    // Affine correction to the exact aspect ratio, and a random orientation.
     let pr = polygon_props(&pts);
     let (c, s) = (pr.principal_angle.cos(), pr.principal_angle.sin());
     // Principal frame: u along the long axis, spread ∫u² = i_max, ∫v² = i_min.
@@ -171,7 +189,7 @@ pub fn synth_grain(seed: u64, p: &SynthParams) -> Vec<[f64; 2]> {
 /// (uniform scale factor √(area/A)). A polygon of zero area is returned unchanged.
 pub fn scale_to_area(points: &[[f64; 2]], area: f64) -> Vec<[f64; 2]> {
     let pr = polygon_props(points);
-    if !(pr.area > 0.0) || !(area >= 0.0) {
+    if pr.area <= 0.0 || area.is_nan() || area < 0.0 {
         return points.to_vec();
     }
     let f = (area / pr.area).sqrt();

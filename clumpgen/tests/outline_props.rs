@@ -163,12 +163,9 @@ fn assert_same_props(a: &PolygonProps, b: &PolygonProps, shift: [f64; 2], tol: f
     assert!(rel(a.j, b.j) < tol, "j");
     assert!(rel(a.perimeter, b.perimeter) < tol, "perimeter");
     let size = b.area.sqrt();
-    for k in 0..2 {
-        assert!(
-            (a.centroid[k] - shift[k] - b.centroid[k]).abs() < tol * size,
-            "centroid {k}: {}",
-            (a.centroid[k] - shift[k] - b.centroid[k]).abs() / size
-        );
+    for (k, sh) in shift.iter().enumerate() {
+        let d = (a.centroid[k] - sh - b.centroid[k]).abs();
+        assert!(d < tol * size, "centroid {k}: {}", d / size);
     }
 }
 

@@ -1,8 +1,10 @@
 //! Reading, validating and normalizing grain outlines.
 //!
-//! Input formats are described in [`text`](self) docs: CSV / whitespace / tab text files of
-//! `x y` pairs and JSON `{"units": ..., "points": [[x, y], ...]}` (chosen by a `.json`
-//! extension). Units come from [`ReadOptions::units`] if given (it overrides the file), else
+//! Input formats: CSV / whitespace / tab text files of `x y` pairs (one per line, `#` comments
+//! anywhere, an optional header line such as `x,y` before the first point, an optional
+//! repeated closing point) and JSON `{"units": "mm", "points": [[x, y], ...]}` (chosen by a
+//! `.json` extension). Text files declare units in a comment `units: m`, and a pixel size in
+//! `metres_per_px: 1e-4`; JSON files in the `"units"` and `"metres_per_px"` keys. Units come from [`ReadOptions::units`] if given (it overrides the file), else
 //! from the file (`# units: m` comment or JSON `"units"`), else millimetres.
 //!
 //! Processing order, all in input units until step 7:
@@ -124,7 +126,7 @@ pub fn parse_outline(
         .collect();
     let (w, h) = (hi[0] - lo[0], hi[1] - lo[1]);
     let area = signed_area(&local);
-    if !(area.abs() > 1e-12 * (w + h) * (w + h)) {
+    if area.is_nan() || area.abs() <= 1e-12 * (w + h) * (w + h) {
         return Err(OutlineError::ZeroArea {
             file: source.to_string(),
             area,
@@ -135,9 +137,11 @@ pub fn parse_outline(
     }
     if let Some(hit) = find_self_intersection(&local) {
         let n = local.len();
-        let edge = |e: usize| EdgeRef {
-            vertices: [idx[e], idx[(e + 1) % n]],
-            pos: [pos[e], pos[(e + 1) % n]],
+        let edge = |e: usize| {
+            Box::new(EdgeRef {
+                vertices: [idx[e], idx[(e + 1) % n]],
+                pos: [pos[e], pos[(e + 1) % n]],
+            })
         };
         return Err(OutlineError::SelfIntersection {
             file: source.to_string(),

@@ -195,6 +195,12 @@ mod tests {
     }
 
     #[test]
+    fn crlf_and_byte_order_mark() {
+        let r = parse_text("\u{feff}x,y\r\n0,0\r\n1,0\r\n1,1\r\n").unwrap();
+        assert_eq!(r.points, vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]]);
+    }
+
+    #[test]
     fn second_header_is_an_error() {
         let e = parse_text("x,y\nX,Y\n0,0\n").unwrap_err();
         assert!(matches!(e, OutlineError::Unparsable { line: 2, .. }), "{e}");
