@@ -137,9 +137,10 @@ pub fn run_batch(inputs: &[Input], o: &BatchOptions, tick: &(dyn Fn() + Sync)) -
     }
 }
 
-fn median(mut v: Vec<f64>) -> f64 {
+/// Median of a sample (the mean of the two middle values for an even count; 0 when empty).
+pub fn median(mut v: Vec<f64>) -> f64 {
     if v.is_empty() {
-        return f64::NAN;
+        return 0.0;
     }
     v.sort_by(f64::total_cmp);
     let n = v.len();

@@ -167,7 +167,6 @@ pub fn make_template(outline: &Outline, p: &ClumpParams) -> Result<Template, Clu
         r_min,
         r_max,
         max_discs: p.max_discs,
-        raster: p.raster,
     };
     // The raster steers the fill; where it is too coarse to see the last uncovered slivers
     // (stop = no_room below the target), refine it twice (×2, ×4) and carry on with the same discs.

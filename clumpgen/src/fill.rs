@@ -32,8 +32,6 @@ pub struct FillParams {
     pub r_max: f64,
     /// Largest number of discs (the paper caps cutting clumps at 9).
     pub max_discs: usize,
-    /// Raster cells along the grain's longer side (steers the choice only).
-    pub raster: usize,
 }
 
 /// Why the filler stopped.
@@ -83,13 +81,7 @@ pub struct Filler<'a> {
 impl<'a> Filler<'a> {
     /// Rasterises `poly` (centroid frame, counter-clockwise) of area `area`.
     pub fn new(poly: &'a [[f64; 2]], area: f64, raster: usize) -> Self {
-        let (mut x0, mut y0, mut x1, mut y1) = (f64::MAX, f64::MAX, f64::MIN, f64::MIN);
-        for p in poly {
-            x0 = x0.min(p[0]);
-            y0 = y0.min(p[1]);
-            x1 = x1.max(p[0]);
-            y1 = y1.max(p[1]);
-        }
+        let ([x0, y0], [x1, y1]) = crate::geom::bbox(poly);
         let h = (x1 - x0).max(y1 - y0) / raster.max(4) as f64;
         let nx = ((x1 - x0) / h).ceil() as usize + 1;
         let ny = ((y1 - y0) / h).ceil() as usize + 1;
@@ -573,7 +565,6 @@ mod tests {
             r_min: 0.02,
             r_max: 10.0,
             max_discs: 100,
-            raster: 64,
         };
         let fill = f.run(&p);
         assert_eq!(fill.stop, StopReason::CoverReached);
@@ -592,7 +583,6 @@ mod tests {
             r_min: 0.02,
             r_max: 10.0,
             max_discs: 1,
-            raster: 64,
         };
         let fill = f.run(&p);
         assert_eq!(fill.stop, StopReason::MaxDiscs);

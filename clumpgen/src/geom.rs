@@ -4,6 +4,19 @@
 //!
 //! All functions take a simple polygon as a slice of vertices without a repeated closing point.
 
+/// Axis-aligned bounding box `(lower corner, upper corner)` of a point set.
+pub fn bbox(points: &[[f64; 2]]) -> ([f64; 2], [f64; 2]) {
+    let mut lo = [f64::INFINITY; 2];
+    let mut hi = [f64::NEG_INFINITY; 2];
+    for q in points {
+        for k in 0..2 {
+            lo[k] = lo[k].min(q[k]);
+            hi[k] = hi[k].max(q[k]);
+        }
+    }
+    (lo, hi)
+}
+
 /// Squared distance from `p` to the segment `a`–`b` (closest point clamped to the segment).
 #[inline]
 pub fn dist2_point_segment(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
@@ -72,13 +85,7 @@ impl<'a> EdgeGrid<'a> {
     /// Builds the grid with about `2·sqrt(n)` cells along the longer side.
     pub fn new(poly: &'a [[f64; 2]]) -> Self {
         let n = poly.len();
-        let (mut x0, mut y0, mut x1, mut y1) = (f64::MAX, f64::MAX, f64::MIN, f64::MIN);
-        for p in poly {
-            x0 = x0.min(p[0]);
-            y0 = y0.min(p[1]);
-            x1 = x1.max(p[0]);
-            y1 = y1.max(p[1]);
-        }
+        let ([x0, y0], [x1, y1]) = bbox(poly);
         let side = (x1 - x0).max(y1 - y0).max(f64::MIN_POSITIVE);
         let k = ((2.0 * (n as f64).sqrt()).ceil() as usize).clamp(1, 256);
         let cell = side / k as f64 * (1.0 + 1e-9);

@@ -78,14 +78,7 @@ pub fn perimeter(points: &[[f64; 2]]) -> f64 {
 }
 
 fn bbox_centre(points: &[[f64; 2]]) -> [f64; 2] {
-    let mut lo = [f64::INFINITY; 2];
-    let mut hi = [f64::NEG_INFINITY; 2];
-    for p in points {
-        for k in 0..2 {
-            lo[k] = lo[k].min(p[k]);
-            hi[k] = hi[k].max(p[k]);
-        }
-    }
+    let (lo, hi) = crate::geom::bbox(points);
     [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])]
 }
 

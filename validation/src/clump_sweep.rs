@@ -3,7 +3,7 @@
 //! over the equivalent radius), the mass-property residual, the disc count and the time per grain
 //! (one thread).
 
-use clumpgen::batch::collect_inputs;
+use clumpgen::batch::{collect_inputs, median};
 use clumpgen::cover::Circle;
 use clumpgen::hausdorff::boundary_deviation;
 use clumpgen::{make_template, read_outline, ClumpParams, Outline, ReadOptions};
@@ -36,19 +36,6 @@ pub struct Sweep {
     pub repeats: usize,
     pub hausdorff_sampling_over_req: f64,
     pub rows: Vec<SweepRow>,
-}
-
-fn median(mut v: Vec<f64>) -> f64 {
-    if v.is_empty() {
-        return 0.0;
-    }
-    v.sort_by(f64::total_cmp);
-    let n = v.len();
-    if n % 2 == 1 {
-        v[n / 2]
-    } else {
-        0.5 * (v[n / 2 - 1] + v[n / 2])
-    }
 }
 
 /// Runs the sweep over `covers` for all outlines in `folder` (serially, so times are per core).

@@ -29,6 +29,7 @@ use sha2::{Digest, Sha256};
 pub use validate::{find_self_intersection, SelfHit};
 
 use crate::error::{EdgeRef, OutlineError, Pos};
+use crate::geom::bbox;
 use crate::props::signed_area;
 use crate::units::Units;
 use text::RawOutline;
@@ -286,18 +287,6 @@ fn drop_duplicates(
         ));
     }
     (pts, pos, idx)
-}
-
-fn bbox(p: &[[f64; 2]]) -> ([f64; 2], [f64; 2]) {
-    let mut lo = [f64::INFINITY; 2];
-    let mut hi = [f64::NEG_INFINITY; 2];
-    for q in p {
-        for k in 0..2 {
-            lo[k] = lo[k].min(q[k]);
-            hi[k] = hi[k].max(q[k]);
-        }
-    }
-    (lo, hi)
 }
 
 fn resample_checked(

@@ -103,14 +103,7 @@ pub fn find_self_intersection(points: &[[f64; 2]]) -> Option<SelfHit> {
     if n < 3 {
         return None;
     }
-    let mut lo = [f64::INFINITY; 2];
-    let mut hi = [f64::NEG_INFINITY; 2];
-    for q in points {
-        for k in 0..2 {
-            lo[k] = lo[k].min(q[k]);
-            hi[k] = hi[k].max(q[k]);
-        }
-    }
+    let (lo, hi) = crate::geom::bbox(points);
     let w = (hi[0] - lo[0]).max(f64::MIN_POSITIVE);
     let h = (hi[1] - lo[1]).max(f64::MIN_POSITIVE);
     // About n cells, shaped like the box.
