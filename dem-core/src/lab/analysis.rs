@@ -1,0 +1,202 @@
+//! Analyses of virtual lab tests: each reads the histories a test writes and returns the
+//! macroscopic property with the formula of the standard test. Pure functions on slices, so they
+//! apply equally to simulated and measured curves.
+
+/// Least-squares slope and intercept of `y` against `x` (ordinary linear regression).
+/// Returns `None` for fewer than two distinct `x`.
+pub fn linear_fit(x: &[f64], y: &[f64]) -> Option<(f64, f64)> {
+    let n = x.len().min(y.len());
+    if n < 2 {
+        return None;
+    }
+    let mx = x[..n].iter().sum::<f64>() / n as f64;
+    let my = y[..n].iter().sum::<f64>() / n as f64;
+    let (mut sxy, mut sxx) = (0.0, 0.0);
+    for i in 0..n {
+        sxy += (x[i] - mx) * (y[i] - my);
+        sxx += (x[i] - mx) * (x[i] - mx);
+    }
+    if sxx <= 0.0 {
+        return None;
+    }
+    let slope = sxy / sxx;
+    Some((slope, my - slope * mx))
+}
+
+/// Index and value of the largest element (the first one on ties); `None` when empty or all NaN.
+pub fn peak(v: &[f64]) -> Option<(usize, f64)> {
+    v.iter()
+        .copied()
+        .enumerate()
+        .filter(|(_, x)| x.is_finite())
+        .fold(None, |best: Option<(usize, f64)>, (i, x)| match best {
+            Some((_, b)) if b >= x => best,
+            _ => Some((i, x)),
+        })
+}
+
+/// Indices of the pre-peak points whose stress lies between `lo` and `hi` times the peak: the
+/// "linear part" of a loading curve (ISRM practice takes the tangent or secant modulus around
+/// 50 % of the peak; we fit a line over a band such as 10–50 %).
+pub fn prepeak_band(stress: &[f64], lo: f64, hi: f64) -> Vec<usize> {
+    let Some((ip, sp)) = peak(stress) else {
+        return vec![];
+    };
+    (0..=ip)
+        .filter(|&i| stress[i] >= lo * sp && stress[i] <= hi * sp)
+        .collect()
+}
+
+/// Results of a uniaxial compression test.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct UcsResult {
+    /// Young's modulus (Pa): slope of axial stress against axial strain over the band.
+    pub young: f64,
+    /// Poisson's ratio: −(lateral strain)/(axial strain), slope over the same band.
+    pub poisson: f64,
+    /// Uniaxial compressive strength (Pa): the peak axial stress.
+    pub ucs: f64,
+}
+
+/// E, ν and UCS from a compression history (compression positive for stress and axial strain;
+/// lateral strain positive in extension). The linear part is the pre-peak band `[lo, hi]` of the
+/// peak stress.
+pub fn uniaxial_compression(
+    axial_strain: &[f64],
+    lateral_strain: &[f64],
+    stress: &[f64],
+    lo: f64,
+    hi: f64,
+) -> Option<UcsResult> {
+    let (_, ucs) = peak(stress)?;
+    let band = prepeak_band(stress, lo, hi);
+    let ea: Vec<f64> = band.iter().map(|&i| axial_strain[i]).collect();
+    let el: Vec<f64> = band.iter().map(|&i| lateral_strain[i]).collect();
+    let s: Vec<f64> = band.iter().map(|&i| stress[i]).collect();
+    let (young, _) = linear_fit(&ea, &s)?;
+    let (nu, _) = linear_fit(&ea, &el)?;
+    Some(UcsResult {
+        young,
+        poisson: nu,
+        ucs,
+    })
+}
+
+/// Brazilian (indirect tensile) strength of a disc of diameter `d` and thickness `t` failing at
+/// load `f`: σ_t = 2F/(πDt) (ISRM 1978 suggested method; S4).
+pub fn brazilian_strength(f: f64, d: f64, t: f64) -> f64 {
+    2.0 * f / (std::f64::consts::PI * d * t)
+}
+
+/// Flexural strength of a beam in three-point bending, span `l`, width `b`, height `h`, peak load
+/// `f`: σ_f = 3FL/(2bh²) (ASTM C1161; S4).
+pub fn flexural_strength(f: f64, l: f64, b: f64, h: f64) -> f64 {
+    3.0 * f * l / (2.0 * b * h * h)
+}
+
+/// Fracture toughness of a bonded-particle material from its bond tensile strength `sigma_c` and
+/// mean particle radius `r`: K_IC = β σ̄_c √(πR) (S4, after Potyondy & Cundall 2004 §3.3).
+pub fn fracture_toughness(beta: f64, sigma_c: f64, r: f64) -> f64 {
+    beta * sigma_c * (std::f64::consts::PI * r).sqrt()
+}
+
+/// Peak, mean and standard deviation of a force history over a window.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct ForceStats {
+    pub peak: f64,
+    pub mean: f64,
+    pub sd: f64,
+    /// Samples in the window.
+    pub samples: usize,
+}
+
+/// Statistics of `force` over the samples whose abscissa (time or tool travel) lies in
+/// `[from, to]`; the steady part of a cut excludes the tool's entry (typically the first depth of
+/// cut of travel). `None` when the window holds no sample.
+pub fn force_stats(abscissa: &[f64], force: &[f64], from: f64, to: f64) -> Option<ForceStats> {
+    let w: Vec<f64> = abscissa
+        .iter()
+        .zip(force)
+        .filter(|(x, _)| **x >= from && **x <= to)
+        .map(|(_, f)| *f)
+        .collect();
+    if w.is_empty() {
+        return None;
+    }
+    let n = w.len() as f64;
+    let mean = w.iter().sum::<f64>() / n;
+    let var = w.iter().map(|f| (f - mean) * (f - mean)).sum::<f64>() / n;
+    Some(ForceStats {
+        peak: peak(&w)?.1,
+        mean,
+        sd: var.sqrt(),
+        samples: w.len(),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::f64::consts::PI;
+
+    #[test]
+    fn linear_fit_recovers_a_line() {
+        let x: Vec<f64> = (0..10).map(|i| i as f64).collect();
+        let y: Vec<f64> = x.iter().map(|v| 3.0 * v - 2.0).collect();
+        let (a, b) = linear_fit(&x, &y).unwrap();
+        assert!((a - 3.0).abs() < 1e-12 && (b + 2.0).abs() < 1e-12);
+        assert!(linear_fit(&[1.0, 1.0], &[0.0, 1.0]).is_none());
+    }
+
+    #[test]
+    fn ucs_of_an_elastic_softening_curve() {
+        // Linear to 100 MPa at E = 50 GPa and ν = 0.25, then softening.
+        let (e, nu) = (50e9, 0.25);
+        let mut ea = vec![];
+        let mut el = vec![];
+        let mut s = vec![];
+        for i in 0..=300 {
+            let eps = i as f64 * 1e-5;
+            let sig = if eps <= 2e-3 {
+                e * eps
+            } else {
+                100e6 - 20e9 * (eps - 2e-3)
+            };
+            ea.push(eps);
+            el.push(nu * eps);
+            s.push(sig);
+        }
+        let r = uniaxial_compression(&ea, &el, &s, 0.1, 0.5).unwrap();
+        assert!((r.young / e - 1.0).abs() < 1e-9);
+        assert!((r.poisson - nu).abs() < 1e-9);
+        assert!((r.ucs - 100e6).abs() < 1e-3);
+    }
+
+    #[test]
+    fn standard_formulas() {
+        assert!((brazilian_strength(PI, 2.0, 0.5) - 2.0).abs() < 1e-15);
+        // 3·F·L/(2·b·h²) with F = 2, L = 3, b = 1, h = 1: 9.
+        assert!((flexural_strength(2.0, 3.0, 1.0, 1.0) - 9.0).abs() < 1e-15);
+        assert!((fracture_toughness(1.0, 1.0, 1.0 / PI) - 1.0).abs() < 1e-15);
+    }
+
+    #[test]
+    fn force_stats_over_a_window() {
+        let x: Vec<f64> = (0..100).map(|i| i as f64).collect();
+        let f: Vec<f64> = x
+            .iter()
+            .map(|v| {
+                if *v < 10.0 {
+                    100.0
+                } else {
+                    5.0 + (*v as i64 % 2) as f64
+                }
+            })
+            .collect();
+        let s = force_stats(&x, &f, 10.0, 99.0).unwrap();
+        assert_eq!(s.samples, 90);
+        assert_eq!(s.peak, 6.0);
+        assert!((s.mean - 5.5).abs() < 1e-12 && (s.sd - 0.5).abs() < 1e-12);
+        assert!(force_stats(&x, &f, 200.0, 300.0).is_none());
+    }
+}
