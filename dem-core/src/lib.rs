@@ -2,6 +2,8 @@
 //! the virtual lab tests built on it. See `docs/dem-core-design.md` for how the parts fit.
 
 pub mod lab;
+pub mod output;
+pub mod scene;
 pub mod state;
 
 pub use state::{Clumps, Discs, Periodic, State, Wall, FREE};

@@ -1,0 +1,34 @@
+//! Scene files (`dem.scene/1`, documented field by field in `docs/scene-schema.md`): parsing
+//! with exact error locations ([`resolve`]), the checked SI model ([`model`]), and the
+//! construction of a `World` from it.
+
+mod bondspec;
+mod mix;
+pub mod model;
+pub mod resolve;
+pub mod schema;
+
+pub use model::Scene;
+pub use resolve::{load, parse};
+
+/// Errors loading a scene; each names the file and the field (JSON path) at fault.
+#[derive(Debug, thiserror::Error)]
+pub enum SceneError {
+    #[error("{file}: cannot read: {source}")]
+    Io {
+        file: String,
+        source: std::io::Error,
+    },
+    #[error("{file}: at {path}: {reason}")]
+    Json {
+        file: String,
+        path: String,
+        reason: String,
+    },
+    #[error("{file}: field {field}: {reason}")]
+    Field {
+        file: String,
+        field: String,
+        reason: String,
+    },
+}

@@ -1,0 +1,231 @@
+//! A scene after loading: every value in SI, every name resolved to an index, every template
+//! loaded, every check passed. [`super::build`] turns it into a `World`.
+
+use super::schema::{Between, BondModelName, ClumpMode, CriterionName, LawName};
+use crate::state::Periodic;
+use clumpgen::Template;
+use serde::Serialize;
+use std::path::PathBuf;
+
+/// A loaded, checked scene (SI units).
+#[derive(Debug, Clone, Serialize)]
+pub struct Scene {
+    /// The scene file as given and its folder (templates and outputs are relative to it).
+    #[serde(skip)]
+    pub file: PathBuf,
+    pub name: String,
+    pub thickness: f64,
+    pub seed: u64,
+    pub materials: Vec<Material>,
+    /// One entry per unordered pair of materials that can touch (disc-disc, disc-wall),
+    /// sorted by (a, b) with a ≤ b.
+    pub pairs: Vec<PairLaw>,
+    pub bond_groups: Vec<BondGroup>,
+    /// Loaded templates, each file once; clumps refer to them by index.
+    pub templates: Vec<Template>,
+    pub discs: Vec<DiscInit>,
+    pub clumps: Vec<ClumpInit>,
+    pub auto_bonds: Vec<AutoBond>,
+    pub walls: Vec<WallInit>,
+    pub periodic: Periodic,
+    pub gravity: Option<[f64; 2]>,
+    pub damping: Damping,
+    #[serde(skip)]
+    pub run: Run,
+    #[serde(skip)]
+    pub outputs: Outputs,
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct Material {
+    pub name: String,
+    pub density: Option<f64>,
+    pub kn: Option<f64>,
+    pub ks: Option<f64>,
+    pub youngs_modulus: Option<f64>,
+    pub poisson: Option<f64>,
+    pub friction: f64,
+    pub restitution: Option<f64>,
+    pub damping_ratio: Option<f64>,
+    pub rolling_friction: f64,
+}
+
+/// Normal damping of a pair, as the user gave it.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub enum NormalDamping {
+    /// Coefficient of restitution e in (0, 1].
+    Restitution(f64),
+    /// Fraction of critical damping in [0, 1).
+    Ratio(f64),
+}
+
+/// Stiffness parameters of a pair's law.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub enum PairStiffness {
+    /// Linear spring-dashpot: kn, ks (N/m).
+    Linear { kn: f64, ks: f64 },
+    /// Hertz-Mindlin: effective modulus E* and effective shear modulus G* (rules in
+    /// [`super::mix`]).
+    Hertz { e_star: f64, g_star: f64 },
+}
+
+/// The contact law of one material pair with its mixed parameters.
+#[derive(Debug, Clone, Serialize)]
+pub struct PairLaw {
+    pub a: u16,
+    pub b: u16,
+    pub law: LawName,
+    pub stiffness: PairStiffness,
+    pub friction: f64,
+    pub damping: NormalDamping,
+    /// Rolling-resistance coefficient, `Some` only when rolling resistance is switched on.
+    pub rolling: Option<f64>,
+}
+
+/// A bond group in SI; `None` parameters are not used by its model and criterion.
+#[derive(Debug, Clone, Serialize)]
+pub struct BondGroup {
+    pub name: String,
+    pub model: BondModelName,
+    pub criterion: CriterionName,
+    pub kn: f64,
+    pub ks: f64,
+    pub radius_multiplier: f64,
+    pub moment_factor: f64,
+    pub tensile_strength: Option<f64>,
+    pub cohesion: Option<f64>,
+    /// Radians.
+    pub friction_angle: Option<f64>,
+    pub normal_strength: Option<f64>,
+    pub shear_strength: Option<f64>,
+    pub normal_strain: Option<f64>,
+    pub shear_strain: Option<f64>,
+    pub fracture_energy: Option<f64>,
+}
+
+/// A free disc (also the members of bonded clumps).
+#[derive(Debug, Clone, Serialize)]
+pub struct DiscInit {
+    pub x: f64,
+    pub y: f64,
+    pub r: f64,
+    pub vx: f64,
+    pub vy: f64,
+    pub omega: f64,
+    pub material: u16,
+    pub group: u32,
+    pub fixed: bool,
+    /// Mass and inertia when not those of a uniform disc of the material (bonded-clump
+    /// members carry the template's masses).
+    pub mass: Option<(f64, f64)>,
+}
+
+/// One placed clump.
+#[derive(Debug, Clone, Serialize)]
+pub struct ClumpInit {
+    pub template: usize,
+    pub material: u16,
+    pub mode: ClumpMode,
+    pub bond_group: Option<usize>,
+    pub bond_tolerance: f64,
+    /// Masses of the template times this (material density × scene thickness over the
+    /// template's density × thickness).
+    pub mass_scale: f64,
+    pub x: f64,
+    pub y: f64,
+    pub angle: f64,
+    pub vx: f64,
+    pub vy: f64,
+    pub omega: f64,
+    /// Each clump gets its own group (grain id).
+    pub group: u32,
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct AutoBond {
+    pub bond_group: usize,
+    pub tolerance: f64,
+    pub between: Between,
+    /// Materials allowed (all when empty).
+    pub materials: Vec<u16>,
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct WallInit {
+    pub name: String,
+    pub a: [f64; 2],
+    pub b: [f64; 2],
+    pub material: u16,
+    pub velocity: [f64; 2],
+    pub angular_velocity: f64,
+    pub center: [f64; 2],
+}
+
+#[derive(Debug, Clone, Copy, Default, Serialize)]
+pub struct Damping {
+    pub local: f64,
+    pub viscous: f64,
+}
+
+/// Run control.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Run {
+    /// Stop when time ≥ duration (s), or after `steps`.
+    pub stop: Stop,
+    pub dt_factor: Option<f64>,
+    pub dt: Option<f64>,
+    pub max_steps: Option<u64>,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Stop {
+    Duration(f64),
+    Steps(u64),
+}
+
+impl Default for Stop {
+    fn default() -> Self {
+        Stop::Steps(0)
+    }
+}
+
+/// Output control; the folder is absolute (resolved against the scene file).
+#[derive(Debug, Clone, Default)]
+pub struct Outputs {
+    pub dir: PathBuf,
+    pub history_every: u64,
+    pub vtk_every: u64,
+    pub checkpoint_every: u64,
+    pub guard_every: u64,
+    pub summary: bool,
+}
+
+impl Scene {
+    /// The law of material pair (a, b).
+    pub fn pair(&self, a: u16, b: u16) -> Option<&PairLaw> {
+        let key = (a.min(b), a.max(b));
+        self.pairs
+            .binary_search_by(|p| (p.a, p.b).cmp(&key))
+            .ok()
+            .map(|i| &self.pairs[i])
+    }
+
+    /// SHA-256 (hex) of everything that determines the physics (not run control or outputs):
+    /// a checkpoint records it and a restart refuses a scene that differs.
+    pub fn physics_hash(&self) -> String {
+        use sha2::{Digest, Sha256};
+        let text = serde_json::to_string(self).unwrap_or_default();
+        let d = Sha256::digest(text.as_bytes());
+        d.iter().map(|b| format!("{b:02x}")).collect()
+    }
+
+    /// Number of discs the built world will have.
+    pub fn disc_count(&self) -> usize {
+        self.discs.len()
+            + self
+                .clumps
+                .iter()
+                .map(|c| self.templates[c.template].discs.len())
+                .sum::<usize>()
+    }
+}

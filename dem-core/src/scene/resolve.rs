@@ -1,0 +1,645 @@
+//! Scene file → [`Scene`]: parse (unknown fields rejected, errors with the JSON path), convert
+//! lengths to SI once, resolve names to indices, load templates and specimens, check every value.
+//! Every error names the file, the field and the reason.
+
+use super::mix::pair_laws;
+use super::model::*;
+use super::schema::*;
+use super::SceneError;
+use crate::state::Periodic;
+use clumpgen::Template;
+use serde::de::DeserializeOwned;
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+/// Reads, parses and checks a scene file.
+pub fn load(path: &Path) -> Result<Scene, SceneError> {
+    let text = std::fs::read_to_string(path).map_err(|source| SceneError::Io {
+        file: path.display().to_string(),
+        source,
+    })?;
+    parse(&text, path)
+}
+
+/// Parses and checks scene text; `path` names it in errors and anchors relative paths.
+pub fn parse(text: &str, path: &Path) -> Result<Scene, SceneError> {
+    let file = path.display().to_string();
+    let raw: SceneFile = parse_json(text, &file)?;
+    Resolver::new(path).scene(raw)
+}
+
+/// Deserialises JSON, reporting the JSON path of the first offending value.
+pub(crate) fn parse_json<T: DeserializeOwned>(text: &str, file: &str) -> Result<T, SceneError> {
+    let mut de = serde_json::Deserializer::from_str(text);
+    let value: T = serde_path_to_error::deserialize(&mut de).map_err(|e| {
+        let path = e.path().to_string();
+        SceneError::Json {
+            file: file.to_string(),
+            path,
+            reason: e.into_inner().to_string(),
+        }
+    })?;
+    de.end().map_err(|e| SceneError::Json {
+        file: file.to_string(),
+        path: ".".into(),
+        reason: e.to_string(),
+    })?;
+    Ok(value)
+}
+
+/// Field checks of one file.
+pub(crate) struct Ck {
+    pub file: String,
+}
+
+impl Ck {
+    pub fn err(&self, field: impl Into<String>, reason: impl Into<String>) -> SceneError {
+        SceneError::Field {
+            file: self.file.clone(),
+            field: field.into(),
+            reason: reason.into(),
+        }
+    }
+
+    pub fn finite(&self, field: &str, v: f64) -> Result<f64, SceneError> {
+        if v.is_finite() {
+            Ok(v)
+        } else {
+            Err(self.err(field, "must be a finite number"))
+        }
+    }
+
+    pub fn positive(&self, field: &str, v: f64) -> Result<f64, SceneError> {
+        if v.is_finite() && v > 0.0 {
+            Ok(v)
+        } else {
+            Err(self.err(field, format!("must be positive (got {v})")))
+        }
+    }
+
+    pub fn non_negative(&self, field: &str, v: f64) -> Result<f64, SceneError> {
+        if v.is_finite() && v >= 0.0 {
+            Ok(v)
+        } else {
+            Err(self.err(field, format!("must be zero or positive (got {v})")))
+        }
+    }
+
+    /// `lo <= v < hi` (or `<= hi` when `closed`).
+    pub fn range(
+        &self,
+        field: &str,
+        v: f64,
+        lo: f64,
+        hi: f64,
+        closed: bool,
+    ) -> Result<f64, SceneError> {
+        let ok = v.is_finite() && v >= lo && (v < hi || (closed && v == hi));
+        if ok {
+            Ok(v)
+        } else {
+            let close = if closed { "]" } else { ")" };
+            Err(self.err(field, format!("must lie in [{lo}, {hi}{close} (got {v})")))
+        }
+    }
+}
+
+/// State of one scene load: material and group names, template cache, id counters.
+struct Resolver {
+    scene_path: PathBuf,
+    ck: Ck,
+    materials: HashMap<String, u16>,
+    densities: Vec<Option<f64>>,
+    thickness: f64,
+    groups: HashMap<String, usize>,
+    template_index: HashMap<PathBuf, usize>,
+    templates: Vec<Template>,
+    discs: Vec<DiscInit>,
+    clumps: Vec<ClumpInit>,
+    rng: SplitMix64,
+}
+
+/// SplitMix64 (Steele, Lea & Flood 2014): the scene's random numbers (initial speeds).
+struct SplitMix64(u64);
+
+impl SplitMix64 {
+    fn next_f64(&mut self) -> f64 {
+        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^= z >> 31;
+        (z >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
+    }
+}
+
+fn v2(v: [f64; 2], u: f64) -> [f64; 2] {
+    [v[0] * u, v[1] * u]
+}
+
+impl Resolver {
+    fn new(path: &Path) -> Resolver {
+        Resolver {
+            scene_path: path.to_path_buf(),
+            ck: Ck {
+                file: path.display().to_string(),
+            },
+            materials: HashMap::new(),
+            densities: Vec::new(),
+            thickness: 1.0,
+            groups: HashMap::new(),
+            template_index: HashMap::new(),
+            templates: Vec::new(),
+            discs: Vec::new(),
+            clumps: Vec::new(),
+            rng: SplitMix64(0),
+        }
+    }
+
+    fn scene(mut self, raw: SceneFile) -> Result<Scene, SceneError> {
+        let ck = Ck {
+            file: self.ck.file.clone(),
+        };
+        if raw.schema != SCHEMA {
+            return Err(ck.err(
+                "schema",
+                format!("is {:?}, expected {SCHEMA:?}", raw.schema),
+            ));
+        }
+        let u = raw.units.metres();
+        self.thickness = match raw.thickness {
+            Some(t) => ck.positive("thickness", t)? * u,
+            None => 1.0,
+        };
+        self.rng = SplitMix64(raw.seed);
+        let materials = self.materials(&raw.materials)?;
+        let bond_groups = self.bond_groups(&raw.bond_groups)?;
+        let scene_dir = dir_of(&self.scene_path);
+        for (i, set) in raw.bodies.discs.iter().enumerate() {
+            self.disc_set(&ck, &format!("bodies.discs[{i}]"), set, u, [0.0; 2])?;
+        }
+        let mut clump_sets = Vec::new();
+        for (i, set) in raw.bodies.clumps.iter().enumerate() {
+            clump_sets.push((
+                format!("bodies.clumps[{i}]"),
+                set.clone(),
+                u,
+                [0.0; 2],
+                scene_dir.clone(),
+                ck.file.clone(),
+            ));
+        }
+        for (i, sp) in raw.bodies.specimens.iter().enumerate() {
+            let field = format!("bodies.specimens[{i}]");
+            let path = scene_dir.join(&sp.file);
+            let off = v2(
+                [
+                    ck.finite(&format!("{field}.offset[0]"), sp.offset[0])?,
+                    ck.finite(&format!("{field}.offset[1]"), sp.offset[1])?,
+                ],
+                u,
+            );
+            let text = std::fs::read_to_string(&path).map_err(|e| {
+                ck.err(
+                    format!("{field}.file"),
+                    format!("cannot read {}: {e}", path.display()),
+                )
+            })?;
+            let sfile = path.display().to_string();
+            let spec: SpecimenFile = parse_json(&text, &sfile)?;
+            let sck = Ck {
+                file: sfile.clone(),
+            };
+            if spec.schema != SPECIMEN_SCHEMA {
+                return Err(sck.err(
+                    "schema",
+                    format!("is {:?}, expected {SPECIMEN_SCHEMA:?}", spec.schema),
+                ));
+            }
+            let su = spec.units.metres();
+            for (k, set) in spec.discs.iter().enumerate() {
+                self.disc_set(&sck, &format!("discs[{k}]"), set, su, off)?;
+            }
+            for (k, set) in spec.clumps.iter().enumerate() {
+                clump_sets.push((
+                    format!("clumps[{k}]"),
+                    set.clone(),
+                    su,
+                    off,
+                    dir_of(&path),
+                    sfile.clone(),
+                ));
+            }
+        }
+        // Clumps get groups after every disc set's: one new group per placed clump.
+        let mut next_group = self
+            .discs
+            .iter()
+            .map(|d| d.group as u64 + 1)
+            .max()
+            .unwrap_or(0);
+        for (field, set, su, off, dir, file) in clump_sets {
+            let cck = Ck { file };
+            self.clump_set(&cck, &field, &set, su, off, &dir, &mut next_group)?;
+        }
+        let auto_bonds = self.auto_bonds(&raw.auto_bonds, u)?;
+        let walls = self.walls(&raw.walls, u)?;
+        let periodic = self.periodic(raw.periodic.as_ref(), u)?;
+        let gravity = match raw.gravity {
+            Some(g) => Some([
+                ck.finite("gravity[0]", g[0])? * u,
+                ck.finite("gravity[1]", g[1])? * u,
+            ]),
+            None => None,
+        };
+        let damping = Damping {
+            local: ck.range("damping.local", raw.damping.local, 0.0, 1.0, false)?,
+            viscous: ck.non_negative("damping.viscous", raw.damping.viscous)?,
+        };
+        let run = self.run(&raw.run)?;
+        let outputs = self.outputs(&raw.outputs)?;
+        if self.discs.is_empty() && self.clumps.is_empty() {
+            return Err(ck.err("bodies", "the scene has no discs"));
+        }
+        let mut scene = Scene {
+            file: self.scene_path.clone(),
+            name: raw.name,
+            thickness: self.thickness,
+            seed: raw.seed,
+            materials,
+            pairs: Vec::new(),
+            bond_groups,
+            templates: std::mem::take(&mut self.templates),
+            discs: std::mem::take(&mut self.discs),
+            clumps: std::mem::take(&mut self.clumps),
+            auto_bonds,
+            walls,
+            periodic,
+            gravity,
+            damping,
+            run,
+            outputs,
+        };
+        scene.pairs = pair_laws(&ck, &scene, &raw.contact, &self.materials)?;
+        Ok(scene)
+    }
+
+    fn material(&self, ck: &Ck, field: &str, name: &str) -> Result<u16, SceneError> {
+        self.materials
+            .get(name)
+            .copied()
+            .ok_or_else(|| ck.err(field, format!("no material named {name:?}")))
+    }
+
+    /// A material discs are made of: it must have a density.
+    fn disc_material(&self, ck: &Ck, field: &str, name: &str) -> Result<(u16, f64), SceneError> {
+        let m = self.material(ck, field, name)?;
+        match self.densities[m as usize] {
+            Some(rho) => Ok((m, rho)),
+            None => Err(ck.err(
+                field,
+                format!("material {name:?} has no density; discs need one"),
+            )),
+        }
+    }
+
+    fn materials(&mut self, raw: &[MaterialSpec]) -> Result<Vec<Material>, SceneError> {
+        let ck = &self.ck;
+        if raw.is_empty() {
+            return Err(ck.err("materials", "at least one material is needed"));
+        }
+        if raw.len() > u16::MAX as usize {
+            return Err(ck.err("materials", "too many materials"));
+        }
+        let mut out = Vec::new();
+        for (i, m) in raw.iter().enumerate() {
+            let f = |k: &str| format!("materials[{i}].{k}");
+            if m.name.is_empty() {
+                return Err(ck.err(f("name"), "must not be empty"));
+            }
+            if self.materials.insert(m.name.clone(), i as u16).is_some() {
+                return Err(ck.err(f("name"), format!("material {:?} is defined twice", m.name)));
+            }
+            let opt_pos = |k: &str, v: Option<f64>| v.map(|v| ck.positive(&f(k), v)).transpose();
+            let density = opt_pos("density", m.density)?;
+            let kn = opt_pos("kn", m.kn)?;
+            let ks = opt_pos("ks", m.ks)?;
+            let youngs_modulus = opt_pos("youngs_modulus", m.youngs_modulus)?;
+            let poisson = m
+                .poisson
+                .map(|v| ck.range(&f("poisson"), v, -1.0, 0.5, false))
+                .transpose()?;
+            if m.restitution.is_some() && m.damping_ratio.is_some() {
+                return Err(ck.err(
+                    f("restitution"),
+                    "give restitution or damping_ratio, not both",
+                ));
+            }
+            let restitution = m
+                .restitution
+                .map(|v| ck.range(&f("restitution"), v, 0.0, 1.0, true))
+                .transpose()?;
+            if restitution == Some(0.0) {
+                return Err(ck.err(f("restitution"), "must be above 0"));
+            }
+            out.push(Material {
+                name: m.name.clone(),
+                density,
+                kn,
+                ks,
+                youngs_modulus,
+                poisson,
+                friction: ck.non_negative(&f("friction"), m.friction)?,
+                restitution,
+                damping_ratio: m
+                    .damping_ratio
+                    .map(|v| ck.range(&f("damping_ratio"), v, 0.0, 1.0, false))
+                    .transpose()?,
+                rolling_friction: ck.non_negative(&f("rolling_friction"), m.rolling_friction)?,
+            });
+            self.densities.push(density);
+        }
+        Ok(out)
+    }
+
+    fn bond_groups(&mut self, raw: &[BondGroupSpec]) -> Result<Vec<BondGroup>, SceneError> {
+        let mut out = Vec::new();
+        for (i, g) in raw.iter().enumerate() {
+            let f = |k: &str| format!("bond_groups[{i}].{k}");
+            if g.name.is_empty() {
+                return Err(self.ck.err(f("name"), "must not be empty"));
+            }
+            if self.groups.insert(g.name.clone(), i).is_some() {
+                return Err(self.ck.err(
+                    f("name"),
+                    format!("bond group {:?} is defined twice", g.name),
+                ));
+            }
+            out.push(super::bondspec::bond_group(&self.ck, i, g)?);
+        }
+        Ok(out)
+    }
+
+    fn group(&self, ck: &Ck, field: &str, name: &str) -> Result<usize, SceneError> {
+        self.groups
+            .get(name)
+            .copied()
+            .ok_or_else(|| ck.err(field, format!("no bond group named {name:?}")))
+    }
+
+    fn disc_set(
+        &mut self,
+        ck: &Ck,
+        field: &str,
+        set: &DiscSetSpec,
+        u: f64,
+        off: [f64; 2],
+    ) -> Result<(), SceneError> {
+        let (material, _) = self.disc_material(ck, &format!("{field}.material"), &set.material)?;
+        let vel = [
+            ck.finite(&format!("{field}.velocity[0]"), set.velocity[0])? * u,
+            ck.finite(&format!("{field}.velocity[1]"), set.velocity[1])? * u,
+        ];
+        let omega = ck.finite(&format!("{field}.omega"), set.omega)?;
+        let speed = ck.non_negative(&format!("{field}.random_speed"), set.random_speed)? * u;
+        for (k, d) in set.discs.iter().enumerate() {
+            let x = ck.finite(&format!("{field}.discs[{k}][0]"), d[0])?;
+            let y = ck.finite(&format!("{field}.discs[{k}][1]"), d[1])?;
+            let r = d[2];
+            if !(r.is_finite() && r > 0.0) {
+                return Err(ck.err(
+                    format!("{field}.discs[{k}][2]"),
+                    format!("radius must be positive (got {r})"),
+                ));
+            }
+            let (mut vx, mut vy) = (vel[0], vel[1]);
+            if speed > 0.0 {
+                let a = std::f64::consts::TAU * self.rng.next_f64();
+                vx += speed * a.cos();
+                vy += speed * a.sin();
+            }
+            self.discs.push(DiscInit {
+                x: x * u + off[0],
+                y: y * u + off[1],
+                r: r * u,
+                vx,
+                vy,
+                omega,
+                material,
+                group: set.group,
+                fixed: set.fixed,
+                mass: None,
+            });
+        }
+        Ok(())
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn clump_set(
+        &mut self,
+        ck: &Ck,
+        field: &str,
+        set: &ClumpSetSpec,
+        u: f64,
+        off: [f64; 2],
+        dir: &Path,
+        next_group: &mut u64,
+    ) -> Result<(), SceneError> {
+        let (material, rho) =
+            self.disc_material(ck, &format!("{field}.material"), &set.material)?;
+        let path = dir.join(&set.template);
+        let ti = match self.template_index.get(&path) {
+            Some(&t) => t,
+            None => {
+                let t = Template::load(&path)
+                    .map_err(|e| ck.err(format!("{field}.template"), e.to_string()))?;
+                self.templates.push(t);
+                self.template_index
+                    .insert(path.clone(), self.templates.len() - 1);
+                self.templates.len() - 1
+            }
+        };
+        let t = &self.templates[ti];
+        let mass_scale = rho * self.thickness / (t.density * t.thickness);
+        let bond_group = match (set.mode, &set.bond_group) {
+            (ClumpMode::Bonded, Some(g)) => {
+                Some(self.group(ck, &format!("{field}.bond_group"), g)?)
+            }
+            (ClumpMode::Bonded, None) => {
+                return Err(ck.err(
+                    format!("{field}.bond_group"),
+                    "a bonded clump needs the bond group of its intra-clump bonds",
+                ))
+            }
+            (ClumpMode::Rigid, Some(_)) => {
+                return Err(ck.err(
+                    format!("{field}.bond_group"),
+                    "a rigid clump has no bonds; remove bond_group or use mode \"bonded\"",
+                ))
+            }
+            (ClumpMode::Rigid, None) => None,
+        };
+        let bond_tolerance =
+            ck.non_negative(&format!("{field}.bond_tolerance"), set.bond_tolerance)? * u;
+        for (k, p) in set.placements.iter().enumerate() {
+            let f = |s: &str| format!("{field}.placements[{k}].{s}");
+            if *next_group > u32::MAX as u64 {
+                return Err(ck.err(f("x"), "too many groups"));
+            }
+            self.clumps.push(ClumpInit {
+                template: ti,
+                material,
+                mode: set.mode,
+                bond_group,
+                bond_tolerance,
+                mass_scale,
+                x: ck.finite(&f("x"), p.x)? * u + off[0],
+                y: ck.finite(&f("y"), p.y)? * u + off[1],
+                angle: ck.finite(&f("angle"), p.angle)?,
+                vx: ck.finite(&f("velocity[0]"), p.velocity[0])? * u,
+                vy: ck.finite(&f("velocity[1]"), p.velocity[1])? * u,
+                omega: ck.finite(&f("omega"), p.omega)?,
+                group: *next_group as u32,
+            });
+            *next_group += 1;
+        }
+        Ok(())
+    }
+
+    fn auto_bonds(&self, raw: &[AutoBondSpec], u: f64) -> Result<Vec<AutoBond>, SceneError> {
+        let ck = &self.ck;
+        raw.iter()
+            .enumerate()
+            .map(|(i, a)| {
+                let f = |k: &str| format!("auto_bonds[{i}].{k}");
+                let materials = a
+                    .materials
+                    .iter()
+                    .enumerate()
+                    .map(|(k, m)| self.material(ck, &f(&format!("materials[{k}]")), m))
+                    .collect::<Result<Vec<_>, _>>()?;
+                Ok(AutoBond {
+                    bond_group: self.group(ck, &f("bond_group"), &a.bond_group)?,
+                    tolerance: ck.non_negative(&f("tolerance"), a.tolerance)? * u,
+                    between: a.between,
+                    materials,
+                })
+            })
+            .collect()
+    }
+
+    fn walls(&self, raw: &[WallSpec], u: f64) -> Result<Vec<WallInit>, SceneError> {
+        let ck = &self.ck;
+        let mut names = std::collections::HashSet::new();
+        raw.iter()
+            .enumerate()
+            .map(|(i, w)| {
+                let f = |k: &str| format!("walls[{i}].{k}");
+                if !names.insert(w.name.clone()) {
+                    return Err(ck.err(f("name"), format!("wall {:?} is defined twice", w.name)));
+                }
+                let p = |k: &str, v: [f64; 2]| -> Result<[f64; 2], SceneError> {
+                    Ok([
+                        ck.finite(&format!("{}[0]", f(k)), v[0])? * u,
+                        ck.finite(&format!("{}[1]", f(k)), v[1])? * u,
+                    ])
+                };
+                let (a, b) = (p("a", w.a)?, p("b", w.b)?);
+                if a == b {
+                    return Err(ck.err(f("b"), "the wall's end points coincide"));
+                }
+                let center = match w.center {
+                    Some(c) => p("center", c)?,
+                    None => [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])],
+                };
+                Ok(WallInit {
+                    name: w.name.clone(),
+                    a,
+                    b,
+                    material: self.material(ck, &f("material"), &w.material)?,
+                    velocity: p("velocity", w.velocity)?,
+                    angular_velocity: ck.finite(&f("angular_velocity"), w.angular_velocity)?,
+                    center,
+                })
+            })
+            .collect()
+    }
+
+    fn periodic(&self, raw: Option<&PeriodicSpec>, u: f64) -> Result<Periodic, SceneError> {
+        let mut p = Periodic::default();
+        let Some(raw) = raw else { return Ok(p) };
+        for (axis, (name, r)) in [("x", raw.x), ("y", raw.y)].into_iter().enumerate() {
+            if let Some([lo, hi]) = r {
+                let field = format!("periodic.{name}");
+                let lo = self.ck.finite(&field, lo)? * u;
+                let hi = self.ck.finite(&field, hi)? * u;
+                if hi <= lo {
+                    return Err(self.ck.err(field, "needs [lo, hi] with hi > lo"));
+                }
+                p.lo[axis] = lo;
+                p.length[axis] = Some(hi - lo);
+            }
+        }
+        Ok(p)
+    }
+
+    fn run(&self, r: &RunSpec) -> Result<Run, SceneError> {
+        let ck = &self.ck;
+        let stop = match (r.duration, r.steps) {
+            (Some(d), None) => Stop::Duration(ck.positive("run.duration", d)?),
+            (None, Some(s)) => Stop::Steps(s),
+            (Some(_), Some(_)) => {
+                return Err(ck.err("run.steps", "give duration or steps, not both"))
+            }
+            (None, None) => return Err(ck.err("run", "needs duration (s) or steps")),
+        };
+        if r.dt.is_some() && r.dt_factor.is_some() {
+            return Err(ck.err(
+                "run.dt",
+                "give dt (fixed) or dt_factor (automatic), not both",
+            ));
+        }
+        Ok(Run {
+            stop,
+            dt_factor: r
+                .dt_factor
+                .map(|f| ck.range("run.dt_factor", f, 0.0, 1.0, true))
+                .transpose()?,
+            dt: r.dt.map(|d| ck.positive("run.dt", d)).transpose()?,
+            max_steps: r.max_steps,
+        })
+    }
+
+    fn outputs(&self, o: &OutputSpec) -> Result<Outputs, SceneError> {
+        let dir = match &o.dir {
+            Some(d) => dir_of(&self.scene_path).join(d),
+            None => {
+                let stem = self
+                    .scene_path
+                    .file_stem()
+                    .map(|s| s.to_string_lossy().into_owned())
+                    .unwrap_or_else(|| "scene".into());
+                dir_of(&self.scene_path).join(format!("{stem}.out"))
+            }
+        };
+        if o.guard_every == 0 {
+            return Err(self.ck.err("outputs.guard_every", "must be at least 1"));
+        }
+        Ok(Outputs {
+            dir,
+            history_every: o.history_every,
+            vtk_every: o.vtk_every,
+            checkpoint_every: o.checkpoint_every,
+            guard_every: o.guard_every,
+            summary: o.summary,
+        })
+    }
+}
+
+/// The folder of a file ("." for a bare name).
+fn dir_of(p: &Path) -> PathBuf {
+    match p.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+        _ => PathBuf::from("."),
+    }
+}

@@ -1,0 +1,452 @@
+//! The scene file as written: `dem.scene/1` JSON, field by field as in `docs/scene-schema.md`.
+//!
+//! Every struct rejects unknown fields. Lengths (and velocities, accelerations) are in the file's
+//! `units`; [`super::resolve`] converts them to SI once and checks the values. Enums are plain
+//! strings and bodies are arrays of plain objects (no tagged or untagged unions), so a parse error
+//! always carries the exact JSON path of the offending value.
+
+use serde::{Deserialize, Serialize};
+
+/// Schema identifier every scene file carries.
+pub const SCHEMA: &str = "dem.scene/1";
+/// Schema identifier of a specimen file (bodies only, see [`SpecimenFile`]).
+pub const SPECIMEN_SCHEMA: &str = "dem.specimen/1";
+
+/// Length unit of a scene or specimen file.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+pub enum LengthUnit {
+    #[default]
+    #[serde(rename = "m")]
+    M,
+    #[serde(rename = "mm")]
+    Mm,
+}
+
+impl LengthUnit {
+    /// Metres per unit.
+    pub fn metres(self) -> f64 {
+        match self {
+            LengthUnit::M => 1.0,
+            LengthUnit::Mm => 1e-3,
+        }
+    }
+}
+
+/// The whole scene file.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SceneFile {
+    pub schema: String,
+    #[serde(default)]
+    pub name: String,
+    #[serde(default)]
+    pub description: String,
+    #[serde(default)]
+    pub units: LengthUnit,
+    /// Disc thickness t (length unit); default 1 m.
+    #[serde(default)]
+    pub thickness: Option<f64>,
+    #[serde(default)]
+    pub seed: u64,
+    pub materials: Vec<MaterialSpec>,
+    #[serde(default)]
+    pub contact: ContactSpec,
+    #[serde(default)]
+    pub bond_groups: Vec<BondGroupSpec>,
+    #[serde(default)]
+    pub bodies: BodiesSpec,
+    #[serde(default)]
+    pub auto_bonds: Vec<AutoBondSpec>,
+    #[serde(default)]
+    pub walls: Vec<WallSpec>,
+    #[serde(default)]
+    pub periodic: Option<PeriodicSpec>,
+    /// Gravitational acceleration (length unit / s²); absent = no gravity stage.
+    #[serde(default)]
+    pub gravity: Option<[f64; 2]>,
+    #[serde(default)]
+    pub damping: DampingSpec,
+    pub run: RunSpec,
+    #[serde(default)]
+    pub outputs: OutputSpec,
+}
+
+/// A material: density for discs, contact properties for the laws that use them.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MaterialSpec {
+    pub name: String,
+    /// kg/m³; required for materials that discs use.
+    #[serde(default)]
+    pub density: Option<f64>,
+    /// Linear law: normal and tangential contact stiffness (N/m).
+    #[serde(default)]
+    pub kn: Option<f64>,
+    #[serde(default)]
+    pub ks: Option<f64>,
+    /// Hertz-Mindlin: Young's modulus (Pa) and Poisson's ratio.
+    #[serde(default)]
+    pub youngs_modulus: Option<f64>,
+    #[serde(default)]
+    pub poisson: Option<f64>,
+    /// Coulomb friction coefficient μ.
+    #[serde(default)]
+    pub friction: f64,
+    /// Normal coefficient of restitution e in (0, 1]; or give `damping_ratio`.
+    #[serde(default)]
+    pub restitution: Option<f64>,
+    /// Normal dashpot as a fraction of critical damping, in [0, 1).
+    #[serde(default)]
+    pub damping_ratio: Option<f64>,
+    /// Rolling-resistance coefficient μ_r (used by pairs with `"rolling": true`).
+    #[serde(default)]
+    pub rolling_friction: f64,
+}
+
+/// Contact law choice: a default for every material pair plus per-pair overrides.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContactSpec {
+    #[serde(default)]
+    pub law: LawName,
+    #[serde(default)]
+    pub rolling: bool,
+    #[serde(default)]
+    pub pairs: Vec<PairSpec>,
+}
+
+impl Default for ContactSpec {
+    fn default() -> Self {
+        ContactSpec {
+            law: LawName::LinearSpringDashpot,
+            rolling: false,
+            pairs: Vec::new(),
+        }
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum LawName {
+    #[default]
+    LinearSpringDashpot,
+    HertzMindlin,
+}
+
+/// The law of one material pair (order of the two names does not matter).
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PairSpec {
+    pub materials: [String; 2],
+    pub law: LawName,
+    #[serde(default)]
+    pub rolling: bool,
+    /// Overrides of the mixed values, same meaning and units as in a material.
+    #[serde(default)]
+    pub kn: Option<f64>,
+    #[serde(default)]
+    pub ks: Option<f64>,
+    #[serde(default)]
+    pub friction: Option<f64>,
+    #[serde(default)]
+    pub restitution: Option<f64>,
+    #[serde(default)]
+    pub damping_ratio: Option<f64>,
+    #[serde(default)]
+    pub rolling_friction: Option<f64>,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum BondModelName {
+    ParallelPotyondy2004,
+    ContactBond,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum CriterionName {
+    Stress,
+    Force,
+    Strain,
+    Energy,
+}
+
+/// A bond group: model, breakage criterion and the parameters they use. Which parameters are
+/// required (and which are refused as unused) depends on the model and criterion; see the docs.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BondGroupSpec {
+    pub name: String,
+    pub model: BondModelName,
+    pub criterion: CriterionName,
+    /// Parallel bond: normal and shear stiffness per area (Pa/m); contact bond: N/m.
+    #[serde(default)]
+    pub kn: Option<f64>,
+    #[serde(default)]
+    pub ks: Option<f64>,
+    /// Parallel bond radius multiplier λ̄ (R̄ = λ̄·min(R1, R2)); default 1.
+    #[serde(default)]
+    pub radius_multiplier: Option<f64>,
+    /// Moment contribution factor β̄ in σ̄ = −F̄n/Ā + β̄|M̄|R̄/Ī; default 1.
+    #[serde(default)]
+    pub moment_factor: Option<f64>,
+    /// Stress criterion: tensile strength σ̄c (Pa), cohesion c̄ (Pa), friction angle φ̄ (degrees).
+    #[serde(default)]
+    pub tensile_strength: Option<f64>,
+    #[serde(default)]
+    pub cohesion: Option<f64>,
+    #[serde(default)]
+    pub friction_angle: Option<f64>,
+    /// Force criterion: normal (tensile) and shear strength (N).
+    #[serde(default)]
+    pub normal_strength: Option<f64>,
+    #[serde(default)]
+    pub shear_strength: Option<f64>,
+    /// Strain criterion: limits of normal (opening) and shear strain (dimensionless).
+    #[serde(default)]
+    pub normal_strain: Option<f64>,
+    #[serde(default)]
+    pub shear_strain: Option<f64>,
+    /// Energy criterion: fracture energy (J) the bond strain energy must reach.
+    #[serde(default)]
+    pub fracture_energy: Option<f64>,
+}
+
+/// All bodies of the scene. Discs are created in this order: disc sets, clump sets, specimens.
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BodiesSpec {
+    #[serde(default)]
+    pub discs: Vec<DiscSetSpec>,
+    #[serde(default)]
+    pub clumps: Vec<ClumpSetSpec>,
+    #[serde(default)]
+    pub specimens: Vec<SpecimenRef>,
+}
+
+/// A set of free discs sharing material, group and initial motion.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DiscSetSpec {
+    pub material: String,
+    #[serde(default)]
+    pub group: u32,
+    /// Initial velocity (length unit / s) and angular velocity (rad/s) of every disc.
+    #[serde(default)]
+    pub velocity: [f64; 2],
+    #[serde(default)]
+    pub omega: f64,
+    /// Adds a velocity of this magnitude (length unit / s) in a random direction per disc,
+    /// drawn from the scene seed.
+    #[serde(default)]
+    pub random_speed: f64,
+    /// Fixed discs are not integrated; they keep their initial velocity.
+    #[serde(default)]
+    pub fixed: bool,
+    /// `[x, y, r]` per disc (length unit).
+    pub discs: Vec<[f64; 3]>,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ClumpMode {
+    /// ORC: one rigid body with the template's mass, centroid and inertia.
+    Rigid,
+    /// Improved ORC: free discs with the template's masses joined by intra-clump bonds.
+    Bonded,
+}
+
+/// Copies of one clump template.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ClumpSetSpec {
+    /// Template file (`clumpgen.template/1`), relative to the file that names it.
+    pub template: String,
+    pub material: String,
+    pub mode: ClumpMode,
+    /// Bond group of the intra-clump bonds (bonded mode only).
+    #[serde(default)]
+    pub bond_group: Option<String>,
+    /// Members of a bonded clump are bonded when their gap is at most this (length unit);
+    /// overlapping members always are. Default 0.
+    #[serde(default)]
+    pub bond_tolerance: f64,
+    pub placements: Vec<PlacementSpec>,
+}
+
+/// One copy of a template: centroid position, rotation and initial motion.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PlacementSpec {
+    pub x: f64,
+    pub y: f64,
+    /// Rotation of the template frame (rad, counter-clockwise).
+    #[serde(default)]
+    pub angle: f64,
+    #[serde(default)]
+    pub velocity: [f64; 2],
+    #[serde(default)]
+    pub omega: f64,
+}
+
+/// A specimen file (`dem.specimen/1`) to include, shifted by `offset`.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SpecimenRef {
+    /// Relative to the scene file.
+    pub file: String,
+    /// Shift (scene length unit).
+    #[serde(default)]
+    pub offset: [f64; 2],
+}
+
+/// A specimen file: bodies in their own length unit; materials and bond groups refer to the
+/// scene's by name, templates are relative to the specimen file.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SpecimenFile {
+    pub schema: String,
+    #[serde(default)]
+    pub description: String,
+    #[serde(default)]
+    pub units: LengthUnit,
+    #[serde(default)]
+    pub discs: Vec<DiscSetSpec>,
+    #[serde(default)]
+    pub clumps: Vec<ClumpSetSpec>,
+}
+
+/// Which disc pairs automatic bonding may join.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum Between {
+    /// Any two discs (not members of the same rigid clump).
+    #[default]
+    All,
+    /// Only discs of different groups (e.g. grain-boundary bonds between grains).
+    DifferentGroups,
+    /// Only discs of the same group.
+    SameGroup,
+}
+
+/// Install bonds of `bond_group` between every pair of discs whose gap is at most `tolerance`.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AutoBondSpec {
+    pub bond_group: String,
+    /// Largest gap bonded (length unit); ≥ 0.
+    #[serde(default)]
+    pub tolerance: f64,
+    #[serde(default)]
+    pub between: Between,
+    /// Only discs of these materials (all when empty).
+    #[serde(default)]
+    pub materials: Vec<String>,
+}
+
+/// A straight wall segment with prescribed motion.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WallSpec {
+    pub name: String,
+    pub a: [f64; 2],
+    pub b: [f64; 2],
+    pub material: String,
+    /// Translation velocity (length unit / s).
+    #[serde(default)]
+    pub velocity: [f64; 2],
+    /// Angular velocity (rad/s, counter-clockwise) about `center`.
+    #[serde(default)]
+    pub angular_velocity: f64,
+    /// Centre of rotation and of the recorded moment; default the segment's midpoint.
+    #[serde(default)]
+    pub center: Option<[f64; 2]>,
+}
+
+/// Periodic axes: `[lo, hi]` per periodic axis.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PeriodicSpec {
+    #[serde(default)]
+    pub x: Option<[f64; 2]>,
+    #[serde(default)]
+    pub y: Option<[f64; 2]>,
+}
+
+/// Damping: PFC local damping α and mass-proportional viscous damping.
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DampingSpec {
+    /// Local damping α in [0, 1): F_d = −α|F| sign(v) per component.
+    #[serde(default)]
+    pub local: f64,
+    /// Viscous damping rate c (1/s): F_d = −c m v.
+    #[serde(default)]
+    pub viscous: f64,
+}
+
+/// How long to run and with which time step.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RunSpec {
+    /// Simulated time (s); or give `steps`.
+    #[serde(default)]
+    pub duration: Option<f64>,
+    #[serde(default)]
+    pub steps: Option<u64>,
+    /// Safety factor f of the automatic time step; default the engine's.
+    #[serde(default)]
+    pub dt_factor: Option<f64>,
+    /// Fixed time step (s) instead of the automatic one.
+    #[serde(default)]
+    pub dt: Option<f64>,
+    /// Hard cap on the number of steps (a duration run stops there with an error).
+    #[serde(default)]
+    pub max_steps: Option<u64>,
+}
+
+/// What to write and how often (every N steps; 0 = never).
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct OutputSpec {
+    /// Output folder, relative to the scene file; default `<scene stem>.out`.
+    #[serde(default)]
+    pub dir: Option<String>,
+    #[serde(default = "default_history")]
+    pub history_every: u64,
+    #[serde(default)]
+    pub vtk_every: u64,
+    #[serde(default)]
+    pub checkpoint_every: u64,
+    /// Blow-up guard interval (the guard also runs at every output).
+    #[serde(default = "default_guard")]
+    pub guard_every: u64,
+    #[serde(default = "yes")]
+    pub summary: bool,
+}
+
+fn default_history() -> u64 {
+    100
+}
+
+fn default_guard() -> u64 {
+    100
+}
+
+fn yes() -> bool {
+    true
+}
+
+impl Default for OutputSpec {
+    fn default() -> Self {
+        OutputSpec {
+            dir: None,
+            history_every: default_history(),
+            vtk_every: 0,
+            checkpoint_every: 0,
+            guard_every: default_guard(),
+            summary: true,
+        }
+    }
+}

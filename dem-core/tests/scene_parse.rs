@@ -1,0 +1,262 @@
+//! Scene files: the examples load; bad scenes fail with the file, the JSON path and the reason.
+
+use dem_core::scene::{self, model::Stop, SceneError};
+use std::path::{Path, PathBuf};
+
+fn examples() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/scenes")
+}
+
+/// A valid two-disc scene to mutate.
+fn base() -> serde_json::Value {
+    serde_json::json!({
+        "schema": "dem.scene/1",
+        "units": "mm",
+        "materials": [
+            {"name": "glass", "density": 2500, "kn": 1e6, "ks": 5e5, "friction": 0.3, "restitution": 0.8},
+            {"name": "steel", "kn": 2e6, "ks": 1e6, "friction": 0.2, "restitution": 0.6}
+        ],
+        "bodies": {"discs": [{"material": "glass", "discs": [[0, 0, 1], [2.5, 0, 1]]}]},
+        "walls": [{"name": "floor", "a": [-5, -1], "b": [5, -1], "material": "steel"}],
+        "run": {"steps": 10}
+    })
+}
+
+fn load_value(v: &serde_json::Value, name: &str) -> Result<scene::Scene, SceneError> {
+    let dir = std::env::temp_dir().join(format!("dem-scene-parse-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let p = dir.join(name);
+    std::fs::write(&p, serde_json::to_string_pretty(v).unwrap()).unwrap();
+    scene::load(&p)
+}
+
+/// Loads a mutated base scene and returns the error text, which must name the file.
+fn error_of(f: impl FnOnce(&mut serde_json::Value), name: &str) -> String {
+    let mut v = base();
+    f(&mut v);
+    let e = load_value(&v, name)
+        .expect_err("scene should be rejected")
+        .to_string();
+    assert!(e.contains(name), "error does not name the file: {e}");
+    e
+}
+
+#[test]
+fn every_example_loads() {
+    let mut n = 0;
+    for entry in std::fs::read_dir(examples()).unwrap() {
+        let p = entry.unwrap().path();
+        if p.extension().is_some_and(|e| e == "json") {
+            let s = scene::load(&p).unwrap_or_else(|e| panic!("{e}"));
+            assert!(s.disc_count() > 0, "{}", p.display());
+            n += 1;
+        }
+    }
+    assert!(n >= 4, "found {n} example scenes");
+}
+
+#[test]
+fn lengths_convert_once_and_pairs_mix() {
+    let s = load_value(&base(), "ok.json").unwrap();
+    assert_eq!(s.discs[1].x, 2.5e-3);
+    assert_eq!(s.discs[1].r, 1e-3);
+    assert_eq!(s.walls[0].a, [-5e-3, -1e-3]);
+    assert_eq!(s.walls[0].center, [0.0, -1e-3]);
+    assert_eq!(
+        s.thickness, 1.0,
+        "default thickness is 1 m whatever the units"
+    );
+    assert_eq!(s.run.stop, Stop::Steps(10));
+    // glass-glass and glass-steel are used; steel-steel is not.
+    assert_eq!(s.pairs.len(), 2);
+    let gs = s.pair(1, 0).unwrap();
+    match gs.stiffness {
+        scene::model::PairStiffness::Linear { kn, ks } => {
+            assert!((kn - 2.0 * 1e6 * 2e6 / 3e6).abs() < 1e-6);
+            assert!((ks - 2.0 * 5e5 * 1e6 / 1.5e6).abs() < 1e-6);
+        }
+        _ => panic!("linear expected"),
+    }
+    assert_eq!(gs.friction, 0.2);
+    assert_eq!(gs.damping, scene::model::NormalDamping::Restitution(0.6));
+    assert!(s.pair(1, 1).is_none());
+}
+
+#[test]
+fn unknown_field_is_named_with_its_path() {
+    let e = error_of(
+        |v| v["bodies"]["discs"][0]["colour"] = "red".into(),
+        "unknown.json",
+    );
+    assert!(
+        e.contains("bodies.discs[0]") && e.contains("unknown field `colour`"),
+        "{e}"
+    );
+    let e = error_of(|v| v["run"]["stepz"] = 3.into(), "unknown2.json");
+    assert!(e.contains("run") && e.contains("stepz"), "{e}");
+}
+
+#[test]
+fn wrong_type_and_bad_enum_are_named() {
+    let e = error_of(
+        |v| v["materials"][0]["density"] = "heavy".into(),
+        "type.json",
+    );
+    assert!(e.contains("materials[0].density"), "{e}");
+    let e = error_of(|v| v["units"] = "cm".into(), "units.json");
+    assert!(e.contains("units") && e.contains("cm"), "{e}");
+}
+
+#[test]
+fn negative_radius_is_named() {
+    let e = error_of(
+        |v| v["bodies"]["discs"][0]["discs"][1][2] = (-1.0).into(),
+        "radius.json",
+    );
+    assert!(
+        e.contains("bodies.discs[0].discs[1][2]") && e.contains("radius must be positive"),
+        "{e}"
+    );
+}
+
+#[test]
+fn bad_material_reference_is_named() {
+    let e = error_of(|v| v["walls"][0]["material"] = "stee".into(), "mat.json");
+    assert!(
+        e.contains("walls[0].material") && e.contains("\"stee\""),
+        "{e}"
+    );
+    // A wall material without density cannot make discs.
+    let e = error_of(
+        |v| v["bodies"]["discs"][0]["material"] = "steel".into(),
+        "dens.json",
+    );
+    assert!(
+        e.contains("bodies.discs[0].material") && e.contains("no density"),
+        "{e}"
+    );
+}
+
+#[test]
+fn missing_template_is_named() {
+    let e = error_of(
+        |v| {
+            v["bodies"]["clumps"] = serde_json::json!([{
+                "template": "no/such/template.json", "material": "glass", "mode": "rigid",
+                "placements": [{"x": 0, "y": 5}]
+            }])
+        },
+        "tpl.json",
+    );
+    assert!(
+        e.contains("bodies.clumps[0].template") && e.contains("no/such/template.json"),
+        "{e}"
+    );
+}
+
+#[test]
+fn law_parameters_are_required_where_used() {
+    let e = error_of(
+        |v| v["contact"] = serde_json::json!({"law": "hertz_mindlin"}),
+        "hertz.json",
+    );
+    assert!(
+        e.contains("materials[0].youngs_modulus") && e.contains("hertz_mindlin"),
+        "{e}"
+    );
+    let e = error_of(
+        |v| {
+            v["materials"][1]
+                .as_object_mut()
+                .unwrap()
+                .remove("kn")
+                .map(|_| ())
+                .unwrap()
+        },
+        "kn.json",
+    );
+    assert!(e.contains("materials[1].kn"), "{e}");
+}
+
+#[test]
+fn bond_group_parameters_match_model_and_criterion() {
+    let group = serde_json::json!({"name": "gb", "model": "parallel_potyondy2004", "criterion": "stress",
+        "kn": 1e12, "ks": 5e11, "tensile_strength": 1e7, "cohesion": 2e7});
+    let mut v = base();
+    v["bond_groups"] = serde_json::json!([group.clone()]);
+    let s = load_value(&v, "bonds-ok.json").unwrap();
+    assert_eq!(s.bond_groups[0].friction_angle, Some(0.0));
+    let e = error_of(
+        |v| {
+            let mut g = group.clone();
+            g.as_object_mut().unwrap().remove("cohesion");
+            v["bond_groups"] = serde_json::json!([g]);
+        },
+        "bonds-missing.json",
+    );
+    assert!(
+        e.contains("bond_groups[0].cohesion") && e.contains("required by criterion stress"),
+        "{e}"
+    );
+    let e = error_of(
+        |v| {
+            let mut g = group.clone();
+            g["fracture_energy"] = 1.0.into();
+            v["bond_groups"] = serde_json::json!([g]);
+        },
+        "bonds-unused.json",
+    );
+    assert!(
+        e.contains("bond_groups[0].fracture_energy") && e.contains("not used"),
+        "{e}"
+    );
+    let e = error_of(
+        |v| v["auto_bonds"] = serde_json::json!([{"bond_group": "grain_boundary"}]),
+        "bonds-ref.json",
+    );
+    assert!(e.contains("auto_bonds[0].bond_group"), "{e}");
+}
+
+#[test]
+fn run_control_is_checked() {
+    let e = error_of(
+        |v| v["run"] = serde_json::json!({"steps": 10, "duration": 1.0}),
+        "run.json",
+    );
+    assert!(e.contains("run.steps") && e.contains("not both"), "{e}");
+    let e = error_of(
+        |v| v["run"] = serde_json::json!({"steps": 10, "dt_factor": 1.5}),
+        "dtf.json",
+    );
+    assert!(e.contains("run.dt_factor"), "{e}");
+}
+
+#[test]
+fn specimen_files_are_included_with_their_units() {
+    let dir = std::env::temp_dir().join(format!("dem-scene-spec-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(
+        dir.join("spec.json"),
+        r#"{"schema": "dem.specimen/1", "units": "m", "discs": [{"material": "glass", "group": 4, "discs": [[0.01, 0.0, 0.002]]}]}"#,
+    )
+    .unwrap();
+    let mut v = base();
+    v["bodies"]["specimens"] = serde_json::json!([{"file": "spec.json", "offset": [100, 0]}]);
+    let p = dir.join("with-spec.json");
+    std::fs::write(&p, v.to_string()).unwrap();
+    let s = scene::load(&p).unwrap();
+    assert_eq!(s.discs.len(), 3);
+    assert!((s.discs[2].x - 0.11).abs() < 1e-15 && s.discs[2].r == 0.002 && s.discs[2].group == 4);
+    // An error inside the specimen names the specimen file and its own path.
+    std::fs::write(
+        dir.join("spec.json"),
+        r#"{"schema": "dem.specimen/1", "discs": [{"material": "glass", "discs": [[0, 0, 0]]}]}"#,
+    )
+    .unwrap();
+    let e = scene::load(&p).unwrap_err().to_string();
+    assert!(
+        e.contains("spec.json") && e.contains("discs[0].discs[0][2]"),
+        "{e}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
