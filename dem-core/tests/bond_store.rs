@@ -337,8 +337,8 @@ fn remap_follows_a_disc_reorder() {
         v
     };
     assert_eq!(by_id(&b), by_id(&b2));
-    for old in 0..n {
-        let new = new_of_old[old] as usize;
+    for (old, &new) in new_of_old.iter().enumerate() {
+        let new = new as usize;
         let (a, c) = (st.discs.fx[old], st2.discs.fx[new]);
         assert!((a - c).abs() <= 1e-9 * a.abs().max(1e-6), "{a} {c}");
     }
