@@ -2,6 +2,7 @@
 //! the virtual lab tests built on it. See `docs/dem-core-design.md` for how the parts fit.
 
 pub mod bond;
+pub mod bonded_clump;
 pub mod lab;
 pub mod state;
 
