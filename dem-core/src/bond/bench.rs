@@ -1,0 +1,103 @@
+//! The bonded-lattice benchmark: the dense hex lattice of `shared/bench/lammps-dense2d.in`
+//! (46,000 discs, spacing 1 mm, diameter 1.002 mm, periodic in x and y, tiny random
+//! displacement, density 2500 kg/m³) with a parallel bond at every contact.
+//!
+//! Disc thickness t = (4/3)·r makes each disc's mass ρ·t·π·r² equal LAMMPS's sphere mass
+//! ρ·(4/3)π r³ (LAMMPS `set density` on `atom_style sphere` gives spheres even in 2D).
+//! The bonds' k̄nĀ and k̄sĀ equal the contact stiffness kn = 1e5 N/m of the LAMMPS input; their
+//! strengths (1e8 Pa) are far above the loads the 1 µm displacement creates, so none break.
+
+use super::{BondGroup, BondModel, Bonds, Criterion, ParallelBondParams};
+use crate::state::{Periodic, State};
+
+/// Lattice spacing (m), disc radius (m), density (kg/m³) of the LAMMPS input.
+pub const SPACING: f64 = 1e-3;
+pub const RADIUS: f64 = 0.5 * 1.002e-3;
+pub const DENSITY: f64 = 2500.0;
+/// Lattice cells in x and y (two discs per cell): 200 × 115 × 2 = 46,000 discs.
+pub const CELLS: [usize; 2] = [200, 115];
+/// Contact normal stiffness of the LAMMPS input (N/m), which the bonds' k̄nĀ match.
+pub const KN: f64 = 1e5;
+
+/// LAMMPS-style `lattice hex`: a1 = (a, 0), a2 = (0, √3 a), basis (0,0) and (a/2, √3a/2);
+/// each disc displaced by a uniform random amount in [−1, 1] µm per axis (deterministic LCG).
+pub fn hex_lattice_state(cells: [usize; 2]) -> State {
+    let a = SPACING;
+    let h = 3f64.sqrt() * a;
+    let mut st = State {
+        thickness: 4.0 / 3.0 * RADIUS,
+        periodic: Periodic {
+            lo: [0.0, 0.0],
+            length: [Some(cells[0] as f64 * a), Some(cells[1] as f64 * h)],
+        },
+        ..State::default()
+    };
+    let mut s: u64 = 123;
+    let mut rnd = || {
+        s = s
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        2.0 * ((s >> 11) as f64 / (1u64 << 53) as f64) - 1.0
+    };
+    for cy in 0..cells[1] {
+        for cx in 0..cells[0] {
+            for (bx, by) in [(0.0, 0.0), (0.5, 0.5)] {
+                let x = (cx as f64 + bx) * a + 1e-6 * rnd();
+                let y = (cy as f64 + by) * h + 1e-6 * rnd();
+                let (x, y) = (st.periodic.wrap(0, x), st.periodic.wrap(1, y));
+                st.discs
+                    .push_uniform(x, y, RADIUS, DENSITY, st.thickness, 0);
+            }
+        }
+    }
+    st
+}
+
+/// The bond group of the benchmark lattice: k̄n = k̄s = KN/Ā with Ā = 2·r·t.
+pub fn lattice_bond_group(t: f64) -> BondGroup {
+    let area = 2.0 * RADIUS * t;
+    BondGroup {
+        name: "lattice".into(),
+        model: BondModel::Parallel(ParallelBondParams {
+            kn: KN / area,
+            ks: KN / area,
+            lambda: 1.0,
+            beta: 1.0,
+        }),
+        criterion: Criterion::Stress {
+            tensile: 1e8,
+            cohesion: 1e8,
+            friction_angle: 0.5,
+        },
+    }
+}
+
+/// The benchmark lattice with a parallel bond at every contact (≈ 3 bonds per disc).
+pub fn bonded_lattice_state(cells: [usize; 2]) -> (State, Bonds) {
+    let st = hex_lattice_state(cells);
+    let mut bonds = Bonds::new(vec![lattice_bond_group(st.thickness)])
+        .expect("the benchmark bond group is valid");
+    bonds
+        .install_at_contacts(&st, 0.1 * RADIUS, 0)
+        .expect("lattice discs are valid");
+    (st, bonds)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn small_lattice_has_three_bonds_per_disc() {
+        let (st, b) = bonded_lattice_state([10, 6]);
+        assert_eq!(st.discs.len(), 120);
+        assert_eq!(b.len(), 3 * 120);
+        // Every disc has six bonded neighbours.
+        let mut deg = vec![0; 120];
+        for v in b.iter() {
+            deg[v.i as usize] += 1;
+            deg[v.j as usize] += 1;
+        }
+        assert!(deg.iter().all(|&d| d == 6));
+    }
+}

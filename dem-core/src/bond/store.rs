@@ -1,0 +1,623 @@
+//! The bond store ([`Bonds`]): groups, per-bond arrays, the per-step kernel and its scatter.
+
+use super::criteria::{BreakMode, Compiled};
+use super::potyondy2004::Kinematics;
+use super::{
+    contact_bond, install, potyondy2004, BondError, BondGroup, BondModel, BondStatus, BreakEvent,
+    BreakLog,
+};
+use crate::state::{Periodic, State, FREE};
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+use std::collections::HashSet;
+
+/// `status` codes: intact, broken (tension/shear), and broken in the current step (not yet
+/// logged).
+const INTACT: u8 = 0;
+const BROKEN: u8 = 1; // + mode index
+const NEW: u8 = 3; // + mode index
+
+/// Use the two-pass parallel kernel from this many bonds on (and with more than one thread).
+const PAR_MIN_BONDS: usize = 8192;
+const CHUNK: usize = 2048;
+
+/// Derived per-run data, rebuilt on demand; not part of the state (ignored by `==`).
+#[derive(Clone, Debug, Default)]
+struct Cache {
+    compiled: Vec<Compiled>,
+    /// Per-bond force on disc j (x, y) and torques on i and j, for the parallel scatter.
+    scratch: Vec<[f64; 4]>,
+}
+
+impl PartialEq for Cache {
+    fn eq(&self, _: &Cache) -> bool {
+        true
+    }
+}
+
+/// Bond groups and all bonds (structure of arrays; bond `b` joins discs `i[b]` and `j[b]`).
+///
+/// Disc indices are positions in [`crate::Discs`]; the pipeline calls [`Bonds::remap`] when it
+/// reorders discs. Bond ids ([`BondView::id`]) are stable.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Bonds {
+    groups: Vec<BondGroup>,
+    id: Vec<u32>,
+    i: Vec<u32>,
+    j: Vec<u32>,
+    group: Vec<u16>,
+    /// Reference gap g0 (m): the gap at installation.
+    g0: Vec<f64>,
+    /// Bond radius R̄ (m): λ̄·min(R1,R2) for parallel bonds, min(R1,R2) for contact bonds.
+    rbar: Vec<f64>,
+    /// [F̄n, F̄s, M̄] (N, N, N·m).
+    force: Vec<[f64; 3]>,
+    status: Vec<u8>,
+    next_id: u32,
+    /// Disc thickness t the bonds were built with (m).
+    thickness: f64,
+    /// Broken bonds per group, `[tension, shear]`.
+    broken: Vec<[u64; 2]>,
+    /// Strain energy released at breaks, cumulative (J).
+    released: f64,
+    log: BreakLog,
+    #[serde(skip)]
+    cache: Cache,
+}
+
+/// One bond, for outputs.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BondView {
+    /// Stable bond id.
+    pub id: u32,
+    /// Current disc indices.
+    pub i: u32,
+    pub j: u32,
+    pub group: u16,
+    pub status: BondStatus,
+    /// F̄n (positive in compression), F̄s (N) and M̄ (N·m).
+    pub fn_: f64,
+    pub fs: f64,
+    pub m: f64,
+    pub g0: f64,
+    pub rbar: f64,
+}
+
+/// Read-only disc data the kernel needs.
+struct DiscView<'a> {
+    x: &'a [f64],
+    y: &'a [f64],
+    vx: &'a [f64],
+    vy: &'a [f64],
+    omega: &'a [f64],
+    r: &'a [f64],
+    per: Periodic,
+}
+
+/// Geometry of a bond: unit normal from i to j, gap, arms from the disc centres to the contact
+/// point.
+#[inline(always)]
+fn geometry(v: &DiscView, i: usize, j: usize) -> (f64, f64, f64, f64, f64) {
+    let dx = v.per.delta(0, v.x[i], v.x[j]);
+    let dy = v.per.delta(1, v.y[i], v.y[j]);
+    let dist = (dx * dx + dy * dy).sqrt();
+    let (nx, ny) = if dist > 0.0 {
+        (dx / dist, dy / dist)
+    } else {
+        (1.0, 0.0)
+    };
+    let gap = dist - v.r[i] - v.r[j];
+    (nx, ny, gap, v.r[i] + 0.5 * gap, v.r[j] + 0.5 * gap)
+}
+
+/// One bond for one step: update its forces, check its criterion, return the force on disc j
+/// and the torques on i and j (`[fx, fy, ti, tj]`) and whether it broke now.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn kernel(
+    v: &DiscView,
+    groups: &[BondGroup],
+    compiled: &[Compiled],
+    t: f64,
+    dt: f64,
+    i: usize,
+    j: usize,
+    g: usize,
+    g0: f64,
+    rbar: f64,
+    f: &mut [f64; 3],
+    status: &mut u8,
+) -> ([f64; 4], bool) {
+    if *status != INTACT {
+        return ([0.0; 4], false);
+    }
+    let (nx, ny, gap, ai, aj) = geometry(v, i, j);
+    let (tx, ty) = (-ny, nx);
+    // Tangential relative velocity of j's and i's material points at the contact point
+    // (v_j − ω_j a_j t̂) − (v_i + ω_i a_i t̂), projected on t̂.
+    let vt =
+        (v.vx[j] - v.vx[i]) * tx + (v.vy[j] - v.vy[i]) * ty - (v.omega[j] * aj + v.omega[i] * ai);
+    let k = Kinematics {
+        gap,
+        dus: vt * dt,
+        dtheta: (v.omega[j] - v.omega[i]) * dt,
+    };
+    let length = v.r[i] + v.r[j] + g0;
+    let loads = match &groups[g].model {
+        BondModel::Parallel(p) => potyondy2004::update(p, rbar, t, g0, length, &k, f),
+        BondModel::Contact(p) => contact_bond::update(p, rbar, t, g0, length, &k, f),
+    };
+    if let Some(mode) = compiled[g].check(&loads) {
+        *status = NEW + mode.index() as u8;
+        return ([0.0; 4], true);
+    }
+    let (fn_, fs, m) = (f[0], f[1], f[2]);
+    (
+        [
+            fn_ * nx + fs * tx,
+            fn_ * ny + fs * ty,
+            -ai * fs - m,
+            -aj * fs + m,
+        ],
+        false,
+    )
+}
+
+/// Add one bond's contribution to its discs (the only place disc sums are formed).
+#[inline(always)]
+fn scatter(fx: &mut [f64], fy: &mut [f64], tq: &mut [f64], i: usize, j: usize, o: &[f64; 4]) {
+    fx[i] -= o[0];
+    fy[i] -= o[1];
+    tq[i] += o[2];
+    fx[j] += o[0];
+    fy[j] += o[1];
+    tq[j] += o[3];
+}
+
+fn mode_of(code: u8) -> BreakMode {
+    if code % 2 == 1 {
+        BreakMode::Tension
+    } else {
+        BreakMode::Shear
+    }
+}
+
+impl Bonds {
+    /// An empty store with these groups (validated; names must be unique).
+    pub fn new(groups: Vec<BondGroup>) -> Result<Bonds, BondError> {
+        if groups.len() > u16::MAX as usize {
+            return Err(BondError::TooManyGroups(groups.len()));
+        }
+        let mut names = HashSet::new();
+        for g in &groups {
+            g.validate()?;
+            if !names.insert(g.name.as_str()) {
+                return Err(BondError::DuplicateGroup(g.name.clone()));
+            }
+        }
+        let n = groups.len();
+        Ok(Bonds {
+            groups,
+            id: Vec::new(),
+            i: Vec::new(),
+            j: Vec::new(),
+            group: Vec::new(),
+            g0: Vec::new(),
+            rbar: Vec::new(),
+            force: Vec::new(),
+            status: Vec::new(),
+            next_id: 0,
+            thickness: 1.0,
+            broken: vec![[0; 2]; n],
+            released: 0.0,
+            log: BreakLog::default(),
+            cache: Cache::default(),
+        })
+    }
+
+    pub fn groups(&self) -> &[BondGroup] {
+        &self.groups
+    }
+
+    pub fn group_names(&self) -> Vec<String> {
+        self.groups.iter().map(|g| g.name.clone()).collect()
+    }
+
+    /// Index of the group called `name`.
+    pub fn group_index(&self, name: &str) -> Result<u16, BondError> {
+        self.groups
+            .iter()
+            .position(|g| g.name == name)
+            .map(|k| k as u16)
+            .ok_or_else(|| BondError::UnknownGroupName(name.to_string()))
+    }
+
+    /// Number of bonds (intact and broken).
+    pub fn len(&self) -> usize {
+        self.i.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.i.is_empty()
+    }
+
+    pub fn n_intact(&self) -> usize {
+        self.status.iter().filter(|&&s| s == INTACT).count()
+    }
+
+    /// Broken bonds per group as `[tension, shear]`, indexed like [`Bonds::groups`].
+    pub fn broken_counts(&self) -> &[[u64; 2]] {
+        &self.broken
+    }
+
+    /// The crack record.
+    pub fn log(&self) -> &BreakLog {
+        &self.log
+    }
+
+    /// Bond `b` (store position).
+    pub fn get(&self, b: usize) -> BondView {
+        let s = self.status[b];
+        BondView {
+            id: self.id[b],
+            i: self.i[b],
+            j: self.j[b],
+            group: self.group[b],
+            status: if s == INTACT {
+                BondStatus::Intact
+            } else {
+                BondStatus::Broken(mode_of(s))
+            },
+            fn_: self.force[b][0],
+            fs: self.force[b][1],
+            m: self.force[b][2],
+            g0: self.g0[b],
+            rbar: self.rbar[b],
+        }
+    }
+
+    /// All bonds in store order.
+    pub fn iter(&self) -> impl Iterator<Item = BondView> + '_ {
+        (0..self.len()).map(|b| self.get(b))
+    }
+
+    /// Bond centre (the contact point x_i + (R_i + g/2) n̂), wrapped into a periodic box.
+    pub fn centre(&self, st: &State, b: usize) -> [f64; 2] {
+        let d = &st.discs;
+        let v = DiscView {
+            x: &d.x,
+            y: &d.y,
+            vx: &d.vx,
+            vy: &d.vy,
+            omega: &d.omega,
+            r: &d.r,
+            per: st.periodic,
+        };
+        let (i, j) = (self.i[b] as usize, self.j[b] as usize);
+        let (nx, ny, _, ai, _) = geometry(&v, i, j);
+        [
+            st.periodic.wrap(0, d.x[i] + ai * nx),
+            st.periodic.wrap(1, d.y[i] + ai * ny),
+        ]
+    }
+
+    /// Bond discs `i` and `j` with a bond of group `group`; returns the bond's store position.
+    /// The reference gap g0 is the current gap, so the bond starts force-free (across a gap or
+    /// an overlap). R̄ = λ̄·min(R_i, R_j) (parallel) or min(R_i, R_j) (contact bond).
+    /// Does not check for an existing bond between the pair (the `install_*` functions do).
+    pub fn add(&mut self, st: &State, i: usize, j: usize, group: u16) -> Result<usize, BondError> {
+        let n = st.discs.len();
+        for k in [i, j] {
+            if k >= n {
+                return Err(BondError::DiscIndex { index: k, len: n });
+            }
+        }
+        if i == j {
+            return Err(BondError::SelfBond(i));
+        }
+        let g = self
+            .groups
+            .get(group as usize)
+            .ok_or(BondError::UnknownGroup(group as usize))?;
+        let d = &st.discs;
+        let ok = |k: usize| {
+            d.r[k] > 0.0 && d.r[k].is_finite() && d.x[k].is_finite() && d.y[k].is_finite()
+        };
+        if !(ok(i) && ok(j) && st.thickness > 0.0 && st.thickness.is_finite()) {
+            return Err(BondError::BadDisc { i, j });
+        }
+        let dx = st.periodic.delta(0, d.x[i], d.x[j]);
+        let dy = st.periodic.delta(1, d.y[i], d.y[j]);
+        if dx == 0.0 && dy == 0.0 {
+            return Err(BondError::Coincident(i, j));
+        }
+        let rmin = d.r[i].min(d.r[j]);
+        let rbar = match &g.model {
+            BondModel::Parallel(p) => p.lambda * rmin,
+            BondModel::Contact(_) => rmin,
+        };
+        self.thickness = st.thickness;
+        self.id.push(self.next_id);
+        self.next_id += 1;
+        self.i.push(i as u32);
+        self.j.push(j as u32);
+        self.group.push(group);
+        self.g0.push(install::gap(st, i, j));
+        self.rbar.push(rbar);
+        self.force.push([0.0; 3]);
+        self.status.push(INTACT);
+        Ok(self.len() - 1)
+    }
+
+    /// Bond every pair with gap ≤ `tol` (touching, overlapping or nearly touching discs) whose
+    /// group `choose(i, j)` returns (None: leave the pair unbonded). Pairs already bonded and
+    /// pairs inside one rigid clump are skipped. Returns the number of bonds added.
+    pub fn install_within_gap(
+        &mut self,
+        st: &State,
+        tol: f64,
+        mut choose: impl FnMut(usize, usize) -> Option<u16>,
+    ) -> Result<usize, BondError> {
+        let pairs = install::pairs_within_gap(st, tol);
+        self.install_pairs(
+            st,
+            pairs.into_iter().filter_map(|(i, j)| {
+                let (i, j) = (i as usize, j as usize);
+                choose(i, j).map(|g| (i, j, g))
+            }),
+        )
+    }
+
+    /// Bond every pair within gap `tol` with a bond of `group` (see
+    /// [`Bonds::install_within_gap`]).
+    pub fn install_at_contacts(
+        &mut self,
+        st: &State,
+        tol: f64,
+        group: u16,
+    ) -> Result<usize, BondError> {
+        self.install_within_gap(st, tol, |_, _| Some(group))
+    }
+
+    /// Bond the given pairs `(i, j, group)`, skipping pairs already bonded (either order) and
+    /// pairs inside one rigid clump. Returns the number added.
+    pub fn install_pairs(
+        &mut self,
+        st: &State,
+        pairs: impl IntoIterator<Item = (usize, usize, u16)>,
+    ) -> Result<usize, BondError> {
+        let mut have: HashSet<(u32, u32)> = self
+            .i
+            .iter()
+            .zip(&self.j)
+            .map(|(&a, &b)| (a.min(b), a.max(b)))
+            .collect();
+        let body = &st.discs.body;
+        let mut added = 0;
+        for (i, j, g) in pairs {
+            if i < body.len() && j < body.len() && body[i] != FREE && body[i] == body[j] {
+                continue;
+            }
+            let key = (i.min(j) as u32, i.max(j) as u32);
+            if have.contains(&key) {
+                continue;
+            }
+            self.add(st, i, j, g)?;
+            have.insert(key);
+            added += 1;
+        }
+        Ok(added)
+    }
+
+    fn ensure_cache(&mut self) {
+        if self.cache.compiled.len() != self.groups.len() {
+            self.cache.compiled = self.groups.iter().map(|g| g.criterion.compile()).collect();
+        }
+    }
+
+    /// The bond stage of a step: update every intact bond from the discs' positions (at t) and
+    /// velocities (at t − dt/2), add bond forces and torques to the discs, break bonds whose
+    /// criterion is met (their force vanishes from this step on) and log the breaks.
+    pub fn compute(&mut self, st: &mut State, dt: f64) {
+        let nb = self.len();
+        if nb == 0 {
+            return;
+        }
+        self.ensure_cache();
+        self.thickness = st.thickness;
+        let t = st.thickness;
+        let parallel = nb >= PAR_MIN_BONDS && rayon::current_num_threads() > 1;
+        if parallel && self.cache.scratch.len() != nb {
+            self.cache.scratch.resize(nb, [0.0; 4]);
+        }
+        let Bonds {
+            groups,
+            i: bi,
+            j: bj,
+            group,
+            g0,
+            rbar,
+            force,
+            status,
+            cache,
+            ..
+        } = self;
+        let per = st.periodic;
+        let d = &mut st.discs;
+        let v = DiscView {
+            x: &d.x,
+            y: &d.y,
+            vx: &d.vx,
+            vy: &d.vy,
+            omega: &d.omega,
+            r: &d.r,
+            per,
+        };
+        let compiled = &cache.compiled[..];
+        let mut new_breaks = 0usize;
+        if parallel {
+            new_breaks = force
+                .par_chunks_mut(CHUNK)
+                .zip(status.par_chunks_mut(CHUNK))
+                .zip(cache.scratch.par_chunks_mut(CHUNK))
+                .enumerate()
+                .map(|(c, ((f, s), out))| {
+                    let base = c * CHUNK;
+                    let mut nb = 0;
+                    for k in 0..f.len() {
+                        let b = base + k;
+                        let (o, broke) = kernel(
+                            &v,
+                            groups,
+                            compiled,
+                            t,
+                            dt,
+                            bi[b] as usize,
+                            bj[b] as usize,
+                            group[b] as usize,
+                            g0[b],
+                            rbar[b],
+                            &mut f[k],
+                            &mut s[k],
+                        );
+                        out[k] = o;
+                        nb += broke as usize;
+                    }
+                    nb
+                })
+                .sum();
+            let (fx, fy, tq) = (&mut d.fx, &mut d.fy, &mut d.torque);
+            for (b, o) in cache.scratch.iter().enumerate() {
+                scatter(fx, fy, tq, bi[b] as usize, bj[b] as usize, o);
+            }
+        } else {
+            let (fx, fy, tq) = (&mut d.fx, &mut d.fy, &mut d.torque);
+            for b in 0..nb {
+                let (i, j) = (bi[b] as usize, bj[b] as usize);
+                let (o, broke) = kernel(
+                    &v,
+                    groups,
+                    compiled,
+                    t,
+                    dt,
+                    i,
+                    j,
+                    group[b] as usize,
+                    g0[b],
+                    rbar[b],
+                    &mut force[b],
+                    &mut status[b],
+                );
+                scatter(fx, fy, tq, i, j, &o);
+                new_breaks += broke as usize;
+            }
+        }
+        if new_breaks > 0 {
+            self.log_breaks(st);
+        }
+    }
+
+    /// Log the bonds broken in this step (store order), count them, release their energy and
+    /// clear their forces.
+    fn log_breaks(&mut self, st: &State) {
+        for b in 0..self.len() {
+            let s = self.status[b];
+            if s < NEW {
+                continue;
+            }
+            let mode = mode_of(s);
+            let energy = self.bond_energy(b);
+            let [x, y] = self.centre(st, b);
+            let g = self.group[b];
+            self.log.push(BreakEvent {
+                time: st.time,
+                step: st.step,
+                x,
+                y,
+                group: g,
+                mode,
+                id_i: st.discs.id[self.i[b] as usize],
+                id_j: st.discs.id[self.j[b] as usize],
+                bond: self.id[b],
+                energy,
+            });
+            self.released += energy;
+            self.broken[g as usize][mode.index()] += 1;
+            self.force[b] = [0.0; 3];
+            self.status[b] = BROKEN + mode.index() as u8;
+        }
+    }
+
+    /// Strain energy held by bond `b` (J).
+    pub fn bond_energy(&self, b: usize) -> f64 {
+        let f = &self.force[b];
+        match &self.groups[self.group[b] as usize].model {
+            BondModel::Parallel(p) => potyondy2004::energy(p, self.rbar[b], self.thickness, f),
+            BondModel::Contact(p) => contact_bond::energy(p, f),
+        }
+    }
+
+    /// Per-disc stiffness of the intact bonds for the time-step estimate (added to `k_trans`
+    /// and `k_rot`, indexed by disc): see [`potyondy2004::stiffness`] and
+    /// [`contact_bond::stiffness`]; the arm is R_k + g0/2.
+    pub fn add_stiffness(&self, st: &State, k_trans: &mut [f64], k_rot: &mut [f64]) {
+        let t = st.thickness;
+        let r = &st.discs.r;
+        for b in 0..self.len() {
+            if self.status[b] != INTACT {
+                continue;
+            }
+            let g0 = self.g0[b];
+            for k in [self.i[b] as usize, self.j[b] as usize] {
+                let arm = r[k] + 0.5 * g0;
+                let (kt, kr) = match &self.groups[self.group[b] as usize].model {
+                    BondModel::Parallel(p) => potyondy2004::stiffness(p, self.rbar[b], t, arm),
+                    BondModel::Contact(p) => contact_bond::stiffness(p, arm),
+                };
+                k_trans[k] += kt;
+                k_rot[k] += kr;
+            }
+        }
+    }
+
+    /// Strain energy stored in the intact bonds (J).
+    pub fn strain_energy(&self) -> f64 {
+        (0..self.len())
+            .filter(|&b| self.status[b] == INTACT)
+            .map(|b| self.bond_energy(b))
+            .sum()
+    }
+
+    /// Strain energy released at bond breaks since the start (J).
+    pub fn released_energy(&self) -> f64 {
+        self.released
+    }
+
+    /// Follow a reordering of the discs (`new_index_of_old[old] = new`), then sort the bonds by
+    /// their smaller disc index so the kernel walks the discs in memory order.
+    pub fn remap(&mut self, new_index_of_old: &[u32]) {
+        for k in self.i.iter_mut().chain(self.j.iter_mut()) {
+            *k = new_index_of_old[*k as usize];
+        }
+        let mut order: Vec<u32> = (0..self.len() as u32).collect();
+        order.sort_by_key(|&b| {
+            let (i, j) = (self.i[b as usize], self.j[b as usize]);
+            (i.min(j), i.max(j), self.id[b as usize])
+        });
+        if order.iter().enumerate().all(|(k, &b)| k as u32 == b) {
+            return;
+        }
+        fn p<T: Copy>(v: &mut Vec<T>, order: &[u32]) {
+            let old = std::mem::take(v);
+            *v = order.iter().map(|&k| old[k as usize]).collect();
+        }
+        p(&mut self.id, &order);
+        p(&mut self.i, &order);
+        p(&mut self.j, &order);
+        p(&mut self.group, &order);
+        p(&mut self.g0, &order);
+        p(&mut self.rbar, &order);
+        p(&mut self.force, &order);
+        p(&mut self.status, &order);
+    }
+}
