@@ -185,7 +185,26 @@ fn bond_group_parameters_match_model_and_criterion() {
     let mut v = base();
     v["bond_groups"] = serde_json::json!([group.clone()]);
     let s = load_value(&v, "bonds-ok.json").unwrap();
-    assert_eq!(s.bond_groups[0].friction_angle, Some(0.0));
+    assert_eq!(
+        s.bond_groups[0].criterion,
+        dem_core::bond::Criterion::Stress {
+            tensile: 1e7,
+            cohesion: 2e7,
+            friction_angle: 0.0
+        }
+    );
+    let e = error_of(
+        |v| {
+            let mut g = group.clone();
+            g["friction_angle"] = 95.0.into();
+            v["bond_groups"] = serde_json::json!([g]);
+        },
+        "bonds-phi.json",
+    );
+    assert!(
+        e.contains("bond_groups[0].friction_angle") && e.contains("95"),
+        "{e}"
+    );
     let e = error_of(
         |v| {
             let mut g = group.clone();

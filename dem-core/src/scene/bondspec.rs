@@ -1,10 +1,14 @@
-//! Bond group checks: each model and criterion requires its parameters and refuses the others
-//! (a parameter that would be silently ignored is an error, so a misread scene cannot run).
+//! Bond group checks: the scene's flat bond-group object → [`crate::bond::BondGroup`]. Each model
+//! and criterion requires its parameters and refuses the others (a parameter that would be
+//! silently ignored is an error, so a misread scene cannot run); value ranges are the bond
+//! module's own ([`crate::bond::BondGroup::validate`]), reported with the scene field name.
 
-use super::model::BondGroup;
 use super::resolve::Ck;
 use super::schema::{BondGroupSpec, BondModelName, CriterionName};
 use super::SceneError;
+use crate::bond::{
+    BondError, BondGroup, BondModel, ContactBondParams, Criterion, ParallelBondParams,
+};
 
 pub(crate) fn bond_group(ck: &Ck, i: usize, g: &BondGroupSpec) -> Result<BondGroup, SceneError> {
     let f = |k: &str| format!("bond_groups[{i}].{k}");
@@ -13,14 +17,14 @@ pub(crate) fn bond_group(ck: &Ck, i: usize, g: &BondGroupSpec) -> Result<BondGro
         BondModelName::ContactBond => "contact_bond",
     };
     let crit = match g.criterion {
-        CriterionName::Stress => "stress",
-        CriterionName::Force => "force",
-        CriterionName::Strain => "strain",
-        CriterionName::Energy => "energy",
+        CriterionName::Stress => "criterion stress",
+        CriterionName::Force => "criterion force",
+        CriterionName::Strain => "criterion strain",
+        CriterionName::Energy => "criterion energy",
     };
     let required = |k: &str, v: Option<f64>, why: &str| -> Result<f64, SceneError> {
         match v {
-            Some(v) => ck.positive(&f(k), v),
+            Some(v) => ck.finite(&f(k), v),
             None => Err(ck.err(f(k), format!("required by {why}"))),
         }
     };
@@ -30,87 +34,109 @@ pub(crate) fn bond_group(ck: &Ck, i: usize, g: &BondGroupSpec) -> Result<BondGro
             None => Ok(()),
         }
     };
-    let parallel = g.model == BondModelName::ParallelPotyondy2004;
-    let kn = required("kn", g.kn, model)?;
-    let ks = required("ks", g.ks, model)?;
-    let (radius_multiplier, moment_factor) = if parallel {
+    let (kn, ks) = (required("kn", g.kn, model)?, required("ks", g.ks, model)?);
+    let bmodel = match g.model {
+        BondModelName::ParallelPotyondy2004 => BondModel::Parallel(ParallelBondParams {
+            kn,
+            ks,
+            lambda: g.radius_multiplier.unwrap_or(1.0),
+            beta: g.moment_factor.unwrap_or(1.0),
+        }),
+        BondModelName::ContactBond => {
+            refuse("radius_multiplier", g.radius_multiplier, model)?;
+            refuse("moment_factor", g.moment_factor, model)?;
+            BondModel::Contact(ContactBondParams { kn, ks })
+        }
+    };
+    // (scene field, value, used by this criterion)
+    let c = g.criterion;
+    let fields: [(&str, Option<f64>, bool); 9] = [
         (
-            g.radius_multiplier
-                .map(|v| ck.positive(&f("radius_multiplier"), v))
-                .transpose()?
-                .unwrap_or(1.0),
-            g.moment_factor
-                .map(|v| ck.range(&f("moment_factor"), v, 0.0, 1.0, true))
-                .transpose()?
-                .unwrap_or(1.0),
-        )
-    } else {
-        refuse("radius_multiplier", g.radius_multiplier, model)?;
-        refuse("moment_factor", g.moment_factor, model)?;
-        (1.0, 0.0)
-    };
-    if !parallel && g.criterion == CriterionName::Stress {
-        return Err(ck.err(
-            f("criterion"),
-            "contact_bond has no cross-section; use criterion \"force\" (strengths in N), \"strain\" or \"energy\"",
-        ));
-    }
-    let mut out = BondGroup {
-        name: g.name.clone(),
-        model: g.model,
-        criterion: g.criterion,
-        kn,
-        ks,
-        radius_multiplier,
-        moment_factor,
-        tensile_strength: None,
-        cohesion: None,
-        friction_angle: None,
-        normal_strength: None,
-        shear_strength: None,
-        normal_strain: None,
-        shear_strain: None,
-        fracture_energy: None,
-    };
-    let why = format!("criterion {crit}");
-    let stress = g.criterion == CriterionName::Stress;
-    let force = g.criterion == CriterionName::Force;
-    let strain = g.criterion == CriterionName::Strain;
-    let energy = g.criterion == CriterionName::Energy;
-    let fields: [(&str, Option<f64>, bool); 7] = [
-        ("tensile_strength", g.tensile_strength, stress),
-        ("cohesion", g.cohesion, stress),
-        ("normal_strength", g.normal_strength, force),
-        ("shear_strength", g.shear_strength, force),
-        ("normal_strain", g.normal_strain, strain),
-        ("shear_strain", g.shear_strain, strain),
-        ("fracture_energy", g.fracture_energy, energy),
+            "tensile_strength",
+            g.tensile_strength,
+            c == CriterionName::Stress,
+        ),
+        ("cohesion", g.cohesion, c == CriterionName::Stress),
+        (
+            "friction_angle",
+            g.friction_angle,
+            c == CriterionName::Stress,
+        ),
+        (
+            "normal_strength",
+            g.normal_strength,
+            c == CriterionName::Force,
+        ),
+        (
+            "shear_strength",
+            g.shear_strength,
+            c == CriterionName::Force,
+        ),
+        (
+            "moment_strength",
+            g.moment_strength,
+            c == CriterionName::Force,
+        ),
+        ("normal_strain", g.normal_strain, c == CriterionName::Strain),
+        ("shear_strain", g.shear_strain, c == CriterionName::Strain),
+        (
+            "fracture_energy",
+            g.fracture_energy,
+            c == CriterionName::Energy,
+        ),
     ];
-    let mut vals = [None; 7];
-    for (k, (name, v, used)) in fields.into_iter().enumerate() {
-        if used {
-            vals[k] = Some(required(name, v, &why)?);
-        } else {
-            refuse(name, v, &why)?;
+    for (name, v, used) in fields {
+        if !used {
+            refuse(name, v, crit)?;
         }
     }
-    [
-        out.tensile_strength,
-        out.cohesion,
-        out.normal_strength,
-        out.shear_strength,
-        out.normal_strain,
-        out.shear_strain,
-        out.fracture_energy,
-    ] = vals;
-    if stress {
-        let phi = g.friction_angle.unwrap_or(0.0);
-        out.friction_angle = Some(
-            ck.range(&f("friction_angle"), phi, 0.0, 90.0, false)?
+    let criterion = match c {
+        CriterionName::Stress => Criterion::Stress {
+            tensile: required("tensile_strength", g.tensile_strength, crit)?,
+            cohesion: required("cohesion", g.cohesion, crit)?,
+            friction_angle: ck
+                .finite(&f("friction_angle"), g.friction_angle.unwrap_or(0.0))?
                 .to_radians(),
-        );
-    } else {
-        refuse("friction_angle", g.friction_angle, &why)?;
-    }
+        },
+        CriterionName::Force => Criterion::Force {
+            tensile: required("normal_strength", g.normal_strength, crit)?,
+            shear: required("shear_strength", g.shear_strength, crit)?,
+            moment: g.moment_strength.unwrap_or(f64::INFINITY),
+        },
+        CriterionName::Strain => Criterion::Strain {
+            tensile: required("normal_strain", g.normal_strain, crit)?,
+            shear: required("shear_strain", g.shear_strain, crit)?,
+        },
+        CriterionName::Energy => Criterion::Energy {
+            fracture_energy: required("fracture_energy", g.fracture_energy, crit)?,
+        },
+    };
+    let out = BondGroup {
+        name: g.name.clone(),
+        model: bmodel,
+        criterion,
+    };
+    out.validate().map_err(|e| match e {
+        BondError::Parameter { field, value, .. } => {
+            let scene_field = match (field.as_str(), c) {
+                ("lambda", _) => "radius_multiplier",
+                ("beta", _) => "moment_factor",
+                ("tensile", CriterionName::Stress) => "tensile_strength",
+                ("tensile", CriterionName::Force) => "normal_strength",
+                ("shear", CriterionName::Force) => "shear_strength",
+                ("moment", _) => "moment_strength",
+                ("tensile", _) => "normal_strain",
+                ("shear", _) => "shear_strain",
+                (other, _) => other,
+            };
+            let shown = if scene_field == "friction_angle" { value.to_degrees() } else { value };
+            ck.err(f(scene_field), format!("{shown} is out of range (see docs/scene-schema.md)"))
+        }
+        BondError::StressOnContactBond(_) => ck.err(
+            f("criterion"),
+            "contact_bond has no cross-section; use criterion \"force\" (strengths in N), \"strain\" or \"energy\"",
+        ),
+        other => ck.err(f("name"), other.to_string()),
+    })?;
     Ok(out)
 }

@@ -1,7 +1,8 @@
 //! A scene after loading: every value in SI, every name resolved to an index, every template
 //! loaded, every check passed. [`super::build`] turns it into a `World`.
 
-use super::schema::{Between, BondModelName, ClumpMode, CriterionName, LawName};
+use super::schema::{Between, ClumpMode, LawName};
+use crate::bond::BondGroup;
 use crate::state::Periodic;
 use clumpgen::Template;
 use serde::Serialize;
@@ -80,27 +81,6 @@ pub struct PairLaw {
     pub damping: NormalDamping,
     /// Rolling-resistance coefficient, `Some` only when rolling resistance is switched on.
     pub rolling: Option<f64>,
-}
-
-/// A bond group in SI; `None` parameters are not used by its model and criterion.
-#[derive(Debug, Clone, Serialize)]
-pub struct BondGroup {
-    pub name: String,
-    pub model: BondModelName,
-    pub criterion: CriterionName,
-    pub kn: f64,
-    pub ks: f64,
-    pub radius_multiplier: f64,
-    pub moment_factor: f64,
-    pub tensile_strength: Option<f64>,
-    pub cohesion: Option<f64>,
-    /// Radians.
-    pub friction_angle: Option<f64>,
-    pub normal_strength: Option<f64>,
-    pub shear_strength: Option<f64>,
-    pub normal_strain: Option<f64>,
-    pub shear_strain: Option<f64>,
-    pub fracture_energy: Option<f64>,
 }
 
 /// A free disc (also the members of bonded clumps).

@@ -6,6 +6,7 @@ use super::mix::pair_laws;
 use super::model::*;
 use super::schema::*;
 use super::SceneError;
+use crate::bond::BondGroup;
 use crate::state::Periodic;
 use clumpgen::Template;
 use serde::de::DeserializeOwned;

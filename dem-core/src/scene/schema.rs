@@ -198,17 +198,21 @@ pub struct BondGroupSpec {
     pub cohesion: Option<f64>,
     #[serde(default)]
     pub friction_angle: Option<f64>,
-    /// Force criterion: normal (tensile) and shear strength (N).
+    /// Force criterion: normal (tensile) and shear strength (N), and optionally the bending
+    /// moment (N·m) at which a parallel bond breaks in tension.
     #[serde(default)]
     pub normal_strength: Option<f64>,
     #[serde(default)]
     pub shear_strength: Option<f64>,
+    #[serde(default)]
+    pub moment_strength: Option<f64>,
     /// Strain criterion: limits of normal (opening) and shear strain (dimensionless).
     #[serde(default)]
     pub normal_strain: Option<f64>,
     #[serde(default)]
     pub shear_strain: Option<f64>,
-    /// Energy criterion: fracture energy (J) the bond strain energy must reach.
+    /// Energy criterion: fracture energy per unit bond area G_c (J/m²); the bond breaks when its
+    /// opening plus shear strain energy reaches G_c·Ā.
     #[serde(default)]
     pub fracture_energy: Option<f64>,
 }
