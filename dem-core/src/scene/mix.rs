@@ -10,7 +10,8 @@
 //!   8G*a, Johnson ch. 7; as combined in Di Renzo & Di Maio 2004);
 //! - friction and rolling friction: the smaller of the two (PFC's rule);
 //! - normal damping: the smaller restitution, or the larger damping ratio; a material without
-//!   either defers to the other; none at all means no dashpot.
+//!   either defers to the other; none at all means no dashpot. Hertz-Mindlin takes restitution
+//!   only (its damping is calibrated for it).
 
 use super::model::{NormalDamping, PairLaw, PairStiffness, Scene};
 use super::resolve::Ck;
@@ -179,6 +180,19 @@ fn pair(
                 ))
             }
         }
+    };
+    let damping = match (law, damping) {
+        (LawName::HertzMindlin, NormalDamping::Ratio(z)) if z == 0.0 => {
+            NormalDamping::Restitution(1.0)
+        }
+        (LawName::HertzMindlin, NormalDamping::Ratio(_)) => return Err(ck.err(
+            ov.map(|(i, _)| format!("contact.pairs[{i}].damping_ratio"))
+                .unwrap_or_else(|| "contact.law".into()),
+            format!(
+                "{what} uses hertz_mindlin, whose damping is set by restitution, not damping_ratio"
+            ),
+        )),
+        (_, d) => d,
     };
     let rolling = if rolling {
         Some(match p.and_then(|p| p.rolling_friction) {

@@ -155,6 +155,10 @@ pub struct Run {
     pub dt_factor: Option<f64>,
     pub dt: Option<f64>,
     pub max_steps: Option<u64>,
+    /// Verlet skin (m).
+    pub skin: Option<f64>,
+    pub max_overlap_fraction: Option<f64>,
+    pub max_energy_growth: Option<f64>,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -255,9 +255,9 @@ impl Resolver {
         };
         let damping = Damping {
             local: ck.range("damping.local", raw.damping.local, 0.0, 1.0, false)?,
-            viscous: ck.non_negative("damping.viscous", raw.damping.viscous)?,
+            viscous: ck.range("damping.viscous", raw.damping.viscous, 0.0, 1.0, false)?,
         };
-        let run = self.run(&raw.run)?;
+        let run = self.run(&raw.run, u)?;
         let outputs = self.outputs(&raw.outputs)?;
         if self.discs.is_empty() && self.clumps.is_empty() {
             return Err(ck.err("bodies", "the scene has no discs"));
@@ -584,7 +584,7 @@ impl Resolver {
         Ok(p)
     }
 
-    fn run(&self, r: &RunSpec) -> Result<Run, SceneError> {
+    fn run(&self, r: &RunSpec, u: f64) -> Result<Run, SceneError> {
         let ck = &self.ck;
         let stop = match (r.duration, r.steps) {
             (Some(d), None) => Stop::Duration(ck.positive("run.duration", d)?),
@@ -608,6 +608,18 @@ impl Resolver {
                 .transpose()?,
             dt: r.dt.map(|d| ck.positive("run.dt", d)).transpose()?,
             max_steps: r.max_steps,
+            skin: r
+                .skin
+                .map(|v| ck.positive("run.skin", v).map(|v| v * u))
+                .transpose()?,
+            max_overlap_fraction: r
+                .max_overlap_fraction
+                .map(|v| ck.range("run.max_overlap_fraction", v, 0.0, 1.0, true))
+                .transpose()?,
+            max_energy_growth: r
+                .max_energy_growth
+                .map(|v| ck.positive("run.max_energy_growth", v))
+                .transpose()?,
         })
     }
 

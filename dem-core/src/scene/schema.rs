@@ -378,14 +378,15 @@ pub struct PeriodicSpec {
     pub y: Option<[f64; 2]>,
 }
 
-/// Damping: PFC local damping α and mass-proportional viscous damping.
+/// Damping: PFC local damping α and global viscous damping ζ.
 #[derive(Debug, Clone, Default, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct DampingSpec {
     /// Local damping α in [0, 1): F_d = −α|F| sign(v) per component.
     #[serde(default)]
     pub local: f64,
-    /// Viscous damping rate c (1/s): F_d = −c m v.
+    /// Global viscous damping as a fraction ζ of each body's critical damping, in [0, 1):
+    /// F_v = −2ζ√(m K) v, T_v = −2ζ√(I K_rot) ω.
     #[serde(default)]
     pub viscous: f64,
 }
@@ -408,6 +409,15 @@ pub struct RunSpec {
     /// Hard cap on the number of steps (a duration run stops there with an error).
     #[serde(default)]
     pub max_steps: Option<u64>,
+    /// Verlet skin (length unit); default 0.2 × the smallest radius.
+    #[serde(default)]
+    pub skin: Option<f64>,
+    /// Guard: largest overlap allowed, as a fraction of the smaller radius (default 0.3).
+    #[serde(default)]
+    pub max_overlap_fraction: Option<f64>,
+    /// Guard: kinetic energy may not exceed this multiple of the energy supplied (default 2).
+    #[serde(default)]
+    pub max_energy_growth: Option<f64>,
 }
 
 /// What to write and how often (every N steps; 0 = never).
