@@ -182,7 +182,7 @@ fn pair(
         }
     };
     let damping = match (law, damping) {
-        (LawName::HertzMindlin, NormalDamping::Ratio(z)) if z == 0.0 => {
+        (LawName::HertzMindlin, NormalDamping::Ratio(0.0)) => {
             NormalDamping::Restitution(1.0)
         }
         (LawName::HertzMindlin, NormalDamping::Ratio(_)) => return Err(ck.err(
