@@ -17,6 +17,7 @@
 pub mod bench;
 pub mod bond;
 pub mod bonded_clump;
+pub mod checkpoint;
 pub mod clump;
 pub mod contact;
 pub mod counters;

@@ -182,16 +182,16 @@ fn pair(
         }
     };
     let damping = match (law, damping) {
-        (LawName::HertzMindlin, NormalDamping::Ratio(0.0)) => {
-            NormalDamping::Restitution(1.0)
-        }
-        (LawName::HertzMindlin, NormalDamping::Ratio(_)) => return Err(ck.err(
-            ov.map(|(i, _)| format!("contact.pairs[{i}].damping_ratio"))
-                .unwrap_or_else(|| "contact.law".into()),
-            format!(
+        (LawName::HertzMindlin, NormalDamping::Ratio(0.0)) => NormalDamping::Restitution(1.0),
+        (LawName::HertzMindlin, NormalDamping::Ratio(_)) => {
+            return Err(ck.err(
+                ov.map(|(i, _)| format!("contact.pairs[{i}].damping_ratio"))
+                    .unwrap_or_else(|| "contact.law".into()),
+                format!(
                 "{what} uses hertz_mindlin, whose damping is set by restitution, not damping_ratio"
             ),
-        )),
+            ))
+        }
         (_, d) => d,
     };
     let rolling = if rolling {

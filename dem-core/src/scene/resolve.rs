@@ -461,7 +461,7 @@ impl Resolver {
             }
         };
         let t = &self.templates[ti];
-        let mass_scale = rho * self.thickness / (t.density * t.thickness);
+        let density_ratio = rho / t.density;
         let bond_group = match (set.mode, &set.bond_group) {
             (ClumpMode::Bonded, Some(g)) => {
                 Some(self.group(ck, &format!("{field}.bond_group"), g)?)
@@ -493,7 +493,7 @@ impl Resolver {
                 mode: set.mode,
                 bond_group,
                 bond_tolerance,
-                mass_scale,
+                density_ratio,
                 x: ck.finite(&f("x"), p.x)? * u + off[0],
                 y: ck.finite(&f("y"), p.y)? * u + off[1],
                 angle: ck.finite(&f("angle"), p.angle)?,
