@@ -83,25 +83,6 @@ pub fn bonded_lattice_state(cells: [usize; 2]) -> (State, Bonds) {
     (st, bonds)
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn small_lattice_has_three_bonds_per_disc() {
-        let (st, b) = bonded_lattice_state([10, 6]);
-        assert_eq!(st.discs.len(), 120);
-        assert_eq!(b.len(), 3 * 120);
-        // Every disc has six bonded neighbours.
-        let mut deg = vec![0; 120];
-        for v in b.iter() {
-            deg[v.i as usize] += 1;
-            deg[v.j as usize] += 1;
-        }
-        assert!(deg.iter().all(|&d| d == 6));
-    }
-}
-
 /// Throughput of the bond stage alone on the benchmark lattice (`CELLS` for the full one): `steps` calls of
 /// [`Bonds::compute`] (plus clearing forces) on `threads` threads, positions frozen and velocities
 /// small and random (so every bond does its full work without breaking). Returns
@@ -135,4 +116,23 @@ pub fn bond_stage_rate(cells: [usize; 2], steps: usize, threads: usize) -> f64 {
         }
         (st.discs.len() * steps) as f64 / t0.elapsed().as_secs_f64()
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn small_lattice_has_three_bonds_per_disc() {
+        let (st, b) = bonded_lattice_state([10, 6]);
+        assert_eq!(st.discs.len(), 120);
+        assert_eq!(b.len(), 3 * 120);
+        // Every disc has six bonded neighbours.
+        let mut deg = vec![0; 120];
+        for v in b.iter() {
+            deg[v.i as usize] += 1;
+            deg[v.j as usize] += 1;
+        }
+        assert!(deg.iter().all(|&d| d == 6));
+    }
 }
