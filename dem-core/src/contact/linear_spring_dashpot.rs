@@ -1,0 +1,116 @@
+//! Linear spring–dashpot contact with tangential spring history and Coulomb friction
+//! (Cundall & Strack 1979, Géotechnique 29(1):47–65; the form of LAMMPS `gran/hooke/history`,
+//! Brilliantov et al. 1996 / Silbert et al. 2001, Phys. Rev. E 64:051302).
+//!
+//! Normal: F_n = k_n δ − c_n v_n (positive = repulsive; not clipped, so the closed-form
+//! damped-oscillator contact time π/√(k_n/m* − c_n²/(4m*²)) and restitution
+//! e = exp(−π ζ/√(1−ζ²)), ζ = c_n/(2√(m* k_n)), hold exactly).
+//! Tangential: the spring displacement u_s accumulates v_t dt while in contact,
+//! F_t = −k_s u_s − c_t v_t, limited to |F_t| ≤ μ max(F_n, 0); when the limit is reached the
+//! spring is reset so that it carries the limited force (Cundall & Strack's slip rule; LAMMPS
+//! rescales the same way).
+
+use super::{PairKin, PairOut};
+use serde::{Deserialize, Serialize};
+
+/// How the normal dashpot coefficient c_n is set.
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq)]
+pub enum NormalDamping {
+    /// c_n = 2 ζ √(m* k_n): ζ is the fraction of critical damping of the pair.
+    Ratio(f64),
+    /// c_n = γ m* (LAMMPS `gran/hooke` γ_n, 1/s).
+    Gamma(f64),
+}
+
+impl NormalDamping {
+    /// Critical-damping ratio giving the coefficient of restitution `e` for the linear
+    /// oscillator: ζ = −ln e / √(π² + ln² e) (e.g. Thornton et al. 2013, Powder Technol. 233).
+    pub fn from_restitution(e: f64) -> NormalDamping {
+        if e >= 1.0 {
+            return NormalDamping::Ratio(0.0);
+        }
+        let l = e.max(1e-12).ln();
+        NormalDamping::Ratio(-l / (std::f64::consts::PI.powi(2) + l * l).sqrt())
+    }
+}
+
+/// Parameters of the linear law for one material pair.
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq)]
+pub struct LinearSpringDashpot {
+    /// Normal stiffness (N/m).
+    pub kn: f64,
+    /// Tangential stiffness (N/m).
+    pub ks: f64,
+    pub damping: NormalDamping,
+    /// Tangential dashpot c_t = `shear_damping` · c_n (LAMMPS default γ_t = γ_n/2 → 0.5;
+    /// PFC default 0).
+    pub shear_damping: f64,
+    /// Coulomb friction coefficient μ.
+    pub mu: f64,
+}
+
+impl LinearSpringDashpot {
+    /// Undamped law with the given stiffnesses and friction.
+    pub fn elastic(kn: f64, ks: f64, mu: f64) -> LinearSpringDashpot {
+        LinearSpringDashpot {
+            kn,
+            ks,
+            damping: NormalDamping::Ratio(0.0),
+            shear_damping: 0.0,
+            mu,
+        }
+    }
+
+    /// Normal dashpot coefficient c_n (N·s/m) for effective mass m*.
+    #[inline(always)]
+    pub fn cn(&self, m_eff: f64) -> f64 {
+        match self.damping {
+            NormalDamping::Ratio(z) => {
+                if z == 0.0 {
+                    0.0
+                } else {
+                    2.0 * z * (m_eff * self.kn).sqrt()
+                }
+            }
+            NormalDamping::Gamma(g) => g * m_eff,
+        }
+    }
+
+    /// Force of the pair for overlap `k.delta > 0`; `us` is the tangential spring history.
+    #[inline(always)]
+    pub fn force<const E: bool>(&self, k: &PairKin, us: &mut f64) -> PairOut {
+        let cn = self.cn(k.m_eff);
+        let ct = self.shear_damping * cn;
+        let f_n = self.kn * k.delta - cn * k.vn;
+        *us += k.vt * k.dt;
+        let mut f_t = -self.ks * *us - ct * k.vt;
+        let f_max = self.mu * f_n.max(0.0);
+        let mut out = PairOut {
+            f_n,
+            ..PairOut::default()
+        };
+        if f_t.abs() > f_max {
+            let trial = *us;
+            f_t = f_max.copysign(f_t);
+            *us = if self.ks > 0.0 {
+                -(f_t + ct * k.vt) / self.ks
+            } else {
+                0.0
+            };
+            if E {
+                out.e_fric = f_max * (trial - *us).abs();
+            }
+        }
+        out.f_t = f_t;
+        if E {
+            out.e_damp = (cn * k.vn * k.vn + ct * k.vt * k.vt) * k.dt;
+            out.e_strain = 0.5 * self.kn * k.delta * k.delta + 0.5 * self.ks * *us * *us;
+        }
+        out
+    }
+
+    /// Elastic normal force at overlap δ (for contact views).
+    pub fn spring_normal(&self, delta: f64) -> f64 {
+        self.kn * delta
+    }
+}

@@ -1,0 +1,197 @@
+//! Contact laws per material pair and the disc–disc / disc–wall force passes.
+//!
+//! Kinematics shared by every law (2D, normal n from disc i to disc j, tangent t = (−n_y, n_x)):
+//! overlap δ = g₀ − gap with gap = |x_j − x_i| − r_i − r_j and g₀ ≤ 0 the registered reference
+//! gap ([`crate::World::set_contact_offset`], 0 by default); relative velocity of j's contact
+//! point with respect to i's, v = v_j − v_i − (ω_i r_i + ω_j r_j) t, split into v_n = v·n
+//! (positive when separating) and v_t = v·t. A law returns the normal force F_n (positive =
+//! repulsive) and tangential force F_t on disc j; disc i receives the opposite force, and each
+//! disc the torque −r F_t (plus the rolling moment, + on i, − on j).
+//!
+//! The tangential history u_s is a scalar along t: in 2D the tangent plane is a line, so
+//! carrying the scalar is the exact rotation of the shear vector with the contact normal
+//! (Cundall & Strack 1979). It lives in the neighbour list (one slot per listed pair) and is
+//! carried over at rebuilds and reorderings, keyed by the pair.
+
+pub mod disc_disc;
+pub mod disc_segment;
+pub mod hertz_mindlin;
+pub mod linear_spring_dashpot;
+pub mod rolling;
+
+pub use hertz_mindlin::HertzMindlin;
+pub use linear_spring_dashpot::{LinearSpringDashpot, NormalDamping};
+pub use rolling::RollingResistance;
+
+use serde::{Deserialize, Serialize};
+
+/// Kinematics of one touching pair, input to a law.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct PairKin {
+    pub delta: f64,
+    pub vn: f64,
+    pub vt: f64,
+    pub m_eff: f64,
+    pub r_eff: f64,
+    pub dt: f64,
+}
+
+/// Output of a law for one pair (energies only when tracked).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct PairOut {
+    pub f_n: f64,
+    pub f_t: f64,
+    pub e_strain: f64,
+    pub e_damp: f64,
+    pub e_fric: f64,
+}
+
+/// The contact law of one material pair.
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq)]
+pub enum ContactModel {
+    Linear(LinearSpringDashpot),
+    HertzMindlin(HertzMindlin),
+}
+
+impl ContactModel {
+    #[inline(always)]
+    pub fn force<const E: bool>(&self, k: &PairKin, us: &mut f64) -> PairOut {
+        match self {
+            ContactModel::Linear(l) => l.force::<E>(k, us),
+            ContactModel::HertzMindlin(h) => h.force::<E>(k, us),
+        }
+    }
+
+    /// Normal stiffness used by rolling resistance and the time step: k_n (linear) or the
+    /// Hertz tangent stiffness at overlap `delta`.
+    #[inline(always)]
+    pub fn kn(&self, r_eff: f64, delta: f64) -> f64 {
+        match self {
+            ContactModel::Linear(l) => l.kn,
+            ContactModel::HertzMindlin(h) => h.kn_tangent(r_eff, delta),
+        }
+    }
+
+    /// Tangential stiffness at overlap `delta`.
+    pub fn ks(&self, r_eff: f64, delta: f64) -> f64 {
+        match self {
+            ContactModel::Linear(l) => l.ks,
+            ContactModel::HertzMindlin(h) => h.kt(r_eff, delta),
+        }
+    }
+
+    /// Elastic normal and tangential forces for views (no dashpot).
+    pub fn spring_forces(&self, r_eff: f64, delta: f64, us: f64) -> (f64, f64) {
+        match self {
+            ContactModel::Linear(l) => (l.spring_normal(delta), -l.ks * us),
+            ContactModel::HertzMindlin(h) => {
+                (h.spring_normal(r_eff, delta), -h.kt(r_eff, delta) * us)
+            }
+        }
+    }
+}
+
+/// Contact laws for every material pair (symmetric table) and optional rolling resistance.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct ContactLaws {
+    n: usize,
+    models: Vec<ContactModel>,
+    rolling: Vec<Option<RollingResistance>>,
+}
+
+impl ContactLaws {
+    /// `n_materials` materials, every pair using `model`, no rolling resistance.
+    pub fn new(n_materials: usize, model: ContactModel) -> ContactLaws {
+        let n = n_materials.max(1);
+        ContactLaws {
+            n,
+            models: vec![model; n * n],
+            rolling: vec![None; n * n],
+        }
+    }
+
+    /// One material, one law.
+    pub fn uniform(model: ContactModel) -> ContactLaws {
+        ContactLaws::new(1, model)
+    }
+
+    pub fn n_materials(&self) -> usize {
+        self.n
+    }
+
+    /// Set the law of material pair (a, b) (and (b, a)). Out-of-range materials are ignored
+    /// and reported as `false`.
+    pub fn set(&mut self, a: u16, b: u16, model: ContactModel) -> bool {
+        let (a, b) = (a as usize, b as usize);
+        if a >= self.n || b >= self.n {
+            return false;
+        }
+        self.models[a * self.n + b] = model;
+        self.models[b * self.n + a] = model;
+        true
+    }
+
+    /// Set the rolling resistance of material pair (a, b).
+    pub fn set_rolling(&mut self, a: u16, b: u16, r: Option<RollingResistance>) -> bool {
+        let (a, b) = (a as usize, b as usize);
+        if a >= self.n || b >= self.n {
+            return false;
+        }
+        self.rolling[a * self.n + b] = r;
+        self.rolling[b * self.n + a] = r;
+        true
+    }
+
+    /// Index of material pair (a, b); materials beyond the table use the last row.
+    #[inline(always)]
+    pub fn index(&self, a: u16, b: u16) -> usize {
+        let a = (a as usize).min(self.n - 1);
+        let b = (b as usize).min(self.n - 1);
+        a * self.n + b
+    }
+
+    #[inline(always)]
+    pub fn model(&self, a: u16, b: u16) -> &ContactModel {
+        &self.models[self.index(a, b)]
+    }
+
+    #[inline(always)]
+    pub fn rolling(&self, a: u16, b: u16) -> Option<&RollingResistance> {
+        self.rolling[self.index(a, b)].as_ref()
+    }
+
+    /// Whether any pair has rolling resistance.
+    pub fn any_rolling(&self) -> bool {
+        self.rolling.iter().any(|r| r.is_some())
+    }
+
+    pub fn models(&self) -> &[ContactModel] {
+        &self.models
+    }
+
+    /// Whether material indices up to `max_material` are covered by the table.
+    pub fn covers(&self, max_material: u16) -> bool {
+        (max_material as usize) < self.n
+    }
+}
+
+/// One listed pair as seen from outside (outputs, bond installation). Forces are the elastic
+/// (spring) parts at the current positions; dashpot forces are not stored.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ContactView {
+    /// Current indices of the two discs (change at reordering) and their stable ids.
+    pub i: u32,
+    pub j: u32,
+    pub id_i: u32,
+    pub id_j: u32,
+    /// Gap |x_j − x_i| − r_i − r_j (m, opening positive) and overlap beyond the reference
+    /// gap δ = g₀ − gap (m).
+    pub gap: f64,
+    pub overlap: f64,
+    /// Unit normal from i to j and the contact point (midway in the overlap).
+    pub normal: [f64; 2],
+    pub point: [f64; 2],
+    /// Elastic normal force (N, positive = compression) and tangential spring force on j (N).
+    pub f_n: f64,
+    pub f_t: f64,
+}

@@ -1,0 +1,177 @@
+//! Blow-up guard: checks at output intervals that the state is finite, overlaps are moderate
+//! and the kinetic energy has not grown beyond the energy supplied. [`World::guard`] keeps a
+//! copy of the last state that passed ([`World::last_good`]) so a failed run can save it.
+
+use crate::neighbors::{closest_on_segment, MinImage};
+use crate::pipeline::World;
+
+/// Why the guard stopped a run. Each names the step, the disc (stable id) and a likely cause.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum GuardError {
+    #[error("step {step}: disc {disc}: {field} is not finite; likely cause: {cause}")]
+    NonFinite {
+        step: u64,
+        disc: u32,
+        field: &'static str,
+        cause: String,
+    },
+    #[error(
+        "step {step}: discs {disc} and {other}: overlap is {fraction:.3} of the smaller radius \
+         (limit {limit}); likely cause: {cause}"
+    )]
+    Overlap {
+        step: u64,
+        disc: u32,
+        /// Partner disc id, or `u32::MAX` for a wall.
+        other: u32,
+        fraction: f64,
+        limit: f64,
+        cause: String,
+    },
+    #[error(
+        "step {step}: kinetic energy {kinetic:.4e} J exceeds {limit}× the energy supplied \
+         ({supplied:.4e} J); most energetic disc {disc}; likely cause: {cause}"
+    )]
+    EnergyGrowth {
+        step: u64,
+        disc: u32,
+        kinetic: f64,
+        supplied: f64,
+        limit: f64,
+        cause: String,
+    },
+}
+
+impl World {
+    fn dt_cause(&self) -> String {
+        let crit = self.critical_dt();
+        format!(
+            "time step too large for the stiffness (dt = {:.3e} s, critical dt = {:.3e} s, \
+             ratio {:.2}); lower Params::dt_factor or dt_fixed",
+            self.dt(),
+            crit,
+            self.dt() / crit
+        )
+    }
+
+    /// Check the state: finite values, overlaps below [`crate::Params::max_overlap_fraction`],
+    /// kinetic energy below [`crate::Params::max_energy_growth`] × the energy supplied
+    /// (needs [`crate::Params::track_energy`]).
+    pub fn check(&self) -> Result<(), GuardError> {
+        let st = &self.state;
+        let d = &st.discs;
+        let step = st.step;
+        for i in 0..d.len() {
+            let fields: [(&'static str, f64); 9] = [
+                ("x", d.x[i]),
+                ("y", d.y[i]),
+                ("theta", d.theta[i]),
+                ("vx", d.vx[i]),
+                ("vy", d.vy[i]),
+                ("omega", d.omega[i]),
+                ("fx", d.fx[i]),
+                ("fy", d.fy[i]),
+                ("torque", d.torque[i]),
+            ];
+            if let Some((field, _)) = fields.iter().find(|(_, v)| !v.is_finite()) {
+                return Err(GuardError::NonFinite {
+                    step,
+                    disc: d.id[i],
+                    field,
+                    cause: self.dt_cause(),
+                });
+            }
+        }
+        let limit = self.params.max_overlap_fraction;
+        let img = MinImage::new(&st.periodic);
+        let nb = &self.nb;
+        if nb.start.len() == d.len() + 1 {
+            for i in 0..d.len() {
+                for p in nb.start[i] as usize..nb.start[i + 1] as usize {
+                    let j = nb.nbr[p] as usize;
+                    let (dx, dy) = img.delta(d.x[j] - d.x[i], d.y[j] - d.y[i]);
+                    let g0 = nb.g0.get(p).copied().unwrap_or(0.0);
+                    let ov = d.r[i] + d.r[j] + g0 - (dx * dx + dy * dy).sqrt();
+                    let frac = ov / d.r[i].min(d.r[j]);
+                    if frac > limit {
+                        return Err(GuardError::Overlap {
+                            step,
+                            disc: d.id[i],
+                            other: d.id[j],
+                            fraction: frac,
+                            limit,
+                            cause: format!(
+                                "{}, or contact stiffness too low for the load",
+                                self.dt_cause()
+                            ),
+                        });
+                    }
+                }
+            }
+            for q in 0..nb.walls.wall.len() {
+                let (w, i) = (
+                    &st.walls[nb.walls.wall[q] as usize],
+                    nb.walls.disc[q] as usize,
+                );
+                if i >= d.len() {
+                    continue;
+                }
+                let (_, _, dist) = closest_on_segment(w, d.x[i], d.y[i], &img);
+                let frac = (d.r[i] - dist) / d.r[i];
+                if frac > limit {
+                    return Err(GuardError::Overlap {
+                        step,
+                        disc: d.id[i],
+                        other: u32::MAX,
+                        fraction: frac,
+                        limit,
+                        cause: format!(
+                            "wall '{}' pushed too far or too fast, or {}",
+                            w.name,
+                            self.dt_cause()
+                        ),
+                    });
+                }
+            }
+        }
+        if self.params.track_energy && self.energy.initial.is_some() {
+            let e = self.energy();
+            let supplied = e.initial - self.energy.initial_grav
+                + (self.energy.initial_grav - e.gravity_potential)
+                + e.boundary_work;
+            let limit = self.params.max_energy_growth;
+            let ke = e.kinetic();
+            if ke > 0.0 && ke > limit * supplied.max(0.0) {
+                let mut best = (0usize, -1.0f64);
+                for i in 0..d.len() {
+                    let k = d.m[i] * (d.vx[i] * d.vx[i] + d.vy[i] * d.vy[i])
+                        + d.inertia[i] * d.omega[i] * d.omega[i];
+                    if k > best.1 {
+                        best = (i, k);
+                    }
+                }
+                return Err(GuardError::EnergyGrowth {
+                    step,
+                    disc: d.id.get(best.0).copied().unwrap_or(0),
+                    kinetic: ke,
+                    supplied,
+                    limit,
+                    cause: format!("energy created by the integration: {}", self.dt_cause()),
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// [`World::check`], keeping a copy of the state when it passes.
+    pub fn guard(&mut self) -> Result<(), GuardError> {
+        self.check()?;
+        self.last_good = Some(Box::new(self.state.clone()));
+        Ok(())
+    }
+
+    /// The last state that passed [`World::guard`] (to save when a run is stopped).
+    pub fn last_good(&self) -> Option<&crate::state::State> {
+        self.last_good.as_deref()
+    }
+}

@@ -1,0 +1,257 @@
+//! Multi-level cell grid for the pair search (Ogarko & Luding 2012, Comput. Phys. Commun.
+//! 183:931, "A fast multilevel algorithm for contact detection of arbitrarily polydisperse
+//! objects"), reduced to what 2D discs need.
+//!
+//! Discs are sorted into levels by radius (level ℓ holds r ∈ [r_min 2^ℓ, r_min 2^{ℓ+1})); level
+//! ℓ has its own grid of cell size s_ℓ = 2 r_max,ℓ + skin. A disc of level a looks for
+//! partners of its own and larger levels b ≥ a in the 3×3 cells of grid b around it: any
+//! partner within reach (r_i + r_j + skin ≤ s_b) lies there. Small discs therefore never scan
+//! cells crowded by the size of the largest disc, and large discs find small partners through
+//! the small discs' own search: the cost stays linear in N for any radius ratio, with at most
+//! ⌈log₂(r_max/r_min)⌉ + 1 levels. Cells are a counting sort (cell start + sorted indices).
+
+#![allow(clippy::needless_range_loop)] // SoA: one index into several arrays
+
+use super::MinImage;
+use crate::state::{State, FREE};
+use rayon::prelude::*;
+
+const MAX_LEVELS: usize = 12;
+
+/// One level's grid.
+struct Level {
+    /// Cell sides (each ≥ the level's reach s).
+    cx: f64,
+    cy: f64,
+    nx: usize,
+    ny: usize,
+    ox: f64,
+    oy: f64,
+    /// Periodic axes wrap cell coordinates.
+    px: bool,
+    py: bool,
+    start: Vec<u32>,
+    items: Vec<u32>,
+}
+
+impl Level {
+    #[inline]
+    fn coord(&self, x: f64, y: f64) -> (i64, i64) {
+        let cx = ((x - self.ox) / self.cx).floor() as i64;
+        let cy = ((y - self.oy) / self.cy).floor() as i64;
+        (
+            wrap_or_clamp(cx, self.nx, self.px),
+            wrap_or_clamp(cy, self.ny, self.py),
+        )
+    }
+
+    #[inline]
+    fn cell_index(&self, x: f64, y: f64) -> usize {
+        let (cx, cy) = self.coord(x, y);
+        cy as usize * self.nx + cx as usize
+    }
+}
+
+#[inline]
+fn wrap_or_clamp(c: i64, n: usize, periodic: bool) -> i64 {
+    if periodic {
+        c.rem_euclid(n as i64)
+    } else {
+        c.clamp(0, n as i64 - 1)
+    }
+}
+
+/// Level of every disc and the number of levels.
+fn levels_of(r: &[f64]) -> (Vec<u8>, usize) {
+    let r_min = r.iter().cloned().fold(f64::INFINITY, f64::min).max(1e-300);
+    let lv: Vec<u8> = r
+        .iter()
+        .map(|&ri| ((ri / r_min).log2().floor().max(0.0) as usize).min(MAX_LEVELS - 1) as u8)
+        .collect();
+    let n = lv.iter().map(|&l| l as usize + 1).max().unwrap_or(1);
+    (lv, n)
+}
+
+/// Sorted, unique pair keys `(i << 32) | j` with i < j of all disc pairs with gap < skin,
+/// excluding members of the same rigid clump. Positions must be wrapped into periodic axes.
+pub fn find_pairs(st: &State, skin: f64, img: &MinImage) -> Vec<u64> {
+    let d = &st.discs;
+    let n = d.len();
+    if n < 2 {
+        return Vec::new();
+    }
+    let (lv, nlev) = levels_of(&d.r);
+    // Bounding box (non-periodic axes) over all discs.
+    let (mut xmin, mut xmax, mut ymin, mut ymax) = (
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+    );
+    for k in 0..n {
+        xmin = xmin.min(d.x[k]);
+        xmax = xmax.max(d.x[k]);
+        ymin = ymin.min(d.y[k]);
+        ymax = ymax.max(d.y[k]);
+    }
+    let mut rmax = vec![0.0f64; nlev];
+    let mut count = vec![0usize; nlev];
+    for k in 0..n {
+        let l = lv[k] as usize;
+        rmax[l] = rmax[l].max(d.r[k]);
+        count[l] += 1;
+    }
+    let grids: Vec<Option<Level>> = (0..nlev)
+        .map(|l| {
+            if count[l] == 0 {
+                return None;
+            }
+            let s = 2.0 * rmax[l] + skin;
+            Some(make_level(
+                st,
+                &lv,
+                l as u8,
+                count[l],
+                s,
+                [xmin, xmax, ymin, ymax],
+            ))
+        })
+        .collect();
+    let mut keys: Vec<u64> = (0..n)
+        .into_par_iter()
+        .with_min_len(1024)
+        .fold(Vec::new, |mut out, i| {
+            partners(st, &lv, &grids, i, skin, img, &mut out);
+            out
+        })
+        .reduce(Vec::new, |mut a, mut b| {
+            a.append(&mut b);
+            a
+        });
+    keys.par_sort_unstable();
+    keys.dedup();
+    keys
+}
+
+fn make_level(st: &State, lv: &[u8], l: u8, count: usize, s: f64, bb: [f64; 4]) -> Level {
+    let per = st.periodic;
+    let axis = |a: usize, lo: f64, hi: f64| -> (usize, f64, f64, bool) {
+        match per.length[a] {
+            Some(len) => {
+                let nc = ((len / s).floor() as usize).max(1);
+                (nc, len / nc as f64, per.lo[a], true)
+            }
+            None => {
+                let nc = (((hi - lo) / s).floor() as usize + 1).max(1);
+                (nc, s, lo, false)
+            }
+        }
+    };
+    let (mut nx, mut cx, ox, px) = axis(0, bb[0], bb[1]);
+    let (mut ny, mut cy, oy, py) = axis(1, bb[2], bb[3]);
+    // Sparse scenes (discs flown far apart): coarsen non-periodic axes so the grid stays O(N).
+    let cap = 4 * count + 64;
+    while nx * ny > cap {
+        let mut changed = false;
+        if !px && nx > 1 {
+            nx = nx.div_ceil(2);
+            cx *= 2.0;
+            changed = true;
+        }
+        if !py && ny > 1 {
+            ny = ny.div_ceil(2);
+            cy *= 2.0;
+            changed = true;
+        }
+        if !changed {
+            break;
+        }
+    }
+    let mut g = Level {
+        cx,
+        cy,
+        nx,
+        ny,
+        ox,
+        oy,
+        px,
+        py,
+        start: vec![0; nx * ny + 1],
+        items: vec![0; count],
+    };
+    let d = &st.discs;
+    for k in 0..d.len() {
+        if lv[k] == l {
+            let c = g.cell_index(d.x[k], d.y[k]);
+            g.start[c + 1] += 1;
+        }
+    }
+    for c in 0..nx * ny {
+        g.start[c + 1] += g.start[c];
+    }
+    let mut fill = g.start.clone();
+    for k in 0..d.len() {
+        if lv[k] == l {
+            let c = g.cell_index(d.x[k], d.y[k]);
+            g.items[fill[c] as usize] = k as u32;
+            fill[c] += 1;
+        }
+    }
+    g
+}
+
+#[allow(clippy::too_many_arguments)]
+fn partners(
+    st: &State,
+    lv: &[u8],
+    grids: &[Option<Level>],
+    i: usize,
+    skin: f64,
+    img: &MinImage,
+    out: &mut Vec<u64>,
+) {
+    let d = &st.discs;
+    let (xi, yi, ri, bi) = (d.x[i], d.y[i], d.r[i], d.body[i]);
+    let a = lv[i] as usize;
+    let mut cells = [0usize; 9];
+    for (b, g) in grids.iter().enumerate().skip(a) {
+        let Some(g) = g else { continue };
+        let (cx, cy) = g.coord(xi, yi);
+        let mut nc = 0;
+        for dy in -1i64..=1 {
+            let y = cy + dy;
+            if !g.py && (y < 0 || y >= g.ny as i64) {
+                continue;
+            }
+            let y = y.rem_euclid(g.ny as i64) as usize;
+            for dx in -1i64..=1 {
+                let x = cx + dx;
+                if !g.px && (x < 0 || x >= g.nx as i64) {
+                    continue;
+                }
+                let c = y * g.nx + x.rem_euclid(g.nx as i64) as usize;
+                if !cells[..nc].contains(&c) {
+                    cells[nc] = c;
+                    nc += 1;
+                }
+            }
+        }
+        for &c in &cells[..nc] {
+            for &j in &g.items[g.start[c] as usize..g.start[c + 1] as usize] {
+                let j = j as usize;
+                if j == i || (b == a && j < i) {
+                    continue;
+                }
+                if bi != FREE && d.body[j] == bi {
+                    continue;
+                }
+                let (ddx, ddy) = img.delta(d.x[j] - xi, d.y[j] - yi);
+                let reach = ri + d.r[j] + skin;
+                if ddx * ddx + ddy * ddy < reach * reach {
+                    let (p, q) = if i < j { (i, j) } else { (j, i) };
+                    out.push(((p as u64) << 32) | q as u64);
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,314 @@
+//! Neighbour list: a Verlet list built from a multi-level cell grid ([`grid`]), rebuilt only
+//! when some disc or wall moved more than half the skin since the last build (then no pair
+//! outside the list can have come into contact: each side moved < skin/2).
+//!
+//! The list is a half list in CSR form sorted by (i, j) with i < j: the partners of disc i are
+//! `nbr[start[i]..start[i+1]]`. Per-pair contact history (`us`, `mr`) and reference gaps
+//! (`g0`) sit in slots parallel to `nbr`; a rebuild carries the history of touching pairs over
+//! by merging the old and new sorted lists. [`reorder`] renumbers discs in cell order for
+//! cache locality. `rstart/rpair` list, for each disc k, the pairs where k is the partner j in
+//! increasing pair order: the parallel force pass gathers per disc in exactly the order the
+//! serial pass scatters, so results are bit-identical for any thread count.
+
+pub mod grid;
+pub mod reorder;
+
+use crate::state::{Periodic, State, Wall};
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+
+/// Minimum-image convention for positions that are at most one box length apart.
+#[derive(Clone, Copy, Debug)]
+pub struct MinImage {
+    lx: f64,
+    hx: f64,
+    ly: f64,
+    hy: f64,
+}
+
+impl MinImage {
+    pub fn new(p: &Periodic) -> MinImage {
+        let (lx, ly) = (
+            p.length[0].unwrap_or(f64::INFINITY),
+            p.length[1].unwrap_or(f64::INFINITY),
+        );
+        MinImage {
+            lx,
+            hx: 0.5 * lx,
+            ly,
+            hy: 0.5 * ly,
+        }
+    }
+
+    /// Minimum image of the difference (dx, dy) (valid for |d| < 1.5 L).
+    #[inline(always)]
+    pub fn delta(&self, mut dx: f64, mut dy: f64) -> (f64, f64) {
+        if dx > self.hx {
+            dx -= self.lx;
+        } else if dx < -self.hx {
+            dx += self.lx;
+        }
+        if dy > self.hy {
+            dy -= self.ly;
+        } else if dy < -self.hy {
+            dy += self.ly;
+        }
+        (dx, dy)
+    }
+}
+
+/// Key of an unordered pair of disc ids (or indices), smaller first.
+#[inline]
+pub fn pair_key(a: u32, b: u32) -> u64 {
+    let (p, q) = if a < b { (a, b) } else { (b, a) };
+    ((p as u64) << 32) | q as u64
+}
+
+/// Disc–wall candidate pairs with their history.
+#[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
+pub struct WallPairs {
+    pub wall: Vec<u32>,
+    pub disc: Vec<u32>,
+    pub us: Vec<f64>,
+    pub mr: Vec<f64>,
+}
+
+/// The Verlet neighbour list with contact history.
+#[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
+pub struct Neighbors {
+    pub skin: f64,
+    pub start: Vec<u32>,
+    pub nbr: Vec<u32>,
+    /// Tangential spring displacement per pair (m), along t = (−n_y, n_x).
+    pub us: Vec<f64>,
+    /// Rolling moment on disc i per pair (N·m).
+    pub mr: Vec<f64>,
+    /// Reference gap g₀ per pair (m); empty when no offsets are registered.
+    pub g0: Vec<f64>,
+    pub rstart: Vec<u32>,
+    pub rpair: Vec<u32>,
+    /// Positions at the last build (discs) and wall end points at the last build.
+    pub x0: Vec<f64>,
+    pub y0: Vec<f64>,
+    pub wall0: Vec<[f64; 4]>,
+    pub walls: WallPairs,
+    /// Number of builds so far.
+    pub builds: u64,
+}
+
+impl Neighbors {
+    pub fn n_pairs(&self) -> usize {
+        self.nbr.len()
+    }
+
+    /// Largest squared displacement of a disc since the last build (serial max: exact).
+    pub fn max_disp2(&self, st: &State) -> f64 {
+        let d = &st.discs;
+        if self.x0.len() != d.len() {
+            return f64::INFINITY;
+        }
+        let mut m = 0.0f64;
+        for k in 0..d.len() {
+            let dx = d.x[k] - self.x0[k];
+            let dy = d.y[k] - self.y0[k];
+            m = m.max(dx * dx + dy * dy);
+        }
+        m
+    }
+
+    /// Largest displacement of a wall end point since the last build.
+    pub fn max_wall_disp(&self, walls: &[Wall]) -> f64 {
+        if self.wall0.len() != walls.len() {
+            return f64::INFINITY;
+        }
+        let mut m = 0.0f64;
+        for (w, r) in walls.iter().zip(&self.wall0) {
+            let da = (w.a[0] - r[0]).hypot(w.a[1] - r[1]);
+            let db = (w.b[0] - r[2]).hypot(w.b[1] - r[3]);
+            m = m.max(da).max(db);
+        }
+        m
+    }
+
+    /// Rebuild the list for the current (wrapped) positions, keeping the history of pairs
+    /// present before. `offsets` are the reference gaps keyed by [`pair_key`] of disc ids.
+    pub fn rebuild(&mut self, st: &State, skin: f64, offsets: &BTreeMap<u64, f64>) {
+        let n = st.discs.len();
+        let img = MinImage::new(&st.periodic);
+        let keys = grid::find_pairs(st, skin, &img);
+        // Old history, sorted by key (only nonzero entries matter).
+        let mut old: Vec<(u64, f64, f64)> = Vec::new();
+        if self.start.len() == n + 1 {
+            for i in 0..n {
+                for p in self.start[i] as usize..self.start[i + 1] as usize {
+                    if self.us[p] != 0.0 || self.mr[p] != 0.0 {
+                        let j = self.nbr[p];
+                        old.push((((i as u64) << 32) | j as u64, self.us[p], self.mr[p]));
+                    }
+                }
+            }
+        }
+        old.sort_unstable_by_key(|e| e.0);
+        self.start.clear();
+        self.start.resize(n + 1, 0);
+        self.nbr.clear();
+        self.us.clear();
+        self.mr.clear();
+        self.g0.clear();
+        let mut o = 0;
+        for &k in &keys {
+            let i = (k >> 32) as usize;
+            self.start[i + 1] += 1;
+            self.nbr.push(k as u32);
+            while o < old.len() && old[o].0 < k {
+                o += 1;
+            }
+            if o < old.len() && old[o].0 == k {
+                self.us.push(old[o].1);
+                self.mr.push(old[o].2);
+            } else {
+                self.us.push(0.0);
+                self.mr.push(0.0);
+            }
+        }
+        for i in 0..n {
+            self.start[i + 1] += self.start[i];
+        }
+        if !offsets.is_empty() {
+            let id = &st.discs.id;
+            for &k in &keys {
+                let (i, j) = ((k >> 32) as usize, (k as u32) as usize);
+                let g = offsets.get(&pair_key(id[i], id[j])).copied().unwrap_or(0.0);
+                self.g0.push(g);
+            }
+        }
+        // Reverse (partner-side) lists, in increasing pair order.
+        self.rstart.clear();
+        self.rstart.resize(n + 1, 0);
+        for &j in &self.nbr {
+            self.rstart[j as usize + 1] += 1;
+        }
+        for k in 0..n {
+            self.rstart[k + 1] += self.rstart[k];
+        }
+        self.rpair.clear();
+        self.rpair.resize(self.nbr.len(), 0);
+        let mut fill: Vec<u32> = self.rstart[..n].to_vec();
+        for (p, &j) in self.nbr.iter().enumerate() {
+            self.rpair[fill[j as usize] as usize] = p as u32;
+            fill[j as usize] += 1;
+        }
+        self.rebuild_walls(st, skin, &img);
+        self.x0.clone_from(&st.discs.x);
+        self.y0.clone_from(&st.discs.y);
+        self.wall0 = st
+            .walls
+            .iter()
+            .map(|w| [w.a[0], w.a[1], w.b[0], w.b[1]])
+            .collect();
+        self.skin = skin;
+        self.builds += 1;
+    }
+
+    fn rebuild_walls(&mut self, st: &State, skin: f64, img: &MinImage) {
+        let mut old: Vec<(u64, f64, f64)> = (0..self.walls.wall.len())
+            .filter(|&p| self.walls.us[p] != 0.0 || self.walls.mr[p] != 0.0)
+            .map(|p| {
+                let k = ((self.walls.wall[p] as u64) << 32) | self.walls.disc[p] as u64;
+                (k, self.walls.us[p], self.walls.mr[p])
+            })
+            .collect();
+        old.sort_unstable_by_key(|e| e.0);
+        let w = &mut self.walls;
+        w.wall.clear();
+        w.disc.clear();
+        w.us.clear();
+        w.mr.clear();
+        let d = &st.discs;
+        let mut o = 0;
+        for (wi, wall) in st.walls.iter().enumerate() {
+            for k in 0..d.len() {
+                let (_, _, dist) = closest_on_segment(wall, d.x[k], d.y[k], img);
+                if dist < d.r[k] + skin {
+                    let key = ((wi as u64) << 32) | k as u64;
+                    w.wall.push(wi as u32);
+                    w.disc.push(k as u32);
+                    while o < old.len() && old[o].0 < key {
+                        o += 1;
+                    }
+                    if o < old.len() && old[o].0 == key {
+                        w.us.push(old[o].1);
+                        w.mr.push(old[o].2);
+                    } else {
+                        w.us.push(0.0);
+                        w.mr.push(0.0);
+                    }
+                }
+            }
+        }
+    }
+
+    /// Renumber discs: `new_of_old[old] = new`. Keeps the history with its pairs (a swapped
+    /// pair keeps u_s, whose sign is invariant under i↔j, and flips the rolling moment).
+    pub fn remap(&mut self, new_of_old: &[u32]) {
+        let n = new_of_old.len();
+        if self.start.len() != n + 1 {
+            return;
+        }
+        let mut entries: Vec<(u64, f64, f64, f64)> = Vec::with_capacity(self.nbr.len());
+        for i in 0..n {
+            for p in self.start[i] as usize..self.start[i + 1] as usize {
+                let (a, b) = (new_of_old[i], new_of_old[self.nbr[p] as usize]);
+                let g = self.g0.get(p).copied().unwrap_or(0.0);
+                if a < b {
+                    entries.push((((a as u64) << 32) | b as u64, self.us[p], self.mr[p], g));
+                } else {
+                    entries.push((((b as u64) << 32) | a as u64, self.us[p], -self.mr[p], g));
+                }
+            }
+        }
+        entries.sort_unstable_by_key(|e| e.0);
+        let has_g0 = !self.g0.is_empty();
+        self.start.iter_mut().for_each(|s| *s = 0);
+        self.nbr.clear();
+        self.us.clear();
+        self.mr.clear();
+        self.g0.clear();
+        for e in &entries {
+            self.start[(e.0 >> 32) as usize + 1] += 1;
+            self.nbr.push(e.0 as u32);
+            self.us.push(e.1);
+            self.mr.push(e.2);
+            if has_g0 {
+                self.g0.push(e.3);
+            }
+        }
+        for i in 0..n {
+            self.start[i + 1] += self.start[i];
+        }
+        for dsc in &mut self.walls.disc {
+            *dsc = new_of_old[*dsc as usize];
+        }
+        // Positions at build and reverse lists are refreshed by the rebuild that follows.
+        self.x0.clear();
+        self.y0.clear();
+    }
+}
+
+/// Closest point of wall segment `w` to (x, y) (minimum image) and the distance:
+/// returns (px, py, dist) with (px, py) on the segment, in the image nearest the point.
+#[inline]
+pub fn closest_on_segment(w: &Wall, x: f64, y: f64, img: &MinImage) -> (f64, f64, f64) {
+    let (rx, ry) = img.delta(x - w.a[0], y - w.a[1]);
+    let (ex, ey) = (w.b[0] - w.a[0], w.b[1] - w.a[1]);
+    let l2 = ex * ex + ey * ey;
+    let s = if l2 > 0.0 {
+        ((rx * ex + ry * ey) / l2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    let (px, py) = (s * ex, s * ey);
+    let (dx, dy) = (rx - px, ry - py);
+    // Return the point in the frame of (x, y): x − (r − p).
+    (x - dx, y - dy, (dx * dx + dy * dy).sqrt())
+}

@@ -1,0 +1,654 @@
+//! The World: state, parameters, contact laws, bonds, neighbour list with contact history,
+//! and the step (see `docs/dem-core-design.md`).
+
+use crate::bond::Bonds;
+use crate::clump;
+use crate::contact::disc_disc::{self, PassEnergy, Slots};
+use crate::contact::{disc_segment, ContactLaws, ContactView};
+use crate::counters::Counters;
+use crate::energy::{EnergyAcc, EnergyReport};
+use crate::integrate::{self, DiscCache, Kick, Moved};
+use crate::neighbors::{pair_key, reorder, MinImage, Neighbors};
+use crate::params::Params;
+use crate::state::{State, FREE};
+use crate::timestep;
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::time::Instant;
+
+/// Bad input to [`World::try_new`].
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum WorldError {
+    #[error("disc {id}: {reason}")]
+    Disc { id: u32, reason: String },
+    #[error("clump {index}: {reason}")]
+    Clump { index: usize, reason: String },
+    #[error("material {material} has no contact law (the table has {n} materials)")]
+    Material { material: u16, n: usize },
+    #[error("periodic box: {0}")]
+    Periodic(String),
+    #[error("parameters: {0}")]
+    Params(String),
+    #[error("cannot set the time step: {0}")]
+    TimeStep(String),
+}
+
+/// The simulation: everything a checkpoint needs (all but `counters` is serialized, and a
+/// deserialized World continues bit-identically).
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct World {
+    pub state: State,
+    pub params: Params,
+    pub laws: ContactLaws,
+    pub bonds: Option<Bonds>,
+    #[serde(skip)]
+    pub counters: Counters,
+    pub(crate) nb: Neighbors,
+    pub(crate) cache: DiscCache,
+    /// Reference gaps g₀ keyed by [`pair_key`] of disc ids.
+    pub(crate) offsets: BTreeMap<u64, f64>,
+    pub(crate) index_of_id: Vec<u32>,
+    pub(crate) dt: f64,
+    pub(crate) dt_prev: f64,
+    pub(crate) dt_crit: f64,
+    pub(crate) energy: EnergyAcc,
+    pub(crate) max_disp2: f64,
+    pub(crate) rebuild_requested: bool,
+    #[serde(skip)]
+    pub(crate) slots: Slots,
+    #[serde(skip)]
+    pub(crate) parts: Vec<Moved>,
+    #[serde(skip)]
+    pub(crate) last_good: Option<Box<State>>,
+}
+
+impl World {
+    /// Build a world; see [`World::try_new`] for the checks. Panics on invalid input (use
+    /// `try_new` for input that comes from users).
+    pub fn new(state: State, params: Params, laws: ContactLaws) -> World {
+        match World::try_new(state, params, laws) {
+            Ok(w) => w,
+            Err(e) => panic!("World::new: {e}"),
+        }
+    }
+
+    /// Build a world: validates the input, builds the neighbour list (reordering discs in
+    /// space unless `params.reorder_every == 0`; use [`World::index_of_id`] to find a disc
+    /// afterwards) and sets the time step.
+    pub fn try_new(state: State, params: Params, laws: ContactLaws) -> Result<World, WorldError> {
+        validate(&state, &params, &laws)?;
+        let mut w = World {
+            state,
+            params,
+            laws,
+            bonds: None,
+            counters: Counters::default(),
+            nb: Neighbors::default(),
+            cache: DiscCache::default(),
+            offsets: BTreeMap::new(),
+            index_of_id: Vec::new(),
+            dt: 0.0,
+            dt_prev: 0.0,
+            dt_crit: 0.0,
+            energy: EnergyAcc::default(),
+            max_disp2: 0.0,
+            rebuild_requested: true,
+            slots: Slots::default(),
+            parts: Vec::new(),
+            last_good: None,
+        };
+        w.rebuild_index();
+        w.rebuild();
+        if !(w.dt > 0.0 && w.dt.is_finite()) {
+            return Err(WorldError::TimeStep(
+                "no disc has a contact stiffness; set Params::dt_fixed".into(),
+            ));
+        }
+        w.dt_prev = w.dt;
+        Ok(w)
+    }
+
+    /// Advance one time step (see the design doc for the stage order).
+    pub fn step(&mut self) {
+        let t0 = Instant::now();
+        if self.needs_rebuild() {
+            self.rebuild();
+        }
+        let t1 = Counters::lap(&mut self.counters.neighbours, t0);
+        let track = self.params.track_energy;
+        let dt = self.dt;
+        let img = MinImage::new(&self.state.periodic);
+        self.state.discs.clear_forces();
+        let mut e = disc_disc::compute(
+            &mut self.state.discs,
+            &mut self.nb,
+            &self.cache.minv_contact,
+            &self.laws,
+            img,
+            dt,
+            track,
+            &mut self.slots,
+        );
+        let t2 = Counters::lap(&mut self.counters.contacts, t1);
+        if !self.state.walls.is_empty() {
+            let ew = disc_segment::compute(
+                &mut self.state.discs,
+                &mut self.state.walls,
+                &mut self.nb.walls,
+                &self.cache.minv_contact,
+                &self.laws,
+                img,
+                dt,
+                track,
+            );
+            e.add(&ew);
+        }
+        let t3 = Counters::lap(&mut self.counters.walls, t2);
+        if let Some(b) = self.bonds.as_mut() {
+            b.compute(&mut self.state, dt);
+        }
+        let t4 = Counters::lap(&mut self.counters.bonds, t3);
+        let kick = Kick {
+            kick: 0.5 * (self.dt_prev + dt),
+            drift: dt,
+            alpha: self.params.local_damping,
+            gravity: self.params.gravity.unwrap_or([0.0; 2]),
+            track,
+        };
+        let mut moved = integrate::integrate_discs(
+            &mut self.state.discs,
+            &self.cache,
+            &self.nb.x0,
+            &self.nb.y0,
+            &kick,
+            &mut self.parts,
+        );
+        if !self.state.clumps.is_empty() {
+            let visc = if self.params.viscous_damping > 0.0 {
+                self.clump_viscosity()
+            } else {
+                Vec::new()
+            };
+            let mc = clump::step_clumps(
+                &mut self.state,
+                &self.index_of_id,
+                &visc,
+                &self.nb.x0,
+                &self.nb.y0,
+                &kick,
+            );
+            moved.add(&mc);
+        }
+        advance_walls(&mut self.state.walls, dt);
+        self.max_disp2 = moved.max_disp2;
+        if track {
+            self.account(&e, &moved);
+        }
+        self.state.time += dt;
+        self.state.step += 1;
+        self.dt_prev = dt;
+        self.counters.steps += 1;
+        Counters::lap(&mut self.counters.integrate, t4);
+    }
+
+    /// Run `steps` steps.
+    pub fn run(&mut self, steps: u64) {
+        for _ in 0..steps {
+            self.step();
+        }
+    }
+
+    /// Current time step (s).
+    pub fn dt(&self) -> f64 {
+        self.dt
+    }
+
+    /// min √(m/K), √(I/K_rot) of the last estimate, before the safety factor (s).
+    pub fn critical_dt(&self) -> f64 {
+        self.dt_crit
+    }
+
+    /// Energies at the time of the last step (see [`crate::energy`]).
+    pub fn energy(&self) -> EnergyReport {
+        let wall_work: f64 = self.state.walls.iter().map(|w| w.work).sum();
+        let (sb, rb) = self
+            .bonds
+            .as_ref()
+            .map_or((0.0, 0.0), |b| (b.strain_energy(), b.released_energy()));
+        EnergyReport::new(&self.energy, wall_work, sb, rb)
+    }
+
+    /// Names of the stages this world runs, in order.
+    pub fn active_stages(&self) -> Vec<&'static str> {
+        let mut s = vec!["neighbours", "contacts"];
+        if !self.state.walls.is_empty() {
+            s.push("walls");
+        }
+        if self.bonds.is_some() {
+            s.push("bonds");
+        }
+        if !self.state.clumps.is_empty() {
+            s.push("clumps");
+        }
+        if self.params.gravity.is_some() {
+            s.push("gravity");
+        }
+        if self.params.local_damping > 0.0 {
+            s.push("local damping");
+        }
+        if self.params.viscous_damping > 0.0 {
+            s.push("viscous damping");
+        }
+        s.push("integrate");
+        if self.params.track_energy {
+            s.push("energy");
+        }
+        s
+    }
+
+    /// Register the reference gap g₀ (≤ 0, clamped) of the pair of discs with ids `id_a`,
+    /// `id_b`: the contact then acts on δ = g₀ − gap. Takes effect at the next step.
+    pub fn set_contact_offset(&mut self, id_a: u32, id_b: u32, g0: f64) {
+        self.offsets.insert(pair_key(id_a, id_b), g0.min(0.0));
+        self.rebuild_requested = true;
+    }
+
+    /// Force a neighbour rebuild (and time-step update) at the next step: call after editing
+    /// positions, radii, masses, fixed flags or materials of discs directly.
+    pub fn refresh(&mut self) {
+        self.rebuild_requested = true;
+        self.rebuild_index();
+    }
+
+    /// Current index of the disc with stable id `id`.
+    pub fn index_of_id(&self, id: u32) -> Option<usize> {
+        self.index_of_id
+            .get(id as usize)
+            .filter(|&&k| k != u32::MAX)
+            .map(|&k| k as usize)
+    }
+
+    /// Number of listed (potential contact) pairs.
+    pub fn n_pairs(&self) -> usize {
+        self.nb.n_pairs()
+    }
+
+    /// Touching pairs (overlap beyond the reference gap > 0).
+    pub fn contacts(&self) -> impl Iterator<Item = ContactView> + '_ {
+        self.near_pairs(f64::NEG_INFINITY)
+            .filter(|c| c.overlap > 0.0)
+    }
+
+    /// Listed pairs whose gap (|x_j − x_i| − r_i − r_j) is at most `max_gap`, plus touching
+    /// pairs when `max_gap` is −∞ (used with a filter by [`World::contacts`]).
+    pub fn near_pairs(&self, max_gap: f64) -> impl Iterator<Item = ContactView> + '_ {
+        let st = &self.state;
+        let d = &st.discs;
+        let img = MinImage::new(&st.periodic);
+        let nb = &self.nb;
+        let n = if nb.start.len() == d.len() + 1 {
+            d.len()
+        } else {
+            0
+        };
+        (0..n).flat_map(move |i| {
+            (nb.start[i] as usize..nb.start[i + 1] as usize).filter_map(move |p| {
+                let j = nb.nbr[p] as usize;
+                let (dx, dy) = img.delta(d.x[j] - d.x[i], d.y[j] - d.y[i]);
+                let dist = (dx * dx + dy * dy).sqrt();
+                let gap = dist - d.r[i] - d.r[j];
+                let g0 = nb.g0.get(p).copied().unwrap_or(0.0);
+                let overlap = g0 - gap;
+                if !(max_gap == f64::NEG_INFINITY || gap <= max_gap) || dist <= 0.0 {
+                    return None;
+                }
+                let (nx, ny) = (dx / dist, dy / dist);
+                let r_eff = d.r[i] * d.r[j] / (d.r[i] + d.r[j]);
+                let model = self.laws.model(d.material[i], d.material[j]);
+                let (f_n, f_t) = if overlap > 0.0 {
+                    model.spring_forces(r_eff, overlap, nb.us[p])
+                } else {
+                    (0.0, 0.0)
+                };
+                let s = d.r[i] - 0.5 * overlap.max(0.0);
+                Some(ContactView {
+                    i: i as u32,
+                    j: j as u32,
+                    id_i: d.id[i],
+                    id_j: d.id[j],
+                    gap,
+                    overlap,
+                    normal: [nx, ny],
+                    point: [d.x[i] + s * nx, d.y[i] + s * ny],
+                    f_n,
+                    f_t,
+                })
+            })
+        })
+    }
+
+    fn needs_rebuild(&self) -> bool {
+        let half = 0.5 * self.nb.skin;
+        self.rebuild_requested
+            || self.nb.x0.len() != self.state.discs.len()
+            || self.max_disp2 > half * half
+            || self.nb.max_wall_disp(&self.state.walls) > half
+    }
+
+    fn rebuild_index(&mut self) {
+        let ids = &self.state.discs.id;
+        let m = ids.iter().map(|&i| i as usize + 1).max().unwrap_or(0);
+        self.index_of_id.clear();
+        self.index_of_id.resize(m, u32::MAX);
+        for (k, &id) in ids.iter().enumerate() {
+            self.index_of_id[id as usize] = k as u32;
+        }
+    }
+
+    /// Wrap periodic positions, reorder (when due), rebuild the list, caches and time step.
+    pub(crate) fn rebuild(&mut self) {
+        self.counters.rebuilds += 1;
+        self.wrap_periodic();
+        let every = self.params.reorder_every as u64;
+        #[allow(clippy::manual_is_multiple_of)] // rust-version 1.80
+        let due = every > 0 && self.nb.builds % every == 0;
+        if due {
+            if let Some((order, new_of_old)) = reorder::spatial_order(&self.state) {
+                self.state.discs.permute(&order);
+                self.nb.remap(&new_of_old);
+                if let Some(b) = self.bonds.as_mut() {
+                    b.remap(&new_of_old);
+                }
+                self.rebuild_index();
+                self.counters.reorders += 1;
+            }
+        }
+        let skin = self.skin();
+        self.nb.rebuild(&self.state, skin, &self.offsets);
+        self.fill_cache();
+        timestep::disc_stiffness(
+            &self.state,
+            &self.nb,
+            &self.laws,
+            &self.params,
+            self.bonds.as_ref(),
+            &mut self.cache,
+        );
+        self.dt_crit = timestep::critical_dt(&self.state, &self.cache, &self.index_of_id)
+            .unwrap_or(f64::INFINITY);
+        self.dt = match self.params.dt_fixed {
+            Some(dt) => dt,
+            None => self.params.dt_factor * self.dt_crit,
+        };
+        if self.params.viscous_damping > 0.0 {
+            let z = 2.0 * self.params.viscous_damping;
+            let d = &self.state.discs;
+            self.cache.visc_t = (0..d.len())
+                .map(|i| z * (d.m[i] * self.cache.k_trans[i]).sqrt())
+                .collect();
+            self.cache.visc_r = (0..d.len())
+                .map(|i| z * (d.inertia[i] * self.cache.k_rot[i]).sqrt())
+                .collect();
+        } else {
+            self.cache.visc_t.clear();
+            self.cache.visc_r.clear();
+        }
+        self.max_disp2 = 0.0;
+        self.rebuild_requested = false;
+    }
+
+    fn skin(&self) -> f64 {
+        self.params.skin.unwrap_or_else(|| {
+            let rmin = self
+                .state
+                .discs
+                .r
+                .iter()
+                .cloned()
+                .fold(f64::INFINITY, f64::min);
+            if rmin.is_finite() {
+                0.2 * rmin
+            } else {
+                0.0
+            }
+        })
+    }
+
+    fn fill_cache(&mut self) {
+        let d = &self.state.discs;
+        let c = &mut self.cache;
+        c.minv_contact = (0..d.len())
+            .map(|i| if d.fixed[i] { 0.0 } else { 1.0 / d.m[i] })
+            .collect();
+        let free = |i: usize| !d.fixed[i] && d.body[i] == FREE;
+        c.inv_m = (0..d.len())
+            .map(|i| if free(i) { 1.0 / d.m[i] } else { 0.0 })
+            .collect();
+        c.inv_i = (0..d.len())
+            .map(|i| if free(i) { 1.0 / d.inertia[i] } else { 0.0 })
+            .collect();
+    }
+
+    fn clump_viscosity(&self) -> Vec<[f64; 2]> {
+        let z = 2.0 * self.params.viscous_damping;
+        let cl = &self.state.clumps;
+        timestep::clump_stiffness(&self.state, &self.cache, &self.index_of_id)
+            .iter()
+            .enumerate()
+            .map(|(c, k)| {
+                [
+                    z * (cl.m[c] * k[0]).sqrt(),
+                    z * (cl.inertia[c] * k[1]).sqrt(),
+                ]
+            })
+            .collect()
+    }
+
+    fn wrap_periodic(&mut self) {
+        let p = self.state.periodic;
+        if p.length == [None, None] {
+            return;
+        }
+        let d = &mut self.state.discs;
+        for i in 0..d.len() {
+            if d.body[i] == FREE {
+                d.x[i] = wrap(&p, 0, d.x[i]);
+                d.y[i] = wrap(&p, 1, d.y[i]);
+            }
+        }
+        let cl = &mut self.state.clumps;
+        let mut moved = false;
+        for c in 0..cl.len() {
+            let (x, y) = (wrap(&p, 0, cl.x[c]), wrap(&p, 1, cl.y[c]));
+            moved |= x != cl.x[c] || y != cl.y[c];
+            cl.x[c] = x;
+            cl.y[c] = y;
+        }
+        if moved {
+            clump::place_members(&mut self.state, &self.index_of_id);
+        }
+    }
+
+    fn account(&mut self, e: &PassEnergy, m: &Moved) {
+        let a = &mut self.energy;
+        a.kin_trans = m.ke_trans;
+        a.kin_rot = m.ke_rot;
+        a.strain_contact = e.strain;
+        a.grav_pot = m.grav_pot;
+        a.damp_contact += e.damp;
+        a.damp_body += m.damp;
+        a.friction += e.fric;
+        a.fixed_work += m.boundary_work;
+        if a.initial.is_none() {
+            let sb = self.bonds.as_ref().map_or(0.0, |b| b.strain_energy());
+            a.initial = Some(a.kin_trans + a.kin_rot + a.strain_contact + sb + a.grav_pot);
+            a.initial_grav = a.grav_pot;
+        }
+    }
+}
+
+/// Wrap a coordinate into the periodic box only when it is outside (keeps bits otherwise).
+fn wrap(p: &crate::state::Periodic, axis: usize, x: f64) -> f64 {
+    match p.length[axis] {
+        Some(l) if x < p.lo[axis] || x >= p.lo[axis] + l => p.wrap(axis, x),
+        _ => x,
+    }
+}
+
+/// Move walls rigidly: rotate by ω dt about `center`, then translate by v dt.
+fn advance_walls(walls: &mut [crate::state::Wall], dt: f64) {
+    for w in walls {
+        if w.omega != 0.0 {
+            let (s, c) = (w.omega * dt).sin_cos();
+            for p in [&mut w.a, &mut w.b] {
+                let (rx, ry) = (p[0] - w.center[0], p[1] - w.center[1]);
+                p[0] = w.center[0] + c * rx - s * ry;
+                p[1] = w.center[1] + s * rx + c * ry;
+            }
+        }
+        if w.v != [0.0, 0.0] {
+            for p in [&mut w.a, &mut w.b, &mut w.center] {
+                p[0] += w.v[0] * dt;
+                p[1] += w.v[1] * dt;
+            }
+        }
+    }
+}
+
+fn validate(st: &State, p: &Params, laws: &ContactLaws) -> Result<(), WorldError> {
+    let d = &st.discs;
+    let n = d.len();
+    let lens = [
+        d.id.len(),
+        d.y.len(),
+        d.theta.len(),
+        d.vx.len(),
+        d.vy.len(),
+        d.omega.len(),
+        d.r.len(),
+        d.m.len(),
+        d.inertia.len(),
+        d.fx.len(),
+        d.fy.len(),
+        d.torque.len(),
+        d.body.len(),
+        d.material.len(),
+        d.group.len(),
+        d.fixed.len(),
+    ];
+    if lens.iter().any(|&l| l != n) {
+        return Err(WorldError::Params(
+            "disc arrays have different lengths".into(),
+        ));
+    }
+    let mut seen = vec![false; d.id.iter().map(|&i| i as usize + 1).max().unwrap_or(0)];
+    let mut rmax = 0.0f64;
+    for i in 0..n {
+        let id = d.id[i];
+        let bad = |reason: String| Err(WorldError::Disc { id, reason });
+        if seen[id as usize] {
+            return bad("duplicate id".into());
+        }
+        seen[id as usize] = true;
+        if !(d.r[i] > 0.0 && d.r[i].is_finite()) {
+            return bad(format!("radius {} must be positive", d.r[i]));
+        }
+        if !(d.m[i] > 0.0 && d.m[i].is_finite() && d.inertia[i] > 0.0 && d.inertia[i].is_finite()) {
+            return bad(format!(
+                "mass {} / inertia {} must be positive",
+                d.m[i], d.inertia[i]
+            ));
+        }
+        let vals = [d.x[i], d.y[i], d.theta[i], d.vx[i], d.vy[i], d.omega[i]];
+        if vals.iter().any(|v| !v.is_finite()) {
+            return bad("non-finite position or velocity".into());
+        }
+        if !laws.covers(d.material[i]) {
+            return Err(WorldError::Material {
+                material: d.material[i],
+                n: laws.n_materials(),
+            });
+        }
+        if d.body[i] != FREE && d.body[i] as usize >= st.clumps.len() {
+            return bad(format!("body {} is not a clump", d.body[i]));
+        }
+        rmax = rmax.max(d.r[i]);
+    }
+    for w in &st.walls {
+        if !laws.covers(w.material) {
+            return Err(WorldError::Material {
+                material: w.material,
+                n: laws.n_materials(),
+            });
+        }
+    }
+    let cl = &st.clumps;
+    if !cl.is_empty() && cl.member_start.len() != cl.len() + 1 {
+        return Err(WorldError::Clump {
+            index: 0,
+            reason: "member_start has the wrong length".into(),
+        });
+    }
+    for c in 0..cl.len() {
+        if !(cl.m[c] > 0.0 && cl.inertia[c] > 0.0) {
+            return Err(WorldError::Clump {
+                index: c,
+                reason: "mass and inertia must be positive".into(),
+            });
+        }
+        for q in cl.member_range(c) {
+            let id = cl.members[q] as usize;
+            if id >= seen.len() || !seen[id] {
+                return Err(WorldError::Clump {
+                    index: c,
+                    reason: format!("member id {id} is not a disc"),
+                });
+            }
+        }
+    }
+    if !(st.thickness > 0.0 && st.thickness.is_finite()) {
+        return Err(WorldError::Params(format!(
+            "thickness {} must be positive",
+            st.thickness
+        )));
+    }
+    let skin = p.skin.unwrap_or(0.0);
+    if !(skin >= 0.0 && skin.is_finite()) {
+        return Err(WorldError::Params(format!("skin {skin} must be ≥ 0")));
+    }
+    if let Some(dt) = p.dt_fixed {
+        if !(dt > 0.0 && dt.is_finite()) {
+            return Err(WorldError::Params(format!(
+                "dt_fixed {dt} must be positive"
+            )));
+        }
+    } else if !(p.dt_factor > 0.0 && p.dt_factor.is_finite()) {
+        return Err(WorldError::Params(format!(
+            "dt_factor {} must be positive",
+            p.dt_factor
+        )));
+    }
+    if !(p.local_damping >= 0.0 && p.local_damping < 1.0) {
+        return Err(WorldError::Params(format!(
+            "local_damping {} must be in [0, 1)",
+            p.local_damping
+        )));
+    }
+    if !(p.viscous_damping >= 0.0 && p.viscous_damping.is_finite()) {
+        return Err(WorldError::Params(format!(
+            "viscous_damping {} must be ≥ 0",
+            p.viscous_damping
+        )));
+    }
+    for a in 0..2 {
+        if let Some(l) = st.periodic.length[a] {
+            let need = 2.0 * (2.0 * rmax + p.skin.unwrap_or(0.2 * rmax));
+            if !(l.is_finite() && l > need) {
+                return Err(WorldError::Periodic(format!(
+                    "length {l} on axis {a} must exceed 2 × (largest diameter + skin) = {need}"
+                )));
+            }
+        }
+    }
+    Ok(())
+}
