@@ -83,6 +83,41 @@ pub fn bonded_lattice_state(cells: [usize; 2]) -> (State, Bonds) {
     (st, bonds)
 }
 
+/// Throughput of the bond stage alone on the benchmark lattice (`CELLS` for the full one): `steps` calls of
+/// [`Bonds::compute`] (plus clearing forces) on `threads` threads, positions frozen and velocities
+/// small and random (so every bond does its full work without breaking). Returns
+/// disc-steps per second of wall time.
+pub fn bond_stage_rate(cells: [usize; 2], steps: usize, threads: usize) -> f64 {
+    let (mut st, mut bonds) = bonded_lattice_state(cells);
+    let mut s: u64 = 7;
+    for k in 0..st.discs.len() {
+        let mut r = || {
+            s = s
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            2.0 * ((s >> 11) as f64 / (1u64 << 53) as f64) - 1.0
+        };
+        st.discs.vx[k] = 1e-4 * r();
+        st.discs.vy[k] = 1e-4 * r();
+        st.discs.omega[k] = 0.1 * r();
+    }
+    let pool = match rayon::ThreadPoolBuilder::new()
+        .num_threads(threads.max(1))
+        .build()
+    {
+        Ok(p) => p,
+        Err(_) => return f64::NAN,
+    };
+    pool.install(|| {
+        let t0 = std::time::Instant::now();
+        for _ in 0..steps {
+            st.discs.clear_forces();
+            bonds.compute(&mut st, 1e-7);
+        }
+        (st.discs.len() * steps) as f64 / t0.elapsed().as_secs_f64()
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -127,8 +127,7 @@ pub(crate) fn update(
         fs_abs: f[1].abs(),
         m_abs: f[2].abs(),
         area: a,
-        inertia: i,
-        rbar,
+        lever: rbar * (1.0 / 3.0), // Ī/(R̄Ā) = (2/3)R̄³t / (R̄·2R̄t)
         beta: p.beta,
         kn_a,
         ks_a,

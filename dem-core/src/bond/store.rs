@@ -1,6 +1,6 @@
 //! The bond store ([`Bonds`]): groups, per-bond arrays, the per-step kernel and its scatter.
 
-use super::criteria::{BreakMode, Compiled};
+use super::criteria::{check_stress, BreakMode, Compiled, Criterion, Loads};
 use super::potyondy2004::Kinematics;
 use super::{
     contact_bond, install, potyondy2004, BondError, BondGroup, BondModel, BondStatus, BreakEvent,
@@ -91,81 +91,225 @@ struct DiscView<'a> {
     vy: &'a [f64],
     omega: &'a [f64],
     r: &'a [f64],
-    per: Periodic,
+    /// Per axis (box length, 1/length), (0, 0) when not periodic.
+    per: [(f64, f64); 2],
+}
+
+fn per_axes(p: &Periodic) -> [(f64, f64); 2] {
+    let ax = |a: usize| match p.length[a] {
+        Some(l) if l > 0.0 && l.is_finite() => (l, 1.0 / l),
+        _ => (0.0, 0.0),
+    };
+    [ax(0), ax(1)]
+}
+
+/// Minimum-image difference `b − a` on an axis with `(l, 1/l)` (`(0, 0)`: not periodic).
+/// Rounds with the 1.5·2⁵² trick (round-half-even, exact for |x| < 2⁵¹) instead of
+/// `f64::round`, which is a library call on baseline x86-64.
+#[inline(always)]
+fn min_image(a: f64, b: f64, (l, inv): (f64, f64)) -> f64 {
+    const MAGIC: f64 = 6_755_399_441_055_744.0;
+    let d = b - a;
+    let k = (d * inv + MAGIC) - MAGIC;
+    d - l * k
 }
 
 /// Geometry of a bond: unit normal from i to j, gap, arms from the disc centres to the contact
-/// point.
+/// point. Coincident centres get the normal (1, 0).
 #[inline(always)]
 fn geometry(v: &DiscView, i: usize, j: usize) -> (f64, f64, f64, f64, f64) {
-    let dx = v.per.delta(0, v.x[i], v.x[j]);
-    let dy = v.per.delta(1, v.y[i], v.y[j]);
+    let dx = min_image(v.x[i], v.x[j], v.per[0]);
+    let dy = min_image(v.y[i], v.y[j], v.per[1]);
     let dist = (dx * dx + dy * dy).sqrt();
-    let (nx, ny) = if dist > 0.0 {
-        (dx / dist, dy / dist)
-    } else {
-        (1.0, 0.0)
-    };
+    let ok = dist > 0.0;
+    let inv = 1.0 / if ok { dist } else { 1.0 };
+    let nx = if ok { dx * inv } else { 1.0 };
+    let ny = dy * inv;
     let gap = dist - v.r[i] - v.r[j];
     (nx, ny, gap, v.r[i] + 0.5 * gap, v.r[j] + 0.5 * gap)
 }
 
-/// One bond for one step: update its forces, check its criterion, return the force on disc j
-/// and the torques on i and j (`[fx, fy, ti, tj]`) and whether it broke now.
-#[allow(clippy::too_many_arguments)]
-#[inline(always)]
-fn kernel(
-    v: &DiscView,
-    groups: &[BondGroup],
-    compiled: &[Compiled],
-    t: f64,
-    dt: f64,
-    i: usize,
-    j: usize,
-    g: usize,
-    g0: f64,
-    rbar: f64,
-    f: &mut [f64; 3],
-    status: &mut u8,
-) -> ([f64; 4], bool) {
-    if *status != INTACT {
-        return ([0.0; 4], false);
-    }
-    let (nx, ny, gap, ai, aj) = geometry(v, i, j);
-    let (tx, ty) = (-ny, nx);
-    // Tangential relative velocity of j's and i's material points at the contact point
-    // (v_j − ω_j a_j t̂) − (v_i + ω_i a_i t̂), projected on t̂.
-    let vt =
-        (v.vx[j] - v.vx[i]) * tx + (v.vy[j] - v.vy[i]) * ty - (v.omega[j] * aj + v.omega[i] * ai);
-    let k = Kinematics {
-        gap,
-        dus: vt * dt,
-        dtheta: (v.omega[j] - v.omega[i]) * dt,
-    };
-    let length = v.r[i] + v.r[j] + g0;
-    let loads = match &groups[g].model {
-        BondModel::Parallel(p) => potyondy2004::update(p, rbar, t, g0, length, &k, f),
-        BondModel::Contact(p) => contact_bond::update(p, rbar, t, g0, length, &k, f),
-    };
-    if let Some(mode) = compiled[g].check(&loads) {
-        *status = NEW + mode.index() as u8;
-        return ([0.0; 4], true);
-    }
-    let (fn_, fs, m) = (f[0], f[1], f[2]);
-    (
-        [
-            fn_ * nx + fs * tx,
-            fn_ * ny + fs * ty,
-            -ai * fs - m,
-            -aj * fs + m,
-        ],
-        false,
-    )
+/// Bonds per block: the kernel first computes the geometry of a block of bonds (independent,
+/// branch-free work the CPU overlaps), then updates and checks them one by one.
+const BLOCK: usize = 32;
+
+/// Bond data of one block, all slices of the same length ≤ [`BLOCK`].
+struct BlockIn<'a> {
+    i: &'a [u32],
+    j: &'a [u32],
+    group: &'a [u16],
+    g0: &'a [f64],
+    rbar: &'a [f64],
 }
 
-/// Add one bond's contribution to its discs (the only place disc sums are formed).
+/// Per-step constants of the kernel.
+struct Ctx<'a> {
+    v: DiscView<'a>,
+    groups: &'a [BondGroup],
+    compiled: &'a [Compiled],
+    t: f64,
+    dt: f64,
+}
+
+/// Update one block of bonds: new forces and status, and for each bond still intact the force
+/// on disc j and the torques on i and j (`[fx, fy, ti, tj]`) in `out` (entries of bonds that
+/// are not intact are left as they were and must not be scattered). Returns the number of
+/// bonds broken now.
+///
+/// A block whose bonds all belong to one parallel-bond group with the stress criterion (the
+/// common case) runs a copy of the loop with that group's constants hoisted; it calls the same
+/// functions in the same order as the general loop, so results are identical.
+#[inline(always)]
+fn block(
+    c: &Ctx,
+    b: &BlockIn,
+    force: &mut [[f64; 3]],
+    status: &mut [u8],
+    out: &mut [[f64; 4]],
+) -> usize {
+    let n = b.i.len();
+    let (i_, j_, grp) = (&b.i[..n], &b.j[..n], &b.group[..n]);
+    let (g0_, rbar_) = (&b.g0[..n], &b.rbar[..n]);
+    let (force, status, out) = (&mut force[..n], &mut status[..n], &mut out[..n]);
+    // Pass 1a: gather the pair data (all disc slices re-cut to one length so the bounds checks
+    // fold into one). Entries past `n` keep harmless padding values.
+    let nd = c.v.x.len();
+    let (x, y, vx, vy) = (&c.v.x[..nd], &c.v.y[..nd], &c.v.vx[..nd], &c.v.vy[..nd]);
+    let (omega, r) = (&c.v.omega[..nd], &c.v.r[..nd]);
+    let mut dxs = [1.0f64; BLOCK];
+    let mut dys = [0.0f64; BLOCK];
+    let mut ris = [0.0f64; BLOCK];
+    let mut rjs = [0.0f64; BLOCK];
+    let mut dvx = [0.0f64; BLOCK];
+    let mut dvy = [0.0f64; BLOCK];
+    let mut wis = [0.0f64; BLOCK];
+    let mut wjs = [0.0f64; BLOCK];
+    for k in 0..n {
+        let (i, j) = (i_[k] as usize, j_[k] as usize);
+        if i >= nd || j >= nd {
+            // Cannot happen (indices are checked when bonds are added or remapped).
+            status[k] = BROKEN;
+            continue;
+        }
+        dxs[k] = x[j] - x[i];
+        dys[k] = y[j] - y[i];
+        ris[k] = r[i];
+        rjs[k] = r[j];
+        dvx[k] = vx[j] - vx[i];
+        dvy[k] = vy[j] - vy[i];
+        wis[k] = omega[i];
+        wjs[k] = omega[j];
+    }
+    // Pass 1b: geometry and kinematics, branch-free over the whole block (the compiler turns
+    // it into packed SIMD arithmetic; the operations are the same IEEE ones either way).
+    // Minimum image with the 1.5·2⁵² rounding trick (see `min_image`); unit normal n̂ (with
+    // (1, 0) for coincident centres), gap, arms a_i = R_i + g/2, a_j = R_j + g/2; tangential
+    // relative velocity of j's and i's material points at the contact point,
+    // (v_j − ω_j a_j t̂) − (v_i + ω_i a_i t̂)·t̂, t̂ = (−n_y, n_x); relative spin ω_j − ω_i.
+    const MAGIC: f64 = 6_755_399_441_055_744.0;
+    let [(lx, ilx), (ly, ily)] = c.v.per;
+    let mut geo = [[0.0f64; BLOCK]; 7];
+    {
+        let [gnx, gny, ggap, gai, gaj, gvt, gdw] = &mut geo;
+        for k in 0..BLOCK {
+            let dx = dxs[k] - lx * ((dxs[k] * ilx + MAGIC) - MAGIC);
+            let dy = dys[k] - ly * ((dys[k] * ily + MAGIC) - MAGIC);
+            let dist = (dx * dx + dy * dy).sqrt();
+            let ok = dist > 0.0;
+            let inv = 1.0 / if ok { dist } else { 1.0 };
+            let nx = if ok { dx * inv } else { 1.0 };
+            let ny = dy * inv;
+            let gap = dist - ris[k] - rjs[k];
+            let ai = ris[k] + 0.5 * gap;
+            let aj = rjs[k] + 0.5 * gap;
+            gnx[k] = nx;
+            gny[k] = ny;
+            ggap[k] = gap;
+            gai[k] = ai;
+            gaj[k] = aj;
+            gvt[k] = dvx[k] * -ny + dvy[k] * nx - (wjs[k] * aj + wis[k] * ai);
+            gdw[k] = wjs[k] - wis[k];
+        }
+    }
+    // Pass 2: forces, criterion, output.
+    let (t, dt) = (c.t, c.dt);
+    let g_first = grp.first().copied().unwrap_or(0) as usize;
+    let uniform = grp.iter().all(|&g| g as usize == g_first);
+    let fast = match (
+        uniform,
+        &c.groups[g_first].model,
+        c.compiled[g_first].criterion,
+    ) {
+        (
+            true,
+            BondModel::Parallel(p),
+            Criterion::Stress {
+                tensile, cohesion, ..
+            },
+        ) => Some((*p, tensile, cohesion, c.compiled[g_first].tan_phi)),
+        _ => None,
+    };
+    let mut broke = 0;
+    macro_rules! pass2 {
+        ($update:expr, $check:expr) => {
+            for k in 0..n {
+                if status[k] != INTACT {
+                    continue;
+                }
+                let (nx, ny, gap) = (geo[0][k], geo[1][k], geo[2][k]);
+                let (ai, aj, vt, dw) = (geo[3][k], geo[4][k], geo[5][k], geo[6][k]);
+                let kin = Kinematics {
+                    gap,
+                    dus: vt * dt,
+                    dtheta: dw * dt,
+                };
+                let f = &mut force[k];
+                // Bond length R_i + R_j + g0 (only the strain criterion reads it).
+                let length = ai + aj - gap + g0_[k];
+                let loads = $update(k, rbar_[k], g0_[k], length, &kin, &mut *f);
+                if let Some(mode) = $check(k, &loads) {
+                    status[k] = NEW + mode.index() as u8;
+                    broke += 1;
+                    continue;
+                }
+                let (fn_, fs, m) = (f[0], f[1], f[2]);
+                let (tx, ty) = (-ny, nx);
+                out[k] = [
+                    fn_ * nx + fs * tx,
+                    fn_ * ny + fs * ty,
+                    -ai * fs - m,
+                    -aj * fs + m,
+                ];
+            }
+        };
+    }
+    if let Some((p, tensile, cohesion, tan_phi)) = fast {
+        pass2!(
+            |_k, rbar, g0, len, kin: &Kinematics, f: &mut [f64; 3]| {
+                potyondy2004::update(&p, rbar, t, g0, len, kin, f)
+            },
+            |_k, l: &Loads| check_stress(l, tensile, cohesion, tan_phi)
+        );
+    } else {
+        pass2!(
+            |k: usize, rbar, g0, len, kin: &Kinematics, f: &mut [f64; 3]| {
+                match &c.groups[grp[k] as usize].model {
+                    BondModel::Parallel(p) => potyondy2004::update(p, rbar, t, g0, len, kin, f),
+                    BondModel::Contact(p) => contact_bond::update(p, rbar, t, g0, len, kin, f),
+                }
+            },
+            |k: usize, l: &Loads| c.compiled[grp[k] as usize].check(l)
+        );
+    }
+    broke
+}
+
+/// Add one bond's contribution to its discs (the only place disc sums are formed). The three
+/// slices have one length (so one bounds check covers them).
 #[inline(always)]
 fn scatter(fx: &mut [f64], fy: &mut [f64], tq: &mut [f64], i: usize, j: usize, o: &[f64; 4]) {
+    let n = fx.len();
+    let (fx, fy, tq) = (&mut fx[..n], &mut fy[..n], &mut tq[..n]);
     fx[i] -= o[0];
     fy[i] -= o[1];
     tq[i] += o[2];
@@ -291,7 +435,7 @@ impl Bonds {
             vy: &d.vy,
             omega: &d.omega,
             r: &d.r,
-            per: st.periodic,
+            per: per_axes(&st.periodic),
         };
         let (i, j) = (self.i[b] as usize, self.j[b] as usize);
         let (nx, ny, _, ai, _) = geometry(&v, i, j);
@@ -442,7 +586,7 @@ impl Bonds {
             cache,
             ..
         } = self;
-        let per = st.periodic;
+        let per = per_axes(&st.periodic);
         let d = &mut st.discs;
         let v = DiscView {
             x: &d.x,
@@ -453,7 +597,20 @@ impl Bonds {
             r: &d.r,
             per,
         };
-        let compiled = &cache.compiled[..];
+        let ctx = Ctx {
+            v,
+            groups,
+            compiled: &cache.compiled[..],
+            t,
+            dt,
+        };
+        let input = |r: std::ops::Range<usize>| BlockIn {
+            i: &bi[r.clone()],
+            j: &bj[r.clone()],
+            group: &group[r.clone()],
+            g0: &g0[r.clone()],
+            rbar: &rbar[r],
+        };
         let mut new_breaks = 0usize;
         if parallel {
             new_breaks = force
@@ -464,52 +621,44 @@ impl Bonds {
                 .map(|(c, ((f, s), out))| {
                     let base = c * CHUNK;
                     let mut nb = 0;
-                    for k in 0..f.len() {
-                        let b = base + k;
-                        let (o, broke) = kernel(
-                            &v,
-                            groups,
-                            compiled,
-                            t,
-                            dt,
-                            bi[b] as usize,
-                            bj[b] as usize,
-                            group[b] as usize,
-                            g0[b],
-                            rbar[b],
-                            &mut f[k],
-                            &mut s[k],
+                    for k in (0..f.len()).step_by(BLOCK) {
+                        let e = (k + BLOCK).min(f.len());
+                        nb += block(
+                            &ctx,
+                            &input(base + k..base + e),
+                            &mut f[k..e],
+                            &mut s[k..e],
+                            &mut out[k..e],
                         );
-                        out[k] = o;
-                        nb += broke as usize;
                     }
                     nb
                 })
                 .sum();
-            let (fx, fy, tq) = (&mut d.fx, &mut d.fy, &mut d.torque);
+            let nd = d.fx.len();
+            let (fx, fy, tq) = (&mut d.fx[..nd], &mut d.fy[..nd], &mut d.torque[..nd]);
             for (b, o) in cache.scratch.iter().enumerate() {
-                scatter(fx, fy, tq, bi[b] as usize, bj[b] as usize, o);
+                if status[b] == INTACT {
+                    scatter(fx, fy, tq, bi[b] as usize, bj[b] as usize, o);
+                }
             }
         } else {
-            let (fx, fy, tq) = (&mut d.fx, &mut d.fy, &mut d.torque);
-            for b in 0..nb {
-                let (i, j) = (bi[b] as usize, bj[b] as usize);
-                let (o, broke) = kernel(
-                    &v,
-                    groups,
-                    compiled,
-                    t,
-                    dt,
-                    i,
-                    j,
-                    group[b] as usize,
-                    g0[b],
-                    rbar[b],
-                    &mut force[b],
-                    &mut status[b],
+            let nd = d.fx.len();
+            let (fx, fy, tq) = (&mut d.fx[..nd], &mut d.fy[..nd], &mut d.torque[..nd]);
+            let mut out = [[0.0f64; 4]; BLOCK];
+            for k in (0..nb).step_by(BLOCK) {
+                let e = (k + BLOCK).min(nb);
+                new_breaks += block(
+                    &ctx,
+                    &input(k..e),
+                    &mut force[k..e],
+                    &mut status[k..e],
+                    &mut out[..e - k],
                 );
-                scatter(fx, fy, tq, i, j, &o);
-                new_breaks += broke as usize;
+                for b in k..e {
+                    if status[b] == INTACT {
+                        scatter(fx, fy, tq, bi[b] as usize, bj[b] as usize, &out[b - k]);
+                    }
+                }
             }
         }
         if new_breaks > 0 {
