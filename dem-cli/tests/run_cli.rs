@@ -77,7 +77,10 @@ fn run_writes_history_snapshots_and_summary() {
         .collect();
     assert!(ek.iter().all(|v| v.is_finite()));
     let ratio = ek.last().unwrap() / ek[0];
-    assert!((ratio - 0.49).abs() < 0.01, "rebound energy ratio {ratio}, expected e² = 0.49");
+    assert!(
+        (ratio - 0.49).abs() < 0.01,
+        "rebound energy ratio {ratio}, expected e² = 0.49"
+    );
     for k in [0, 100, 200, 300, 400] {
         let p = out.join(format!("snap-{k:09}.vtp"));
         let v = std::fs::read_to_string(&p).unwrap_or_else(|_| panic!("{}", p.display()));
