@@ -51,6 +51,10 @@ fn run_writes_history_snapshots_and_summary() {
     let dir = tmp("ok");
     let scene = tiny_scene(&dir);
     let out = dir.join("out");
+    // Leftovers of an earlier run are cleared; other files are kept.
+    std::fs::create_dir_all(&out).unwrap();
+    std::fs::write(out.join("snap-000999999.vtp"), "old").unwrap();
+    std::fs::write(out.join("notes.txt"), "mine").unwrap();
     let o = dem(&[
         "run",
         scene.to_str().unwrap(),
@@ -86,6 +90,7 @@ fn run_writes_history_snapshots_and_summary() {
         let v = std::fs::read_to_string(&p).unwrap_or_else(|_| panic!("{}", p.display()));
         assert!(v.contains("NumberOfPoints=\"2\"") && v.contains("Name=\"radius\""));
     }
+    assert!(!out.join("snap-000999999.vtp").exists() && out.join("notes.txt").exists());
     let pvd = std::fs::read_to_string(out.join("snapshots.pvd")).unwrap();
     assert_eq!(pvd.matches("<DataSet").count(), 10, "{pvd}");
     let s: serde_json::Value =

@@ -64,7 +64,12 @@ fn every_example_runs_a_few_hundred_steps() {
             .unwrap()
             .lines()
             .count();
-        assert!(rows >= 2, "{name}: {rows} history lines");
+        let every = scene::load(&p).unwrap().outputs.history_every;
+        assert_eq!(
+            rows as u64,
+            1 + summary.steps / every,
+            "{name}: history lines"
+        );
         println!(
             "{name}: {} steps, stages {:?}, balance {:.2e}",
             summary.steps, summary.active_stages, summary.energy.balance_error

@@ -78,6 +78,27 @@ pub struct Simulation {
     output_time: Duration,
 }
 
+/// Whether `name` is a file the driver writes.
+fn is_output_name(name: &str) -> bool {
+    let numbered = |pre: &str, ext: &str| {
+        name.strip_prefix(pre)
+            .and_then(|r| r.strip_suffix(ext))
+            .is_some_and(|n| !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit()))
+    };
+    numbered("snap-", ".vtp")
+        || numbered("walls-", ".vtp")
+        || numbered("ckpt-", ".json")
+        || [
+            "ckpt-final.json",
+            "history.csv",
+            "breaks.csv",
+            "summary.json",
+            "snapshots.pvd",
+            "last-good-state.json",
+        ]
+        .contains(&name)
+}
+
 /// History is rewritten at least this often while running (besides checkpoints and the end).
 const FLUSH_EVERY: Duration = Duration::from_secs(5);
 
@@ -204,6 +225,9 @@ impl Simulation {
             file: self.out.display().to_string(),
             source,
         })?;
+        if self.restarted_from.is_none() {
+            self.clear_stale()?;
+        }
         self.guard(t0)?;
         if self.world.state.step == 0 && o.vtk_every > 0 {
             self.snapshot()?;
@@ -255,6 +279,23 @@ impl Simulation {
         };
         let summary = self.summary(t0, status, None)?;
         Ok((summary, ending))
+    }
+
+    /// A fresh run removes the files an earlier run left in the output folder (only names this
+    /// driver writes), so snapshots and checkpoints of two runs are never mixed.
+    fn clear_stale(&self) -> Result<(), OutputError> {
+        let io = |source| OutputError::Io {
+            file: self.out.display().to_string(),
+            source,
+        };
+        for entry in std::fs::read_dir(&self.out).map_err(io)? {
+            let entry = entry.map_err(io)?;
+            let name = entry.file_name().to_string_lossy().into_owned();
+            if is_output_name(&name) && entry.file_type().map_err(io)?.is_file() {
+                std::fs::remove_file(entry.path()).map_err(io)?;
+            }
+        }
+        Ok(())
     }
 
     /// Runs the guard; on failure writes what is safe and returns the error.
@@ -434,5 +475,33 @@ impl Simulation {
             s.save(&path)?;
         }
         Ok(s)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::is_output_name;
+
+    #[test]
+    fn only_driver_names_are_outputs() {
+        for n in [
+            "snap-000000100.vtp",
+            "walls-1.vtp",
+            "ckpt-000000200.json",
+            "ckpt-final.json",
+            "history.csv",
+        ] {
+            assert!(is_output_name(n), "{n}");
+        }
+        for n in [
+            "snap-.vtp",
+            "snap-12a.vtp",
+            "notes.txt",
+            "ckpt-half.json",
+            "history.csv.bak",
+            "scene.json",
+        ] {
+            assert!(!is_output_name(n), "{n}");
+        }
     }
 }

@@ -406,7 +406,7 @@ pub struct RunSpec {
     /// Fixed time step (s) instead of the automatic one.
     #[serde(default)]
     pub dt: Option<f64>,
-    /// Hard cap on the number of steps (a duration run stops there with an error).
+    /// Cap on the world's step count: the run stops there (and can be continued by a restart).
     #[serde(default)]
     pub max_steps: Option<u64>,
     /// Verlet skin (length unit); default 0.2 × the smallest radius.
