@@ -17,7 +17,7 @@ use crate::state::Discs;
 use rayon::prelude::*;
 
 /// Discs per work chunk (fixed so that reductions do not depend on the thread count).
-pub const CHUNK: usize = 2048;
+pub const CHUNK: usize = 512;
 /// Pairs per block of the kernel.
 pub const BLOCK: usize = 64;
 
@@ -209,7 +209,7 @@ impl Default for Scratch {
 
 /// Gather pairs p0..p0+q (q ≤ BLOCK) into the scratch arrays, disc by disc (`gi` is the
 /// disc owning pair p0 or an earlier disc; it is advanced). The history is read from `us`,
-/// `mr` (indexed by pair).
+/// `mr`, the slots of these q pairs (indexed from 0).
 #[inline(always)]
 fn gather<L: PairLaw>(
     c: &Ctx<L>,
@@ -220,7 +220,7 @@ fn gather<L: PairLaw>(
     mr: &[f64],
     s: &mut Scratch,
 ) {
-    debug_assert!(q <= BLOCK);
+    assert!(q <= BLOCK && us.len() == q && mr.len() == q);
     let (mut p, end) = (p0, p0 + q);
     let mut k = 0;
     while p < end {
@@ -248,10 +248,10 @@ fn gather<L: PairLaw>(
             s.dvx[k] = at!(c.vx, j) - vxi;
             s.dvy[k] = at!(c.vy, j) - vyi;
             s.ms[k] = mvi + at!(c.minv, j);
-            s.us[k] = at!(us, p);
+            s.us[k] = at!(us, k);
             if L::ROLLING {
                 s.wrel[k] = wi - wj;
-                s.mr[k] = at!(mr, p);
+                s.mr[k] = at!(mr, k);
             }
             if L::MATERIAL {
                 s.mi[k] = mati;
