@@ -37,5 +37,5 @@ pub use contact::{ContactLaws, ContactModel, ContactView, HertzMindlin, LinearSp
 pub use energy::EnergyReport;
 pub use guard::GuardError;
 pub use params::Params;
-pub use pipeline::{World, WorldError};
+pub use pipeline::{ExternalLoad, World, WorldError};
 pub use state::{Clumps, Discs, Periodic, State, Wall, FREE};

@@ -16,6 +16,10 @@ use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::time::Instant;
 
+/// The automatic step is raised only when the new estimate exceeds the current step by this
+/// factor (it is lowered at once).
+pub const DT_RAISE: f64 = 2.0;
+
 /// Bad input to [`World::try_new`].
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum WorldError {
@@ -33,6 +37,16 @@ pub enum WorldError {
     TimeStep(String),
 }
 
+/// A constant external force and torque on one disc (by stable id), applied every step
+/// (e.g. a tip load, or a torque on a clump member, which acts on the whole clump). Its work
+/// counts as boundary work in the energy balance.
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq)]
+pub struct ExternalLoad {
+    pub id: u32,
+    pub force: [f64; 2],
+    pub torque: f64,
+}
+
 /// The simulation: everything a checkpoint needs (all but `counters` is serialized, and a
 /// deserialized World continues bit-identically).
 #[derive(Clone, Debug, Serialize, Deserialize)]
@@ -41,6 +55,8 @@ pub struct World {
     pub params: Params,
     pub laws: ContactLaws,
     pub bonds: Option<Bonds>,
+    /// External loads applied every step (empty = none).
+    pub loads: Vec<ExternalLoad>,
     #[serde(skip)]
     pub counters: Counters,
     pub(crate) nb: Neighbors,
@@ -52,7 +68,7 @@ pub struct World {
     pub(crate) dt_prev: f64,
     pub(crate) dt_crit: f64,
     pub(crate) energy: EnergyAcc,
-    pub(crate) max_disp2: f64,
+    pub(crate) moved_too_far: bool,
     pub(crate) rebuild_requested: bool,
     #[serde(skip)]
     pub(crate) slots: Slots,
@@ -82,6 +98,7 @@ impl World {
             params,
             laws,
             bonds: None,
+            loads: Vec::new(),
             counters: Counters::default(),
             nb: Neighbors::default(),
             cache: DiscCache::default(),
@@ -91,7 +108,7 @@ impl World {
             dt_prev: 0.0,
             dt_crit: 0.0,
             energy: EnergyAcc::default(),
-            max_disp2: 0.0,
+            moved_too_far: false,
             rebuild_requested: true,
             slots: Slots::default(),
             parts: Vec::new(),
@@ -129,6 +146,7 @@ impl World {
             track,
             &mut self.slots,
         );
+        self.apply_loads();
         let t2 = Counters::lap(&mut self.counters.contacts, t1);
         if !self.state.walls.is_empty() {
             let ew = disc_segment::compute(
@@ -154,6 +172,7 @@ impl World {
             alpha: self.params.local_damping,
             gravity: self.params.gravity.unwrap_or([0.0; 2]),
             track,
+            disp2_limit: 0.25 * self.nb.skin * self.nb.skin,
         };
         let mut moved = integrate::integrate_discs(
             &mut self.state.discs,
@@ -180,7 +199,10 @@ impl World {
             moved.add(&mc);
         }
         advance_walls(&mut self.state.walls, dt);
-        self.max_disp2 = moved.max_disp2;
+        if track && !self.loads.is_empty() {
+            moved.boundary_work += self.load_work(dt);
+        }
+        self.moved_too_far = moved.exceeded;
         if track {
             self.account(&e, &moved);
         }
@@ -253,11 +275,13 @@ impl World {
         self.rebuild_requested = true;
     }
 
-    /// Force a neighbour rebuild (and time-step update) at the next step: call after editing
-    /// positions, radii, masses, fixed flags or materials of discs directly.
+    /// Rebuild the neighbour list and take a fresh time-step estimate (without the raise
+    /// hysteresis) now: call after editing positions, radii, masses, fixed flags or materials
+    /// of discs, or the time-step parameters, directly.
     pub fn refresh(&mut self) {
-        self.rebuild_requested = true;
         self.rebuild_index();
+        self.dt = 0.0;
+        self.rebuild();
     }
 
     /// Current index of the disc with stable id `id`.
@@ -327,11 +351,40 @@ impl World {
         })
     }
 
+    fn apply_loads(&mut self) {
+        let d = &mut self.state.discs;
+        for l in &self.loads {
+            if let Some(&i) = self.index_of_id.get(l.id as usize) {
+                let i = i as usize;
+                if i < d.len() {
+                    d.fx[i] += l.force[0];
+                    d.fy[i] += l.force[1];
+                    d.torque[i] += l.torque;
+                }
+            }
+        }
+    }
+
+    /// Work of the external loads over the step just taken (velocities at t + dt/2).
+    fn load_work(&self, dt: f64) -> f64 {
+        let d = &self.state.discs;
+        let mut w = 0.0;
+        for l in &self.loads {
+            if let Some(&i) = self.index_of_id.get(l.id as usize) {
+                let i = i as usize;
+                if i < d.len() {
+                    w += (l.force[0] * d.vx[i] + l.force[1] * d.vy[i] + l.torque * d.omega[i]) * dt;
+                }
+            }
+        }
+        w
+    }
+
     fn needs_rebuild(&self) -> bool {
         let half = 0.5 * self.nb.skin;
         self.rebuild_requested
             || self.nb.x0.len() != self.state.discs.len()
-            || self.max_disp2 > half * half
+            || self.moved_too_far
             || self.nb.max_wall_disp(&self.state.walls) > half
     }
 
@@ -378,7 +431,16 @@ impl World {
             .unwrap_or(f64::INFINITY);
         self.dt = match self.params.dt_fixed {
             Some(dt) => dt,
-            None => self.params.dt_factor * self.dt_crit,
+            None => {
+                // Decrease at once; increase only by a clear margin, so that the step does not
+                // flip at every rebuild (leapfrog with a varying step is not symplectic).
+                let want = self.params.dt_factor * self.dt_crit;
+                if self.dt <= 0.0 || want < self.dt || want > DT_RAISE * self.dt {
+                    want
+                } else {
+                    self.dt
+                }
+            }
         };
         if self.params.viscous_damping > 0.0 {
             let z = 2.0 * self.params.viscous_damping;
@@ -393,7 +455,7 @@ impl World {
             self.cache.visc_t.clear();
             self.cache.visc_r.clear();
         }
-        self.max_disp2 = 0.0;
+        self.moved_too_far = false;
         self.rebuild_requested = false;
     }
 
