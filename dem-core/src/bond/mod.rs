@@ -18,6 +18,7 @@ pub mod breaks;
 pub mod contact_bond;
 pub mod criteria;
 pub mod install;
+mod kernel;
 pub mod potyondy2004;
 mod store;
 
