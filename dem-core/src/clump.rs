@@ -201,7 +201,7 @@ pub fn step_clumps(
             d.omega[i] = w;
             if let (Some(&a), Some(&b)) = (x0.get(i), y0.get(i)) {
                 let (dx, dy) = (d.x[i] - a, d.y[i] - b);
-                o.max_disp2 = o.max_disp2.max(dx * dx + dy * dy);
+                o.exceeded |= dx * dx + dy * dy > k.disp2_limit;
             }
         }
     }

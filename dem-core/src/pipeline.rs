@@ -52,7 +52,7 @@ pub struct World {
     pub(crate) dt_prev: f64,
     pub(crate) dt_crit: f64,
     pub(crate) energy: EnergyAcc,
-    pub(crate) max_disp2: f64,
+    pub(crate) moved_too_far: bool,
     pub(crate) rebuild_requested: bool,
     #[serde(skip)]
     pub(crate) slots: Slots,
@@ -91,7 +91,7 @@ impl World {
             dt_prev: 0.0,
             dt_crit: 0.0,
             energy: EnergyAcc::default(),
-            max_disp2: 0.0,
+            moved_too_far: false,
             rebuild_requested: true,
             slots: Slots::default(),
             parts: Vec::new(),
@@ -154,6 +154,7 @@ impl World {
             alpha: self.params.local_damping,
             gravity: self.params.gravity.unwrap_or([0.0; 2]),
             track,
+            disp2_limit: 0.25 * self.nb.skin * self.nb.skin,
         };
         let mut moved = integrate::integrate_discs(
             &mut self.state.discs,
@@ -180,7 +181,7 @@ impl World {
             moved.add(&mc);
         }
         advance_walls(&mut self.state.walls, dt);
-        self.max_disp2 = moved.max_disp2;
+        self.moved_too_far = moved.exceeded;
         if track {
             self.account(&e, &moved);
         }
@@ -331,7 +332,7 @@ impl World {
         let half = 0.5 * self.nb.skin;
         self.rebuild_requested
             || self.nb.x0.len() != self.state.discs.len()
-            || self.max_disp2 > half * half
+            || self.moved_too_far
             || self.nb.max_wall_disp(&self.state.walls) > half
     }
 
@@ -393,7 +394,7 @@ impl World {
             self.cache.visc_t.clear();
             self.cache.visc_r.clear();
         }
-        self.max_disp2 = 0.0;
+        self.moved_too_far = false;
         self.rebuild_requested = false;
     }
 

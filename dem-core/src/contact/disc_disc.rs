@@ -1,19 +1,25 @@
 //! Disc–disc force pass over the neighbour list.
 //!
-//! Discs are processed in fixed chunks of [`CHUNK`] discs (independent of the thread count).
-//! One thread: forces are scattered pair by pair in list order. Several threads: each chunk
-//! writes its pairs' forces into per-pair slots, then every disc gathers its partner-side
-//! slots (increasing pair order) and adds its own pairs' sum, which is the same sequence of
-//! floating-point additions as the serial scatter: results are bit-identical for any thread
-//! count. Energies are summed per chunk and the chunk sums added in chunk order.
+//! Pairs are computed in blocks of [`BLOCK`]: a gather loop copies the pair data into small
+//! local arrays, a branch-free loop evaluates the law for the whole block (so the compiler can
+//! vectorise it), and a scatter loop adds the forces to the discs in pair order. Discs are
+//! grouped in fixed chunks of [`CHUNK`] discs (independent of the thread count). One thread:
+//! forces are scattered pair by pair in list order. Several threads: chunks run in parallel
+//! and write per-pair slots, then every disc gathers its partner-side slots (increasing pair
+//! order) and adds its own pairs' sum — the same sequence of floating-point additions as the
+//! serial scatter, so results are bit-identical for any thread count. Energies are summed in
+//! pair order within a chunk and the chunk sums added in chunk order.
 
-use super::{ContactLaws, PairKin};
+use super::{ContactLaws, ContactModel, HertzMindlin, LinearSpringDashpot, NormalDamping};
+use super::{PairKin, PairOut};
 use crate::neighbors::{MinImage, Neighbors};
 use crate::state::Discs;
 use rayon::prelude::*;
 
 /// Discs per work chunk (fixed so that reductions do not depend on the thread count).
 pub const CHUNK: usize = 2048;
+/// Pairs per block of the kernel.
+pub const BLOCK: usize = 64;
 
 /// Energies of one force pass: strain (stored, at this step), dissipated in dashpots and
 /// friction during this step.
@@ -42,8 +48,85 @@ pub struct Slots {
     pub chunk_energy: Vec<PassEnergy>,
 }
 
+/// A contact law as the force pass sees it: the uniform laws skip the material lookup and
+/// have branch-free bodies.
+pub trait PairLaw: Sync {
+    /// Whether the law depends on the materials (table lookup).
+    const MATERIAL: bool;
+    /// Whether rolling resistance may apply.
+    const ROLLING: bool;
+    fn force<const E: bool>(&self, mi: u16, mj: u16, k: &PairKin, us: &mut f64) -> PairOut;
+    /// Rolling moment on i after the update, dissipated and stored energy
+    /// (see [`super::RollingResistance::update`]).
+    #[inline(always)]
+    fn rolling(
+        &self,
+        _mi: u16,
+        _mj: u16,
+        _k: &PairKin,
+        _f_n: f64,
+        _w: f64,
+        _mr: &mut f64,
+    ) -> [f64; 3] {
+        [0.0; 3]
+    }
+}
+
+/// Linear law with c_n = γ m*.
+pub struct LinearGamma(pub LinearSpringDashpot, pub f64);
+/// Linear law with c_n = 2ζ√(m* k_n).
+pub struct LinearRatio(pub LinearSpringDashpot, pub f64);
+
+impl PairLaw for LinearGamma {
+    const MATERIAL: bool = false;
+    const ROLLING: bool = false;
+    #[inline(always)]
+    fn force<const E: bool>(&self, _: u16, _: u16, k: &PairKin, us: &mut f64) -> PairOut {
+        self.0.force_cn::<E>(k, self.1 * k.m_eff, us)
+    }
+}
+
+impl PairLaw for LinearRatio {
+    const MATERIAL: bool = false;
+    const ROLLING: bool = false;
+    #[inline(always)]
+    fn force<const E: bool>(&self, _: u16, _: u16, k: &PairKin, us: &mut f64) -> PairOut {
+        self.0
+            .force_cn::<E>(k, 2.0 * self.1 * (k.m_eff * self.0.kn).sqrt(), us)
+    }
+}
+
+impl PairLaw for HertzMindlin {
+    const MATERIAL: bool = false;
+    const ROLLING: bool = false;
+    #[inline(always)]
+    fn force<const E: bool>(&self, _: u16, _: u16, k: &PairKin, us: &mut f64) -> PairOut {
+        HertzMindlin::force::<E>(self, k, us)
+    }
+}
+
+impl PairLaw for ContactLaws {
+    const MATERIAL: bool = true;
+    const ROLLING: bool = true;
+    #[inline(always)]
+    fn force<const E: bool>(&self, mi: u16, mj: u16, k: &PairKin, us: &mut f64) -> PairOut {
+        self.model(mi, mj).force::<E>(k, us)
+    }
+    #[inline(always)]
+    fn rolling(&self, mi: u16, mj: u16, k: &PairKin, f_n: f64, w: f64, mr: &mut f64) -> [f64; 3] {
+        let Some(rr) = self.rolling(mi, mj) else {
+            return [0.0; 3];
+        };
+        let kn = self.model(mi, mj).kn(k.r_eff, k.delta);
+        let diss = rr.update(kn, k.r_eff, f_n, w, k.dt, mr);
+        let kr = rr.kr(kn, k.r_eff);
+        let strain = if kr > 0.0 { 0.5 * *mr * *mr / kr } else { 0.0 };
+        [*mr, diss, strain]
+    }
+}
+
 /// Read-only data of the pass.
-struct Ctx<'a> {
+struct Ctx<'a, L: PairLaw> {
     x: &'a [f64],
     y: &'a [f64],
     vx: &'a [f64],
@@ -55,75 +138,275 @@ struct Ctx<'a> {
     start: &'a [u32],
     nbr: &'a [u32],
     g0: &'a [f64],
-    laws: &'a ContactLaws,
+    law: &'a L,
     img: MinImage,
     dt: f64,
-    rolling: bool,
 }
 
-/// Force of pair p = (i, j): (fx, fy) on j (i gets the opposite), torque on i, torque on j.
-#[inline(always)]
-fn pair<const E: bool>(
-    c: &Ctx,
-    i: usize,
-    j: usize,
-    p: usize,
-    us: &mut f64,
-    mr: &mut f64,
-    e: &mut PassEnergy,
-) -> Option<[f64; 4]> {
-    let (dx, dy) = c.img.delta(c.x[j] - c.x[i], c.y[j] - c.y[i]);
-    let d2 = dx * dx + dy * dy;
-    let (ri, rj) = (c.r[i], c.r[j]);
-    let g0 = if c.g0.is_empty() { 0.0 } else { c.g0[p] };
-    let reach = ri + rj + g0;
-    if d2 >= reach * reach || reach <= 0.0 {
-        *us = 0.0;
-        *mr = 0.0;
-        return None;
-    }
-    let d = d2.sqrt();
-    let inv = 1.0 / d;
-    let (nx, ny) = (dx * inv, dy * inv);
-    let (wi, wj) = (c.w[i], c.w[j]);
-    let wr = wi * ri + wj * rj;
-    let rvx = c.vx[j] - c.vx[i] + wr * ny;
-    let rvy = c.vy[j] - c.vy[i] - wr * nx;
-    let k = PairKin {
-        delta: reach - d,
-        vn: rvx * nx + rvy * ny,
-        vt: rvy * nx - rvx * ny,
-        m_eff: 1.0 / (c.minv[i] + c.minv[j]),
-        r_eff: ri * rj / (ri + rj),
-        dt: c.dt,
+/// Unchecked read; [`compute`] validates all indices once per call ([`valid`]).
+macro_rules! at {
+    ($s:expr, $i:expr) => {
+        // SAFETY: see `valid`: every disc index in the list is < n and every pair index is
+        // < the slot length.
+        unsafe { *$s.get_unchecked($i) }
     };
-    let (mi, mj) = (c.mat[i], c.mat[j]);
-    let model = c.laws.model(mi, mj);
-    let o = model.force::<E>(&k, us);
-    let mut m_roll = 0.0;
-    if c.rolling {
-        if let Some(rr) = c.laws.rolling(mi, mj) {
-            let kn = model.kn(k.r_eff, k.delta);
-            let diss = rr.update(kn, k.r_eff, o.f_n, wi - wj, c.dt, mr);
-            m_roll = *mr;
-            if E {
-                e.fric += diss;
-                let kr = rr.kr(kn, k.r_eff);
-                if kr > 0.0 {
-                    e.strain += 0.5 * m_roll * m_roll / kr;
-                }
-            }
+}
+
+/// Working arrays of one block (inputs gathered per pair, outputs per pair).
+#[derive(Clone)]
+pub struct Scratch {
+    dx: [f64; BLOCK],
+    dy: [f64; BLOCK],
+    reach: [f64; BLOCK],
+    wr: [f64; BLOCK],
+    wrel: [f64; BLOCK],
+    dvx: [f64; BLOCK],
+    dvy: [f64; BLOCK],
+    ms: [f64; BLOCK],
+    ri: [f64; BLOCK],
+    rj: [f64; BLOCK],
+    mi: [u16; BLOCK],
+    mj: [u16; BLOCK],
+    us: [f64; BLOCK],
+    mr: [f64; BLOCK],
+    fx: [f64; BLOCK],
+    fy: [f64; BLOCK],
+    ti: [f64; BLOCK],
+    tj: [f64; BLOCK],
+    es: [f64; BLOCK],
+    ed: [f64; BLOCK],
+    ef: [f64; BLOCK],
+}
+
+impl Default for Scratch {
+    fn default() -> Scratch {
+        let z = [0.0; BLOCK];
+        Scratch {
+            dx: z,
+            dy: z,
+            reach: z,
+            wr: z,
+            wrel: z,
+            dvx: z,
+            dvy: z,
+            ms: z,
+            ri: z,
+            rj: z,
+            mi: [0; BLOCK],
+            mj: [0; BLOCK],
+            us: z,
+            mr: z,
+            fx: z,
+            fy: z,
+            ti: z,
+            tj: z,
+            es: z,
+            ed: z,
+            ef: z,
         }
     }
-    if E {
-        e.strain += o.e_strain;
-        e.damp += o.e_damp;
-        e.fric += o.e_fric;
+}
+
+/// Gather pairs p0..p0+q (q ≤ BLOCK) into the scratch arrays, disc by disc (`gi` is the
+/// disc owning pair p0 or an earlier disc; it is advanced). The history is read from `us`,
+/// `mr` (indexed by pair).
+#[inline(always)]
+fn gather<L: PairLaw>(
+    c: &Ctx<L>,
+    p0: usize,
+    q: usize,
+    gi: &mut usize,
+    us: &[f64],
+    mr: &[f64],
+    s: &mut Scratch,
+) {
+    debug_assert!(q <= BLOCK);
+    let (mut p, end) = (p0, p0 + q);
+    let mut k = 0;
+    while p < end {
+        while at!(c.start, *gi + 1) as usize <= p {
+            *gi += 1;
+        }
+        let i = *gi;
+        let b = (at!(c.start, i + 1) as usize).min(end);
+        let (xi, yi, ri, wi) = (at!(c.x, i), at!(c.y, i), at!(c.r, i), at!(c.w, i));
+        let (vxi, vyi, mvi) = (at!(c.vx, i), at!(c.vy, i), at!(c.minv, i));
+        let wri = wi * ri;
+        let mati = if L::MATERIAL { at!(c.mat, i) } else { 0 };
+        while p < b {
+            let j = at!(c.nbr, p) as usize;
+            let (ddx, ddy) = c.img.delta(at!(c.x, j) - xi, at!(c.y, j) - yi);
+            s.dx[k] = ddx;
+            s.dy[k] = ddy;
+            let rj = at!(c.r, j);
+            s.ri[k] = ri;
+            s.rj[k] = rj;
+            let g0 = if c.g0.is_empty() { 0.0 } else { at!(c.g0, p) };
+            s.reach[k] = ri + rj + g0;
+            let wj = at!(c.w, j);
+            s.wr[k] = wri + wj * rj;
+            s.dvx[k] = at!(c.vx, j) - vxi;
+            s.dvy[k] = at!(c.vy, j) - vyi;
+            s.ms[k] = mvi + at!(c.minv, j);
+            s.us[k] = at!(us, p);
+            if L::ROLLING {
+                s.wrel[k] = wi - wj;
+                s.mr[k] = at!(mr, p);
+            }
+            if L::MATERIAL {
+                s.mi[k] = mati;
+                s.mj[k] = at!(c.mat, j);
+            }
+            k += 1;
+            p += 1;
+        }
     }
-    // t = (−n_y, n_x): F = F_n n + F_t t.
-    let fx = o.f_n * nx - o.f_t * ny;
-    let fy = o.f_n * ny + o.f_t * nx;
-    Some([fx, fy, -ri * o.f_t + m_roll, -rj * o.f_t - m_roll])
+    // Entries q..BLOCK keep stale but finite data (or zeros) and are ignored.
+}
+
+/// Evaluate the law for all BLOCK entries (branch-free, fixed trip count: vectorisable).
+#[inline(always)]
+fn eval<const E: bool, L: PairLaw>(law: &L, dt: f64, s: &mut Scratch) {
+    for k in 0..BLOCK {
+        let (dx, dy) = (s.dx[k], s.dy[k]);
+        let d2 = dx * dx + dy * dy;
+        let rc = s.reach[k];
+        let touch = d2 < rc * rc && rc > 0.0 && s.ms[k] > 0.0;
+        let d = d2.sqrt();
+        let inv = 1.0 / d;
+        let (nx, ny) = (dx * inv, dy * inv);
+        let rvx = s.dvx[k] + s.wr[k] * ny;
+        let rvy = s.dvy[k] - s.wr[k] * nx;
+        let (ri, rj) = (s.ri[k], s.rj[k]);
+        let kin = PairKin {
+            delta: rc - d,
+            vn: rvx * nx + rvy * ny,
+            vt: rvy * nx - rvx * ny,
+            m_eff: 1.0 / s.ms[k],
+            r_eff: ri * rj / (ri + rj),
+            dt,
+        };
+        let mut u = s.us[k];
+        let o = law.force::<E>(s.mi[k], s.mj[k], &kin, &mut u);
+        let mut m = s.mr[k];
+        let roll = if L::ROLLING && touch {
+            law.rolling(s.mi[k], s.mj[k], &kin, o.f_n, s.wrel[k], &mut m)
+        } else {
+            [0.0; 3]
+        };
+        s.us[k] = if touch { u } else { 0.0 };
+        s.mr[k] = if touch { m } else { 0.0 };
+        // t = (−n_y, n_x): F = F_n n + F_t t.
+        let fx = o.f_n * nx - o.f_t * ny;
+        let fy = o.f_n * ny + o.f_t * nx;
+        let ti = -ri * o.f_t + roll[0];
+        let tj = -rj * o.f_t - roll[0];
+        s.fx[k] = if touch { fx } else { 0.0 };
+        s.fy[k] = if touch { fy } else { 0.0 };
+        s.ti[k] = if touch { ti } else { 0.0 };
+        s.tj[k] = if touch { tj } else { 0.0 };
+        if E {
+            s.es[k] = if touch { o.e_strain + roll[2] } else { 0.0 };
+            s.ed[k] = if touch { o.e_damp } else { 0.0 };
+            s.ef[k] = if touch { o.e_fric + roll[1] } else { 0.0 };
+        }
+    }
+}
+
+/// [`eval`] compiled for AVX2 (4 lanes). Only selects, +, −, ×, ÷ and √ are used, all
+/// correctly rounded in IEEE 754, and no FMA contraction happens, so the results are the same
+/// bits as the baseline build.
+///
+/// # Safety
+/// The CPU must support AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn eval_avx2<const E: bool, L: PairLaw>(law: &L, dt: f64, s: &mut Scratch) {
+    eval::<E, L>(law, dt, s)
+}
+
+/// Evaluate one gathered block with the best instruction set available.
+#[inline(always)]
+fn eval_best<const E: bool, L: PairLaw>(law: &L, dt: f64, s: &mut Scratch, avx2: bool) {
+    #[cfg(target_arch = "x86_64")]
+    if avx2 {
+        // SAFETY: `avx2` is true only when the CPU reports AVX2 (see `has_avx2`).
+        unsafe { eval_avx2::<E, L>(law, dt, s) };
+        return;
+    }
+    let _ = avx2;
+    eval::<E, L>(law, dt, s)
+}
+
+fn has_avx2() -> bool {
+    #[cfg(target_arch = "x86_64")]
+    {
+        std::is_x86_feature_detected!("avx2")
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        false
+    }
+}
+
+/// Evaluate pairs p0..p0+q: gather, evaluate, write the rolling history back and add the
+/// energies in pair order. Forces and the new `us` stay in the scratch [..q]; the caller
+/// writes `us` back.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn block<const E: bool, L: PairLaw>(
+    c: &Ctx<L>,
+    p0: usize,
+    gi: &mut usize,
+    us: &mut [f64],
+    mr: &mut [f64],
+    s: &mut Scratch,
+    e: &mut PassEnergy,
+    avx2: bool,
+) {
+    let q = us.len();
+    gather(c, p0, q, gi, us, mr, s);
+    eval_best::<E, L>(c.law, c.dt, s, avx2);
+    if L::ROLLING {
+        mr.copy_from_slice(&s.mr[..q]);
+    }
+    if E {
+        for k in 0..q {
+            e.strain += s.es[k];
+            e.damp += s.ed[k];
+            e.fric += s.ef[k];
+        }
+    }
+}
+
+/// Whether the list is consistent with `n` discs (checked before unchecked indexing).
+fn valid(d: &Discs, nb: &Neighbors, minv: &[f64]) -> bool {
+    let n = d.len();
+    let np = nb.nbr.len();
+    nb.start.len() == n + 1
+        && nb.start[n] as usize == np
+        && nb.us.len() == np
+        && nb.mr.len() == np
+        && (nb.g0.is_empty() || nb.g0.len() == np)
+        && nb.rstart.len() == n + 1
+        && nb.rpair.len() == np
+        && minv.len() == n
+        && [
+            d.y.len(),
+            d.vx.len(),
+            d.vy.len(),
+            d.omega.len(),
+            d.r.len(),
+            d.material.len(),
+        ]
+        .iter()
+        .all(|&l| l == n)
+        && [d.fx.len(), d.fy.len(), d.torque.len()]
+            .iter()
+            .all(|&l| l == n)
+        && (nb.nbr.iter().fold(0u32, |m, &j| m.max(j)) as usize) < n.max(1)
+        && (nb.rpair.iter().fold(0u32, |m, &p| m.max(p)) as usize) < np.max(1)
+        && nb.start.windows(2).all(|w| w[0] <= w[1])
 }
 
 /// Compute disc–disc contact forces, adding them to `d.fx, d.fy, d.torque` (which the caller
@@ -139,20 +422,45 @@ pub fn compute(
     track_energy: bool,
     slots: &mut Slots,
 ) -> PassEnergy {
-    let parallel = rayon::current_num_threads() > 1 && d.len() > 2 * CHUNK;
-    match (track_energy, parallel) {
-        (true, false) => serial::<true>(d, nb, minv, laws, img, dt),
-        (false, false) => serial::<false>(d, nb, minv, laws, img, dt),
-        (true, true) => parallel_pass::<true>(d, nb, minv, laws, img, dt, slots),
-        (false, true) => parallel_pass::<false>(d, nb, minv, laws, img, dt, slots),
+    assert!(valid(d, nb, minv), "neighbour list out of date");
+    let uniform = laws.n_materials() == 1 && !laws.any_rolling();
+    let a = (d, nb, minv, img, dt, track_energy, slots);
+    match (uniform, laws.models()[0]) {
+        (true, ContactModel::Linear(l)) => match l.damping {
+            NormalDamping::Gamma(g) => run(a, &LinearGamma(l, g)),
+            NormalDamping::Ratio(z) => run(a, &LinearRatio(l, z)),
+        },
+        (true, ContactModel::HertzMindlin(h)) => run(a, &h),
+        _ => run(a, laws),
     }
 }
 
-fn serial<const E: bool>(
+type Args<'a> = (
+    &'a mut Discs,
+    &'a mut Neighbors,
+    &'a [f64],
+    MinImage,
+    f64,
+    bool,
+    &'a mut Slots,
+);
+
+fn run<L: PairLaw>(a: Args, law: &L) -> PassEnergy {
+    let (d, nb, minv, img, dt, track, slots) = a;
+    let parallel = rayon::current_num_threads() > 1 && d.len() > 2 * CHUNK;
+    match (track, parallel) {
+        (true, false) => serial::<true, L>(d, nb, minv, law, img, dt),
+        (false, false) => serial::<false, L>(d, nb, minv, law, img, dt),
+        (true, true) => parallel_pass::<true, L>(d, nb, minv, law, img, dt, slots),
+        (false, true) => parallel_pass::<false, L>(d, nb, minv, law, img, dt, slots),
+    }
+}
+
+fn serial<const E: bool, L: PairLaw>(
     d: &mut Discs,
     nb: &mut Neighbors,
     minv: &[f64],
-    laws: &ContactLaws,
+    law: &L,
     img: MinImage,
     dt: f64,
 ) -> PassEnergy {
@@ -182,38 +490,56 @@ fn serial<const E: bool>(
         start: &nb.start,
         nbr: &nb.nbr,
         g0: &nb.g0,
-        laws,
+        law,
         img,
         dt,
-        rolling: laws.any_rolling(),
     };
     let (us, mr) = (&mut nb.us, &mut nb.mr);
+    let mut sc = Box::<Scratch>::default();
+    let avx2 = has_avx2();
     let mut total = PassEnergy::default();
     let mut lo = 0;
     while lo < n {
         let hi = (lo + CHUNK).min(n);
         let mut e = PassEnergy::default();
-        for i in lo..hi {
-            let (mut ax, mut ay, mut at) = (0.0, 0.0, 0.0);
-            for p in c.start[i] as usize..c.start[i + 1] as usize {
-                let j = c.nbr[p] as usize;
-                if let Some(f) = pair::<E>(&c, i, j, p, &mut us[p], &mut mr[p], &mut e) {
-                    // Same skip rule as the parallel gather (keeps signed zeros identical).
-                    if f[0] != 0.0 || f[1] != 0.0 || f[2] != 0.0 {
-                        ax -= f[0];
-                        ay -= f[1];
-                        at += f[2];
-                    }
-                    if f[0] != 0.0 || f[1] != 0.0 || f[3] != 0.0 {
-                        fx[j] += f[0];
-                        fy[j] += f[1];
-                        torque[j] += f[3];
-                    }
+        let (mut i, mut ax, mut ay, mut at) = (lo, 0.0, 0.0, 0.0);
+        let mut gi = lo;
+        let (mut p, pend) = (c.start[lo] as usize, c.start[hi] as usize);
+        while p < pend {
+            let q = BLOCK.min(pend - p);
+            let (u, m) = (&mut us[p..p + q], &mut mr[p..p + q]);
+            block::<E, L>(&c, p, &mut gi, u, m, &mut sc, &mut e, avx2);
+            for k in 0..q {
+                let pp = p + k;
+                while at!(c.start, i + 1) as usize <= pp {
+                    fx[i] += ax;
+                    fy[i] += ay;
+                    torque[i] += at;
+                    (ax, ay, at) = (0.0, 0.0, 0.0);
+                    i += 1;
+                }
+                // Pairs not in contact add zeros, exactly as the parallel gather does.
+                let (f0, f1, f2, f3) = (sc.fx[k], sc.fy[k], sc.ti[k], sc.tj[k]);
+                ax -= f0;
+                ay -= f1;
+                at += f2;
+                let j = at!(c.nbr, pp) as usize;
+                // SAFETY: j < n and pp < np (see `valid`).
+                unsafe {
+                    *fx.get_unchecked_mut(j) += f0;
+                    *fy.get_unchecked_mut(j) += f1;
+                    *torque.get_unchecked_mut(j) += f3;
+                    *us.get_unchecked_mut(pp) = sc.us[k];
                 }
             }
+            p += q;
+        }
+        while i < hi {
             fx[i] += ax;
             fy[i] += ay;
             torque[i] += at;
+            (ax, ay, at) = (0.0, 0.0, 0.0);
+            i += 1;
         }
         total.add(&e);
         lo = hi;
@@ -227,11 +553,19 @@ struct SyncPtr(*mut f64);
 unsafe impl Send for SyncPtr {}
 unsafe impl Sync for SyncPtr {}
 
-fn parallel_pass<const E: bool>(
+impl SyncPtr {
+    /// # Safety
+    /// `[a, a + len)` must be in bounds and not aliased by any other live reference.
+    unsafe fn slice<'a>(self, a: usize, len: usize) -> &'a mut [f64] {
+        std::slice::from_raw_parts_mut(self.0.add(a), len)
+    }
+}
+
+fn parallel_pass<const E: bool, L: PairLaw>(
     d: &mut Discs,
     nb: &mut Neighbors,
     minv: &[f64],
-    laws: &ContactLaws,
+    law: &L,
     img: MinImage,
     dt: f64,
     s: &mut Slots,
@@ -255,10 +589,9 @@ fn parallel_pass<const E: bool>(
             start: &nb.start,
             nbr: &nb.nbr,
             g0: &nb.g0,
-            laws,
+            law,
             img,
             dt,
-            rolling: laws.any_rolling(),
         };
         let ptr = [
             SyncPtr(nb.us.as_mut_ptr()),
@@ -268,35 +601,36 @@ fn parallel_pass<const E: bool>(
             SyncPtr(s.ti.as_mut_ptr()),
             SyncPtr(s.tj.as_mut_ptr()),
         ];
+        let avx2 = has_avx2();
         (0..nchunks)
             .into_par_iter()
             .map(|ch| {
                 let (lo, hi) = (ch * CHUNK, ((ch + 1) * CHUNK).min(n));
                 let mut e = PassEnergy::default();
-                for i in lo..hi {
-                    for p in c.start[i] as usize..c.start[i + 1] as usize {
-                        let j = c.nbr[p] as usize;
-                        // SAFETY: pair p belongs to disc i of this chunk only; chunks cover
-                        // disjoint pair ranges, and all six arrays have length np > p.
-                        let f = unsafe {
-                            pair::<E>(
-                                &c,
-                                i,
-                                j,
-                                p,
-                                &mut *ptr[0].0.add(p),
-                                &mut *ptr[1].0.add(p),
-                                &mut e,
-                            )
-                        }
-                        .unwrap_or([0.0; 4]);
-                        unsafe {
-                            *ptr[2].0.add(p) = f[0];
-                            *ptr[3].0.add(p) = f[1];
-                            *ptr[4].0.add(p) = f[2];
-                            *ptr[5].0.add(p) = f[3];
-                        }
-                    }
+                let mut sc = Box::<Scratch>::default();
+                let mut gi = lo;
+                let (mut p, pend) = (c.start[lo] as usize, c.start[hi] as usize);
+                while p < pend {
+                    let q = BLOCK.min(pend - p);
+                    // SAFETY: pairs [p, p + q) belong to this chunk only (chunks cover
+                    // disjoint pair ranges) and all six arrays have length np ≥ p + q.
+                    let (u, m, fx, fy, ti, tj) = unsafe {
+                        (
+                            ptr[0].slice(p, q),
+                            ptr[1].slice(p, q),
+                            ptr[2].slice(p, q),
+                            ptr[3].slice(p, q),
+                            ptr[4].slice(p, q),
+                            ptr[5].slice(p, q),
+                        )
+                    };
+                    block::<E, L>(&c, p, &mut gi, u, m, &mut sc, &mut e, avx2);
+                    u.copy_from_slice(&sc.us[..q]);
+                    fx.copy_from_slice(&sc.fx[..q]);
+                    fy.copy_from_slice(&sc.fy[..q]);
+                    ti.copy_from_slice(&sc.ti[..q]);
+                    tj.copy_from_slice(&sc.tj[..q]);
+                    p += q;
                 }
                 e
             })
@@ -312,30 +646,27 @@ fn parallel_pass<const E: bool>(
     ];
     (0..nchunks).into_par_iter().for_each(|ch| {
         let (lo, hi) = (ch * CHUNK, ((ch + 1) * CHUNK).min(n));
+        // SAFETY: discs [lo, hi) belong to this chunk only; arrays have length n ≥ hi.
+        let (fxs, fys, ts) = unsafe {
+            (
+                out[0].slice(lo, hi - lo),
+                out[1].slice(lo, hi - lo),
+                out[2].slice(lo, hi - lo),
+            )
+        };
         for k in lo..hi {
-            // SAFETY: disc k belongs to this chunk only; arrays have length n > k.
-            let (fxk, fyk, tk) = unsafe {
-                (
-                    &mut *out[0].0.add(k),
-                    &mut *out[1].0.add(k),
-                    &mut *out[2].0.add(k),
-                )
-            };
+            let (fxk, fyk, tk) = (&mut fxs[k - lo], &mut fys[k - lo], &mut ts[k - lo]);
             for &p in &rpair[rstart[k] as usize..rstart[k + 1] as usize] {
                 let p = p as usize;
-                if sfx[p] != 0.0 || sfy[p] != 0.0 || stj[p] != 0.0 {
-                    *fxk += sfx[p];
-                    *fyk += sfy[p];
-                    *tk += stj[p];
-                }
+                *fxk += sfx[p];
+                *fyk += sfy[p];
+                *tk += stj[p];
             }
             let (mut ax, mut ay, mut at) = (0.0, 0.0, 0.0);
             for p in start[k] as usize..start[k + 1] as usize {
-                if sfx[p] != 0.0 || sfy[p] != 0.0 || sti[p] != 0.0 {
-                    ax -= sfx[p];
-                    ay -= sfy[p];
-                    at += sti[p];
-                }
+                ax -= sfx[p];
+                ay -= sfy[p];
+                at += sti[p];
             }
             *fxk += ax;
             *fyk += ay;
