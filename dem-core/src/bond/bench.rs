@@ -7,8 +7,12 @@
 //! The bonds' k̄nĀ and k̄sĀ equal the contact stiffness kn = 1e5 N/m of the LAMMPS input; their
 //! strengths (1e8 Pa) are far above the loads the 1 µm displacement creates, so none break.
 
-use super::{BondGroup, BondModel, Bonds, Criterion, ParallelBondParams};
+use super::{world_with_bonds, BondGroup, BondModel, Bonds, Criterion, ParallelBondParams};
+use crate::contact::{LinearSpringDashpot, NormalDamping};
+use crate::counters::Counters;
+use crate::pipeline::World;
 use crate::state::{Periodic, State};
+use crate::{ContactLaws, ContactModel, Params};
 
 /// Lattice spacing (m), disc radius (m), density (kg/m³) of the LAMMPS input.
 pub const SPACING: f64 = 1e-3;
@@ -81,6 +85,82 @@ pub fn bonded_lattice_state(cells: [usize; 2]) -> (State, Bonds) {
         .install_at_contacts(&st, 0.1 * RADIUS, 0)
         .expect("lattice discs are valid");
     (st, bonds)
+}
+
+/// The contact law of the LAMMPS input (`gran/hooke/history 1.0e5 NULL 100.0 NULL 0.5 1`):
+/// k_n = 1e5 N/m, k_t = 2/7 k_n, γ_n = 100 1/s (c_n = γ_n m*), γ_t = γ_n/2, μ = 0.5.
+pub fn lammps_contact_law() -> ContactLaws {
+    ContactLaws::uniform(ContactModel::Linear(LinearSpringDashpot {
+        kn: KN,
+        ks: 2.0 / 7.0 * KN,
+        damping: NormalDamping::Gamma(100.0),
+        shear_damping: 0.5,
+        mu: 0.5,
+    }))
+}
+
+/// The bonded-lattice benchmark world with `cells` lattice cells ([`CELLS`] for the full
+/// 46,000-disc scene): contacts as in the LAMMPS input, a parallel bond at every contact,
+/// automatic time step, no energy tracking (as LAMMPS between thermo outputs).
+pub fn bonded_lattice_world(cells: [usize; 2]) -> World {
+    let (st, bonds) = bonded_lattice_state(cells);
+    let params = Params {
+        track_energy: false,
+        ..Params::default()
+    };
+    world_with_bonds(st, params, lammps_contact_law(), bonds, &[])
+        .expect("the benchmark scene is valid")
+}
+
+/// The full bonded-lattice benchmark scene (46,000 discs, ≈138,000 parallel bonds).
+pub fn bonded_lattice_scene() -> World {
+    bonded_lattice_world(CELLS)
+}
+
+/// Figures of one benchmark run.
+#[derive(Clone, Debug)]
+pub struct BenchRun {
+    pub discs: usize,
+    pub bonds: usize,
+    pub steps: u64,
+    pub threads: usize,
+    pub dt: f64,
+    /// Wall time of the stepping (s), scene building excluded.
+    pub seconds: f64,
+    /// discs × steps / seconds.
+    pub particle_steps_per_s: f64,
+    /// Per-stage times of the run.
+    pub counters: Counters,
+}
+
+/// Run the bonded lattice for `steps` steps on `threads` threads (a rayon pool of that size).
+pub fn run_bonded_bench(cells: [usize; 2], steps: u64, threads: usize) -> Result<BenchRun, String> {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads.max(1))
+        .build()
+        .map_err(|e| e.to_string())?;
+    pool.install(|| {
+        let mut w = bonded_lattice_world(cells);
+        w.step(); // first step: neighbour build and reorder, not timed
+        w.counters.reset();
+        let t0 = std::time::Instant::now();
+        w.run(steps);
+        let seconds = t0.elapsed().as_secs_f64();
+        if let Err(e) = w.check() {
+            return Err(e.to_string());
+        }
+        let n = w.state.discs.len();
+        Ok(BenchRun {
+            discs: n,
+            bonds: w.bonds.as_ref().map_or(0, |b| b.n_intact()),
+            steps,
+            threads: threads.max(1),
+            dt: w.dt(),
+            seconds,
+            particle_steps_per_s: n as f64 * steps as f64 / seconds,
+            counters: w.counters.clone(),
+        })
+    })
 }
 
 /// Throughput of the bond stage alone on the benchmark lattice (`CELLS` for the full one): `steps` calls of

@@ -203,20 +203,16 @@ impl Criterion {
     }
 }
 
-/// The maximum-stress check: tension when σ̄ ≥ σ̄c, else shear when τ̄ ≥ c̄ − σ tan φ̄.
+/// The maximum-stress conditions (tension: σ̄ ≥ σ̄c; shear: τ̄ ≥ c̄ − σ tan φ̄), evaluated
+/// without branches; tension takes precedence when both hold.
 #[inline(always)]
-pub(crate) fn check_stress(
-    l: &Loads,
-    tensile: f64,
-    cohesion: f64,
-    tan_phi: f64,
-) -> Option<BreakMode> {
-    // σ̄ ≥ σ̄c.
-    if l.sigma_area_lever() >= tensile * l.area * l.lever {
-        return Some(BreakMode::Tension);
-    }
-    // τ̄ ≥ c̄ − σ tan φ̄ with σ = −F̄n/Ā, i.e. |F̄s| ≥ c̄Ā + F̄n tan φ̄.
-    (l.fs_abs >= cohesion * l.area + l.fn_ * tan_phi).then_some(BreakMode::Shear)
+pub(crate) fn stress_flags(l: &Loads, tensile: f64, cohesion: f64, tan_phi: f64) -> (bool, bool) {
+    (
+        // σ̄ ≥ σ̄c.
+        l.sigma_area_lever() >= tensile * l.area * l.lever,
+        // τ̄ ≥ c̄ − σ tan φ̄ with σ = −F̄n/Ā, i.e. |F̄s| ≥ c̄Ā + F̄n tan φ̄.
+        l.fs_abs >= cohesion * l.area + l.fn_ * tan_phi,
+    )
 }
 
 /// A [`Criterion`] with tan φ̄ precomputed.
@@ -227,42 +223,39 @@ pub(crate) struct Compiled {
 }
 
 impl Compiled {
-    /// Does a bond with these loads break, and how? Tension is checked first.
+    /// (tension condition, shear condition) of a bond with these loads; tension takes
+    /// precedence when both hold.
     #[inline]
-    pub(crate) fn check(&self, l: &Loads) -> Option<BreakMode> {
+    pub(crate) fn flags(&self, l: &Loads) -> (bool, bool) {
         match self.criterion {
             Criterion::Stress {
                 tensile, cohesion, ..
-            } => check_stress(l, tensile, cohesion, self.tan_phi),
+            } => stress_flags(l, tensile, cohesion, self.tan_phi),
             Criterion::Force {
                 tensile,
                 shear,
                 moment,
-            } => {
-                if -l.fn_ >= tensile || l.m_abs >= moment {
-                    return Some(BreakMode::Tension);
-                }
-                (l.fs_abs >= shear).then_some(BreakMode::Shear)
-            }
-            Criterion::Strain { tensile, shear } => {
-                // ε̄ = σ̄/(k̄n L) = σ̄Ā/(k̄nĀ·L) ≥ ε̄c; γ̄ = τ̄/(k̄s L) = |F̄s|/(k̄sĀ·L) ≥ γ̄c.
-                if l.sigma_area_lever() >= tensile * l.kn_a * l.length * l.lever {
-                    return Some(BreakMode::Tension);
-                }
-                (l.fs_abs >= shear * l.ks_a * l.length).then_some(BreakMode::Shear)
-            }
+            } => (-l.fn_ >= tensile || l.m_abs >= moment, l.fs_abs >= shear),
+            // ε̄ = σ̄/(k̄n L) = σ̄Ā/(k̄nĀ·L) ≥ ε̄c; γ̄ = τ̄/(k̄s L) = |F̄s|/(k̄sĀ·L) ≥ γ̄c.
+            Criterion::Strain { tensile, shear } => (
+                l.sigma_area_lever() >= tensile * l.kn_a * l.length * l.lever,
+                l.fs_abs >= shear * l.ks_a * l.length,
+            ),
             Criterion::Energy { fracture_energy } => {
                 let (uo, us) = l.energies();
-                if uo + us >= fracture_energy * l.area {
-                    Some(if uo >= us {
-                        BreakMode::Tension
-                    } else {
-                        BreakMode::Shear
-                    })
-                } else {
-                    None
-                }
+                let brk = uo + us >= fracture_energy * l.area;
+                (brk && uo >= us, brk && uo < us)
             }
+        }
+    }
+
+    /// Does a bond with these loads break, and how? Tension is checked first.
+    #[cfg(test)]
+    pub(crate) fn check(&self, l: &Loads) -> Option<BreakMode> {
+        match self.flags(l) {
+            (true, _) => Some(BreakMode::Tension),
+            (false, true) => Some(BreakMode::Shear),
+            _ => None,
         }
     }
 }

@@ -1,25 +1,14 @@
 //! The bond store ([`Bonds`]): groups, per-bond arrays, the per-step kernel and its scatter.
 
-use super::criteria::{check_stress, BreakMode, Compiled, Criterion, Loads};
-use super::potyondy2004::Kinematics;
+use super::criteria::{BreakMode, Compiled};
+use super::kernel::{self, BondsIn, BondsMut, Ctx, DiscOut, DiscView, BROKEN, INTACT, NEW};
 use super::{
     contact_bond, install, potyondy2004, BondError, BondGroup, BondModel, BondStatus, BreakEvent,
     BreakLog,
 };
-use crate::state::{Periodic, State, FREE};
-use rayon::prelude::*;
+use crate::state::{State, FREE};
 use serde::{Deserialize, Serialize};
 use std::collections::HashSet;
-
-/// `status` codes: intact, broken (tension/shear), and broken in the current step (not yet
-/// logged).
-const INTACT: u8 = 0;
-const BROKEN: u8 = 1; // + mode index
-const NEW: u8 = 3; // + mode index
-
-/// Use the two-pass parallel kernel from this many bonds on (and with more than one thread).
-const PAR_MIN_BONDS: usize = 8192;
-const CHUNK: usize = 2048;
 
 /// Derived per-run data, rebuilt on demand; not part of the state (ignored by `==`).
 #[derive(Clone, Debug, Default)]
@@ -50,8 +39,10 @@ pub struct Bonds {
     g0: Vec<f64>,
     /// Bond radius R̄ (m): λ̄·min(R1,R2) for parallel bonds, min(R1,R2) for contact bonds.
     rbar: Vec<f64>,
-    /// [F̄n, F̄s, M̄] (N, N, N·m).
-    force: Vec<[f64; 3]>,
+    /// F̄n (positive in compression), F̄s (N) and M̄ (N·m).
+    fn_: Vec<f64>,
+    fs: Vec<f64>,
+    m: Vec<f64>,
     status: Vec<u8>,
     next_id: u32,
     /// Disc thickness t the bonds were built with (m).
@@ -81,241 +72,6 @@ pub struct BondView {
     pub m: f64,
     pub g0: f64,
     pub rbar: f64,
-}
-
-/// Read-only disc data the kernel needs.
-struct DiscView<'a> {
-    x: &'a [f64],
-    y: &'a [f64],
-    vx: &'a [f64],
-    vy: &'a [f64],
-    omega: &'a [f64],
-    r: &'a [f64],
-    /// Per axis (box length, 1/length), (0, 0) when not periodic.
-    per: [(f64, f64); 2],
-}
-
-fn per_axes(p: &Periodic) -> [(f64, f64); 2] {
-    let ax = |a: usize| match p.length[a] {
-        Some(l) if l > 0.0 && l.is_finite() => (l, 1.0 / l),
-        _ => (0.0, 0.0),
-    };
-    [ax(0), ax(1)]
-}
-
-/// Minimum-image difference `b − a` on an axis with `(l, 1/l)` (`(0, 0)`: not periodic).
-/// Rounds with the 1.5·2⁵² trick (round-half-even, exact for |x| < 2⁵¹) instead of
-/// `f64::round`, which is a library call on baseline x86-64.
-#[inline(always)]
-fn min_image(a: f64, b: f64, (l, inv): (f64, f64)) -> f64 {
-    const MAGIC: f64 = 6_755_399_441_055_744.0;
-    let d = b - a;
-    let k = (d * inv + MAGIC) - MAGIC;
-    d - l * k
-}
-
-/// Geometry of a bond: unit normal from i to j, gap, arms from the disc centres to the contact
-/// point. Coincident centres get the normal (1, 0).
-#[inline(always)]
-fn geometry(v: &DiscView, i: usize, j: usize) -> (f64, f64, f64, f64, f64) {
-    let dx = min_image(v.x[i], v.x[j], v.per[0]);
-    let dy = min_image(v.y[i], v.y[j], v.per[1]);
-    let dist = (dx * dx + dy * dy).sqrt();
-    let ok = dist > 0.0;
-    let inv = 1.0 / if ok { dist } else { 1.0 };
-    let nx = if ok { dx * inv } else { 1.0 };
-    let ny = dy * inv;
-    let gap = dist - v.r[i] - v.r[j];
-    (nx, ny, gap, v.r[i] + 0.5 * gap, v.r[j] + 0.5 * gap)
-}
-
-/// Bonds per block: the kernel first computes the geometry of a block of bonds (independent,
-/// branch-free work the CPU overlaps), then updates and checks them one by one.
-const BLOCK: usize = 32;
-
-/// Bond data of one block, all slices of the same length ≤ [`BLOCK`].
-struct BlockIn<'a> {
-    i: &'a [u32],
-    j: &'a [u32],
-    group: &'a [u16],
-    g0: &'a [f64],
-    rbar: &'a [f64],
-}
-
-/// Per-step constants of the kernel.
-struct Ctx<'a> {
-    v: DiscView<'a>,
-    groups: &'a [BondGroup],
-    compiled: &'a [Compiled],
-    t: f64,
-    dt: f64,
-}
-
-/// Update one block of bonds: new forces and status, and for each bond still intact the force
-/// on disc j and the torques on i and j (`[fx, fy, ti, tj]`) in `out` (entries of bonds that
-/// are not intact are left as they were and must not be scattered). Returns the number of
-/// bonds broken now.
-///
-/// A block whose bonds all belong to one parallel-bond group with the stress criterion (the
-/// common case) runs a copy of the loop with that group's constants hoisted; it calls the same
-/// functions in the same order as the general loop, so results are identical.
-#[inline(always)]
-fn block(
-    c: &Ctx,
-    b: &BlockIn,
-    force: &mut [[f64; 3]],
-    status: &mut [u8],
-    out: &mut [[f64; 4]],
-) -> usize {
-    let n = b.i.len();
-    let (i_, j_, grp) = (&b.i[..n], &b.j[..n], &b.group[..n]);
-    let (g0_, rbar_) = (&b.g0[..n], &b.rbar[..n]);
-    let (force, status, out) = (&mut force[..n], &mut status[..n], &mut out[..n]);
-    // Pass 1a: gather the pair data (all disc slices re-cut to one length so the bounds checks
-    // fold into one). Entries past `n` keep harmless padding values.
-    let nd = c.v.x.len();
-    let (x, y, vx, vy) = (&c.v.x[..nd], &c.v.y[..nd], &c.v.vx[..nd], &c.v.vy[..nd]);
-    let (omega, r) = (&c.v.omega[..nd], &c.v.r[..nd]);
-    let mut dxs = [1.0f64; BLOCK];
-    let mut dys = [0.0f64; BLOCK];
-    let mut ris = [0.0f64; BLOCK];
-    let mut rjs = [0.0f64; BLOCK];
-    let mut dvx = [0.0f64; BLOCK];
-    let mut dvy = [0.0f64; BLOCK];
-    let mut wis = [0.0f64; BLOCK];
-    let mut wjs = [0.0f64; BLOCK];
-    for k in 0..n {
-        let (i, j) = (i_[k] as usize, j_[k] as usize);
-        if i >= nd || j >= nd {
-            // Cannot happen (indices are checked when bonds are added or remapped).
-            status[k] = BROKEN;
-            continue;
-        }
-        dxs[k] = x[j] - x[i];
-        dys[k] = y[j] - y[i];
-        ris[k] = r[i];
-        rjs[k] = r[j];
-        dvx[k] = vx[j] - vx[i];
-        dvy[k] = vy[j] - vy[i];
-        wis[k] = omega[i];
-        wjs[k] = omega[j];
-    }
-    // Pass 1b: geometry and kinematics, branch-free over the whole block (the compiler turns
-    // it into packed SIMD arithmetic; the operations are the same IEEE ones either way).
-    // Minimum image with the 1.5·2⁵² rounding trick (see `min_image`); unit normal n̂ (with
-    // (1, 0) for coincident centres), gap, arms a_i = R_i + g/2, a_j = R_j + g/2; tangential
-    // relative velocity of j's and i's material points at the contact point,
-    // (v_j − ω_j a_j t̂) − (v_i + ω_i a_i t̂)·t̂, t̂ = (−n_y, n_x); relative spin ω_j − ω_i.
-    const MAGIC: f64 = 6_755_399_441_055_744.0;
-    let [(lx, ilx), (ly, ily)] = c.v.per;
-    let mut geo = [[0.0f64; BLOCK]; 7];
-    {
-        let [gnx, gny, ggap, gai, gaj, gvt, gdw] = &mut geo;
-        for k in 0..BLOCK {
-            let dx = dxs[k] - lx * ((dxs[k] * ilx + MAGIC) - MAGIC);
-            let dy = dys[k] - ly * ((dys[k] * ily + MAGIC) - MAGIC);
-            let dist = (dx * dx + dy * dy).sqrt();
-            let ok = dist > 0.0;
-            let inv = 1.0 / if ok { dist } else { 1.0 };
-            let nx = if ok { dx * inv } else { 1.0 };
-            let ny = dy * inv;
-            let gap = dist - ris[k] - rjs[k];
-            let ai = ris[k] + 0.5 * gap;
-            let aj = rjs[k] + 0.5 * gap;
-            gnx[k] = nx;
-            gny[k] = ny;
-            ggap[k] = gap;
-            gai[k] = ai;
-            gaj[k] = aj;
-            gvt[k] = dvx[k] * -ny + dvy[k] * nx - (wjs[k] * aj + wis[k] * ai);
-            gdw[k] = wjs[k] - wis[k];
-        }
-    }
-    // Pass 2: forces, criterion, output.
-    let (t, dt) = (c.t, c.dt);
-    let g_first = grp.first().copied().unwrap_or(0) as usize;
-    let uniform = grp.iter().all(|&g| g as usize == g_first);
-    let fast = match (
-        uniform,
-        &c.groups[g_first].model,
-        c.compiled[g_first].criterion,
-    ) {
-        (
-            true,
-            BondModel::Parallel(p),
-            Criterion::Stress {
-                tensile, cohesion, ..
-            },
-        ) => Some((*p, tensile, cohesion, c.compiled[g_first].tan_phi)),
-        _ => None,
-    };
-    let mut broke = 0;
-    macro_rules! pass2 {
-        ($update:expr, $check:expr) => {
-            for k in 0..n {
-                if status[k] != INTACT {
-                    continue;
-                }
-                let (nx, ny, gap) = (geo[0][k], geo[1][k], geo[2][k]);
-                let (ai, aj, vt, dw) = (geo[3][k], geo[4][k], geo[5][k], geo[6][k]);
-                let kin = Kinematics {
-                    gap,
-                    dus: vt * dt,
-                    dtheta: dw * dt,
-                };
-                let f = &mut force[k];
-                // Bond length R_i + R_j + g0 (only the strain criterion reads it).
-                let length = ai + aj - gap + g0_[k];
-                let loads = $update(k, rbar_[k], g0_[k], length, &kin, &mut *f);
-                if let Some(mode) = $check(k, &loads) {
-                    status[k] = NEW + mode.index() as u8;
-                    broke += 1;
-                    continue;
-                }
-                let (fn_, fs, m) = (f[0], f[1], f[2]);
-                let (tx, ty) = (-ny, nx);
-                out[k] = [
-                    fn_ * nx + fs * tx,
-                    fn_ * ny + fs * ty,
-                    -ai * fs - m,
-                    -aj * fs + m,
-                ];
-            }
-        };
-    }
-    if let Some((p, tensile, cohesion, tan_phi)) = fast {
-        pass2!(
-            |_k, rbar, g0, len, kin: &Kinematics, f: &mut [f64; 3]| {
-                potyondy2004::update(&p, rbar, t, g0, len, kin, f)
-            },
-            |_k, l: &Loads| check_stress(l, tensile, cohesion, tan_phi)
-        );
-    } else {
-        pass2!(
-            |k: usize, rbar, g0, len, kin: &Kinematics, f: &mut [f64; 3]| {
-                match &c.groups[grp[k] as usize].model {
-                    BondModel::Parallel(p) => potyondy2004::update(p, rbar, t, g0, len, kin, f),
-                    BondModel::Contact(p) => contact_bond::update(p, rbar, t, g0, len, kin, f),
-                }
-            },
-            |k: usize, l: &Loads| c.compiled[grp[k] as usize].check(l)
-        );
-    }
-    broke
-}
-
-/// Add one bond's contribution to its discs (the only place disc sums are formed). The three
-/// slices have one length (so one bounds check covers them).
-#[inline(always)]
-fn scatter(fx: &mut [f64], fy: &mut [f64], tq: &mut [f64], i: usize, j: usize, o: &[f64; 4]) {
-    let n = fx.len();
-    let (fx, fy, tq) = (&mut fx[..n], &mut fy[..n], &mut tq[..n]);
-    fx[i] -= o[0];
-    fy[i] -= o[1];
-    tq[i] += o[2];
-    fx[j] += o[0];
-    fy[j] += o[1];
-    tq[j] += o[3];
 }
 
 fn mode_of(code: u8) -> BreakMode {
@@ -348,7 +104,9 @@ impl Bonds {
             group: Vec::new(),
             g0: Vec::new(),
             rbar: Vec::new(),
-            force: Vec::new(),
+            fn_: Vec::new(),
+            fs: Vec::new(),
+            m: Vec::new(),
             status: Vec::new(),
             next_id: 0,
             thickness: 1.0,
@@ -412,9 +170,9 @@ impl Bonds {
             } else {
                 BondStatus::Broken(mode_of(s))
             },
-            fn_: self.force[b][0],
-            fs: self.force[b][1],
-            m: self.force[b][2],
+            fn_: self.fn_[b],
+            fs: self.fs[b],
+            m: self.m[b],
             g0: self.g0[b],
             rbar: self.rbar[b],
         }
@@ -435,10 +193,10 @@ impl Bonds {
             vy: &d.vy,
             omega: &d.omega,
             r: &d.r,
-            per: per_axes(&st.periodic),
+            per: kernel::per_axes(&st.periodic),
         };
         let (i, j) = (self.i[b] as usize, self.j[b] as usize);
-        let (nx, ny, _, ai, _) = geometry(&v, i, j);
+        let (nx, ny, _, ai, _) = v.geometry(i, j);
         [
             st.periodic.wrap(0, d.x[i] + ai * nx),
             st.periodic.wrap(1, d.y[i] + ai * ny),
@@ -488,7 +246,9 @@ impl Bonds {
         self.group.push(group);
         self.g0.push(install::gap(st, i, j));
         self.rbar.push(rbar);
-        self.force.push([0.0; 3]);
+        self.fn_.push(0.0);
+        self.fs.push(0.0);
+        self.m.push(0.0);
         self.status.push(INTACT);
         Ok(self.len() - 1)
     }
@@ -563,104 +323,46 @@ impl Bonds {
     /// velocities (at t − dt/2), add bond forces and torques to the discs, break bonds whose
     /// criterion is met (their force vanishes from this step on) and log the breaks.
     pub fn compute(&mut self, st: &mut State, dt: f64) {
-        let nb = self.len();
-        if nb == 0 {
+        if self.is_empty() {
             return;
         }
         self.ensure_cache();
         self.thickness = st.thickness;
-        let t = st.thickness;
-        let parallel = nb >= PAR_MIN_BONDS && rayon::current_num_threads() > 1;
-        if parallel && self.cache.scratch.len() != nb {
-            self.cache.scratch.resize(nb, [0.0; 4]);
-        }
-        let Bonds {
-            groups,
-            i: bi,
-            j: bj,
-            group,
-            g0,
-            rbar,
-            force,
-            status,
-            cache,
-            ..
-        } = self;
-        let per = per_axes(&st.periodic);
         let d = &mut st.discs;
-        let v = DiscView {
-            x: &d.x,
-            y: &d.y,
-            vx: &d.vx,
-            vy: &d.vy,
-            omega: &d.omega,
-            r: &d.r,
-            per,
-        };
         let ctx = Ctx {
-            v,
-            groups,
-            compiled: &cache.compiled[..],
-            t,
+            v: DiscView {
+                x: &d.x,
+                y: &d.y,
+                vx: &d.vx,
+                vy: &d.vy,
+                omega: &d.omega,
+                r: &d.r,
+                per: kernel::per_axes(&st.periodic),
+            },
+            groups: &self.groups,
+            compiled: &self.cache.compiled,
+            t: st.thickness,
             dt,
         };
-        let input = |r: std::ops::Range<usize>| BlockIn {
-            i: &bi[r.clone()],
-            j: &bj[r.clone()],
-            group: &group[r.clone()],
-            g0: &g0[r.clone()],
-            rbar: &rbar[r],
+        let input = BondsIn {
+            i: &self.i,
+            j: &self.j,
+            group: &self.group,
+            g0: &self.g0,
+            rbar: &self.rbar,
         };
-        let mut new_breaks = 0usize;
-        if parallel {
-            new_breaks = force
-                .par_chunks_mut(CHUNK)
-                .zip(status.par_chunks_mut(CHUNK))
-                .zip(cache.scratch.par_chunks_mut(CHUNK))
-                .enumerate()
-                .map(|(c, ((f, s), out))| {
-                    let base = c * CHUNK;
-                    let mut nb = 0;
-                    for k in (0..f.len()).step_by(BLOCK) {
-                        let e = (k + BLOCK).min(f.len());
-                        nb += block(
-                            &ctx,
-                            &input(base + k..base + e),
-                            &mut f[k..e],
-                            &mut s[k..e],
-                            &mut out[k..e],
-                        );
-                    }
-                    nb
-                })
-                .sum();
-            let nd = d.fx.len();
-            let (fx, fy, tq) = (&mut d.fx[..nd], &mut d.fy[..nd], &mut d.torque[..nd]);
-            for (b, o) in cache.scratch.iter().enumerate() {
-                if status[b] == INTACT {
-                    scatter(fx, fy, tq, bi[b] as usize, bj[b] as usize, o);
-                }
-            }
-        } else {
-            let nd = d.fx.len();
-            let (fx, fy, tq) = (&mut d.fx[..nd], &mut d.fy[..nd], &mut d.torque[..nd]);
-            let mut out = [[0.0f64; 4]; BLOCK];
-            for k in (0..nb).step_by(BLOCK) {
-                let e = (k + BLOCK).min(nb);
-                new_breaks += block(
-                    &ctx,
-                    &input(k..e),
-                    &mut force[k..e],
-                    &mut status[k..e],
-                    &mut out[..e - k],
-                );
-                for b in k..e {
-                    if status[b] == INTACT {
-                        scatter(fx, fy, tq, bi[b] as usize, bj[b] as usize, &out[b - k]);
-                    }
-                }
-            }
-        }
+        let state = BondsMut {
+            fn_: &mut self.fn_,
+            fs: &mut self.fs,
+            m: &mut self.m,
+            status: &mut self.status,
+        };
+        let out = DiscOut {
+            fx: &mut d.fx,
+            fy: &mut d.fy,
+            tq: &mut d.torque,
+        };
+        let new_breaks = kernel::run(&ctx, &input, state, out, &mut self.cache.scratch);
         if new_breaks > 0 {
             self.log_breaks(st);
         }
@@ -692,14 +394,16 @@ impl Bonds {
             });
             self.released += energy;
             self.broken[g as usize][mode.index()] += 1;
-            self.force[b] = [0.0; 3];
+            self.fn_[b] = 0.0;
+            self.fs[b] = 0.0;
+            self.m[b] = 0.0;
             self.status[b] = BROKEN + mode.index() as u8;
         }
     }
 
     /// Strain energy held by bond `b` (J).
     pub fn bond_energy(&self, b: usize) -> f64 {
-        let f = &self.force[b];
+        let f = &[self.fn_[b], self.fs[b], self.m[b]];
         match &self.groups[self.group[b] as usize].model {
             BondModel::Parallel(p) => potyondy2004::energy(p, self.rbar[b], self.thickness, f),
             BondModel::Contact(p) => contact_bond::energy(p, f),
@@ -766,7 +470,9 @@ impl Bonds {
         p(&mut self.group, &order);
         p(&mut self.g0, &order);
         p(&mut self.rbar, &order);
-        p(&mut self.force, &order);
+        p(&mut self.fn_, &order);
+        p(&mut self.fs, &order);
+        p(&mut self.m, &order);
         p(&mut self.status, &order);
     }
 }
