@@ -191,3 +191,23 @@ fn bad_scenes_are_messages_with_exit_code_2() {
     assert!(text(&o).contains("not a checkpoint"), "{}", text(&o));
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn bench_prints_the_figure_last() {
+    for kind in ["dense", "bonded"] {
+        let o = dem(&["bench", kind, "--steps", "3", "--threads", "1"]);
+        let t = text(&o);
+        assert_eq!(o.status.code(), Some(0), "{t}");
+        let stdout = String::from_utf8_lossy(&o.stdout);
+        let last = stdout.lines().last().unwrap();
+        let v: f64 = last
+            .strip_prefix("particle-steps/s: ")
+            .unwrap_or_else(|| panic!("{last}"))
+            .parse()
+            .unwrap();
+        assert!(v > 0.0 && v.is_finite(), "{last}");
+        assert!(stdout.contains("46000 discs"), "{stdout}");
+    }
+    let o = dem(&["bench", "dense", "--steps", "0"]);
+    assert_eq!(o.status.code(), Some(2));
+}

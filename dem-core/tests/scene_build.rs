@@ -211,3 +211,23 @@ fn laws_table_holds_each_pair_law() {
     let w2 = scene::build(&load(&v2, "laws2.json")).unwrap();
     assert_eq!(w.dt(), w2.dt());
 }
+
+#[test]
+fn loads_push_their_disc() {
+    let mut v = base(json!({"discs": [{"material": "grain", "discs": [[0, 0, 1], [10, 0, 1]]}]}));
+    v["loads"] = json!([{"disc": 1, "force": [2e-3, 0], "torque": 0}]);
+    v["run"] = json!({"steps": 100, "dt": 1e-5});
+    let mut w = world(&v, "loads.json");
+    w.run(100);
+    let k = w.index_of_id(1).unwrap();
+    let a = 2e-3 / w.state.discs.m[k];
+    let want = a * 100.0 * 1e-5;
+    assert!((w.state.discs.vx[k] - want).abs() < 1e-9 * want, "{} vs {want}", w.state.discs.vx[k]);
+    assert_eq!(w.state.discs.vx[w.index_of_id(0).unwrap()], 0.0);
+    v["loads"][0]["disc"] = 2.into();
+    let dir = std::env::temp_dir().join(format!("dem-scene-build-{}", std::process::id()));
+    let p = dir.join("loads-bad.json");
+    std::fs::write(&p, v.to_string()).unwrap();
+    let e = scene::load(&p).unwrap_err().to_string();
+    assert!(e.contains("loads[0].disc") && e.contains("no disc 2"), "{e}");
+}

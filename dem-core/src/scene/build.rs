@@ -3,13 +3,14 @@
 //! no bond store without bonds, no clump pass without rigid clumps, no gravity unless set.
 //!
 //! Order: free discs, then clumps in scene order (their discs get the next ids), then automatic
-//! bonds, then `World::try_new` (which may reorder the discs in space); the bonds, built on
-//! creation indices, are then remapped to the world's order and attached, and the reference gaps
-//! of overlapping bonded-clump members are registered.
+//! bonds, then the world (`World::try_new` may reorder the discs in space; the bonds, built on
+//! creation indices, are remapped and attached and the reference gaps of overlapping
+//! bonded-clump members registered by [`world_with_bonds`]).
 
 use super::model::{ClumpInit, NormalDamping, PairLaw, PairStiffness, Scene};
 use super::schema::{Between, ClumpMode};
 use super::SceneError;
+use crate::bond::attach::world_with_bonds;
 use crate::bond::Bonds;
 use crate::bonded_clump::{place_bonded_clump_in, Placement};
 use crate::contact::linear_spring_dashpot::NormalDamping as LinDamping;
@@ -139,26 +140,14 @@ pub fn build(scene: &Scene) -> Result<World, SceneError> {
         wall.center = w.center;
         st.walls.push(wall);
     }
-    let mut world =
-        World::try_new(st, params(scene), laws(scene)).map_err(|e| fail("world", e.to_string()))?;
-    if let Some(mut b) = bonds.filter(|b| !b.is_empty()) {
-        // Discs were created with id = index; the world may have reordered them.
-        let n = world.state.discs.len();
-        let new_of_old: Vec<u32> = (0..n as u32)
-            .map(|id| world.index_of_id(id).map_or(u32::MAX, |k| k as u32))
-            .collect();
-        if new_of_old.contains(&u32::MAX) {
-            return Err(fail(
-                "bonds",
-                "a bonded disc is missing from the world".into(),
-            ));
-        }
-        b.remap(&new_of_old);
-        world.bonds = Some(b);
+    let (params, laws) = (params(scene), laws(scene));
+    let mut world = match bonds.filter(|b| !b.is_empty()) {
+        // Bonds were made on creation indices; the world may reorder the discs.
+        Some(b) => world_with_bonds(st, params, laws, b, &offsets),
+        None => World::try_new(st, params, laws),
     }
-    for (a, b, g0) in offsets {
-        world.set_contact_offset(a, b, g0);
-    }
+    .map_err(|e| fail("world", e.to_string()))?;
+    world.loads = scene.loads.clone();
     // Rebuild now (not at the first step) so the neighbour list carries the reference gaps and
     // the time step the bond stiffness before anything looks at the world.
     world.refresh();

@@ -28,6 +28,7 @@ pub struct Scene {
     pub clumps: Vec<ClumpInit>,
     pub auto_bonds: Vec<AutoBond>,
     pub walls: Vec<WallInit>,
+    pub loads: Vec<crate::pipeline::ExternalLoad>,
     pub periodic: Periodic,
     pub gravity: Option<[f64; 2]>,
     pub damping: Damping,

@@ -245,6 +245,7 @@ impl Resolver {
         }
         let auto_bonds = self.auto_bonds(&raw.auto_bonds, u)?;
         let walls = self.walls(&raw.walls, u)?;
+        let loads = self.loads(&raw.loads)?;
         let periodic = self.periodic(raw.periodic.as_ref(), u)?;
         let gravity = match raw.gravity {
             Some(g) => Some([
@@ -275,6 +276,7 @@ impl Resolver {
             clumps: std::mem::take(&mut self.clumps),
             auto_bonds,
             walls,
+            loads,
             periodic,
             gravity,
             damping,
@@ -561,6 +563,38 @@ impl Resolver {
                     velocity: p("velocity", w.velocity)?,
                     angular_velocity: ck.finite(&f("angular_velocity"), w.angular_velocity)?,
                     center,
+                })
+            })
+            .collect()
+    }
+
+    fn loads(&self, raw: &[LoadSpec]) -> Result<Vec<crate::pipeline::ExternalLoad>, SceneError> {
+        let n = self.discs.len()
+            + self
+                .clumps
+                .iter()
+                .map(|c| self.templates[c.template].discs.len())
+                .sum::<usize>();
+        raw.iter()
+            .enumerate()
+            .map(|(i, l)| {
+                let f = |k: &str| format!("loads[{i}].{k}");
+                if l.disc as usize >= n {
+                    return Err(self.ck.err(
+                        f("disc"),
+                        format!(
+                            "no disc {} (the scene has {n}; ids count from 0 in creation order)",
+                            l.disc
+                        ),
+                    ));
+                }
+                Ok(crate::pipeline::ExternalLoad {
+                    id: l.disc,
+                    force: [
+                        self.ck.finite(&f("force[0]"), l.force[0])?,
+                        self.ck.finite(&f("force[1]"), l.force[1])?,
+                    ],
+                    torque: self.ck.finite(&f("torque"), l.torque)?,
                 })
             })
             .collect()

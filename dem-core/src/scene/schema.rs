@@ -59,6 +59,9 @@ pub struct SceneFile {
     pub auto_bonds: Vec<AutoBondSpec>,
     #[serde(default)]
     pub walls: Vec<WallSpec>,
+    /// Constant external forces and torques on single discs.
+    #[serde(default)]
+    pub loads: Vec<LoadSpec>,
     #[serde(default)]
     pub periodic: Option<PeriodicSpec>,
     /// Gravitational acceleration (length unit / s²); absent = no gravity stage.
@@ -366,6 +369,18 @@ pub struct WallSpec {
     /// Centre of rotation and of the recorded moment; default the segment's midpoint.
     #[serde(default)]
     pub center: Option<[f64; 2]>,
+}
+
+/// A constant external force (N) and torque (N·m) on the disc with creation index `disc` (on
+/// a rigid-clump member it acts on the whole clump).
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LoadSpec {
+    pub disc: u32,
+    #[serde(default)]
+    pub force: [f64; 2],
+    #[serde(default)]
+    pub torque: f64,
 }
 
 /// Periodic axes: `[lo, hi]` per periodic axis.
