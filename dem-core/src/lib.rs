@@ -28,6 +28,7 @@ pub mod params;
 pub mod pipeline;
 pub mod state;
 pub mod timestep;
+pub mod validate;
 
 pub use contact::{ContactLaws, ContactModel, ContactView, HertzMindlin, LinearSpringDashpot};
 pub use energy::EnergyReport;
