@@ -159,6 +159,11 @@ impl World {
             track,
             disp2_limit: 0.25 * self.nb.skin * self.nb.skin,
         };
+        let w_before = if track && !self.loads.is_empty() {
+            self.load_work(dt)
+        } else {
+            0.0
+        };
         let mut moved = integrate::integrate_discs(
             &mut self.state.discs,
             &self.cache,
@@ -185,7 +190,9 @@ impl World {
         }
         integrate::advance_walls(&mut self.state.walls, dt);
         if track && !self.loads.is_empty() {
-            moved.boundary_work += self.load_work(dt);
+            // F · (v(t − dt/2) + v(t + dt/2))/2 · dt: the discrete work-energy identity of
+            // central differences.
+            moved.boundary_work += 0.5 * (w_before + self.load_work(dt));
         }
         self.moved_too_far = moved.exceeded;
         if track {
@@ -350,7 +357,7 @@ impl World {
         }
     }
 
-    /// Work of the external loads over the step just taken (velocities at t + dt/2).
+    /// F · v · dt of the external loads with the current velocities.
     fn load_work(&self, dt: f64) -> f64 {
         let d = &self.state.discs;
         let mut w = 0.0;
