@@ -29,10 +29,11 @@ pub mod params;
 pub mod pipeline;
 pub mod state;
 pub mod timestep;
+pub mod validate;
 
 pub use contact::{ContactLaws, ContactModel, ContactView, HertzMindlin, LinearSpringDashpot};
 pub use energy::EnergyReport;
 pub use guard::GuardError;
 pub use params::Params;
-pub use pipeline::{World, WorldError};
+pub use pipeline::{ExternalLoad, World, WorldError};
 pub use state::{Clumps, Discs, Periodic, State, Wall, FREE};
