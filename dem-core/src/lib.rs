@@ -32,6 +32,7 @@ pub mod pipeline;
 pub mod scene;
 pub mod state;
 pub mod timestep;
+pub mod validate;
 
 pub use contact::{ContactLaws, ContactModel, ContactView, HertzMindlin, LinearSpringDashpot};
 pub use energy::EnergyReport;
