@@ -23,8 +23,10 @@ pub const CELLS: [usize; 2] = [200, 115];
 /// Contact normal stiffness of the LAMMPS input (N/m), which the bonds' k̄nĀ match.
 pub const KN: f64 = 1e5;
 
-/// LAMMPS-style `lattice hex`: a1 = (a, 0), a2 = (0, √3 a), basis (0,0) and (a/2, √3a/2);
-/// each disc displaced by a uniform random amount in [−1, 1] µm per axis (deterministic LCG).
+/// LAMMPS-style `lattice hex` of any size (the full benchmark world is built by
+/// [`crate::bench::dense_lattice_scene`]; this one serves smaller test lattices):
+/// a1 = (a, 0), a2 = (0, √3 a), basis (0,0) and (a/2, √3a/2); each disc displaced by a uniform
+/// random amount in [−1, 1] µm per axis (deterministic LCG).
 pub fn hex_lattice_state(cells: [usize; 2]) -> State {
     let a = SPACING;
     let h = 3f64.sqrt() * a;
@@ -87,34 +89,46 @@ pub fn bonded_lattice_state(cells: [usize; 2]) -> (State, Bonds) {
     (st, bonds)
 }
 
-/// The contact law of the LAMMPS input (`gran/hooke/history 1.0e5 NULL 100.0 NULL 0.5 1`):
-/// k_n = 1e5 N/m, k_t = 2/7 k_n, γ_n = 100 1/s (c_n = γ_n m*), γ_t = γ_n/2, μ = 0.5.
-pub fn lammps_contact_law() -> ContactLaws {
-    ContactLaws::uniform(ContactModel::Linear(LinearSpringDashpot {
+/// The bonded-lattice benchmark world: the dense-lattice scene of the peer benchmark
+/// ([`crate::bench::dense_lattice_scene`], the same discs, contacts and skin) with a parallel
+/// bond at every contact (≈138,000 bonds, [`lattice_bond_group`]) and the automatic time step
+/// (the scene's fixed 1 µs is not stable once the bonds double the stiffness).
+pub fn bonded_lattice_scene() -> World {
+    let mut w = crate::bench::dense_lattice_scene();
+    w.params.dt_fixed = None;
+    let mut bonds = Bonds::new(vec![lattice_bond_group(w.state.thickness)])
+        .expect("the benchmark bond group is valid");
+    bonds
+        .install_at_contacts(&w.state, 0.1 * RADIUS, 0)
+        .expect("lattice discs are valid");
+    super::attach(&mut w, bonds);
+    w
+}
+
+/// A smaller bonded lattice of `cells` cells (see [`bonded_lattice_state`]) in a world with
+/// the benchmark's contact law and the automatic time step.
+pub fn bonded_lattice_world(cells: [usize; 2]) -> World {
+    let (st, bonds) = bonded_lattice_state(cells);
+    let law = LinearSpringDashpot {
         kn: KN,
         ks: 2.0 / 7.0 * KN,
         damping: NormalDamping::Gamma(100.0),
         shear_damping: 0.5,
         mu: 0.5,
-    }))
-}
-
-/// The bonded-lattice benchmark world with `cells` lattice cells ([`CELLS`] for the full
-/// 46,000-disc scene): contacts as in the LAMMPS input, a parallel bond at every contact,
-/// automatic time step, no energy tracking (as LAMMPS between thermo outputs).
-pub fn bonded_lattice_world(cells: [usize; 2]) -> World {
-    let (st, bonds) = bonded_lattice_state(cells);
+    };
     let params = Params {
         track_energy: false,
+        skin: Some(1e-4),
         ..Params::default()
     };
-    world_with_bonds(st, params, lammps_contact_law(), bonds, &[])
-        .expect("the benchmark scene is valid")
-}
-
-/// The full bonded-lattice benchmark scene (46,000 discs, ≈138,000 parallel bonds).
-pub fn bonded_lattice_scene() -> World {
-    bonded_lattice_world(CELLS)
+    world_with_bonds(
+        st,
+        params,
+        ContactLaws::uniform(ContactModel::Linear(law)),
+        bonds,
+        &[],
+    )
+    .expect("the benchmark scene is valid")
 }
 
 /// Figures of one benchmark run.
@@ -133,15 +147,21 @@ pub struct BenchRun {
     pub counters: Counters,
 }
 
-/// Run the bonded lattice for `steps` steps on `threads` threads (a rayon pool of that size).
+/// Run the bonded lattice (`cells` = [`CELLS`]: the full [`bonded_lattice_scene`], else
+/// [`bonded_lattice_world`]) for `steps` steps on `threads` threads (a rayon pool of that
+/// size); the first step (neighbour build, reorder) is not timed.
 pub fn run_bonded_bench(cells: [usize; 2], steps: u64, threads: usize) -> Result<BenchRun, String> {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads.max(1))
         .build()
         .map_err(|e| e.to_string())?;
     pool.install(|| {
-        let mut w = bonded_lattice_world(cells);
-        w.step(); // first step: neighbour build and reorder, not timed
+        let mut w = if cells == CELLS {
+            bonded_lattice_scene()
+        } else {
+            bonded_lattice_world(cells)
+        };
+        w.step();
         w.counters.reset();
         let t0 = std::time::Instant::now();
         w.run(steps);

@@ -114,13 +114,15 @@ pub(super) struct DiscOut<'a> {
 
 /// Run the bond stage over all bonds: update forces and status, add the forces of intact
 /// bonds to the discs. `scratch` is used by the parallel path (resized as needed). Returns the
-/// number of bonds broken now (marked [`NEW`] + mode).
+/// number of bonds broken now (marked [`NEW`] + mode). `avx2`: use the AVX2 build of the
+/// block loop (pass [`has_avx2`]; same results either way).
 pub(super) fn run(
     c: &Ctx,
     b: &BondsIn,
     mut m: BondsMut,
     out: DiscOut,
     scratch: &mut Vec<[f64; 4]>,
+    avx2: bool,
 ) -> usize {
     let nb = b.i.len();
     let nd = out.fx.len();
@@ -132,7 +134,8 @@ pub(super) fn run(
         let mut broke = 0;
         for k in (0..nb).step_by(BLOCK) {
             let e = (k + BLOCK).min(nb);
-            broke += block(c, b, k, &mut sub(&mut m, k..e), &mut o[..e - k], &mut w);
+            let mut s = sub(&mut m, k..e);
+            broke += block_best(c, b, k, &mut s, &mut o[..e - k], &mut w, avx2);
             for q in k..e {
                 if m.status[q] == INTACT {
                     scatter(fx, fy, tq, b.i[q] as usize, b.j[q] as usize, &o[q - k]);
@@ -166,7 +169,7 @@ pub(super) fn run(
             for k in (0..len).step_by(BLOCK) {
                 let e = (k + BLOCK).min(len);
                 let mut s = sub(&mut chunk, k..e);
-                broke += block(c, b, base + k, &mut s, &mut o[k..e], &mut w);
+                broke += block_best(c, b, base + k, &mut s, &mut o[k..e], &mut w, avx2);
             }
             broke
         })
@@ -200,6 +203,57 @@ fn scatter(fx: &mut [f64], fy: &mut [f64], tq: &mut [f64], i: usize, j: usize, o
     fx[j] += o[0];
     fy[j] += o[1];
     tq[j] += o[3];
+}
+
+/// [`block`] compiled for AVX2 (4 lanes). Only selects, +, −, ×, ÷ and √ are used, all
+/// correctly rounded in IEEE 754, and Rust never contracts to FMA, so the results are the
+/// same bits as the baseline build (the approach of `contact::disc_disc`).
+///
+/// # Safety
+/// The CPU must support AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn block_avx2(
+    c: &Ctx,
+    b: &BondsIn,
+    base: usize,
+    m: &mut BondsMut,
+    out: &mut [[f64; 4]],
+    w: &mut Work,
+) -> usize {
+    block(c, b, base, m, out, w)
+}
+
+/// [`block`] with the best instruction set available.
+#[inline(always)]
+fn block_best(
+    c: &Ctx,
+    b: &BondsIn,
+    base: usize,
+    m: &mut BondsMut,
+    out: &mut [[f64; 4]],
+    w: &mut Work,
+    avx2: bool,
+) -> usize {
+    #[cfg(target_arch = "x86_64")]
+    if avx2 {
+        // SAFETY: `avx2` is true only when the CPU reports AVX2 (see `has_avx2`).
+        return unsafe { block_avx2(c, b, base, m, out, w) };
+    }
+    let _ = avx2;
+    block(c, b, base, m, out, w)
+}
+
+/// Does the CPU support AVX2?
+pub(super) fn has_avx2() -> bool {
+    #[cfg(target_arch = "x86_64")]
+    {
+        std::is_x86_feature_detected!("avx2")
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        false
+    }
 }
 
 /// Per-block work arrays, reused from block to block (not re-zeroed).
@@ -412,4 +466,45 @@ fn block(
         }
     }
     broke
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::bench::bonded_lattice_state;
+    use super::*;
+
+    /// The AVX2 and baseline builds of the block loop give the same bits (on CPUs with AVX2;
+    /// elsewhere both runs take the baseline path).
+    #[test]
+    fn avx2_and_baseline_agree_bitwise() {
+        let (mut st, bonds) = bonded_lattice_state([12, 8]);
+        let n = st.discs.len();
+        let mut s = 1u64;
+        for k in 0..n {
+            let mut r = || {
+                s = s
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
+                ((s >> 11) as f64 / (1u64 << 53) as f64) - 0.5
+            };
+            st.discs.x[k] += 2e-6 * r();
+            st.discs.y[k] += 2e-6 * r();
+            st.discs.vx[k] = 0.1 * r();
+            st.discs.vy[k] = 0.1 * r();
+            st.discs.omega[k] = 50.0 * r();
+        }
+        let go = |avx2: bool| {
+            let mut b = bonds.clone();
+            let mut st = st.clone();
+            for _ in 0..3 {
+                st.discs.clear_forces();
+                b.compute_with(&mut st, 1e-7, avx2);
+            }
+            (st, b)
+        };
+        let a = go(false);
+        let b = go(has_avx2());
+        assert!(a.0.discs.fx.iter().any(|&f| f != 0.0));
+        assert_eq!(a, b);
+    }
 }

@@ -157,6 +157,11 @@ impl Bonds {
         &self.log
     }
 
+    /// Write the crack record as CSV (atomically; see [`BreakLog::to_csv`]).
+    pub fn write_breaks_csv(&self, path: &std::path::Path) -> std::io::Result<()> {
+        self.log.write_csv(path, &self.group_names())
+    }
+
     /// Bond `b` (store position).
     pub fn get(&self, b: usize) -> BondView {
         let s = self.status[b];
@@ -323,6 +328,11 @@ impl Bonds {
     /// velocities (at t − dt/2), add bond forces and torques to the discs, break bonds whose
     /// criterion is met (their force vanishes from this step on) and log the breaks.
     pub fn compute(&mut self, st: &mut State, dt: f64) {
+        self.compute_with(st, dt, kernel::has_avx2());
+    }
+
+    /// [`Bonds::compute`] with the AVX2 build of the kernel on or off (same results).
+    pub(crate) fn compute_with(&mut self, st: &mut State, dt: f64, avx2: bool) {
         if self.is_empty() {
             return;
         }
@@ -362,7 +372,7 @@ impl Bonds {
             fy: &mut d.fy,
             tq: &mut d.torque,
         };
-        let new_breaks = kernel::run(&ctx, &input, state, out, &mut self.cache.scratch);
+        let new_breaks = kernel::run(&ctx, &input, state, out, &mut self.cache.scratch, avx2);
         if new_breaks > 0 {
             self.log_breaks(st);
         }
