@@ -222,12 +222,19 @@ fn loads_push_their_disc() {
     let k = w.index_of_id(1).unwrap();
     let a = 2e-3 / w.state.discs.m[k];
     let want = a * 100.0 * 1e-5;
-    assert!((w.state.discs.vx[k] - want).abs() < 1e-9 * want, "{} vs {want}", w.state.discs.vx[k]);
+    assert!(
+        (w.state.discs.vx[k] - want).abs() < 1e-9 * want,
+        "{} vs {want}",
+        w.state.discs.vx[k]
+    );
     assert_eq!(w.state.discs.vx[w.index_of_id(0).unwrap()], 0.0);
     v["loads"][0]["disc"] = 2.into();
     let dir = std::env::temp_dir().join(format!("dem-scene-build-{}", std::process::id()));
     let p = dir.join("loads-bad.json");
     std::fs::write(&p, v.to_string()).unwrap();
     let e = scene::load(&p).unwrap_err().to_string();
-    assert!(e.contains("loads[0].disc") && e.contains("no disc 2"), "{e}");
+    assert!(
+        e.contains("loads[0].disc") && e.contains("no disc 2"),
+        "{e}"
+    );
 }

@@ -206,3 +206,49 @@ fn blow_up_stops_with_the_guard_and_writes_no_nan() {
     assert!(s.steps > 0 && s.steps < 2000 && s.error.is_some());
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn broken_bonds_reach_the_history_and_the_break_log() {
+    let dir = tmp("breaks");
+    std::fs::create_dir_all(&dir).unwrap();
+    // Two touching discs bonded by a contact bond, pulled apart: it breaks in tension.
+    let scene = serde_json::json!({
+        "schema": "dem.scene/1",
+        "units": "mm",
+        "materials": [{"name": "a", "density": 2500, "kn": 1e5, "ks": 5e4}],
+        "bond_groups": [{"name": "glue", "model": "contact_bond", "criterion": "force",
+                          "kn": 1e5, "ks": 5e4, "normal_strength": 0.01, "shear_strength": 0.01}],
+        "bodies": {"discs": [
+            {"material": "a", "velocity": [-100, 0], "discs": [[-1, 0, 1]]},
+            {"material": "a", "velocity": [100, 0], "discs": [[1, 0, 1]]}
+        ]},
+        "auto_bonds": [{"bond_group": "glue"}],
+        "run": {"steps": 200},
+        "outputs": {"history_every": 10}
+    });
+    let p = dir.join("pull.json");
+    std::fs::write(&p, scene.to_string()).unwrap();
+    let out = dir.join("out");
+    let opts = RunOptions {
+        out_dir: Some(out.clone()),
+        ..RunOptions::default()
+    };
+    let (s, _) = Simulation::new(scene::load(&p).unwrap(), &opts)
+        .unwrap()
+        .run(&mut |_, _| {})
+        .unwrap();
+    assert_eq!((s.bonds, s.bonds_broken), (1, 1));
+    let hist = std::fs::read_to_string(out.join("history.csv")).unwrap();
+    let head: Vec<&str> = hist.lines().next().unwrap().split(',').collect();
+    let col = head
+        .iter()
+        .position(|h| *h == "broken_glue_tension")
+        .unwrap();
+    let last: Vec<&str> = hist.lines().last().unwrap().split(',').collect();
+    assert_eq!((last[col], last[col + 1]), ("1", "0"));
+    let breaks = std::fs::read_to_string(out.join("breaks.csv")).unwrap();
+    let lines: Vec<&str> = breaks.lines().collect();
+    assert_eq!(lines.len(), 2, "{breaks}");
+    assert!(lines[1].contains(",glue,tension,"), "{breaks}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

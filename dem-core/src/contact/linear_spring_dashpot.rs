@@ -94,11 +94,9 @@ impl LinearSpringDashpot {
         let f_max = self.mu * f_n.max(0.0);
         let slip = ft0.abs() > f_max;
         let ft_s = f_max.copysign(ft0);
-        let us_s = if self.ks > 0.0 {
-            -(ft_s + ct * k.vt) / self.ks
-        } else {
-            0.0
-        };
+        // 1/k_s is loop-invariant: one division per block instead of one per pair.
+        let inv_ks = if self.ks > 0.0 { 1.0 / self.ks } else { 0.0 };
+        let us_s = -(ft_s + ct * k.vt) * inv_ks;
         let f_t = if slip { ft_s } else { ft0 };
         *us = if slip { us_s } else { us1 };
         let mut out = PairOut {

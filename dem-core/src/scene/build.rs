@@ -148,10 +148,6 @@ pub fn build(scene: &Scene) -> Result<World, SceneError> {
     }
     .map_err(|e| fail("world", e.to_string()))?;
     world.loads = scene.loads.clone();
-    // Rebuild now (not at the first step) so the neighbour list carries the reference gaps and
-    // the time step the bond stiffness before anything looks at the world.
-    world.refresh();
-    world.rebuild();
     Ok(world)
 }
 

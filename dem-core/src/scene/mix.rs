@@ -13,8 +13,8 @@
 //!   either defers to the other; none at all means no dashpot. Hertz-Mindlin takes restitution
 //!   only (its damping is calibrated for it).
 
+use super::check::Ck;
 use super::model::{NormalDamping, PairLaw, PairStiffness, Scene};
-use super::resolve::Ck;
 use super::schema::{ContactSpec, LawName, PairSpec};
 use super::SceneError;
 use std::collections::{BTreeSet, HashMap};

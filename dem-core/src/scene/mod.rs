@@ -4,6 +4,8 @@
 
 mod bondspec;
 pub mod build;
+mod check;
+mod controls;
 mod mix;
 pub mod model;
 pub mod resolve;
