@@ -163,56 +163,67 @@ fn serial<const E: bool, L: PairLaw>(
         dt,
     };
     let (us, mr) = (&mut nb.us, &mut nb.mr);
-    let mut sc = Box::<Scratch>::default();
-    let avx2 = has_avx2();
-    let mut total = PassEnergy::default();
-    let mut lo = 0;
-    while lo < n {
-        let hi = (lo + CHUNK).min(n);
-        let mut e = PassEnergy::default();
-        let (mut i, mut ax, mut ay, mut at) = (lo, 0.0, 0.0, 0.0);
-        let mut gi = lo;
-        let (mut p, pend) = (c.start[lo] as usize, c.start[hi] as usize);
-        while p < pend {
-            let q = BLOCK.min(pend - p);
-            let (u, m) = (&mut us[p..p + q], &mut mr[p..p + q]);
-            block::<E, L>(&c, p, &mut gi, u, m, &mut sc, &mut e, avx2);
-            for k in 0..q {
-                let pp = p + k;
-                while at!(c.start, i + 1) as usize <= pp {
-                    fx[i] += ax;
-                    fy[i] += ay;
-                    torque[i] += at;
-                    (ax, ay, at) = (0.0, 0.0, 0.0);
-                    i += 1;
+    with_scratch(|sc| {
+        let avx2 = has_avx2();
+        let mut total = PassEnergy::default();
+        let mut lo = 0;
+        while lo < n {
+            let hi = (lo + CHUNK).min(n);
+            let mut e = PassEnergy::default();
+            let (mut i, mut ax, mut ay, mut at) = (lo, 0.0, 0.0, 0.0);
+            let mut gi = lo;
+            let (mut p, pend) = (c.start[lo] as usize, c.start[hi] as usize);
+            while p < pend {
+                let q = BLOCK.min(pend - p);
+                let (u, m) = (&mut us[p..p + q], &mut mr[p..p + q]);
+                block::<E, L>(&c, p, &mut gi, u, m, sc, &mut e, avx2);
+                for k in 0..q {
+                    let pp = p + k;
+                    while at!(c.start, i + 1) as usize <= pp {
+                        fx[i] += ax;
+                        fy[i] += ay;
+                        torque[i] += at;
+                        (ax, ay, at) = (0.0, 0.0, 0.0);
+                        i += 1;
+                    }
+                    // Pairs not in contact add zeros, exactly as the parallel gather does.
+                    let (f0, f1, f2, f3) = (sc.fx[k], sc.fy[k], sc.ti[k], sc.tj[k]);
+                    ax -= f0;
+                    ay -= f1;
+                    at += f2;
+                    let j = at!(c.nbr, pp) as usize;
+                    // SAFETY: j < n and pp < np (see `valid`).
+                    unsafe {
+                        *fx.get_unchecked_mut(j) += f0;
+                        *fy.get_unchecked_mut(j) += f1;
+                        *torque.get_unchecked_mut(j) += f3;
+                        *us.get_unchecked_mut(pp) = sc.us[k];
+                    }
                 }
-                // Pairs not in contact add zeros, exactly as the parallel gather does.
-                let (f0, f1, f2, f3) = (sc.fx[k], sc.fy[k], sc.ti[k], sc.tj[k]);
-                ax -= f0;
-                ay -= f1;
-                at += f2;
-                let j = at!(c.nbr, pp) as usize;
-                // SAFETY: j < n and pp < np (see `valid`).
-                unsafe {
-                    *fx.get_unchecked_mut(j) += f0;
-                    *fy.get_unchecked_mut(j) += f1;
-                    *torque.get_unchecked_mut(j) += f3;
-                    *us.get_unchecked_mut(pp) = sc.us[k];
-                }
+                p += q;
             }
-            p += q;
+            while i < hi {
+                fx[i] += ax;
+                fy[i] += ay;
+                torque[i] += at;
+                (ax, ay, at) = (0.0, 0.0, 0.0);
+                i += 1;
+            }
+            total.add(&e);
+            lo = hi;
         }
-        while i < hi {
-            fx[i] += ax;
-            fy[i] += ay;
-            torque[i] += at;
-            (ax, ay, at) = (0.0, 0.0, 0.0);
-            i += 1;
-        }
-        total.add(&e);
-        lo = hi;
-    }
-    total
+        total
+    })
+}
+
+thread_local! {
+    /// One block scratch per thread, allocated once (no allocation per step).
+    static SCRATCH: std::cell::RefCell<Box<Scratch>> = std::cell::RefCell::new(Box::default());
+}
+
+/// Run `f` with this thread's block scratch.
+fn with_scratch<R>(f: impl FnOnce(&mut Scratch) -> R) -> R {
+    SCRATCH.with(|s| f(&mut s.borrow_mut()))
 }
 
 /// Raw pointer that may be shared across threads; each chunk touches a disjoint range.
@@ -275,32 +286,33 @@ fn parallel_pass<const E: bool, L: PairLaw>(
             .map(|ch| {
                 let (lo, hi) = (ch * CHUNK, ((ch + 1) * CHUNK).min(n));
                 let mut e = PassEnergy::default();
-                let mut sc = Box::<Scratch>::default();
-                let mut gi = lo;
-                let (mut p, pend) = (c.start[lo] as usize, c.start[hi] as usize);
-                while p < pend {
-                    let q = BLOCK.min(pend - p);
-                    // SAFETY: pairs [p, p + q) belong to this chunk only (chunks cover
-                    // disjoint pair ranges) and all six arrays have length np ≥ p + q.
-                    let (u, m, fx, fy, ti, tj) = unsafe {
-                        (
-                            ptr[0].slice(p, q),
-                            ptr[1].slice(p, q),
-                            ptr[2].slice(p, q),
-                            ptr[3].slice(p, q),
-                            ptr[4].slice(p, q),
-                            ptr[5].slice(p, q),
-                        )
-                    };
-                    block::<E, L>(&c, p, &mut gi, u, m, &mut sc, &mut e, avx2);
-                    u.copy_from_slice(&sc.us[..q]);
-                    fx.copy_from_slice(&sc.fx[..q]);
-                    fy.copy_from_slice(&sc.fy[..q]);
-                    ti.copy_from_slice(&sc.ti[..q]);
-                    tj.copy_from_slice(&sc.tj[..q]);
-                    p += q;
-                }
-                e
+                with_scratch(|sc| {
+                    let mut gi = lo;
+                    let (mut p, pend) = (c.start[lo] as usize, c.start[hi] as usize);
+                    while p < pend {
+                        let q = BLOCK.min(pend - p);
+                        // SAFETY: pairs [p, p + q) belong to this chunk only (chunks cover
+                        // disjoint pair ranges) and all six arrays have length np ≥ p + q.
+                        let (u, m, fx, fy, ti, tj) = unsafe {
+                            (
+                                ptr[0].slice(p, q),
+                                ptr[1].slice(p, q),
+                                ptr[2].slice(p, q),
+                                ptr[3].slice(p, q),
+                                ptr[4].slice(p, q),
+                                ptr[5].slice(p, q),
+                            )
+                        };
+                        block::<E, L>(&c, p, &mut gi, u, m, sc, &mut e, avx2);
+                        u.copy_from_slice(&sc.us[..q]);
+                        fx.copy_from_slice(&sc.fx[..q]);
+                        fy.copy_from_slice(&sc.fy[..q]);
+                        ti.copy_from_slice(&sc.ti[..q]);
+                        tj.copy_from_slice(&sc.tj[..q]);
+                        p += q;
+                    }
+                    e
+                })
             })
             .collect_into_vec(&mut s.chunk_energy);
     }
