@@ -38,6 +38,8 @@ impl PassEnergy {
 /// Per-pair force slots for the parallel pass (fx, fy on j; torques on i and j).
 #[derive(Clone, Debug, Default)]
 pub struct Slots {
+    /// Block scratch of the serial pass (allocated once).
+    pub scratch: Box<Scratch>,
     pub fx: Vec<f64>,
     pub fy: Vec<f64>,
     pub ti: Vec<f64>,
@@ -117,8 +119,8 @@ fn run<L: PairLaw>(a: Args, law: &L) -> PassEnergy {
     let (d, nb, minv, img, dt, track, slots) = a;
     let parallel = rayon::current_num_threads() > 1 && d.len() > 2 * CHUNK;
     match (track, parallel) {
-        (true, false) => serial::<true, L>(d, nb, minv, law, img, dt),
-        (false, false) => serial::<false, L>(d, nb, minv, law, img, dt),
+        (true, false) => serial::<true, L>(d, nb, minv, law, img, dt, &mut slots.scratch),
+        (false, false) => serial::<false, L>(d, nb, minv, law, img, dt, &mut slots.scratch),
         (true, true) => parallel_pass::<true, L>(d, nb, minv, law, img, dt, slots),
         (false, true) => parallel_pass::<false, L>(d, nb, minv, law, img, dt, slots),
     }
@@ -131,6 +133,7 @@ fn serial<const E: bool, L: PairLaw>(
     law: &L,
     img: MinImage,
     dt: f64,
+    scratch: &mut Scratch,
 ) -> PassEnergy {
     let n = d.len();
     let Discs {
@@ -163,61 +166,60 @@ fn serial<const E: bool, L: PairLaw>(
         dt,
     };
     let (us, mr) = (&mut nb.us, &mut nb.mr);
-    with_scratch(|sc| {
-        let avx2 = has_avx2();
-        let mut total = PassEnergy::default();
-        let mut lo = 0;
-        while lo < n {
-            let hi = (lo + CHUNK).min(n);
-            let mut e = PassEnergy::default();
-            let (mut i, mut ax, mut ay, mut at) = (lo, 0.0, 0.0, 0.0);
-            let mut gi = lo;
-            let (mut p, pend) = (c.start[lo] as usize, c.start[hi] as usize);
-            while p < pend {
-                let q = BLOCK.min(pend - p);
-                let (u, m) = (&mut us[p..p + q], &mut mr[p..p + q]);
-                block::<E, L>(&c, p, &mut gi, u, m, sc, &mut e, avx2);
-                for k in 0..q {
-                    let pp = p + k;
-                    while at!(c.start, i + 1) as usize <= pp {
-                        fx[i] += ax;
-                        fy[i] += ay;
-                        torque[i] += at;
-                        (ax, ay, at) = (0.0, 0.0, 0.0);
-                        i += 1;
-                    }
-                    // Pairs not in contact add zeros, exactly as the parallel gather does.
-                    let (f0, f1, f2, f3) = (sc.fx[k], sc.fy[k], sc.ti[k], sc.tj[k]);
-                    ax -= f0;
-                    ay -= f1;
-                    at += f2;
-                    let j = at!(c.nbr, pp) as usize;
-                    // SAFETY: j < n and pp < np (see `valid`).
-                    unsafe {
-                        *fx.get_unchecked_mut(j) += f0;
-                        *fy.get_unchecked_mut(j) += f1;
-                        *torque.get_unchecked_mut(j) += f3;
-                        *us.get_unchecked_mut(pp) = sc.us[k];
-                    }
+    let sc = &mut *scratch;
+    let avx2 = has_avx2();
+    let mut total = PassEnergy::default();
+    let mut lo = 0;
+    while lo < n {
+        let hi = (lo + CHUNK).min(n);
+        let mut e = PassEnergy::default();
+        let (mut i, mut ax, mut ay, mut at) = (lo, 0.0, 0.0, 0.0);
+        let mut gi = lo;
+        let (mut p, pend) = (c.start[lo] as usize, c.start[hi] as usize);
+        while p < pend {
+            let q = BLOCK.min(pend - p);
+            let (u, m) = (&mut us[p..p + q], &mut mr[p..p + q]);
+            block::<E, L>(&c, p, &mut gi, u, m, sc, &mut e, avx2);
+            for k in 0..q {
+                let pp = p + k;
+                while at!(c.start, i + 1) as usize <= pp {
+                    fx[i] += ax;
+                    fy[i] += ay;
+                    torque[i] += at;
+                    (ax, ay, at) = (0.0, 0.0, 0.0);
+                    i += 1;
                 }
-                p += q;
+                // Pairs not in contact add zeros, exactly as the parallel gather does.
+                let (f0, f1, f2, f3) = (sc.fx[k], sc.fy[k], sc.ti[k], sc.tj[k]);
+                ax -= f0;
+                ay -= f1;
+                at += f2;
+                let j = at!(c.nbr, pp) as usize;
+                // SAFETY: j < n and pp < np (see `valid`).
+                unsafe {
+                    *fx.get_unchecked_mut(j) += f0;
+                    *fy.get_unchecked_mut(j) += f1;
+                    *torque.get_unchecked_mut(j) += f3;
+                    *us.get_unchecked_mut(pp) = sc.us[k];
+                }
             }
-            while i < hi {
-                fx[i] += ax;
-                fy[i] += ay;
-                torque[i] += at;
-                (ax, ay, at) = (0.0, 0.0, 0.0);
-                i += 1;
-            }
-            total.add(&e);
-            lo = hi;
+            p += q;
         }
-        total
-    })
+        while i < hi {
+            fx[i] += ax;
+            fy[i] += ay;
+            torque[i] += at;
+            (ax, ay, at) = (0.0, 0.0, 0.0);
+            i += 1;
+        }
+        total.add(&e);
+        lo = hi;
+    }
+    total
 }
 
 thread_local! {
-    /// One block scratch per thread, allocated once (no allocation per step).
+    /// One block scratch per worker thread of the parallel pass, allocated once.
     static SCRATCH: std::cell::RefCell<Box<Scratch>> = std::cell::RefCell::new(Box::default());
 }
 
