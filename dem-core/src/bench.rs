@@ -57,10 +57,6 @@ pub fn dense_lattice_scene() -> World {
         dt_fixed: Some(1e-6),
         skin: Some(1e-4),
         track_energy: false,
-        reorder_every: std::env::var("DEM_REORDER")
-            .ok()
-            .and_then(|v| v.parse().ok())
-            .unwrap_or(20),
         ..Params::default()
     };
     World::new(st, params, ContactLaws::uniform(ContactModel::Linear(law)))
