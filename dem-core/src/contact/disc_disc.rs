@@ -38,6 +38,8 @@ impl PassEnergy {
 /// Per-pair force slots for the parallel pass (fx, fy on j; torques on i and j).
 #[derive(Clone, Debug, Default)]
 pub struct Slots {
+    /// Block scratch of the serial pass (allocated once).
+    pub scratch: Box<Scratch>,
     pub fx: Vec<f64>,
     pub fy: Vec<f64>,
     pub ti: Vec<f64>,
@@ -70,9 +72,10 @@ fn valid(d: &Discs, nb: &Neighbors, minv: &[f64]) -> bool {
         && [d.fx.len(), d.fy.len(), d.torque.len()]
             .iter()
             .all(|&l| l == n)
-        && (nb.nbr.iter().fold(0u32, |m, &j| m.max(j)) as usize) < n.max(1)
-        && (nb.rpair.iter().fold(0u32, |m, &p| m.max(p)) as usize) < np.max(1)
-        && nb.start.windows(2).all(|w| w[0] <= w[1])
+        && (nb.verified
+            || ((nb.nbr.iter().fold(0u32, |m, &j| m.max(j)) as usize) < n.max(1)
+                && (nb.rpair.iter().fold(0u32, |m, &p| m.max(p)) as usize) < np.max(1)
+                && nb.start.windows(2).all(|w| w[0] <= w[1])))
 }
 
 /// Compute disc–disc contact forces, adding them to `d.fx, d.fy, d.torque` (which the caller
@@ -89,6 +92,7 @@ pub fn compute(
     slots: &mut Slots,
 ) -> PassEnergy {
     assert!(valid(d, nb, minv), "neighbour list out of date");
+    nb.verified = true;
     let uniform = laws.n_materials() == 1 && !laws.any_rolling();
     let a = (d, nb, minv, img, dt, track_energy, slots);
     match (uniform, laws.models()[0]) {
@@ -115,8 +119,8 @@ fn run<L: PairLaw>(a: Args, law: &L) -> PassEnergy {
     let (d, nb, minv, img, dt, track, slots) = a;
     let parallel = rayon::current_num_threads() > 1 && d.len() > 2 * CHUNK;
     match (track, parallel) {
-        (true, false) => serial::<true, L>(d, nb, minv, law, img, dt),
-        (false, false) => serial::<false, L>(d, nb, minv, law, img, dt),
+        (true, false) => serial::<true, L>(d, nb, minv, law, img, dt, &mut slots.scratch),
+        (false, false) => serial::<false, L>(d, nb, minv, law, img, dt, &mut slots.scratch),
         (true, true) => parallel_pass::<true, L>(d, nb, minv, law, img, dt, slots),
         (false, true) => parallel_pass::<false, L>(d, nb, minv, law, img, dt, slots),
     }
@@ -129,6 +133,7 @@ fn serial<const E: bool, L: PairLaw>(
     law: &L,
     img: MinImage,
     dt: f64,
+    scratch: &mut Scratch,
 ) -> PassEnergy {
     let n = d.len();
     let Discs {
@@ -161,7 +166,7 @@ fn serial<const E: bool, L: PairLaw>(
         dt,
     };
     let (us, mr) = (&mut nb.us, &mut nb.mr);
-    let mut sc = Box::<Scratch>::default();
+    let sc = &mut *scratch;
     let avx2 = has_avx2();
     let mut total = PassEnergy::default();
     let mut lo = 0;
@@ -174,7 +179,7 @@ fn serial<const E: bool, L: PairLaw>(
         while p < pend {
             let q = BLOCK.min(pend - p);
             let (u, m) = (&mut us[p..p + q], &mut mr[p..p + q]);
-            block::<E, L>(&c, p, &mut gi, u, m, &mut sc, &mut e, avx2);
+            block::<E, L>(&c, p, &mut gi, u, m, sc, &mut e, avx2);
             for k in 0..q {
                 let pp = p + k;
                 while at!(c.start, i + 1) as usize <= pp {
@@ -211,6 +216,16 @@ fn serial<const E: bool, L: PairLaw>(
         lo = hi;
     }
     total
+}
+
+thread_local! {
+    /// One block scratch per worker thread of the parallel pass, allocated once.
+    static SCRATCH: std::cell::RefCell<Box<Scratch>> = std::cell::RefCell::new(Box::default());
+}
+
+/// Run `f` with this thread's block scratch.
+fn with_scratch<R>(f: impl FnOnce(&mut Scratch) -> R) -> R {
+    SCRATCH.with(|s| f(&mut s.borrow_mut()))
 }
 
 /// Raw pointer that may be shared across threads; each chunk touches a disjoint range.
@@ -273,32 +288,33 @@ fn parallel_pass<const E: bool, L: PairLaw>(
             .map(|ch| {
                 let (lo, hi) = (ch * CHUNK, ((ch + 1) * CHUNK).min(n));
                 let mut e = PassEnergy::default();
-                let mut sc = Box::<Scratch>::default();
-                let mut gi = lo;
-                let (mut p, pend) = (c.start[lo] as usize, c.start[hi] as usize);
-                while p < pend {
-                    let q = BLOCK.min(pend - p);
-                    // SAFETY: pairs [p, p + q) belong to this chunk only (chunks cover
-                    // disjoint pair ranges) and all six arrays have length np ≥ p + q.
-                    let (u, m, fx, fy, ti, tj) = unsafe {
-                        (
-                            ptr[0].slice(p, q),
-                            ptr[1].slice(p, q),
-                            ptr[2].slice(p, q),
-                            ptr[3].slice(p, q),
-                            ptr[4].slice(p, q),
-                            ptr[5].slice(p, q),
-                        )
-                    };
-                    block::<E, L>(&c, p, &mut gi, u, m, &mut sc, &mut e, avx2);
-                    u.copy_from_slice(&sc.us[..q]);
-                    fx.copy_from_slice(&sc.fx[..q]);
-                    fy.copy_from_slice(&sc.fy[..q]);
-                    ti.copy_from_slice(&sc.ti[..q]);
-                    tj.copy_from_slice(&sc.tj[..q]);
-                    p += q;
-                }
-                e
+                with_scratch(|sc| {
+                    let mut gi = lo;
+                    let (mut p, pend) = (c.start[lo] as usize, c.start[hi] as usize);
+                    while p < pend {
+                        let q = BLOCK.min(pend - p);
+                        // SAFETY: pairs [p, p + q) belong to this chunk only (chunks cover
+                        // disjoint pair ranges) and all six arrays have length np ≥ p + q.
+                        let (u, m, fx, fy, ti, tj) = unsafe {
+                            (
+                                ptr[0].slice(p, q),
+                                ptr[1].slice(p, q),
+                                ptr[2].slice(p, q),
+                                ptr[3].slice(p, q),
+                                ptr[4].slice(p, q),
+                                ptr[5].slice(p, q),
+                            )
+                        };
+                        block::<E, L>(&c, p, &mut gi, u, m, sc, &mut e, avx2);
+                        u.copy_from_slice(&sc.us[..q]);
+                        fx.copy_from_slice(&sc.fx[..q]);
+                        fy.copy_from_slice(&sc.fy[..q]);
+                        ti.copy_from_slice(&sc.ti[..q]);
+                        tj.copy_from_slice(&sc.tj[..q]);
+                        p += q;
+                    }
+                    e
+                })
             })
             .collect_into_vec(&mut s.chunk_energy);
     }

@@ -142,6 +142,12 @@ pub struct Scratch {
     ef: [f64; BLOCK],
 }
 
+impl std::fmt::Debug for Scratch {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("Scratch")
+    }
+}
+
 impl Default for Scratch {
     fn default() -> Scratch {
         let z = [0.0; BLOCK];

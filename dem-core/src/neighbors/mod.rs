@@ -94,6 +94,11 @@ pub struct Neighbors {
     pub walls: WallPairs,
     /// Number of builds so far.
     pub builds: u64,
+    /// Whether every index in the lists is known to be in range (set by `rebuild`, which
+    /// builds them so; cleared by deserialisation and `remap`). The force pass checks the
+    /// indices once when this is false.
+    #[serde(skip)]
+    pub verified: bool,
 }
 
 impl Neighbors {
@@ -208,6 +213,7 @@ impl Neighbors {
             .collect();
         self.skin = skin;
         self.builds += 1;
+        self.verified = true;
     }
 
     fn rebuild_walls(&mut self, st: &State, skin: f64, img: &MinImage) {
@@ -290,6 +296,7 @@ impl Neighbors {
             *dsc = new_of_old[*dsc as usize];
         }
         // Positions at build and reverse lists are refreshed by the rebuild that follows.
+        self.verified = false;
         self.x0.clear();
         self.y0.clear();
     }
