@@ -326,7 +326,8 @@ impl World {
                 } else {
                     (0.0, 0.0)
                 };
-                let s = d.r[i] - 0.5 * overlap.max(0.0);
+                // Midway in the geometric overlap (the force pass's contact point).
+                let s = d.r[i] - 0.5 * (-gap).max(0.0);
                 Some(ContactView {
                     i: i as u32,
                     j: j as u32,

@@ -123,6 +123,7 @@ pub struct Scratch {
     dy: [f64; BLOCK],
     reach: [f64; BLOCK],
     wr: [f64; BLOCK],
+    ws: [f64; BLOCK],
     wrel: [f64; BLOCK],
     dvx: [f64; BLOCK],
     dvy: [f64; BLOCK],
@@ -156,6 +157,7 @@ impl Default for Scratch {
             dy: z,
             reach: z,
             wr: z,
+            ws: z,
             wrel: z,
             dvx: z,
             dvy: z,
@@ -214,6 +216,7 @@ fn gather<L: PairLaw, const G0: bool>(
             s.reach[k] = if G0 { ri + rj + at!(c.g0, p) } else { ri + rj };
             let wj = at!(c.w, j);
             s.wr[k] = wri + wj * rj;
+            s.ws[k] = wi + wj;
             s.dvx[k] = at!(c.vx, j) - vxi;
             s.dvy[k] = at!(c.vy, j) - vyi;
             s.ms[k] = mvi + at!(c.minv, j);
@@ -244,9 +247,14 @@ fn eval<const E: bool, L: PairLaw>(law: &L, dt: f64, s: &mut Scratch) {
         let d = d2.sqrt();
         let inv = 1.0 / d;
         let (nx, ny) = (dx * inv, dy * inv);
-        let rvx = s.dvx[k] + s.wr[k] * ny;
-        let rvy = s.dvy[k] - s.wr[k] * nx;
         let (ri, rj) = (s.ri[k], s.rj[k]);
+        // Contact point midway in the geometric overlap r_i + r_j − d, on the line of
+        // centres: arms a_i = r_i − h, a_j = r_j − h with a_i + a_j = d (see `super`).
+        let h = 0.5 * (ri + rj - d);
+        let (ai, aj) = (ri - h, rj - h);
+        let wr = s.wr[k] - h * s.ws[k];
+        let rvx = s.dvx[k] + wr * ny;
+        let rvy = s.dvy[k] - wr * nx;
         let kin = PairKin {
             delta: rc - d,
             vn: rvx * nx + rvy * ny,
@@ -268,8 +276,8 @@ fn eval<const E: bool, L: PairLaw>(law: &L, dt: f64, s: &mut Scratch) {
         // t = (−n_y, n_x): F = F_n n + F_t t.
         let fx = o.f_n * nx - o.f_t * ny;
         let fy = o.f_n * ny + o.f_t * nx;
-        let ti = -ri * o.f_t + roll[0];
-        let tj = -rj * o.f_t - roll[0];
+        let ti = -ai * o.f_t + roll[0];
+        let tj = -aj * o.f_t - roll[0];
         s.fx[k] = if touch { fx } else { 0.0 };
         s.fy[k] = if touch { fy } else { 0.0 };
         s.ti[k] = if touch { ti } else { 0.0 };

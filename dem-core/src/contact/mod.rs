@@ -2,11 +2,19 @@
 //!
 //! Kinematics shared by every law (2D, normal n from disc i to disc j, tangent t = (−n_y, n_x)):
 //! overlap δ = g₀ − gap with gap = |x_j − x_i| − r_i − r_j and g₀ ≤ 0 the registered reference
-//! gap ([`crate::World::set_contact_offset`], 0 by default); relative velocity of j's contact
-//! point with respect to i's, v = v_j − v_i − (ω_i r_i + ω_j r_j) t, split into v_n = v·n
-//! (positive when separating) and v_t = v·t. A law returns the normal force F_n (positive =
-//! repulsive) and tangential force F_t on disc j; disc i receives the opposite force, and each
-//! disc the torque −r F_t (plus the rolling moment, + on i, − on j).
+//! gap ([`crate::World::set_contact_offset`], 0 by default). The contact point lies on the
+//! line of centres midway in the geometric overlap h₂ = r_i + r_j − d (d = |x_j − x_i|), at
+//! a_i = r_i − h₂/2 from centre i and a_j = r_j − h₂/2 from centre j, so a_i + a_j = d (the
+//! contact location of PFC's ball–ball contact, Potyondy & Cundall 2004, Int. J. Rock Mech.
+//! Min. Sci. 41:1329, §2.1: "the contact point lies in the middle of the overlap region").
+//! The geometric (not the offset) overlap is used: members of bonded clumps overlap deeply
+//! and the arms must add up to d for the tangential force to conserve angular momentum
+//! (d F_t − (a_i + a_j) F_t = 0). Relative velocity of j's contact point with respect to
+//! i's: v = v_j − v_i − (ω_i a_i + ω_j a_j) t, split into v_n = v·n (positive when
+//! separating) and v_t = v·t. A law returns the normal force F_n (positive = repulsive) and
+//! tangential force F_t on disc j; disc i receives the opposite force, disc i the torque
+//! −a_i F_t and disc j −a_j F_t (plus the rolling moment, + on i, − on j), consistent with
+//! the velocity above so that the pair's power is F · v.
 //!
 //! The tangential history u_s is a scalar along t: in 2D the tangent plane is a line, so
 //! carrying the scalar is the exact rotation of the shear vector with the contact normal
@@ -189,7 +197,8 @@ pub struct ContactView {
     /// gap δ = g₀ − gap (m).
     pub gap: f64,
     pub overlap: f64,
-    /// Unit normal from i to j and the contact point (midway in the overlap).
+    /// Unit normal from i to j and the contact point (midway in the geometric overlap
+    /// r_i + r_j − |x_j − x_i|, see the module notes).
     pub normal: [f64; 2],
     pub point: [f64; 2],
     /// Elastic normal force (N, positive = compression) and tangential spring force on j (N).
