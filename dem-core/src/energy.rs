@@ -22,7 +22,9 @@ pub struct EnergyAcc {
     pub damp_contact: f64,
     /// Cumulative dissipation by local and viscous damping.
     pub damp_body: f64,
-    /// Cumulative dissipation by sliding and rolling friction.
+    /// Cumulative dissipation by sliding and rolling friction, including the elastic energy
+    /// of the tangential (and rolling) springs of contacts that open: their histories are
+    /// reset, and that energy is not returned to the discs.
     pub friction: f64,
     /// Cumulative work by prescribed-velocity (fixed) discs.
     pub fixed_work: f64,

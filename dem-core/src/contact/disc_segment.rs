@@ -39,7 +39,7 @@ pub fn compute(
         let (x, y, r) = (d.x[k], d.y[k], d.r[k]);
         let (px, py, dist) = closest_on_segment(w, x, y, &img);
         let delta = r - dist;
-        if delta <= 0.0 || dist <= 0.0 {
+        if dist <= 0.0 {
             wp.us[q] = 0.0;
             wp.mr[q] = 0.0;
             continue;
@@ -60,6 +60,24 @@ pub fn compute(
         };
         let (mi, mw) = (d.material[k], w.material);
         let model = laws.model(mi, mw);
+        if delta <= 0.0 {
+            // The contact opened: the spring histories are dropped and their elastic energy
+            // (at the overlap of the last touching step, δ + v_n Δt) counts as friction
+            // dissipation, as in the disc–disc pass.
+            if track_energy && (wp.us[q] != 0.0 || wp.mr[q] != 0.0) {
+                let d_prev = (delta + kin.vn * dt).max(0.0);
+                e.fric += model.shear_energy(r, d_prev, wp.us[q]);
+                if let Some(rr) = laws.rolling(mi, mw) {
+                    let kr = rr.kr(model.kn(r, d_prev), r);
+                    if kr > 0.0 {
+                        e.fric += 0.5 * wp.mr[q] * wp.mr[q] / kr;
+                    }
+                }
+            }
+            wp.us[q] = 0.0;
+            wp.mr[q] = 0.0;
+            continue;
+        }
         let o = if track_energy {
             model.force::<true>(&kin, &mut wp.us[q])
         } else {

@@ -29,6 +29,11 @@ pub trait PairLaw: Sync {
     /// Whether rolling resistance may apply.
     const ROLLING: bool;
     fn force<const E: bool>(&self, mi: u16, mj: u16, k: &PairKin, us: &mut f64) -> PairOut;
+    /// Elastic energy of the tangential spring (history `us`) and of the rolling spring
+    /// (moment `mr`) of a contact that has just opened, at the overlap of its last touching
+    /// step, estimated as δ + v_n Δt from the current overlap (exact for the linear law, whose
+    /// stiffnesses do not depend on δ).
+    fn released(&self, mi: u16, mj: u16, k: &PairKin, us: f64, mr: f64) -> f64;
     /// Rolling moment on i after the update, dissipated and stored energy
     /// (see [`super::RollingResistance::update`]).
     #[inline(always)]
@@ -57,6 +62,10 @@ impl PairLaw for LinearGamma {
     fn force<const E: bool>(&self, _: u16, _: u16, k: &PairKin, us: &mut f64) -> PairOut {
         self.0.force_cn::<E>(k, self.1 * k.m_eff, us)
     }
+    #[inline(always)]
+    fn released(&self, _: u16, _: u16, _: &PairKin, us: f64, _: f64) -> f64 {
+        0.5 * self.0.ks * us * us
+    }
 }
 
 impl PairLaw for LinearRatio {
@@ -67,6 +76,10 @@ impl PairLaw for LinearRatio {
         self.0
             .force_cn::<E>(k, 2.0 * self.1 * (k.m_eff * self.0.kn).sqrt(), us)
     }
+    #[inline(always)]
+    fn released(&self, _: u16, _: u16, _: &PairKin, us: f64, _: f64) -> f64 {
+        0.5 * self.0.ks * us * us
+    }
 }
 
 impl PairLaw for HertzMindlin {
@@ -76,6 +89,11 @@ impl PairLaw for HertzMindlin {
     fn force<const E: bool>(&self, _: u16, _: u16, k: &PairKin, us: &mut f64) -> PairOut {
         HertzMindlin::force::<E>(self, k, us)
     }
+    #[inline(always)]
+    fn released(&self, _: u16, _: u16, k: &PairKin, us: f64, _: f64) -> f64 {
+        let d = (k.delta + k.vn * k.dt).max(0.0);
+        0.5 * self.kt(k.r_eff, d) * us * us
+    }
 }
 
 impl PairLaw for ContactLaws {
@@ -84,6 +102,19 @@ impl PairLaw for ContactLaws {
     #[inline(always)]
     fn force<const E: bool>(&self, mi: u16, mj: u16, k: &PairKin, us: &mut f64) -> PairOut {
         self.model(mi, mj).force::<E>(k, us)
+    }
+    #[inline(always)]
+    fn released(&self, mi: u16, mj: u16, k: &PairKin, us: f64, mr: f64) -> f64 {
+        let model = self.model(mi, mj);
+        let d = (k.delta + k.vn * k.dt).max(0.0);
+        let mut e = model.shear_energy(k.r_eff, d, us);
+        if let Some(rr) = self.rolling(mi, mj) {
+            let kr = rr.kr(model.kn(k.r_eff, d), k.r_eff);
+            if kr > 0.0 {
+                e += 0.5 * mr * mr / kr;
+            }
+        }
+        e
     }
     #[inline(always)]
     fn rolling(&self, mi: u16, mj: u16, k: &PairKin, f_n: f64, w: f64, mr: &mut f64) -> [f64; 3] {
@@ -264,6 +295,13 @@ fn eval<const E: bool, L: PairLaw>(law: &L, dt: f64, s: &mut Scratch) {
             dt,
         };
         let mut u = s.us[k];
+        // A contact that opens drops its spring histories: their elastic energy is counted as
+        // dissipated by friction (it is not returned to the discs).
+        let released = if E && !touch {
+            law.released(s.mi[k], s.mj[k], &kin, u, s.mr[k])
+        } else {
+            0.0
+        };
         let o = law.force::<E>(s.mi[k], s.mj[k], &kin, &mut u);
         let mut m = s.mr[k];
         let roll = if L::ROLLING && touch {
@@ -285,7 +323,7 @@ fn eval<const E: bool, L: PairLaw>(law: &L, dt: f64, s: &mut Scratch) {
         if E {
             s.es[k] = if touch { o.e_strain + roll[2] } else { 0.0 };
             s.ed[k] = if touch { o.e_damp } else { 0.0 };
-            s.ef[k] = if touch { o.e_fric + roll[1] } else { 0.0 };
+            s.ef[k] = if touch { o.e_fric + roll[1] } else { released };
         }
     }
 }

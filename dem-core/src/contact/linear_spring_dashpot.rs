@@ -105,8 +105,11 @@ impl LinearSpringDashpot {
             ..PairOut::default()
         };
         if E {
+            // Energy taken out of the tangential spring by the slip reset u_s¹ → u_s^slip
+            // (→ f_max |Δu_s| for small slips without a tangential dashpot; with one it may
+            // be negative: limiting the total force makes the spring carry −c_t v_t).
             out.e_fric = if slip {
-                f_max * (us1 - us_s).abs()
+                0.5 * self.ks * (us1 * us1 - us_s * us_s)
             } else {
                 0.0
             };

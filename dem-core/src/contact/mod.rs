@@ -82,11 +82,20 @@ impl ContactModel {
     }
 
     /// Tangential stiffness at overlap `delta`.
+    #[inline(always)]
     pub fn ks(&self, r_eff: f64, delta: f64) -> f64 {
         match self {
             ContactModel::Linear(l) => l.ks,
             ContactModel::HertzMindlin(h) => h.kt(r_eff, delta),
         }
+    }
+
+    /// Elastic energy held by the tangential spring with history `us` at overlap `delta`
+    /// (½ k_s u_s², with the Hertz–Mindlin k_t(δ) for that law): the energy that is released
+    /// when the contact opens and the history is reset (see [`kernel`]).
+    #[inline(always)]
+    pub fn shear_energy(&self, r_eff: f64, delta: f64, us: f64) -> f64 {
+        0.5 * self.ks(r_eff, delta.max(0.0)) * us * us
     }
 
     /// Elastic normal and tangential forces for views (no dashpot).
