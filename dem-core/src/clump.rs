@@ -183,6 +183,7 @@ pub use crate::integrate::Moved;
 pub fn step_clumps(
     st: &mut State,
     index_of_id: &[u32],
+    dash: &crate::contact::disc_disc::Dashpot,
     visc: &[[f64; 2]],
     x0: &[f64],
     y0: &[f64],
@@ -194,6 +195,7 @@ pub fn step_clumps(
     for c in 0..cl.len() {
         let (s, co) = cl.theta[c].sin_cos();
         let (mut fx, mut fy, mut t) = (0.0, 0.0, 0.0);
+        let (mut dfx, mut dfy, mut dt) = (0.0, 0.0, 0.0);
         for q in cl.member_range(c) {
             let i = index_of_id[cl.members[q] as usize] as usize;
             let (rx, ry) = (
@@ -203,6 +205,12 @@ pub fn step_clumps(
             fx += d.fx[i];
             fy += d.fy[i];
             t += d.torque[i] + rx * d.fy[i] - ry * d.fx[i];
+            if k.track {
+                let (a, b) = (dash.fx[i], dash.fy[i]);
+                dfx += a;
+                dfy += b;
+                dt += dash.t[i] + rx * b - ry * a;
+            }
         }
         let m = cl.m[c];
         fx += m * gx;
@@ -234,6 +242,7 @@ pub fn step_clumps(
             o.ke_trans += 0.5 * m * (ax * ax + ay * ay);
             o.ke_rot += 0.5 * cl.inertia[c] * aw * aw;
             o.damp -= ((fx - fx0) * ax + (fy - fy0) * ay + (t - t0) * aw) * k.kick;
+            o.damp_contact -= (dfx * ax + dfy * ay + dt * aw) * k.kick;
             o.grav_pot -= m * (gx * cl.x[c] + gy * cl.y[c]);
         }
         cl.x[c] += cl.vx[c] * k.drift;

@@ -10,7 +10,7 @@
 //! clumps are moved by [`crate::clump`]. Kinetic energy is reported at time t with the mean of
 //! the two half-step velocities.
 
-use crate::contact::disc_disc::CHUNK;
+use crate::contact::disc_disc::{Dashpot, CHUNK};
 use crate::state::Discs;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -38,6 +38,9 @@ pub struct Moved {
     pub ke_rot: f64,
     /// Energy dissipated by local and viscous damping in this step (J).
     pub damp: f64,
+    /// Energy dissipated by the contact dashpots in this step, −(F_d · v̄ + T_d ω̄) Δt with the
+    /// mean half-step velocities (see [`crate::contact::disc_disc::Dashpot`]) (J).
+    pub damp_contact: f64,
     /// Work done by fixed (prescribed-velocity) discs on the others in this step (J).
     pub boundary_work: f64,
     /// Gravitational potential −Σ m g·x at time t (J).
@@ -51,6 +54,7 @@ impl Moved {
         self.ke_trans += o.ke_trans;
         self.ke_rot += o.ke_rot;
         self.damp += o.damp;
+        self.damp_contact += o.damp_contact;
         self.boundary_work += o.boundary_work;
         self.grav_pot += o.grav_pot;
         self.exceeded |= o.exceeded;
@@ -94,6 +98,8 @@ struct Ro<'a> {
     fy: &'a [f64],
     torque: &'a [f64],
     fixed: &'a [bool],
+    /// Dashpot sums (length n when energy is tracked).
+    dash: &'a Dashpot,
 }
 
 /// One chunk [lo, hi) of the disc pass. Every disc gets the same branch-free update (1/m = 0
@@ -169,9 +175,13 @@ unsafe fn chunk<const E: bool, const DAMP: bool, const VISC: bool>(
                 o.ke_trans += 0.5 * m[i] * (mx * mx + my * my);
                 o.ke_rot += 0.5 * inertia[i] * mw * mw;
                 o.damp -= ((ax - f0x) * mx + (ay - f0y) * my + (at - t0) * mw) * k.kick;
+                let (dx, dy, dt) = (d.dash.fx[lo + i], d.dash.fy[lo + i], d.dash.t[lo + i]);
+                o.damp_contact -= (dx * mx + dy * my + dt * mw) * k.kick;
                 o.grav_pot -= m[i] * (gx * xo + gy * yo);
             } else if fixed[i] {
                 o.boundary_work -= (fx[i] * ux + fy[i] * uy + tq[i] * uw) * k.drift;
+                let (dx, dy, dt) = (d.dash.fx[lo + i], d.dash.fy[lo + i], d.dash.t[lo + i]);
+                o.damp_contact -= (dx * ux + dy * uy + dt * uw) * k.kick;
             }
         }
     }
@@ -218,6 +228,7 @@ unsafe fn chunk_best<const E: bool, const DAMP: bool, const VISC: bool>(
 /// do not depend on the thread count.
 pub fn integrate_discs(
     d: &mut Discs,
+    dash: &Dashpot,
     c: &DiscCache,
     x0: &[f64],
     y0: &[f64],
@@ -255,6 +266,7 @@ pub fn integrate_discs(
         fy,
         torque,
         fixed,
+        dash,
     };
     let dr = &dr;
     let nchunks = n.div_ceil(CHUNK);

@@ -143,6 +143,7 @@ impl World {
                 img,
                 dt,
                 track,
+                &mut self.slots.dashpot,
             );
             e.add(&ew);
         }
@@ -166,6 +167,7 @@ impl World {
         };
         let mut moved = integrate::integrate_discs(
             &mut self.state.discs,
+            &self.slots.dashpot,
             &self.cache,
             &self.nb.x0,
             &self.nb.y0,
@@ -181,6 +183,7 @@ impl World {
             let mc = clump::step_clumps(
                 &mut self.state,
                 &self.index_of_id,
+                &self.slots.dashpot,
                 &visc,
                 &self.nb.x0,
                 &self.nb.y0,
@@ -530,7 +533,7 @@ impl World {
         a.kin_rot = m.ke_rot;
         a.strain_contact = e.strain;
         a.grav_pot = m.grav_pot;
-        a.damp_contact += e.damp;
+        a.damp_contact += e.damp + m.damp_contact;
         a.damp_body += m.damp;
         a.friction += e.fric;
         a.fixed_work += m.boundary_work;

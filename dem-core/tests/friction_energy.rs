@@ -5,7 +5,8 @@
 //! |k_s u_s| ≈ c_t |v_t|, independent of Δt, so the loss is large and does not vanish with Δt.
 //! The slip itself is booked as the energy the reset takes out of the spring,
 //! ½ k_s (u₁² − u_slip²); the former f_max |Δu_s| over-counted it when a tangential dashpot
-//! acts (the balance error of this impact was 0.16).
+//! acts (the balance error of this impact was 0.16; with the slip booked as the trapezoid
+//! ½ k_s (u_old + u_slip)(u₁ − u_slip) and the dashpots booked with mean velocities, 1.8e-4).
 
 use dem_core::contact::{LinearSpringDashpot, NormalDamping};
 use dem_core::{ContactLaws, ContactModel, Params, State, World};
@@ -51,7 +52,7 @@ fn energy_of_tangential_spring_at_opening_is_booked() {
     // Friction is negative here: the slip resets extend the spring against the dashpot.
     assert!(e.friction != 0.0 && e.damping > 0.0);
     assert!(
-        e.balance_error.abs() < 1e-2,
+        e.balance_error.abs() < 1e-3,
         "balance error {:.3e}",
         e.balance_error
     );

@@ -18,8 +18,9 @@ use rayon::prelude::*;
 /// Discs per work chunk (fixed so that reductions do not depend on the thread count).
 pub const CHUNK: usize = 512;
 
-/// Energies of one force pass: strain (stored, at this step), dissipated in dashpots and
-/// friction during this step.
+/// Energies of one force pass: strain (stored, at this step), dissipated by friction during
+/// this step, and (walls only) the part F_d · v_wall Δt of the wall dashpots' dissipation; the
+/// dashpot forces themselves are summed per disc into [`Dashpot`] for the integration pass.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct PassEnergy {
     pub strain: f64,
@@ -35,9 +36,38 @@ impl PassEnergy {
     }
 }
 
+/// Per-disc sums of the contact dashpot forces and torques of this step (filled only when
+/// energy is tracked). The integration pass books their dissipation as
+/// −(F_d · v̄ + T_d ω̄) Δt with v̄ the mean of the half-step velocities around t, the velocity
+/// the kinetic energy uses: for central differences ½m(v₊² − v₋²) = F · v̄ Δt exactly, so the
+/// balance closes to O(Δt²); F_d · v(t − Δt/2) Δt (the former bookkeeping) is off by O(Δt).
+#[derive(Clone, Debug, Default)]
+pub struct Dashpot {
+    pub fx: Vec<f64>,
+    pub fy: Vec<f64>,
+    pub t: Vec<f64>,
+}
+
+impl Dashpot {
+    /// Zeroed sums for `n` discs.
+    pub fn reset(&mut self, n: usize) {
+        for v in [&mut self.fx, &mut self.fy, &mut self.t] {
+            v.clear();
+            v.resize(n, 0.0);
+        }
+    }
+}
+
 /// Per-pair force slots for the parallel pass (fx, fy on j; torques on i and j).
 #[derive(Clone, Debug, Default)]
 pub struct Slots {
+    /// Per-disc dashpot sums of this step (energy tracking only).
+    pub dashpot: Dashpot,
+    /// Per-pair dashpot slots of the parallel pass (energy tracking only).
+    pub dfx: Vec<f64>,
+    pub dfy: Vec<f64>,
+    pub dti: Vec<f64>,
+    pub dtj: Vec<f64>,
     /// Block scratch of the serial pass (allocated once).
     pub scratch: Box<Scratch>,
     pub fx: Vec<f64>,
@@ -93,6 +123,9 @@ pub fn compute(
 ) -> PassEnergy {
     assert!(valid(d, nb, minv), "neighbour list out of date");
     nb.verified = true;
+    if track_energy {
+        slots.dashpot.reset(d.len());
+    }
     let uniform = laws.n_materials() == 1 && !laws.any_rolling();
     let a = (d, nb, minv, img, dt, track_energy, slots);
     match (uniform, laws.models()[0]) {
@@ -119,8 +152,8 @@ fn run<L: PairLaw>(a: Args, law: &L) -> PassEnergy {
     let (d, nb, minv, img, dt, track, slots) = a;
     let parallel = rayon::current_num_threads() > 1 && d.len() > 2 * CHUNK;
     match (track, parallel) {
-        (true, false) => serial::<true, L>(d, nb, minv, law, img, dt, &mut slots.scratch),
-        (false, false) => serial::<false, L>(d, nb, minv, law, img, dt, &mut slots.scratch),
+        (true, false) => serial::<true, L>(d, nb, minv, law, img, dt, slots),
+        (false, false) => serial::<false, L>(d, nb, minv, law, img, dt, slots),
         (true, true) => parallel_pass::<true, L>(d, nb, minv, law, img, dt, slots),
         (false, true) => parallel_pass::<false, L>(d, nb, minv, law, img, dt, slots),
     }
@@ -133,9 +166,12 @@ fn serial<const E: bool, L: PairLaw>(
     law: &L,
     img: MinImage,
     dt: f64,
-    scratch: &mut Scratch,
+    slots: &mut Slots,
 ) -> PassEnergy {
     let n = d.len();
+    let Slots {
+        scratch, dashpot, ..
+    } = slots;
     let Discs {
         x,
         y,
@@ -174,6 +210,7 @@ fn serial<const E: bool, L: PairLaw>(
         let hi = (lo + CHUNK).min(n);
         let mut e = PassEnergy::default();
         let (mut i, mut ax, mut ay, mut at) = (lo, 0.0, 0.0, 0.0);
+        let (mut bx, mut by, mut bt) = (0.0, 0.0, 0.0);
         let mut gi = lo;
         let (mut p, pend) = (c.start[lo] as usize, c.start[hi] as usize);
         while p < pend {
@@ -187,6 +224,12 @@ fn serial<const E: bool, L: PairLaw>(
                     fy[i] += ay;
                     torque[i] += at;
                     (ax, ay, at) = (0.0, 0.0, 0.0);
+                    if E {
+                        dashpot.fx[i] += bx;
+                        dashpot.fy[i] += by;
+                        dashpot.t[i] += bt;
+                        (bx, by, bt) = (0.0, 0.0, 0.0);
+                    }
                     i += 1;
                 }
                 // Pairs not in contact add zeros, exactly as the parallel gather does.
@@ -202,6 +245,14 @@ fn serial<const E: bool, L: PairLaw>(
                     *torque.get_unchecked_mut(j) += f3;
                     *us.get_unchecked_mut(pp) = sc.us[k];
                 }
+                if E {
+                    bx -= sc.dfx[k];
+                    by -= sc.dfy[k];
+                    bt += sc.dti[k];
+                    dashpot.fx[j] += sc.dfx[k];
+                    dashpot.fy[j] += sc.dfy[k];
+                    dashpot.t[j] += sc.dtj[k];
+                }
             }
             p += q;
         }
@@ -210,6 +261,12 @@ fn serial<const E: bool, L: PairLaw>(
             fy[i] += ay;
             torque[i] += at;
             (ax, ay, at) = (0.0, 0.0, 0.0);
+            if E {
+                dashpot.fx[i] += bx;
+                dashpot.fy[i] += by;
+                dashpot.t[i] += bt;
+                (bx, by, bt) = (0.0, 0.0, 0.0);
+            }
             i += 1;
         }
         total.add(&e);
@@ -256,6 +313,11 @@ fn parallel_pass<const E: bool, L: PairLaw>(
     for v in [&mut s.fx, &mut s.fy, &mut s.ti, &mut s.tj] {
         v.resize(np, 0.0);
     }
+    if E {
+        for v in [&mut s.dfx, &mut s.dfy, &mut s.dti, &mut s.dtj] {
+            v.resize(np, 0.0);
+        }
+    }
     let nchunks = n.div_ceil(CHUNK);
     {
         let c = Ctx {
@@ -281,6 +343,13 @@ fn parallel_pass<const E: bool, L: PairLaw>(
             SyncPtr(s.fy.as_mut_ptr()),
             SyncPtr(s.ti.as_mut_ptr()),
             SyncPtr(s.tj.as_mut_ptr()),
+        ];
+        // Only dereferenced when E (then the four arrays have length np).
+        let dptr = [
+            SyncPtr(s.dfx.as_mut_ptr()),
+            SyncPtr(s.dfy.as_mut_ptr()),
+            SyncPtr(s.dti.as_mut_ptr()),
+            SyncPtr(s.dtj.as_mut_ptr()),
         ];
         let avx2 = has_avx2();
         (0..nchunks)
@@ -311,6 +380,15 @@ fn parallel_pass<const E: bool, L: PairLaw>(
                         fy.copy_from_slice(&sc.fy[..q]);
                         ti.copy_from_slice(&sc.ti[..q]);
                         tj.copy_from_slice(&sc.tj[..q]);
+                        if E {
+                            // SAFETY: as above; the dashpot slots have length np when E.
+                            unsafe {
+                                dptr[0].slice(p, q).copy_from_slice(&sc.dfx[..q]);
+                                dptr[1].slice(p, q).copy_from_slice(&sc.dfy[..q]);
+                                dptr[2].slice(p, q).copy_from_slice(&sc.dti[..q]);
+                                dptr[3].slice(p, q).copy_from_slice(&sc.dtj[..q]);
+                            }
+                        }
                         p += q;
                     }
                     e
@@ -318,13 +396,39 @@ fn parallel_pass<const E: bool, L: PairLaw>(
             })
             .collect_into_vec(&mut s.chunk_energy);
     }
-    // Gather: partner-side slots in pair order, then the disc's own pairs.
+    gather(
+        nb,
+        [&s.fx, &s.fy, &s.ti, &s.tj],
+        [&mut d.fx, &mut d.fy, &mut d.torque],
+    );
+    if E {
+        let dp = &mut s.dashpot;
+        gather(
+            nb,
+            [&s.dfx, &s.dfy, &s.dti, &s.dtj],
+            [&mut dp.fx, &mut dp.fy, &mut dp.t],
+        );
+    }
+    let mut total = PassEnergy::default();
+    for e in &s.chunk_energy {
+        total.add(e);
+    }
+    total
+}
+
+/// Per-disc sums of per-pair slots (force on j, torques on i and j): each disc adds its
+/// partner-side slots in pair order, then the sum of its own pairs, the order of the serial
+/// scatter (bit-identical results). The output arrays have length n.
+fn gather(nb: &Neighbors, slots: [&Vec<f64>; 4], outs: [&mut Vec<f64>; 3]) {
+    let n = nb.start.len() - 1;
+    let nchunks = n.div_ceil(CHUNK);
     let (start, rstart, rpair) = (&nb.start, &nb.rstart, &nb.rpair);
-    let (sfx, sfy, sti, stj) = (&s.fx, &s.fy, &s.ti, &s.tj);
+    let [sfx, sfy, sti, stj] = slots;
+    let [o0, o1, o2] = outs;
     let out = [
-        SyncPtr(d.fx.as_mut_ptr()),
-        SyncPtr(d.fy.as_mut_ptr()),
-        SyncPtr(d.torque.as_mut_ptr()),
+        SyncPtr(o0.as_mut_ptr()),
+        SyncPtr(o1.as_mut_ptr()),
+        SyncPtr(o2.as_mut_ptr()),
     ];
     (0..nchunks).into_par_iter().for_each(|ch| {
         let (lo, hi) = (ch * CHUNK, ((ch + 1) * CHUNK).min(n));
@@ -355,9 +459,4 @@ fn parallel_pass<const E: bool, L: PairLaw>(
             *tk += at;
         }
     });
-    let mut total = PassEnergy::default();
-    for e in &s.chunk_energy {
-        total.add(e);
-    }
-    total
 }

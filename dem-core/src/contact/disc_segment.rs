@@ -7,12 +7,16 @@
 //! velocity. The wall records the force the discs exert on it, its moment about `center`,
 //! and the work it does on the discs, W += −F·v_w Δt. Fixed discs do not touch walls.
 
-use super::{disc_disc::PassEnergy, ContactLaws, PairKin};
+use super::disc_disc::{Dashpot, PassEnergy};
+use super::{ContactLaws, PairKin};
 use crate::neighbors::{closest_on_segment, MinImage, WallPairs};
 use crate::state::{Discs, Wall};
 
 /// Add disc–wall forces to discs and record wall reactions (serial: walls are few and the
-/// list is ordered by wall then disc, so sums are deterministic).
+/// list is ordered by wall then disc, so sums are deterministic). When `track_energy`, the
+/// dashpot forces on the discs are added to `dash` (zeroed by the disc–disc pass) and the
+/// dissipation's wall part F_d · v_w Δt to the returned energy (the disc part −F_d · v̄ Δt is
+/// booked by the integration pass: together −F_d · (v̄ − v_w) Δt).
 #[allow(clippy::too_many_arguments)]
 pub fn compute(
     d: &mut Discs,
@@ -23,6 +27,7 @@ pub fn compute(
     img: MinImage,
     dt: f64,
     track_energy: bool,
+    dash: &mut Dashpot,
 ) -> PassEnergy {
     let mut e = PassEnergy::default();
     for w in walls.iter_mut() {
@@ -102,7 +107,11 @@ pub fn compute(
         w.work += -(fx * vwx + fy * vwy) * dt;
         if track_energy {
             e.strain += o.e_strain;
-            e.damp += o.e_damp;
+            let (dwx, dwy) = (o.d_n * nx - o.d_t * ny, o.d_n * ny + o.d_t * nx);
+            dash.fx[k] -= dwx;
+            dash.fy[k] -= dwy;
+            dash.t[k] += -r * o.d_t;
+            e.damp -= (dwx * vwx + dwy * vwy) * dt;
             e.fric += o.e_fric;
         }
     }

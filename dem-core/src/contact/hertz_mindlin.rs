@@ -83,7 +83,8 @@ impl HertzMindlin {
         let cn = self.eta * (k.m_eff * sn).sqrt();
         let ct = self.eta * (k.m_eff * st).sqrt();
         let f_n = f_el - cn * k.vn;
-        let us1 = *us + k.vt * k.dt;
+        let u0 = *us;
+        let us1 = u0 + k.vt * k.dt;
         let ft0 = -st * us1 - ct * k.vt;
         let f_max = self.mu * f_n.max(0.0);
         let slip = ft0.abs() > f_max;
@@ -101,15 +102,19 @@ impl HertzMindlin {
             ..PairOut::default()
         };
         if E {
-            // Energy taken out of the tangential spring by the slip reset u_s¹ → u_s^slip
-            // (→ f_max |Δu_s| for small slips without a tangential dashpot; with one it may
-            // be negative: limiting the total force makes the spring carry −c_t v_t).
+            // Slip work of the spring: its mean force over the step (trapezoid of the old and
+            // the new spring force) times the slip u_s¹ − u_s^slip. Without slip the same
+            // trapezoid equals the change of ½ k u_s², so this is what the spring energy
+            // does not account for: f_max |Δu_s| in steady slip, the whole stored energy when
+            // F_n drops, and possibly negative with a tangential dashpot (limiting the total
+            // force makes the spring carry −c_t v_t).
             out.e_fric = if slip {
-                0.5 * st * (us1 * us1 - us_s * us_s)
+                0.5 * st * (u0 + us_s) * (us1 - us_s)
             } else {
                 0.0
             };
-            out.e_damp = (cn * k.vn * k.vn + ct * k.vt * k.vt) * k.dt;
+            out.d_n = -cn * k.vn;
+            out.d_t = -ct * k.vt;
             out.e_strain = 0.4 * f_el * k.delta + 0.5 * st * *us * *us;
         }
         out

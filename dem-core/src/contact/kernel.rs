@@ -170,8 +170,12 @@ pub struct Scratch {
     pub(crate) ti: [f64; BLOCK],
     pub(crate) tj: [f64; BLOCK],
     es: [f64; BLOCK],
-    ed: [f64; BLOCK],
     ef: [f64; BLOCK],
+    /// Dashpot force on j and dashpot torques on i, j (energy tracking only).
+    pub(crate) dfx: [f64; BLOCK],
+    pub(crate) dfy: [f64; BLOCK],
+    pub(crate) dti: [f64; BLOCK],
+    pub(crate) dtj: [f64; BLOCK],
 }
 
 impl std::fmt::Debug for Scratch {
@@ -204,8 +208,11 @@ impl Default for Scratch {
             ti: z,
             tj: z,
             es: z,
-            ed: z,
             ef: z,
+            dfx: z,
+            dfy: z,
+            dti: z,
+            dtj: z,
         }
     }
 }
@@ -322,7 +329,11 @@ fn eval<const E: bool, L: PairLaw>(law: &L, dt: f64, s: &mut Scratch) {
         s.tj[k] = if touch { tj } else { 0.0 };
         if E {
             s.es[k] = if touch { o.e_strain + roll[2] } else { 0.0 };
-            s.ed[k] = if touch { o.e_damp } else { 0.0 };
+            let (dn, dt_) = (o.d_n, o.d_t);
+            s.dfx[k] = if touch { dn * nx - dt_ * ny } else { 0.0 };
+            s.dfy[k] = if touch { dn * ny + dt_ * nx } else { 0.0 };
+            s.dti[k] = if touch { -ai * dt_ } else { 0.0 };
+            s.dtj[k] = if touch { -aj * dt_ } else { 0.0 };
             s.ef[k] = if touch { o.e_fric + roll[1] } else { released };
         }
     }
@@ -392,7 +403,6 @@ pub(crate) fn block<const E: bool, L: PairLaw>(
     if E {
         for k in 0..q {
             e.strain += s.es[k];
-            e.damp += s.ed[k];
             e.fric += s.ef[k];
         }
     }

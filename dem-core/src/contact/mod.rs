@@ -51,7 +51,10 @@ pub struct PairOut {
     pub f_n: f64,
     pub f_t: f64,
     pub e_strain: f64,
-    pub e_damp: f64,
+    /// Dashpot parts of F_n and F_t (−c_n v_n, −c_t v_t): their dissipation is booked with
+    /// the mean of the half-step velocities by the integration pass (see [`crate::energy`]).
+    pub d_n: f64,
+    pub d_t: f64,
     pub e_fric: f64,
 }
 
