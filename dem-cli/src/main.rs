@@ -6,6 +6,7 @@ use std::process::ExitCode;
 
 mod bench;
 mod clump;
+mod run;
 
 #[derive(Parser)]
 #[command(name = "dem", version, about = "2D DEM of brittle-material machining")]
@@ -18,6 +19,8 @@ struct Cli {
 enum Command {
     /// Grain outlines (files or folders) to disc-clump templates (improved ORC or ORC).
     Clump(clump::ClumpArgs),
+    /// Run a scene file (JSON, docs/scene-schema.md) with its outputs.
+    Run(run::RunArgs),
     /// Speed benchmarks; the last line printed is the figure.
     #[command(subcommand)]
     Bench(bench::BenchKind),
@@ -27,6 +30,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Clump(a) => clump::run(a),
+        Command::Run(a) => run::run(a),
         Command::Bench(k) => bench::run(k),
     };
     match result {

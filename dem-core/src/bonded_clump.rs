@@ -24,6 +24,7 @@
 //! of thickness t gets masses m_i·t/t_tpl (same density).
 
 use crate::bond::{BondError, Bonds};
+use crate::pipeline::World;
 use crate::state::State;
 use clumpgen::Template;
 
@@ -111,8 +112,10 @@ pub fn place_bonded_clump_in(
     }
     let scale = st.thickness / tpl.thickness;
     let (s, c) = p.angle.sin_cos();
+    // Fresh ids above every existing one (ids stay unique after reorders and removals).
+    let first_id = st.discs.id.iter().map(|&i| i + 1).max().unwrap_or(0);
     let mut discs = Vec::with_capacity(tpl.discs.len());
-    for d in &tpl.discs {
+    for (id, d) in (first_id..).zip(&tpl.discs) {
         let x = st.periodic.wrap(0, p.x + c * d.x - s * d.y);
         let y = st.periodic.wrap(1, p.y + s * d.x + c * d.y);
         let m = d.m * scale;
@@ -120,6 +123,7 @@ pub fn place_bonded_clump_in(
             .discs
             .push(x, y, d.r, m, 0.5 * m * d.r * d.r, p.material, p.grain);
         st.discs.theta[k] = p.angle;
+        st.discs.id[k] = id;
         discs.push(k);
     }
     let n = discs.len();
@@ -201,4 +205,22 @@ impl UnionFind {
         self.size[a] += self.size[b];
         true
     }
+}
+
+/// Add a bonded clump to a running world: members go into `world.state`, intra bonds into
+/// `world.bonds` (which must exist), the overlapping pairs' reference gaps into the world's
+/// contact-offset table; the world is refreshed (neighbours, time step). Returns the member
+/// disc indices, valid until the next step (which may reorder discs; ids are stable).
+pub fn place_bonded_clump(
+    world: &mut World,
+    tpl: &Template,
+    p: &Placement,
+) -> Result<Vec<usize>, BondError> {
+    let bonds = world.bonds.as_mut().ok_or(BondError::NoBondStage)?;
+    let placed = place_bonded_clump_in(&mut world.state, bonds, tpl, p)?;
+    for &(a, b, g0) in &placed.offsets {
+        world.set_contact_offset(a, b, g0);
+    }
+    world.refresh();
+    Ok(placed.discs)
 }

@@ -42,8 +42,8 @@ pub struct Moved {
     pub boundary_work: f64,
     /// Gravitational potential −Σ m g·x at time t (J).
     pub grav_pot: f64,
-    /// Largest squared displacement since the last neighbour build.
-    pub max_disp2: f64,
+    /// Whether some disc moved more than the rebuild limit since the last neighbour build.
+    pub exceeded: bool,
 }
 
 impl Moved {
@@ -53,7 +53,7 @@ impl Moved {
         self.damp += o.damp;
         self.boundary_work += o.boundary_work;
         self.grav_pot += o.grav_pot;
-        self.max_disp2 = self.max_disp2.max(o.max_disp2);
+        self.exceeded |= o.exceeded;
     }
 }
 
@@ -77,6 +77,8 @@ pub struct Kick {
     pub alpha: f64,
     pub gravity: [f64; 2],
     pub track: bool,
+    /// Squared displacement (since the last neighbour build) that calls for a rebuild.
+    pub disp2_limit: f64,
 }
 
 #[derive(Clone, Copy)]
@@ -94,13 +96,16 @@ struct Ro<'a> {
     fixed: &'a [bool],
 }
 
-/// One chunk [lo, hi) of the disc pass.
+/// One chunk [lo, hi) of the disc pass. Every disc gets the same branch-free update (1/m = 0
+/// leaves fixed discs and clump members at their velocity; members are then placed by the
+/// clump pass), so the loop vectorises; energies are summed only when `E`.
 ///
 /// # Safety
 /// `p` points to the x, y, theta, vx, vy, omega arrays of length ≥ hi, and no other thread
 /// touches indices in [lo, hi).
+#[inline(always)]
 #[allow(clippy::too_many_arguments)]
-unsafe fn chunk(
+unsafe fn chunk<const E: bool, const DAMP: bool, const VISC: bool>(
     p: &[Ptr; 6],
     d: &Ro,
     c: &DiscCache,
@@ -112,53 +117,101 @@ unsafe fn chunk(
 ) -> Moved {
     let mut o = Moved::default();
     let [gx, gy] = k.gravity;
-    for i in lo..hi {
-        let x = &mut *p[0].0.add(i);
-        let y = &mut *p[1].0.add(i);
-        let th = &mut *p[2].0.add(i);
-        let vx = &mut *p[3].0.add(i);
-        let vy = &mut *p[4].0.add(i);
-        let w = &mut *p[5].0.add(i);
-        let im = c.inv_m[i];
-        if im > 0.0 {
-            let m = d.m[i];
-            let (mut fx, mut fy, mut t) = (d.fx[i] + m * gx, d.fy[i] + m * gy, d.torque[i]);
-            let (fx0, fy0, t0) = (fx, fy, t);
-            if k.alpha > 0.0 {
-                fx -= k.alpha * fx.abs() * sgn(*vx);
-                fy -= k.alpha * fy.abs() * sgn(*vy);
-                t -= k.alpha * t.abs() * sgn(*w);
-            }
-            if !c.visc_t.is_empty() {
-                fx -= c.visc_t[i] * *vx;
-                fy -= c.visc_t[i] * *vy;
-                t -= c.visc_r[i] * *w;
-            }
-            let (ux, uy, uw) = (*vx, *vy, *w);
-            *vx += fx * im * k.kick;
-            *vy += fy * im * k.kick;
-            *w += t * c.inv_i[i] * k.kick;
-            if k.track {
-                let (ax, ay, aw) = (0.5 * (ux + *vx), 0.5 * (uy + *vy), 0.5 * (uw + *w));
-                o.ke_trans += 0.5 * m * (ax * ax + ay * ay);
-                o.ke_rot += 0.5 * d.inertia[i] * aw * aw;
-                o.damp -= ((fx - fx0) * ax + (fy - fy0) * ay + (t - t0) * aw) * k.kick;
-                o.grav_pot -= m * (gx * *x + gy * *y);
-            }
-        } else if d.fixed[i] {
-            if k.track {
-                o.boundary_work -= (d.fx[i] * *vx + d.fy[i] * *vy + d.torque[i] * *w) * k.drift;
-            }
-        } else {
-            continue; // member of a rigid clump: moved by the clump pass
+    let n = hi - lo;
+    let x = std::slice::from_raw_parts_mut(p[0].0.add(lo), n);
+    let y = std::slice::from_raw_parts_mut(p[1].0.add(lo), n);
+    let th = std::slice::from_raw_parts_mut(p[2].0.add(lo), n);
+    let vx = std::slice::from_raw_parts_mut(p[3].0.add(lo), n);
+    let vy = std::slice::from_raw_parts_mut(p[4].0.add(lo), n);
+    let w = std::slice::from_raw_parts_mut(p[5].0.add(lo), n);
+    let (m, inertia) = (&d.m[lo..hi], &d.inertia[lo..hi]);
+    let (fx, fy, tq) = (&d.fx[lo..hi], &d.fy[lo..hi], &d.torque[lo..hi]);
+    let (im, ii) = (&c.inv_m[lo..hi], &c.inv_i[lo..hi]);
+    let (x0, y0) = (&x0[lo..hi], &y0[lo..hi]);
+    let (cvt, cvr) = if VISC {
+        (&c.visc_t[lo..hi], &c.visc_r[lo..hi])
+    } else {
+        (&c.inv_m[lo..hi], &c.inv_m[lo..hi])
+    };
+    let fixed = &d.fixed[lo..hi];
+    let mut exceeded = false;
+    for i in 0..n {
+        let (mut ax, mut ay, mut at) = (fx[i] + m[i] * gx, fy[i] + m[i] * gy, tq[i]);
+        let (f0x, f0y, t0) = (ax, ay, at);
+        let (ux, uy, uw) = (vx[i], vy[i], w[i]);
+        if DAMP {
+            ax -= k.alpha * ax.abs() * sgn(ux);
+            ay -= k.alpha * ay.abs() * sgn(uy);
+            at -= k.alpha * at.abs() * sgn(uw);
         }
-        *x += *vx * k.drift;
-        *y += *vy * k.drift;
-        *th += *w * k.drift;
-        let (dx, dy) = (*x - x0[i], *y - y0[i]);
-        o.max_disp2 = o.max_disp2.max(dx * dx + dy * dy);
+        if VISC {
+            ax -= cvt[i] * ux;
+            ay -= cvt[i] * uy;
+            at -= cvr[i] * uw;
+        }
+        let (nvx, nvy, nw) = (
+            ux + ax * im[i] * k.kick,
+            uy + ay * im[i] * k.kick,
+            uw + at * ii[i] * k.kick,
+        );
+        vx[i] = nvx;
+        vy[i] = nvy;
+        w[i] = nw;
+        let (xo, yo) = (x[i], y[i]);
+        x[i] = xo + nvx * k.drift;
+        y[i] = yo + nvy * k.drift;
+        th[i] += nw * k.drift;
+        let (dx, dy) = (x[i] - x0[i], y[i] - y0[i]);
+        exceeded |= dx * dx + dy * dy > k.disp2_limit;
+        if E {
+            if im[i] > 0.0 {
+                let (mx, my, mw) = (0.5 * (ux + nvx), 0.5 * (uy + nvy), 0.5 * (uw + nw));
+                o.ke_trans += 0.5 * m[i] * (mx * mx + my * my);
+                o.ke_rot += 0.5 * inertia[i] * mw * mw;
+                o.damp -= ((ax - f0x) * mx + (ay - f0y) * my + (at - t0) * mw) * k.kick;
+                o.grav_pot -= m[i] * (gx * xo + gy * yo);
+            } else if fixed[i] {
+                o.boundary_work -= (fx[i] * ux + fy[i] * uy + tq[i] * uw) * k.drift;
+            }
+        }
     }
+    o.exceeded = exceeded;
     o
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[allow(clippy::too_many_arguments)]
+unsafe fn chunk_avx2<const E: bool, const DAMP: bool, const VISC: bool>(
+    p: &[Ptr; 6],
+    d: &Ro,
+    c: &DiscCache,
+    x0: &[f64],
+    y0: &[f64],
+    k: &Kick,
+    lo: usize,
+    hi: usize,
+) -> Moved {
+    chunk::<E, DAMP, VISC>(p, d, c, x0, y0, k, lo, hi)
+}
+
+/// Dispatch on the instruction set (same bits either way: no FMA contraction).
+#[allow(clippy::too_many_arguments)]
+unsafe fn chunk_best<const E: bool, const DAMP: bool, const VISC: bool>(
+    p: &[Ptr; 6],
+    d: &Ro,
+    c: &DiscCache,
+    x0: &[f64],
+    y0: &[f64],
+    k: &Kick,
+    lo: usize,
+    hi: usize,
+) -> Moved {
+    #[cfg(target_arch = "x86_64")]
+    if std::is_x86_feature_detected!("avx2") {
+        return chunk_avx2::<E, DAMP, VISC>(p, d, c, x0, y0, k, lo, hi);
+    }
+    chunk::<E, DAMP, VISC>(p, d, c, x0, y0, k, lo, hi)
 }
 
 /// Integrate all free and fixed discs; chunked like the force pass so that the reported sums
@@ -209,7 +262,32 @@ pub fn integrate_discs(
         let (lo, hi) = (ch * CHUNK, ((ch + 1) * CHUNK).min(n));
         // SAFETY: chunks are disjoint index ranges of the six arrays (length n) behind `p`,
         // which `dr` does not borrow.
-        unsafe { chunk(&p, dr, c, x0, y0, k, lo, hi) }
+        unsafe {
+            match (k.track, k.alpha > 0.0, !c.visc_t.is_empty()) {
+                (false, false, false) => {
+                    chunk_best::<false, false, false>(&p, dr, c, x0, y0, k, lo, hi)
+                }
+                (false, true, false) => {
+                    chunk_best::<false, true, false>(&p, dr, c, x0, y0, k, lo, hi)
+                }
+                (false, false, true) => {
+                    chunk_best::<false, false, true>(&p, dr, c, x0, y0, k, lo, hi)
+                }
+                (false, true, true) => {
+                    chunk_best::<false, true, true>(&p, dr, c, x0, y0, k, lo, hi)
+                }
+                (true, false, false) => {
+                    chunk_best::<true, false, false>(&p, dr, c, x0, y0, k, lo, hi)
+                }
+                (true, true, false) => {
+                    chunk_best::<true, true, false>(&p, dr, c, x0, y0, k, lo, hi)
+                }
+                (true, false, true) => {
+                    chunk_best::<true, false, true>(&p, dr, c, x0, y0, k, lo, hi)
+                }
+                (true, true, true) => chunk_best::<true, true, true>(&p, dr, c, x0, y0, k, lo, hi),
+            }
+        }
     };
     let mut total = Moved::default();
     if rayon::current_num_threads() > 1 && n > 2 * CHUNK {
@@ -226,4 +304,24 @@ pub fn integrate_discs(
         }
     }
     total
+}
+
+/// Move walls rigidly: rotate by ω dt about `center`, then translate by v dt.
+pub fn advance_walls(walls: &mut [crate::state::Wall], dt: f64) {
+    for w in walls {
+        if w.omega != 0.0 {
+            let (s, c) = (w.omega * dt).sin_cos();
+            for p in [&mut w.a, &mut w.b] {
+                let (rx, ry) = (p[0] - w.center[0], p[1] - w.center[1]);
+                p[0] = w.center[0] + c * rx - s * ry;
+                p[1] = w.center[1] + s * rx + c * ry;
+            }
+        }
+        if w.v != [0.0, 0.0] {
+            for p in [&mut w.a, &mut w.b, &mut w.center] {
+                p[0] += w.v[0] * dt;
+                p[1] += w.v[1] * dt;
+            }
+        }
+    }
 }

@@ -17,6 +17,7 @@
 pub mod bench;
 pub mod bond;
 pub mod bonded_clump;
+pub mod checkpoint;
 pub mod clump;
 pub mod contact;
 pub mod counters;
@@ -32,10 +33,11 @@ pub mod scene;
 pub mod specimen;
 pub mod state;
 pub mod timestep;
+pub mod validate;
 
 pub use contact::{ContactLaws, ContactModel, ContactView, HertzMindlin, LinearSpringDashpot};
 pub use energy::EnergyReport;
 pub use guard::GuardError;
 pub use params::Params;
-pub use pipeline::{World, WorldError};
+pub use pipeline::{ExternalLoad, World, WorldError};
 pub use state::{Clumps, Discs, Periodic, State, Wall, FREE};

@@ -12,25 +12,24 @@ use crate::neighbors::{pair_key, reorder, MinImage, Neighbors};
 use crate::params::Params;
 use crate::state::{State, FREE};
 use crate::timestep;
+use crate::validate::validate;
+pub use crate::validate::WorldError;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::time::Instant;
 
-/// Bad input to [`World::try_new`].
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-pub enum WorldError {
-    #[error("disc {id}: {reason}")]
-    Disc { id: u32, reason: String },
-    #[error("clump {index}: {reason}")]
-    Clump { index: usize, reason: String },
-    #[error("material {material} has no contact law (the table has {n} materials)")]
-    Material { material: u16, n: usize },
-    #[error("periodic box: {0}")]
-    Periodic(String),
-    #[error("parameters: {0}")]
-    Params(String),
-    #[error("cannot set the time step: {0}")]
-    TimeStep(String),
+/// The automatic step is raised only when the new estimate exceeds the current step by this
+/// factor (it is lowered at once).
+pub const DT_RAISE: f64 = 2.0;
+
+/// A constant external force and torque on one disc (by stable id), applied every step
+/// (e.g. a tip load, or a torque on a clump member, which acts on the whole clump). Its work
+/// counts as boundary work in the energy balance.
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq)]
+pub struct ExternalLoad {
+    pub id: u32,
+    pub force: [f64; 2],
+    pub torque: f64,
 }
 
 /// The simulation: everything a checkpoint needs (all but `counters` is serialized, and a
@@ -41,6 +40,8 @@ pub struct World {
     pub params: Params,
     pub laws: ContactLaws,
     pub bonds: Option<Bonds>,
+    /// External loads applied every step (empty = none).
+    pub loads: Vec<ExternalLoad>,
     #[serde(skip)]
     pub counters: Counters,
     pub(crate) nb: Neighbors,
@@ -52,7 +53,7 @@ pub struct World {
     pub(crate) dt_prev: f64,
     pub(crate) dt_crit: f64,
     pub(crate) energy: EnergyAcc,
-    pub(crate) max_disp2: f64,
+    pub(crate) moved_too_far: bool,
     pub(crate) rebuild_requested: bool,
     #[serde(skip)]
     pub(crate) slots: Slots,
@@ -82,6 +83,7 @@ impl World {
             params,
             laws,
             bonds: None,
+            loads: Vec::new(),
             counters: Counters::default(),
             nb: Neighbors::default(),
             cache: DiscCache::default(),
@@ -91,7 +93,7 @@ impl World {
             dt_prev: 0.0,
             dt_crit: 0.0,
             energy: EnergyAcc::default(),
-            max_disp2: 0.0,
+            moved_too_far: false,
             rebuild_requested: true,
             slots: Slots::default(),
             parts: Vec::new(),
@@ -129,6 +131,7 @@ impl World {
             track,
             &mut self.slots,
         );
+        self.apply_loads();
         let t2 = Counters::lap(&mut self.counters.contacts, t1);
         if !self.state.walls.is_empty() {
             let ew = disc_segment::compute(
@@ -154,6 +157,12 @@ impl World {
             alpha: self.params.local_damping,
             gravity: self.params.gravity.unwrap_or([0.0; 2]),
             track,
+            disp2_limit: 0.25 * self.nb.skin * self.nb.skin,
+        };
+        let w_before = if track && !self.loads.is_empty() {
+            self.load_work(dt)
+        } else {
+            0.0
         };
         let mut moved = integrate::integrate_discs(
             &mut self.state.discs,
@@ -179,8 +188,13 @@ impl World {
             );
             moved.add(&mc);
         }
-        advance_walls(&mut self.state.walls, dt);
-        self.max_disp2 = moved.max_disp2;
+        integrate::advance_walls(&mut self.state.walls, dt);
+        if track && !self.loads.is_empty() {
+            // F · (v(t − dt/2) + v(t + dt/2))/2 · dt: the discrete work-energy identity of
+            // central differences.
+            moved.boundary_work += 0.5 * (w_before + self.load_work(dt));
+        }
+        self.moved_too_far = moved.exceeded;
         if track {
             self.account(&e, &moved);
         }
@@ -253,11 +267,13 @@ impl World {
         self.rebuild_requested = true;
     }
 
-    /// Force a neighbour rebuild (and time-step update) at the next step: call after editing
-    /// positions, radii, masses, fixed flags or materials of discs directly.
+    /// Rebuild the neighbour list and take a fresh time-step estimate (without the raise
+    /// hysteresis) now: call after editing positions, radii, masses, fixed flags or materials
+    /// of discs, or the time-step parameters, directly.
     pub fn refresh(&mut self) {
-        self.rebuild_requested = true;
         self.rebuild_index();
+        self.dt = 0.0;
+        self.rebuild();
     }
 
     /// Current index of the disc with stable id `id`.
@@ -327,11 +343,40 @@ impl World {
         })
     }
 
+    fn apply_loads(&mut self) {
+        let d = &mut self.state.discs;
+        for l in &self.loads {
+            if let Some(&i) = self.index_of_id.get(l.id as usize) {
+                let i = i as usize;
+                if i < d.len() {
+                    d.fx[i] += l.force[0];
+                    d.fy[i] += l.force[1];
+                    d.torque[i] += l.torque;
+                }
+            }
+        }
+    }
+
+    /// F · v · dt of the external loads with the current velocities.
+    fn load_work(&self, dt: f64) -> f64 {
+        let d = &self.state.discs;
+        let mut w = 0.0;
+        for l in &self.loads {
+            if let Some(&i) = self.index_of_id.get(l.id as usize) {
+                let i = i as usize;
+                if i < d.len() {
+                    w += (l.force[0] * d.vx[i] + l.force[1] * d.vy[i] + l.torque * d.omega[i]) * dt;
+                }
+            }
+        }
+        w
+    }
+
     fn needs_rebuild(&self) -> bool {
         let half = 0.5 * self.nb.skin;
         self.rebuild_requested
             || self.nb.x0.len() != self.state.discs.len()
-            || self.max_disp2 > half * half
+            || self.moved_too_far
             || self.nb.max_wall_disp(&self.state.walls) > half
     }
 
@@ -378,7 +423,16 @@ impl World {
             .unwrap_or(f64::INFINITY);
         self.dt = match self.params.dt_fixed {
             Some(dt) => dt,
-            None => self.params.dt_factor * self.dt_crit,
+            None => {
+                // Decrease at once; increase only by a clear margin, so that the step does not
+                // flip at every rebuild (leapfrog with a varying step is not symplectic).
+                let want = self.params.dt_factor * self.dt_crit;
+                if self.dt <= 0.0 || want < self.dt || want > DT_RAISE * self.dt {
+                    want
+                } else {
+                    self.dt
+                }
+            }
         };
         if self.params.viscous_damping > 0.0 {
             let z = 2.0 * self.params.viscous_damping;
@@ -393,7 +447,7 @@ impl World {
             self.cache.visc_t.clear();
             self.cache.visc_r.clear();
         }
-        self.max_disp2 = 0.0;
+        self.moved_too_far = false;
         self.rebuild_requested = false;
     }
 
@@ -493,162 +547,4 @@ fn wrap(p: &crate::state::Periodic, axis: usize, x: f64) -> f64 {
         Some(l) if x < p.lo[axis] || x >= p.lo[axis] + l => p.wrap(axis, x),
         _ => x,
     }
-}
-
-/// Move walls rigidly: rotate by ω dt about `center`, then translate by v dt.
-fn advance_walls(walls: &mut [crate::state::Wall], dt: f64) {
-    for w in walls {
-        if w.omega != 0.0 {
-            let (s, c) = (w.omega * dt).sin_cos();
-            for p in [&mut w.a, &mut w.b] {
-                let (rx, ry) = (p[0] - w.center[0], p[1] - w.center[1]);
-                p[0] = w.center[0] + c * rx - s * ry;
-                p[1] = w.center[1] + s * rx + c * ry;
-            }
-        }
-        if w.v != [0.0, 0.0] {
-            for p in [&mut w.a, &mut w.b, &mut w.center] {
-                p[0] += w.v[0] * dt;
-                p[1] += w.v[1] * dt;
-            }
-        }
-    }
-}
-
-fn validate(st: &State, p: &Params, laws: &ContactLaws) -> Result<(), WorldError> {
-    let d = &st.discs;
-    let n = d.len();
-    let lens = [
-        d.id.len(),
-        d.y.len(),
-        d.theta.len(),
-        d.vx.len(),
-        d.vy.len(),
-        d.omega.len(),
-        d.r.len(),
-        d.m.len(),
-        d.inertia.len(),
-        d.fx.len(),
-        d.fy.len(),
-        d.torque.len(),
-        d.body.len(),
-        d.material.len(),
-        d.group.len(),
-        d.fixed.len(),
-    ];
-    if lens.iter().any(|&l| l != n) {
-        return Err(WorldError::Params(
-            "disc arrays have different lengths".into(),
-        ));
-    }
-    let mut seen = vec![false; d.id.iter().map(|&i| i as usize + 1).max().unwrap_or(0)];
-    let mut rmax = 0.0f64;
-    for i in 0..n {
-        let id = d.id[i];
-        let bad = |reason: String| Err(WorldError::Disc { id, reason });
-        if seen[id as usize] {
-            return bad("duplicate id".into());
-        }
-        seen[id as usize] = true;
-        if !(d.r[i] > 0.0 && d.r[i].is_finite()) {
-            return bad(format!("radius {} must be positive", d.r[i]));
-        }
-        if !(d.m[i] > 0.0 && d.m[i].is_finite() && d.inertia[i] > 0.0 && d.inertia[i].is_finite()) {
-            return bad(format!(
-                "mass {} / inertia {} must be positive",
-                d.m[i], d.inertia[i]
-            ));
-        }
-        let vals = [d.x[i], d.y[i], d.theta[i], d.vx[i], d.vy[i], d.omega[i]];
-        if vals.iter().any(|v| !v.is_finite()) {
-            return bad("non-finite position or velocity".into());
-        }
-        if !laws.covers(d.material[i]) {
-            return Err(WorldError::Material {
-                material: d.material[i],
-                n: laws.n_materials(),
-            });
-        }
-        if d.body[i] != FREE && d.body[i] as usize >= st.clumps.len() {
-            return bad(format!("body {} is not a clump", d.body[i]));
-        }
-        rmax = rmax.max(d.r[i]);
-    }
-    for w in &st.walls {
-        if !laws.covers(w.material) {
-            return Err(WorldError::Material {
-                material: w.material,
-                n: laws.n_materials(),
-            });
-        }
-    }
-    let cl = &st.clumps;
-    if !cl.is_empty() && cl.member_start.len() != cl.len() + 1 {
-        return Err(WorldError::Clump {
-            index: 0,
-            reason: "member_start has the wrong length".into(),
-        });
-    }
-    for c in 0..cl.len() {
-        if !(cl.m[c] > 0.0 && cl.inertia[c] > 0.0) {
-            return Err(WorldError::Clump {
-                index: c,
-                reason: "mass and inertia must be positive".into(),
-            });
-        }
-        for q in cl.member_range(c) {
-            let id = cl.members[q] as usize;
-            if id >= seen.len() || !seen[id] {
-                return Err(WorldError::Clump {
-                    index: c,
-                    reason: format!("member id {id} is not a disc"),
-                });
-            }
-        }
-    }
-    if !(st.thickness > 0.0 && st.thickness.is_finite()) {
-        return Err(WorldError::Params(format!(
-            "thickness {} must be positive",
-            st.thickness
-        )));
-    }
-    let skin = p.skin.unwrap_or(0.0);
-    if !(skin >= 0.0 && skin.is_finite()) {
-        return Err(WorldError::Params(format!("skin {skin} must be ≥ 0")));
-    }
-    if let Some(dt) = p.dt_fixed {
-        if !(dt > 0.0 && dt.is_finite()) {
-            return Err(WorldError::Params(format!(
-                "dt_fixed {dt} must be positive"
-            )));
-        }
-    } else if !(p.dt_factor > 0.0 && p.dt_factor.is_finite()) {
-        return Err(WorldError::Params(format!(
-            "dt_factor {} must be positive",
-            p.dt_factor
-        )));
-    }
-    if !(p.local_damping >= 0.0 && p.local_damping < 1.0) {
-        return Err(WorldError::Params(format!(
-            "local_damping {} must be in [0, 1)",
-            p.local_damping
-        )));
-    }
-    if !(p.viscous_damping >= 0.0 && p.viscous_damping.is_finite()) {
-        return Err(WorldError::Params(format!(
-            "viscous_damping {} must be ≥ 0",
-            p.viscous_damping
-        )));
-    }
-    for a in 0..2 {
-        if let Some(l) = st.periodic.length[a] {
-            let need = 2.0 * (2.0 * rmax + p.skin.unwrap_or(0.2 * rmax));
-            if !(l.is_finite() && l > need) {
-                return Err(WorldError::Periodic(format!(
-                    "length {l} on axis {a} must exceed 2 × (largest diameter + skin) = {need}"
-                )));
-            }
-        }
-    }
-    Ok(())
 }

@@ -10,7 +10,9 @@
 //! material can make (so an isolated disc still gets a finite step). Hertz stiffnesses are the
 //! tangent 2E*√(R*δ) at δ = max(current overlap, [`crate::Params::hertz_reference_overlap`]·R*).
 //! A rigid clump sums its members: K = Σ K_m, K_rot = Σ (K_rot,m + K_m |r_m|²).
-//! The estimate is recomputed at every neighbour rebuild. The factor f is
+//! The estimate is recomputed at every neighbour rebuild; the step follows it down at once and
+//! up only when the estimate exceeds the step by [`crate::pipeline::DT_RAISE`] (a step that
+//! flips at every rebuild costs energy accuracy). The factor f is
 //! [`crate::Params::dt_factor`].
 
 use crate::bond::Bonds;

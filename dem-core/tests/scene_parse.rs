@@ -279,3 +279,55 @@ fn specimen_files_are_included_with_their_units() {
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn kinematics_convert_with_units_and_random_speeds_follow_the_seed() {
+    let mut v = base();
+    v["gravity"] = serde_json::json!([0, -9810]);
+    v["bodies"]["discs"][0]["velocity"] = serde_json::json!([100, 0]);
+    v["bodies"]["discs"][0]["random_speed"] = 50.0.into();
+    v["seed"] = 7.into();
+    let a = load_value(&v, "seed7.json").unwrap();
+    assert_eq!(a.gravity, Some([0.0, -9.81]));
+    for d in &a.discs {
+        let (ux, uy) = (d.vx - 0.1, d.vy);
+        assert!(
+            ((ux * ux + uy * uy).sqrt() - 0.05).abs() < 1e-15,
+            "random part is 50 mm/s"
+        );
+    }
+    let b = load_value(&v, "seed7b.json").unwrap();
+    assert_eq!(
+        (a.discs[0].vx, a.discs[1].vy),
+        (b.discs[0].vx, b.discs[1].vy)
+    );
+    v["seed"] = 8.into();
+    let c = load_value(&v, "seed8.json").unwrap();
+    assert_ne!(a.discs[0].vx, c.discs[0].vx);
+    assert_ne!(a.physics_hash(), c.physics_hash());
+    assert_eq!(a.physics_hash(), b.physics_hash());
+    // Run control and outputs do not enter the hash (a restart may extend a run).
+    v["seed"] = 7.into();
+    v["run"]["steps"] = 99.into();
+    v["outputs"] = serde_json::json!({"history_every": 3});
+    assert_eq!(
+        load_value(&v, "seed7c.json").unwrap().physics_hash(),
+        a.physics_hash()
+    );
+}
+
+#[test]
+fn hertz_takes_restitution_not_a_damping_ratio() {
+    let e = error_of(
+        |v| {
+            v["materials"] = serde_json::json!([{"name": "glass", "density": 2500, "youngs_modulus": 60e9, "poisson": 0.2, "damping_ratio": 0.1}]);
+            v["walls"] = serde_json::json!([]);
+            v["contact"] = serde_json::json!({"law": "hertz_mindlin"});
+        },
+        "hertz-ratio.json",
+    );
+    assert!(
+        e.contains("restitution") && e.contains("hertz_mindlin"),
+        "{e}"
+    );
+}

@@ -7,8 +7,12 @@
 //! The bonds' k̄nĀ and k̄sĀ equal the contact stiffness kn = 1e5 N/m of the LAMMPS input; their
 //! strengths (1e8 Pa) are far above the loads the 1 µm displacement creates, so none break.
 
-use super::{BondGroup, BondModel, Bonds, Criterion, ParallelBondParams};
+use super::{world_with_bonds, BondGroup, BondModel, Bonds, Criterion, ParallelBondParams};
+use crate::contact::{LinearSpringDashpot, NormalDamping};
+use crate::counters::Counters;
+use crate::pipeline::World;
 use crate::state::{Periodic, State};
+use crate::{ContactLaws, ContactModel, Params};
 
 /// Lattice spacing (m), disc radius (m), density (kg/m³) of the LAMMPS input.
 pub const SPACING: f64 = 1e-3;
@@ -19,8 +23,10 @@ pub const CELLS: [usize; 2] = [200, 115];
 /// Contact normal stiffness of the LAMMPS input (N/m), which the bonds' k̄nĀ match.
 pub const KN: f64 = 1e5;
 
-/// LAMMPS-style `lattice hex`: a1 = (a, 0), a2 = (0, √3 a), basis (0,0) and (a/2, √3a/2);
-/// each disc displaced by a uniform random amount in [−1, 1] µm per axis (deterministic LCG).
+/// LAMMPS-style `lattice hex` of any size (the full benchmark world is built by
+/// [`crate::bench::dense_lattice_scene`]; this one serves smaller test lattices):
+/// a1 = (a, 0), a2 = (0, √3 a), basis (0,0) and (a/2, √3a/2); each disc displaced by a uniform
+/// random amount in [−1, 1] µm per axis (deterministic LCG).
 pub fn hex_lattice_state(cells: [usize; 2]) -> State {
     let a = SPACING;
     let h = 3f64.sqrt() * a;
@@ -81,6 +87,135 @@ pub fn bonded_lattice_state(cells: [usize; 2]) -> (State, Bonds) {
         .install_at_contacts(&st, 0.1 * RADIUS, 0)
         .expect("lattice discs are valid");
     (st, bonds)
+}
+
+/// The bonded-lattice benchmark world: the dense-lattice scene of the peer benchmark
+/// ([`crate::bench::dense_lattice_scene`], the same discs, contacts and skin) with a parallel
+/// bond at every contact (≈138,000 bonds, [`lattice_bond_group`]) and the automatic time step
+/// (the scene's fixed 1 µs is not stable once the bonds double the stiffness).
+pub fn bonded_lattice_scene() -> World {
+    let mut w = crate::bench::dense_lattice_scene();
+    w.params.dt_fixed = None;
+    let mut bonds = Bonds::new(vec![lattice_bond_group(w.state.thickness)])
+        .expect("the benchmark bond group is valid");
+    bonds
+        .install_at_contacts(&w.state, 0.1 * RADIUS, 0)
+        .expect("lattice discs are valid");
+    super::attach(&mut w, bonds);
+    w
+}
+
+/// A smaller bonded lattice of `cells` cells (see [`bonded_lattice_state`]) in a world with
+/// the benchmark's contact law and the automatic time step.
+pub fn bonded_lattice_world(cells: [usize; 2]) -> World {
+    let (st, bonds) = bonded_lattice_state(cells);
+    let law = LinearSpringDashpot {
+        kn: KN,
+        ks: 2.0 / 7.0 * KN,
+        damping: NormalDamping::Gamma(100.0),
+        shear_damping: 0.5,
+        mu: 0.5,
+    };
+    let params = Params {
+        track_energy: false,
+        skin: Some(1e-4),
+        ..Params::default()
+    };
+    world_with_bonds(
+        st,
+        params,
+        ContactLaws::uniform(ContactModel::Linear(law)),
+        bonds,
+        &[],
+    )
+    .expect("the benchmark scene is valid")
+}
+
+/// Figures of one benchmark run.
+#[derive(Clone, Debug)]
+pub struct BenchRun {
+    pub discs: usize,
+    pub bonds: usize,
+    pub steps: u64,
+    pub threads: usize,
+    pub dt: f64,
+    /// Wall time of the stepping (s), scene building excluded.
+    pub seconds: f64,
+    /// discs × steps / seconds.
+    pub particle_steps_per_s: f64,
+    /// Per-stage times of the run.
+    pub counters: Counters,
+}
+
+/// Run the bonded lattice (`cells` = [`CELLS`]: the full [`bonded_lattice_scene`], else
+/// [`bonded_lattice_world`]) for `steps` steps on `threads` threads (a rayon pool of that
+/// size); the first step (neighbour build, reorder) is not timed.
+pub fn run_bonded_bench(cells: [usize; 2], steps: u64, threads: usize) -> Result<BenchRun, String> {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads.max(1))
+        .build()
+        .map_err(|e| e.to_string())?;
+    pool.install(|| {
+        let mut w = if cells == CELLS {
+            bonded_lattice_scene()
+        } else {
+            bonded_lattice_world(cells)
+        };
+        w.step();
+        w.counters.reset();
+        let t0 = std::time::Instant::now();
+        w.run(steps);
+        let seconds = t0.elapsed().as_secs_f64();
+        if let Err(e) = w.check() {
+            return Err(e.to_string());
+        }
+        let n = w.state.discs.len();
+        Ok(BenchRun {
+            discs: n,
+            bonds: w.bonds.as_ref().map_or(0, |b| b.n_intact()),
+            steps,
+            threads: threads.max(1),
+            dt: w.dt(),
+            seconds,
+            particle_steps_per_s: n as f64 * steps as f64 / seconds,
+            counters: w.counters.clone(),
+        })
+    })
+}
+
+/// Throughput of the bond stage alone on the benchmark lattice (`CELLS` for the full one): `steps` calls of
+/// [`Bonds::compute`] (plus clearing forces) on `threads` threads, positions frozen and velocities
+/// small and random (so every bond does its full work without breaking). Returns
+/// disc-steps per second of wall time.
+pub fn bond_stage_rate(cells: [usize; 2], steps: usize, threads: usize) -> f64 {
+    let (mut st, mut bonds) = bonded_lattice_state(cells);
+    let mut s: u64 = 7;
+    for k in 0..st.discs.len() {
+        let mut r = || {
+            s = s
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            2.0 * ((s >> 11) as f64 / (1u64 << 53) as f64) - 1.0
+        };
+        st.discs.vx[k] = 1e-4 * r();
+        st.discs.vy[k] = 1e-4 * r();
+        st.discs.omega[k] = 0.1 * r();
+    }
+    let pool = match rayon::ThreadPoolBuilder::new()
+        .num_threads(threads.max(1))
+        .build()
+    {
+        Ok(p) => p,
+        Err(_) => return f64::NAN,
+    };
+    pool.install(|| {
+        let t0 = std::time::Instant::now();
+        for _ in 0..steps {
+            st.discs.clear_forces();
+            bonds.compute(&mut st, 1e-7);
+        }
+        (st.discs.len() * steps) as f64 / t0.elapsed().as_secs_f64()
+    })
 }
 
 #[cfg(test)]

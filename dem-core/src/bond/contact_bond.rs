@@ -51,8 +51,8 @@ impl ContactBondParams {
     }
 }
 
-/// Update `f = [Fn, Fs, 0]` for one step and return the loads. `rbar` = min(R1, R2) defines the
-/// nominal area 2·rbar·t used only by the energy criterion.
+/// `f = [Fn, Fs, 0]` after one step, and the loads. `rbar` = min(R1, R2) defines the nominal
+/// area 2·rbar·t used only by the energy criterion.
 #[inline(always)]
 pub(crate) fn update(
     p: &ContactBondParams,
@@ -61,24 +61,22 @@ pub(crate) fn update(
     g0: f64,
     length: f64,
     k: &Kinematics,
-    f: &mut [f64; 3],
-) -> Loads {
-    f[0] = -p.kn * (k.gap - g0);
-    f[1] -= p.ks * k.dus;
-    f[2] = 0.0;
-    Loads {
+    f: [f64; 3],
+) -> ([f64; 3], Loads) {
+    let f = [-p.kn * (k.gap - g0), f[1] - p.ks * k.dus, 0.0];
+    let l = Loads {
         fn_: f[0],
         fs_abs: f[1].abs(),
         m_abs: 0.0,
         area: 2.0 * rbar * t,
-        inertia: 0.0,
-        rbar,
+        lever: 1.0,
         beta: 0.0,
         kn_a: p.kn,
         ks_a: p.ks,
         kn_i: 0.0,
         length,
-    }
+    };
+    (f, l)
 }
 
 /// Strain energy Fn²/(2kn) + Fs²/(2ks) (J).

@@ -90,20 +90,26 @@ fn infinity() -> f64 {
 }
 
 /// The loads of one bond, in the form every criterion can use. Built by the bond model.
+///
+/// The checks are written without divisions (they run for every bond every step): with the
+/// bending lever ℓ = Ī/(R̄Ā) (= R̄/3 for the 2D parallel bond), σ̄Ā = −F̄n + β̄|M̄|/ℓ, so
+/// σ̄ ≥ σ̄c ⇔ −F̄n·ℓ + β̄|M̄| ≥ σ̄c·Ā·ℓ.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Loads {
     /// F̄n, positive in compression (N).
     pub fn_: f64,
     /// |F̄s| (N).
     pub fs_abs: f64,
-    /// |M̄| (N·m).
+    /// |M̄| (N·m); 0 for a contact bond.
     pub m_abs: f64,
-    /// Ā (m²), Ī (m⁴, 0 for a contact bond), R̄ (m), β̄.
+    /// Ā (m²).
     pub area: f64,
-    pub inertia: f64,
-    pub rbar: f64,
+    /// Bending lever ℓ = Ī/(R̄Ā) (m); any positive value for a bond without moment.
+    pub lever: f64,
+    /// β̄ (0 for a contact bond).
     pub beta: f64,
-    /// Normal and shear stiffness of the bond as springs: k̄nĀ, k̄sĀ (N/m), k̄nĪ (N·m/rad).
+    /// Normal and shear stiffness of the bond as springs: k̄nĀ, k̄sĀ (N/m), k̄nĪ (N·m/rad;
+    /// 0 for a contact bond).
     pub kn_a: f64,
     pub ks_a: f64,
     pub kn_i: f64,
@@ -112,15 +118,10 @@ pub(crate) struct Loads {
 }
 
 impl Loads {
-    /// Largest tensile stress σ̄ = −F̄n/Ā + β̄|M̄|R̄/Ī.
-    #[inline]
-    fn sigma_max(&self) -> f64 {
-        let bend = if self.inertia > 0.0 {
-            self.beta * self.m_abs * self.rbar / self.inertia
-        } else {
-            0.0
-        };
-        -self.fn_ / self.area + bend
+    /// σ̄Ā·ℓ = −F̄n·ℓ + β̄|M̄|: the largest tensile stress σ̄ = −F̄n/Ā + β̄|M̄|R̄/Ī times Āℓ.
+    #[inline(always)]
+    fn sigma_area_lever(&self) -> f64 {
+        -self.fn_ * self.lever + self.beta * self.m_abs
     }
 
     /// (U_open, U_shear), see [`Criterion::Energy`].
@@ -202,6 +203,18 @@ impl Criterion {
     }
 }
 
+/// The maximum-stress conditions (tension: σ̄ ≥ σ̄c; shear: τ̄ ≥ c̄ − σ tan φ̄), evaluated
+/// without branches; tension takes precedence when both hold.
+#[inline(always)]
+pub(crate) fn stress_flags(l: &Loads, tensile: f64, cohesion: f64, tan_phi: f64) -> (bool, bool) {
+    (
+        // σ̄ ≥ σ̄c.
+        l.sigma_area_lever() >= tensile * l.area * l.lever,
+        // τ̄ ≥ c̄ − σ tan φ̄ with σ = −F̄n/Ā, i.e. |F̄s| ≥ c̄Ā + F̄n tan φ̄.
+        l.fs_abs >= cohesion * l.area + l.fn_ * tan_phi,
+    )
+}
+
 /// A [`Criterion`] with tan φ̄ precomputed.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct Compiled {
@@ -210,50 +223,39 @@ pub(crate) struct Compiled {
 }
 
 impl Compiled {
-    /// Does a bond with these loads break, and how? Tension is checked first.
+    /// (tension condition, shear condition) of a bond with these loads; tension takes
+    /// precedence when both hold.
     #[inline]
-    pub(crate) fn check(&self, l: &Loads) -> Option<BreakMode> {
+    pub(crate) fn flags(&self, l: &Loads) -> (bool, bool) {
         match self.criterion {
             Criterion::Stress {
                 tensile, cohesion, ..
-            } => {
-                if l.sigma_max() >= tensile {
-                    return Some(BreakMode::Tension);
-                }
-                // τ̄ ≥ c̄ − σ tan φ̄ with σ = −F̄n/Ā.
-                let sigma = -l.fn_ / l.area;
-                let tau_c = cohesion - sigma * self.tan_phi;
-                (l.fs_abs / l.area >= tau_c).then_some(BreakMode::Shear)
-            }
+            } => stress_flags(l, tensile, cohesion, self.tan_phi),
             Criterion::Force {
                 tensile,
                 shear,
                 moment,
-            } => {
-                if -l.fn_ >= tensile || l.m_abs >= moment {
-                    return Some(BreakMode::Tension);
-                }
-                (l.fs_abs >= shear).then_some(BreakMode::Shear)
-            }
-            Criterion::Strain { tensile, shear } => {
-                // ε̄ = σ̄/(k̄n L) = σ̄·Ā/(k̄nĀ·L); γ̄ = τ̄/(k̄s L) = |F̄s|/(k̄sĀ·L).
-                if l.sigma_max() * l.area / (l.kn_a * l.length) >= tensile {
-                    return Some(BreakMode::Tension);
-                }
-                (l.fs_abs / (l.ks_a * l.length) >= shear).then_some(BreakMode::Shear)
-            }
+            } => (-l.fn_ >= tensile || l.m_abs >= moment, l.fs_abs >= shear),
+            // ε̄ = σ̄/(k̄n L) = σ̄Ā/(k̄nĀ·L) ≥ ε̄c; γ̄ = τ̄/(k̄s L) = |F̄s|/(k̄sĀ·L) ≥ γ̄c.
+            Criterion::Strain { tensile, shear } => (
+                l.sigma_area_lever() >= tensile * l.kn_a * l.length * l.lever,
+                l.fs_abs >= shear * l.ks_a * l.length,
+            ),
             Criterion::Energy { fracture_energy } => {
                 let (uo, us) = l.energies();
-                if uo + us >= fracture_energy * l.area {
-                    Some(if uo >= us {
-                        BreakMode::Tension
-                    } else {
-                        BreakMode::Shear
-                    })
-                } else {
-                    None
-                }
+                let brk = uo + us >= fracture_energy * l.area;
+                (brk && uo >= us, brk && uo < us)
             }
+        }
+    }
+
+    /// Does a bond with these loads break, and how? Tension is checked first.
+    #[cfg(test)]
+    pub(crate) fn check(&self, l: &Loads) -> Option<BreakMode> {
+        match self.flags(l) {
+            (true, _) => Some(BreakMode::Tension),
+            (false, true) => Some(BreakMode::Shear),
+            _ => None,
         }
     }
 }
@@ -263,14 +265,13 @@ mod tests {
     use super::*;
 
     fn loads(fn_: f64, fs: f64, m: f64) -> Loads {
-        // R̄ = 0.5, t = 2: Ā = 2, Ī = 2/3·0.125·2 = 1/6.
+        // R̄ = 0.5, t = 2: Ā = 2, Ī = 2/3·0.125·2 = 1/6, ℓ = Ī/(R̄Ā) = 1/6.
         Loads {
             fn_,
             fs_abs: fs.abs(),
             m_abs: m.abs(),
             area: 2.0,
-            inertia: 1.0 / 6.0,
-            rbar: 0.5,
+            lever: 1.0 / 6.0,
             beta: 1.0,
             kn_a: 10.0,
             ks_a: 5.0,

@@ -12,14 +12,17 @@
 //! then done serially in bond-store order. With one thread the two passes are fused, doing the
 //! same arithmetic in the same order. Results are bit-identical for any thread count.
 
+pub mod attach;
 pub mod bench;
 pub mod breaks;
 pub mod contact_bond;
 pub mod criteria;
 pub mod install;
+mod kernel;
 pub mod potyondy2004;
 mod store;
 
+pub use attach::{attach, world_with_bonds};
 pub use breaks::{BreakEvent, BreakLog};
 pub use contact_bond::ContactBondParams;
 pub use criteria::{BreakMode, Criterion};

@@ -103,7 +103,7 @@ pub(crate) struct Kinematics {
     pub dtheta: f64,
 }
 
-/// Update the bond forces `f = [F̄n, F̄s, M̄]` for one step and return its loads.
+/// The bond forces `f = [F̄n, F̄s, M̄]` after one step, and the loads they put on the bond.
 #[inline(always)]
 pub(crate) fn update(
     p: &ParallelBondParams,
@@ -112,29 +112,31 @@ pub(crate) fn update(
     g0: f64,
     length: f64,
     k: &Kinematics,
-    f: &mut [f64; 3],
-) -> Loads {
+    f: [f64; 3],
+) -> ([f64; 3], Loads) {
     let a = area(rbar, t);
     let i = inertia(rbar, t);
     let kn_a = p.kn * a;
     let ks_a = p.ks * a;
     let kn_i = p.kn * i;
-    f[0] = -kn_a * (k.gap - g0);
-    f[1] -= ks_a * k.dus;
-    f[2] -= kn_i * k.dtheta;
-    Loads {
+    let f = [
+        -kn_a * (k.gap - g0),
+        f[1] - ks_a * k.dus,
+        f[2] - kn_i * k.dtheta,
+    ];
+    let l = Loads {
         fn_: f[0],
         fs_abs: f[1].abs(),
         m_abs: f[2].abs(),
         area: a,
-        inertia: i,
-        rbar,
+        lever: rbar * (1.0 / 3.0), // Ī/(R̄Ā) = (2/3)R̄³t / (R̄·2R̄t)
         beta: p.beta,
         kn_a,
         ks_a,
         kn_i,
         length,
-    }
+    };
+    (f, l)
 }
 
 /// Strain energy F̄n²/(2k̄nĀ) + F̄s²/(2k̄sĀ) + M̄²/(2k̄nĪ) (J).

@@ -1,25 +1,14 @@
 //! The bond store ([`Bonds`]): groups, per-bond arrays, the per-step kernel and its scatter.
 
 use super::criteria::{BreakMode, Compiled};
-use super::potyondy2004::Kinematics;
+use super::kernel::{self, BondsIn, BondsMut, Ctx, DiscOut, DiscView, BROKEN, INTACT, NEW};
 use super::{
     contact_bond, install, potyondy2004, BondError, BondGroup, BondModel, BondStatus, BreakEvent,
     BreakLog,
 };
-use crate::state::{Periodic, State, FREE};
-use rayon::prelude::*;
+use crate::state::{State, FREE};
 use serde::{Deserialize, Serialize};
 use std::collections::HashSet;
-
-/// `status` codes: intact, broken (tension/shear), and broken in the current step (not yet
-/// logged).
-const INTACT: u8 = 0;
-const BROKEN: u8 = 1; // + mode index
-const NEW: u8 = 3; // + mode index
-
-/// Use the two-pass parallel kernel from this many bonds on (and with more than one thread).
-const PAR_MIN_BONDS: usize = 8192;
-const CHUNK: usize = 2048;
 
 /// Derived per-run data, rebuilt on demand; not part of the state (ignored by `==`).
 #[derive(Clone, Debug, Default)]
@@ -50,8 +39,10 @@ pub struct Bonds {
     g0: Vec<f64>,
     /// Bond radius R̄ (m): λ̄·min(R1,R2) for parallel bonds, min(R1,R2) for contact bonds.
     rbar: Vec<f64>,
-    /// [F̄n, F̄s, M̄] (N, N, N·m).
-    force: Vec<[f64; 3]>,
+    /// F̄n (positive in compression), F̄s (N) and M̄ (N·m).
+    fn_: Vec<f64>,
+    fs: Vec<f64>,
+    m: Vec<f64>,
     status: Vec<u8>,
     next_id: u32,
     /// Disc thickness t the bonds were built with (m).
@@ -81,97 +72,6 @@ pub struct BondView {
     pub m: f64,
     pub g0: f64,
     pub rbar: f64,
-}
-
-/// Read-only disc data the kernel needs.
-struct DiscView<'a> {
-    x: &'a [f64],
-    y: &'a [f64],
-    vx: &'a [f64],
-    vy: &'a [f64],
-    omega: &'a [f64],
-    r: &'a [f64],
-    per: Periodic,
-}
-
-/// Geometry of a bond: unit normal from i to j, gap, arms from the disc centres to the contact
-/// point.
-#[inline(always)]
-fn geometry(v: &DiscView, i: usize, j: usize) -> (f64, f64, f64, f64, f64) {
-    let dx = v.per.delta(0, v.x[i], v.x[j]);
-    let dy = v.per.delta(1, v.y[i], v.y[j]);
-    let dist = (dx * dx + dy * dy).sqrt();
-    let (nx, ny) = if dist > 0.0 {
-        (dx / dist, dy / dist)
-    } else {
-        (1.0, 0.0)
-    };
-    let gap = dist - v.r[i] - v.r[j];
-    (nx, ny, gap, v.r[i] + 0.5 * gap, v.r[j] + 0.5 * gap)
-}
-
-/// One bond for one step: update its forces, check its criterion, return the force on disc j
-/// and the torques on i and j (`[fx, fy, ti, tj]`) and whether it broke now.
-#[allow(clippy::too_many_arguments)]
-#[inline(always)]
-fn kernel(
-    v: &DiscView,
-    groups: &[BondGroup],
-    compiled: &[Compiled],
-    t: f64,
-    dt: f64,
-    i: usize,
-    j: usize,
-    g: usize,
-    g0: f64,
-    rbar: f64,
-    f: &mut [f64; 3],
-    status: &mut u8,
-) -> ([f64; 4], bool) {
-    if *status != INTACT {
-        return ([0.0; 4], false);
-    }
-    let (nx, ny, gap, ai, aj) = geometry(v, i, j);
-    let (tx, ty) = (-ny, nx);
-    // Tangential relative velocity of j's and i's material points at the contact point
-    // (v_j − ω_j a_j t̂) − (v_i + ω_i a_i t̂), projected on t̂.
-    let vt =
-        (v.vx[j] - v.vx[i]) * tx + (v.vy[j] - v.vy[i]) * ty - (v.omega[j] * aj + v.omega[i] * ai);
-    let k = Kinematics {
-        gap,
-        dus: vt * dt,
-        dtheta: (v.omega[j] - v.omega[i]) * dt,
-    };
-    let length = v.r[i] + v.r[j] + g0;
-    let loads = match &groups[g].model {
-        BondModel::Parallel(p) => potyondy2004::update(p, rbar, t, g0, length, &k, f),
-        BondModel::Contact(p) => contact_bond::update(p, rbar, t, g0, length, &k, f),
-    };
-    if let Some(mode) = compiled[g].check(&loads) {
-        *status = NEW + mode.index() as u8;
-        return ([0.0; 4], true);
-    }
-    let (fn_, fs, m) = (f[0], f[1], f[2]);
-    (
-        [
-            fn_ * nx + fs * tx,
-            fn_ * ny + fs * ty,
-            -ai * fs - m,
-            -aj * fs + m,
-        ],
-        false,
-    )
-}
-
-/// Add one bond's contribution to its discs (the only place disc sums are formed).
-#[inline(always)]
-fn scatter(fx: &mut [f64], fy: &mut [f64], tq: &mut [f64], i: usize, j: usize, o: &[f64; 4]) {
-    fx[i] -= o[0];
-    fy[i] -= o[1];
-    tq[i] += o[2];
-    fx[j] += o[0];
-    fy[j] += o[1];
-    tq[j] += o[3];
 }
 
 fn mode_of(code: u8) -> BreakMode {
@@ -204,7 +104,9 @@ impl Bonds {
             group: Vec::new(),
             g0: Vec::new(),
             rbar: Vec::new(),
-            force: Vec::new(),
+            fn_: Vec::new(),
+            fs: Vec::new(),
+            m: Vec::new(),
             status: Vec::new(),
             next_id: 0,
             thickness: 1.0,
@@ -255,6 +157,11 @@ impl Bonds {
         &self.log
     }
 
+    /// Write the crack record as CSV (atomically; see [`BreakLog::to_csv`]).
+    pub fn write_breaks_csv(&self, path: &std::path::Path) -> std::io::Result<()> {
+        self.log.write_csv(path, &self.group_names())
+    }
+
     /// Bond `b` (store position).
     pub fn get(&self, b: usize) -> BondView {
         let s = self.status[b];
@@ -268,9 +175,9 @@ impl Bonds {
             } else {
                 BondStatus::Broken(mode_of(s))
             },
-            fn_: self.force[b][0],
-            fs: self.force[b][1],
-            m: self.force[b][2],
+            fn_: self.fn_[b],
+            fs: self.fs[b],
+            m: self.m[b],
             g0: self.g0[b],
             rbar: self.rbar[b],
         }
@@ -291,10 +198,10 @@ impl Bonds {
             vy: &d.vy,
             omega: &d.omega,
             r: &d.r,
-            per: st.periodic,
+            per: kernel::per_axes(&st.periodic),
         };
         let (i, j) = (self.i[b] as usize, self.j[b] as usize);
-        let (nx, ny, _, ai, _) = geometry(&v, i, j);
+        let (nx, ny, _, ai, _) = v.geometry(i, j);
         [
             st.periodic.wrap(0, d.x[i] + ai * nx),
             st.periodic.wrap(1, d.y[i] + ai * ny),
@@ -344,7 +251,9 @@ impl Bonds {
         self.group.push(group);
         self.g0.push(install::gap(st, i, j));
         self.rbar.push(rbar);
-        self.force.push([0.0; 3]);
+        self.fn_.push(0.0);
+        self.fs.push(0.0);
+        self.m.push(0.0);
         self.status.push(INTACT);
         Ok(self.len() - 1)
     }
@@ -419,99 +328,51 @@ impl Bonds {
     /// velocities (at t − dt/2), add bond forces and torques to the discs, break bonds whose
     /// criterion is met (their force vanishes from this step on) and log the breaks.
     pub fn compute(&mut self, st: &mut State, dt: f64) {
-        let nb = self.len();
-        if nb == 0 {
+        self.compute_with(st, dt, kernel::has_avx2());
+    }
+
+    /// [`Bonds::compute`] with the AVX2 build of the kernel on or off (same results).
+    pub(crate) fn compute_with(&mut self, st: &mut State, dt: f64, avx2: bool) {
+        if self.is_empty() {
             return;
         }
         self.ensure_cache();
         self.thickness = st.thickness;
-        let t = st.thickness;
-        let parallel = nb >= PAR_MIN_BONDS && rayon::current_num_threads() > 1;
-        if parallel && self.cache.scratch.len() != nb {
-            self.cache.scratch.resize(nb, [0.0; 4]);
-        }
-        let Bonds {
-            groups,
-            i: bi,
-            j: bj,
-            group,
-            g0,
-            rbar,
-            force,
-            status,
-            cache,
-            ..
-        } = self;
-        let per = st.periodic;
         let d = &mut st.discs;
-        let v = DiscView {
-            x: &d.x,
-            y: &d.y,
-            vx: &d.vx,
-            vy: &d.vy,
-            omega: &d.omega,
-            r: &d.r,
-            per,
+        let ctx = Ctx {
+            v: DiscView {
+                x: &d.x,
+                y: &d.y,
+                vx: &d.vx,
+                vy: &d.vy,
+                omega: &d.omega,
+                r: &d.r,
+                per: kernel::per_axes(&st.periodic),
+            },
+            groups: &self.groups,
+            compiled: &self.cache.compiled,
+            t: st.thickness,
+            dt,
         };
-        let compiled = &cache.compiled[..];
-        let mut new_breaks = 0usize;
-        if parallel {
-            new_breaks = force
-                .par_chunks_mut(CHUNK)
-                .zip(status.par_chunks_mut(CHUNK))
-                .zip(cache.scratch.par_chunks_mut(CHUNK))
-                .enumerate()
-                .map(|(c, ((f, s), out))| {
-                    let base = c * CHUNK;
-                    let mut nb = 0;
-                    for k in 0..f.len() {
-                        let b = base + k;
-                        let (o, broke) = kernel(
-                            &v,
-                            groups,
-                            compiled,
-                            t,
-                            dt,
-                            bi[b] as usize,
-                            bj[b] as usize,
-                            group[b] as usize,
-                            g0[b],
-                            rbar[b],
-                            &mut f[k],
-                            &mut s[k],
-                        );
-                        out[k] = o;
-                        nb += broke as usize;
-                    }
-                    nb
-                })
-                .sum();
-            let (fx, fy, tq) = (&mut d.fx, &mut d.fy, &mut d.torque);
-            for (b, o) in cache.scratch.iter().enumerate() {
-                scatter(fx, fy, tq, bi[b] as usize, bj[b] as usize, o);
-            }
-        } else {
-            let (fx, fy, tq) = (&mut d.fx, &mut d.fy, &mut d.torque);
-            for b in 0..nb {
-                let (i, j) = (bi[b] as usize, bj[b] as usize);
-                let (o, broke) = kernel(
-                    &v,
-                    groups,
-                    compiled,
-                    t,
-                    dt,
-                    i,
-                    j,
-                    group[b] as usize,
-                    g0[b],
-                    rbar[b],
-                    &mut force[b],
-                    &mut status[b],
-                );
-                scatter(fx, fy, tq, i, j, &o);
-                new_breaks += broke as usize;
-            }
-        }
+        let input = BondsIn {
+            i: &self.i,
+            j: &self.j,
+            group: &self.group,
+            g0: &self.g0,
+            rbar: &self.rbar,
+        };
+        let state = BondsMut {
+            fn_: &mut self.fn_,
+            fs: &mut self.fs,
+            m: &mut self.m,
+            status: &mut self.status,
+        };
+        let out = DiscOut {
+            fx: &mut d.fx,
+            fy: &mut d.fy,
+            tq: &mut d.torque,
+        };
+        let new_breaks = kernel::run(&ctx, &input, state, out, &mut self.cache.scratch, avx2);
         if new_breaks > 0 {
             self.log_breaks(st);
         }
@@ -543,14 +404,16 @@ impl Bonds {
             });
             self.released += energy;
             self.broken[g as usize][mode.index()] += 1;
-            self.force[b] = [0.0; 3];
+            self.fn_[b] = 0.0;
+            self.fs[b] = 0.0;
+            self.m[b] = 0.0;
             self.status[b] = BROKEN + mode.index() as u8;
         }
     }
 
     /// Strain energy held by bond `b` (J).
     pub fn bond_energy(&self, b: usize) -> f64 {
-        let f = &self.force[b];
+        let f = &[self.fn_[b], self.fs[b], self.m[b]];
         match &self.groups[self.group[b] as usize].model {
             BondModel::Parallel(p) => potyondy2004::energy(p, self.rbar[b], self.thickness, f),
             BondModel::Contact(p) => contact_bond::energy(p, f),
@@ -617,7 +480,9 @@ impl Bonds {
         p(&mut self.group, &order);
         p(&mut self.g0, &order);
         p(&mut self.rbar, &order);
-        p(&mut self.force, &order);
+        p(&mut self.fn_, &order);
+        p(&mut self.fs, &order);
+        p(&mut self.m, &order);
         p(&mut self.status, &order);
     }
 }

@@ -1,19 +1,22 @@
 //! Disc–disc force pass over the neighbour list.
 //!
-//! Discs are processed in fixed chunks of [`CHUNK`] discs (independent of the thread count).
-//! One thread: forces are scattered pair by pair in list order. Several threads: each chunk
-//! writes its pairs' forces into per-pair slots, then every disc gathers its partner-side
-//! slots (increasing pair order) and adds its own pairs' sum, which is the same sequence of
-//! floating-point additions as the serial scatter: results are bit-identical for any thread
-//! count. Energies are summed per chunk and the chunk sums added in chunk order.
+//! Pairs are computed in blocks ([`super::kernel`]): gather, branch-free evaluation of the law
+//! (vectorised), then a scatter loop adds the forces to the discs in pair order. Discs are
+//! grouped in fixed chunks of [`CHUNK`] discs (independent of the thread count). One thread:
+//! forces are scattered pair by pair in list order. Several threads: chunks run in parallel
+//! and write per-pair slots, then every disc gathers its partner-side slots (increasing pair
+//! order) and adds its own pairs' sum — the same sequence of floating-point additions as the
+//! serial scatter, so results are bit-identical for any thread count. Energies are summed in
+//! pair order within a chunk and the chunk sums added in chunk order.
 
-use super::{ContactLaws, PairKin};
+use super::kernel::{at, block, has_avx2, Ctx, LinearGamma, LinearRatio, PairLaw, Scratch, BLOCK};
+use super::{ContactLaws, ContactModel, NormalDamping};
 use crate::neighbors::{MinImage, Neighbors};
 use crate::state::Discs;
 use rayon::prelude::*;
 
 /// Discs per work chunk (fixed so that reductions do not depend on the thread count).
-pub const CHUNK: usize = 2048;
+pub const CHUNK: usize = 512;
 
 /// Energies of one force pass: strain (stored, at this step), dissipated in dashpots and
 /// friction during this step.
@@ -35,6 +38,8 @@ impl PassEnergy {
 /// Per-pair force slots for the parallel pass (fx, fy on j; torques on i and j).
 #[derive(Clone, Debug, Default)]
 pub struct Slots {
+    /// Block scratch of the serial pass (allocated once).
+    pub scratch: Box<Scratch>,
     pub fx: Vec<f64>,
     pub fy: Vec<f64>,
     pub ti: Vec<f64>,
@@ -42,88 +47,35 @@ pub struct Slots {
     pub chunk_energy: Vec<PassEnergy>,
 }
 
-/// Read-only data of the pass.
-struct Ctx<'a> {
-    x: &'a [f64],
-    y: &'a [f64],
-    vx: &'a [f64],
-    vy: &'a [f64],
-    w: &'a [f64],
-    r: &'a [f64],
-    mat: &'a [u16],
-    minv: &'a [f64],
-    start: &'a [u32],
-    nbr: &'a [u32],
-    g0: &'a [f64],
-    laws: &'a ContactLaws,
-    img: MinImage,
-    dt: f64,
-    rolling: bool,
-}
-
-/// Force of pair p = (i, j): (fx, fy) on j (i gets the opposite), torque on i, torque on j.
-#[inline(always)]
-fn pair<const E: bool>(
-    c: &Ctx,
-    i: usize,
-    j: usize,
-    p: usize,
-    us: &mut f64,
-    mr: &mut f64,
-    e: &mut PassEnergy,
-) -> Option<[f64; 4]> {
-    let (dx, dy) = c.img.delta(c.x[j] - c.x[i], c.y[j] - c.y[i]);
-    let d2 = dx * dx + dy * dy;
-    let (ri, rj) = (c.r[i], c.r[j]);
-    let g0 = if c.g0.is_empty() { 0.0 } else { c.g0[p] };
-    let reach = ri + rj + g0;
-    if d2 >= reach * reach || reach <= 0.0 {
-        *us = 0.0;
-        *mr = 0.0;
-        return None;
-    }
-    let d = d2.sqrt();
-    let inv = 1.0 / d;
-    let (nx, ny) = (dx * inv, dy * inv);
-    let (wi, wj) = (c.w[i], c.w[j]);
-    let wr = wi * ri + wj * rj;
-    let rvx = c.vx[j] - c.vx[i] + wr * ny;
-    let rvy = c.vy[j] - c.vy[i] - wr * nx;
-    let k = PairKin {
-        delta: reach - d,
-        vn: rvx * nx + rvy * ny,
-        vt: rvy * nx - rvx * ny,
-        m_eff: 1.0 / (c.minv[i] + c.minv[j]),
-        r_eff: ri * rj / (ri + rj),
-        dt: c.dt,
-    };
-    let (mi, mj) = (c.mat[i], c.mat[j]);
-    let model = c.laws.model(mi, mj);
-    let o = model.force::<E>(&k, us);
-    let mut m_roll = 0.0;
-    if c.rolling {
-        if let Some(rr) = c.laws.rolling(mi, mj) {
-            let kn = model.kn(k.r_eff, k.delta);
-            let diss = rr.update(kn, k.r_eff, o.f_n, wi - wj, c.dt, mr);
-            m_roll = *mr;
-            if E {
-                e.fric += diss;
-                let kr = rr.kr(kn, k.r_eff);
-                if kr > 0.0 {
-                    e.strain += 0.5 * m_roll * m_roll / kr;
-                }
-            }
-        }
-    }
-    if E {
-        e.strain += o.e_strain;
-        e.damp += o.e_damp;
-        e.fric += o.e_fric;
-    }
-    // t = (−n_y, n_x): F = F_n n + F_t t.
-    let fx = o.f_n * nx - o.f_t * ny;
-    let fy = o.f_n * ny + o.f_t * nx;
-    Some([fx, fy, -ri * o.f_t + m_roll, -rj * o.f_t - m_roll])
+/// Whether the list is consistent with `n` discs (checked before unchecked indexing).
+fn valid(d: &Discs, nb: &Neighbors, minv: &[f64]) -> bool {
+    let n = d.len();
+    let np = nb.nbr.len();
+    nb.start.len() == n + 1
+        && nb.start[n] as usize == np
+        && nb.us.len() == np
+        && nb.mr.len() == np
+        && (nb.g0.is_empty() || nb.g0.len() == np)
+        && nb.rstart.len() == n + 1
+        && nb.rpair.len() == np
+        && minv.len() == n
+        && [
+            d.y.len(),
+            d.vx.len(),
+            d.vy.len(),
+            d.omega.len(),
+            d.r.len(),
+            d.material.len(),
+        ]
+        .iter()
+        .all(|&l| l == n)
+        && [d.fx.len(), d.fy.len(), d.torque.len()]
+            .iter()
+            .all(|&l| l == n)
+        && (nb.verified
+            || ((nb.nbr.iter().fold(0u32, |m, &j| m.max(j)) as usize) < n.max(1)
+                && (nb.rpair.iter().fold(0u32, |m, &p| m.max(p)) as usize) < np.max(1)
+                && nb.start.windows(2).all(|w| w[0] <= w[1])))
 }
 
 /// Compute disc–disc contact forces, adding them to `d.fx, d.fy, d.torque` (which the caller
@@ -139,22 +91,49 @@ pub fn compute(
     track_energy: bool,
     slots: &mut Slots,
 ) -> PassEnergy {
-    let parallel = rayon::current_num_threads() > 1 && d.len() > 2 * CHUNK;
-    match (track_energy, parallel) {
-        (true, false) => serial::<true>(d, nb, minv, laws, img, dt),
-        (false, false) => serial::<false>(d, nb, minv, laws, img, dt),
-        (true, true) => parallel_pass::<true>(d, nb, minv, laws, img, dt, slots),
-        (false, true) => parallel_pass::<false>(d, nb, minv, laws, img, dt, slots),
+    assert!(valid(d, nb, minv), "neighbour list out of date");
+    nb.verified = true;
+    let uniform = laws.n_materials() == 1 && !laws.any_rolling();
+    let a = (d, nb, minv, img, dt, track_energy, slots);
+    match (uniform, laws.models()[0]) {
+        (true, ContactModel::Linear(l)) => match l.damping {
+            NormalDamping::Gamma(g) => run(a, &LinearGamma(l, g)),
+            NormalDamping::Ratio(z) => run(a, &LinearRatio(l, z)),
+        },
+        (true, ContactModel::HertzMindlin(h)) => run(a, &h),
+        _ => run(a, laws),
     }
 }
 
-fn serial<const E: bool>(
+type Args<'a> = (
+    &'a mut Discs,
+    &'a mut Neighbors,
+    &'a [f64],
+    MinImage,
+    f64,
+    bool,
+    &'a mut Slots,
+);
+
+fn run<L: PairLaw>(a: Args, law: &L) -> PassEnergy {
+    let (d, nb, minv, img, dt, track, slots) = a;
+    let parallel = rayon::current_num_threads() > 1 && d.len() > 2 * CHUNK;
+    match (track, parallel) {
+        (true, false) => serial::<true, L>(d, nb, minv, law, img, dt, &mut slots.scratch),
+        (false, false) => serial::<false, L>(d, nb, minv, law, img, dt, &mut slots.scratch),
+        (true, true) => parallel_pass::<true, L>(d, nb, minv, law, img, dt, slots),
+        (false, true) => parallel_pass::<false, L>(d, nb, minv, law, img, dt, slots),
+    }
+}
+
+fn serial<const E: bool, L: PairLaw>(
     d: &mut Discs,
     nb: &mut Neighbors,
     minv: &[f64],
-    laws: &ContactLaws,
+    law: &L,
     img: MinImage,
     dt: f64,
+    scratch: &mut Scratch,
 ) -> PassEnergy {
     let n = d.len();
     let Discs {
@@ -182,43 +161,71 @@ fn serial<const E: bool>(
         start: &nb.start,
         nbr: &nb.nbr,
         g0: &nb.g0,
-        laws,
+        law,
         img,
         dt,
-        rolling: laws.any_rolling(),
     };
     let (us, mr) = (&mut nb.us, &mut nb.mr);
+    let sc = &mut *scratch;
+    let avx2 = has_avx2();
     let mut total = PassEnergy::default();
     let mut lo = 0;
     while lo < n {
         let hi = (lo + CHUNK).min(n);
         let mut e = PassEnergy::default();
-        for i in lo..hi {
-            let (mut ax, mut ay, mut at) = (0.0, 0.0, 0.0);
-            for p in c.start[i] as usize..c.start[i + 1] as usize {
-                let j = c.nbr[p] as usize;
-                if let Some(f) = pair::<E>(&c, i, j, p, &mut us[p], &mut mr[p], &mut e) {
-                    // Same skip rule as the parallel gather (keeps signed zeros identical).
-                    if f[0] != 0.0 || f[1] != 0.0 || f[2] != 0.0 {
-                        ax -= f[0];
-                        ay -= f[1];
-                        at += f[2];
-                    }
-                    if f[0] != 0.0 || f[1] != 0.0 || f[3] != 0.0 {
-                        fx[j] += f[0];
-                        fy[j] += f[1];
-                        torque[j] += f[3];
-                    }
+        let (mut i, mut ax, mut ay, mut at) = (lo, 0.0, 0.0, 0.0);
+        let mut gi = lo;
+        let (mut p, pend) = (c.start[lo] as usize, c.start[hi] as usize);
+        while p < pend {
+            let q = BLOCK.min(pend - p);
+            let (u, m) = (&mut us[p..p + q], &mut mr[p..p + q]);
+            block::<E, L>(&c, p, &mut gi, u, m, sc, &mut e, avx2);
+            for k in 0..q {
+                let pp = p + k;
+                while at!(c.start, i + 1) as usize <= pp {
+                    fx[i] += ax;
+                    fy[i] += ay;
+                    torque[i] += at;
+                    (ax, ay, at) = (0.0, 0.0, 0.0);
+                    i += 1;
+                }
+                // Pairs not in contact add zeros, exactly as the parallel gather does.
+                let (f0, f1, f2, f3) = (sc.fx[k], sc.fy[k], sc.ti[k], sc.tj[k]);
+                ax -= f0;
+                ay -= f1;
+                at += f2;
+                let j = at!(c.nbr, pp) as usize;
+                // SAFETY: j < n and pp < np (see `valid`).
+                unsafe {
+                    *fx.get_unchecked_mut(j) += f0;
+                    *fy.get_unchecked_mut(j) += f1;
+                    *torque.get_unchecked_mut(j) += f3;
+                    *us.get_unchecked_mut(pp) = sc.us[k];
                 }
             }
+            p += q;
+        }
+        while i < hi {
             fx[i] += ax;
             fy[i] += ay;
             torque[i] += at;
+            (ax, ay, at) = (0.0, 0.0, 0.0);
+            i += 1;
         }
         total.add(&e);
         lo = hi;
     }
     total
+}
+
+thread_local! {
+    /// One block scratch per worker thread of the parallel pass, allocated once.
+    static SCRATCH: std::cell::RefCell<Box<Scratch>> = std::cell::RefCell::new(Box::default());
+}
+
+/// Run `f` with this thread's block scratch.
+fn with_scratch<R>(f: impl FnOnce(&mut Scratch) -> R) -> R {
+    SCRATCH.with(|s| f(&mut s.borrow_mut()))
 }
 
 /// Raw pointer that may be shared across threads; each chunk touches a disjoint range.
@@ -227,11 +234,19 @@ struct SyncPtr(*mut f64);
 unsafe impl Send for SyncPtr {}
 unsafe impl Sync for SyncPtr {}
 
-fn parallel_pass<const E: bool>(
+impl SyncPtr {
+    /// # Safety
+    /// `[a, a + len)` must be in bounds and not aliased by any other live reference.
+    unsafe fn slice<'a>(self, a: usize, len: usize) -> &'a mut [f64] {
+        std::slice::from_raw_parts_mut(self.0.add(a), len)
+    }
+}
+
+fn parallel_pass<const E: bool, L: PairLaw>(
     d: &mut Discs,
     nb: &mut Neighbors,
     minv: &[f64],
-    laws: &ContactLaws,
+    law: &L,
     img: MinImage,
     dt: f64,
     s: &mut Slots,
@@ -255,10 +270,9 @@ fn parallel_pass<const E: bool>(
             start: &nb.start,
             nbr: &nb.nbr,
             g0: &nb.g0,
-            laws,
+            law,
             img,
             dt,
-            rolling: laws.any_rolling(),
         };
         let ptr = [
             SyncPtr(nb.us.as_mut_ptr()),
@@ -268,37 +282,39 @@ fn parallel_pass<const E: bool>(
             SyncPtr(s.ti.as_mut_ptr()),
             SyncPtr(s.tj.as_mut_ptr()),
         ];
+        let avx2 = has_avx2();
         (0..nchunks)
             .into_par_iter()
             .map(|ch| {
                 let (lo, hi) = (ch * CHUNK, ((ch + 1) * CHUNK).min(n));
                 let mut e = PassEnergy::default();
-                for i in lo..hi {
-                    for p in c.start[i] as usize..c.start[i + 1] as usize {
-                        let j = c.nbr[p] as usize;
-                        // SAFETY: pair p belongs to disc i of this chunk only; chunks cover
-                        // disjoint pair ranges, and all six arrays have length np > p.
-                        let f = unsafe {
-                            pair::<E>(
-                                &c,
-                                i,
-                                j,
-                                p,
-                                &mut *ptr[0].0.add(p),
-                                &mut *ptr[1].0.add(p),
-                                &mut e,
+                with_scratch(|sc| {
+                    let mut gi = lo;
+                    let (mut p, pend) = (c.start[lo] as usize, c.start[hi] as usize);
+                    while p < pend {
+                        let q = BLOCK.min(pend - p);
+                        // SAFETY: pairs [p, p + q) belong to this chunk only (chunks cover
+                        // disjoint pair ranges) and all six arrays have length np ≥ p + q.
+                        let (u, m, fx, fy, ti, tj) = unsafe {
+                            (
+                                ptr[0].slice(p, q),
+                                ptr[1].slice(p, q),
+                                ptr[2].slice(p, q),
+                                ptr[3].slice(p, q),
+                                ptr[4].slice(p, q),
+                                ptr[5].slice(p, q),
                             )
-                        }
-                        .unwrap_or([0.0; 4]);
-                        unsafe {
-                            *ptr[2].0.add(p) = f[0];
-                            *ptr[3].0.add(p) = f[1];
-                            *ptr[4].0.add(p) = f[2];
-                            *ptr[5].0.add(p) = f[3];
-                        }
+                        };
+                        block::<E, L>(&c, p, &mut gi, u, m, sc, &mut e, avx2);
+                        u.copy_from_slice(&sc.us[..q]);
+                        fx.copy_from_slice(&sc.fx[..q]);
+                        fy.copy_from_slice(&sc.fy[..q]);
+                        ti.copy_from_slice(&sc.ti[..q]);
+                        tj.copy_from_slice(&sc.tj[..q]);
+                        p += q;
                     }
-                }
-                e
+                    e
+                })
             })
             .collect_into_vec(&mut s.chunk_energy);
     }
@@ -312,30 +328,27 @@ fn parallel_pass<const E: bool>(
     ];
     (0..nchunks).into_par_iter().for_each(|ch| {
         let (lo, hi) = (ch * CHUNK, ((ch + 1) * CHUNK).min(n));
+        // SAFETY: discs [lo, hi) belong to this chunk only; arrays have length n ≥ hi.
+        let (fxs, fys, ts) = unsafe {
+            (
+                out[0].slice(lo, hi - lo),
+                out[1].slice(lo, hi - lo),
+                out[2].slice(lo, hi - lo),
+            )
+        };
         for k in lo..hi {
-            // SAFETY: disc k belongs to this chunk only; arrays have length n > k.
-            let (fxk, fyk, tk) = unsafe {
-                (
-                    &mut *out[0].0.add(k),
-                    &mut *out[1].0.add(k),
-                    &mut *out[2].0.add(k),
-                )
-            };
+            let (fxk, fyk, tk) = (&mut fxs[k - lo], &mut fys[k - lo], &mut ts[k - lo]);
             for &p in &rpair[rstart[k] as usize..rstart[k + 1] as usize] {
                 let p = p as usize;
-                if sfx[p] != 0.0 || sfy[p] != 0.0 || stj[p] != 0.0 {
-                    *fxk += sfx[p];
-                    *fyk += sfy[p];
-                    *tk += stj[p];
-                }
+                *fxk += sfx[p];
+                *fyk += sfy[p];
+                *tk += stj[p];
             }
             let (mut ax, mut ay, mut at) = (0.0, 0.0, 0.0);
             for p in start[k] as usize..start[k + 1] as usize {
-                if sfx[p] != 0.0 || sfy[p] != 0.0 || sti[p] != 0.0 {
-                    ax -= sfx[p];
-                    ay -= sfy[p];
-                    at += sti[p];
-                }
+                ax -= sfx[p];
+                ay -= sfy[p];
+                at += sti[p];
             }
             *fxk += ax;
             *fyk += ay;

@@ -73,42 +73,39 @@ impl HertzMindlin {
     }
 
     /// Force of the pair for overlap `k.delta > 0`; `us` is the tangential displacement.
+    /// Branch-free (selects only), so that the blocked force pass vectorises.
     #[inline(always)]
     pub fn force<const E: bool>(&self, k: &PairKin, us: &mut f64) -> PairOut {
         let a = (k.r_eff * k.delta).sqrt();
         let sn = 2.0 * self.e_star * a;
         let st = 8.0 * self.g_star * a;
         let f_el = (2.0 / 3.0) * sn * k.delta; // (4/3) E* √R* δ^{3/2}
-        let (cn, ct) = if self.eta > 0.0 {
-            (
-                self.eta * (k.m_eff * sn).sqrt(),
-                self.eta * (k.m_eff * st).sqrt(),
-            )
-        } else {
-            (0.0, 0.0)
-        };
+        let cn = self.eta * (k.m_eff * sn).sqrt();
+        let ct = self.eta * (k.m_eff * st).sqrt();
         let f_n = f_el - cn * k.vn;
-        *us += k.vt * k.dt;
-        let mut f_t = -st * *us - ct * k.vt;
+        let us1 = *us + k.vt * k.dt;
+        let ft0 = -st * us1 - ct * k.vt;
         let f_max = self.mu * f_n.max(0.0);
+        let slip = ft0.abs() > f_max;
+        let ft_s = f_max.copysign(ft0);
+        let us_s = if st > 0.0 {
+            -(ft_s + ct * k.vt) / st
+        } else {
+            0.0
+        };
+        let f_t = if slip { ft_s } else { ft0 };
+        *us = if slip { us_s } else { us1 };
         let mut out = PairOut {
             f_n,
+            f_t,
             ..PairOut::default()
         };
-        if f_t.abs() > f_max {
-            let trial = *us;
-            f_t = f_max.copysign(f_t);
-            *us = if st > 0.0 {
-                -(f_t + ct * k.vt) / st
+        if E {
+            out.e_fric = if slip {
+                f_max * (us1 - us_s).abs()
             } else {
                 0.0
             };
-            if E {
-                out.e_fric = f_max * (trial - *us).abs();
-            }
-        }
-        out.f_t = f_t;
-        if E {
             out.e_damp = (cn * k.vn * k.vn + ct * k.vt * k.vt) * k.dt;
             out.e_strain = 0.4 * f_el * k.delta + 0.5 * st * *us * *us;
         }

@@ -80,29 +80,36 @@ impl LinearSpringDashpot {
     #[inline(always)]
     pub fn force<const E: bool>(&self, k: &PairKin, us: &mut f64) -> PairOut {
         let cn = self.cn(k.m_eff);
+        self.force_cn::<E>(k, cn, us)
+    }
+
+    /// [`Self::force`] with the normal dashpot coefficient given. Branch-free (selects only),
+    /// so that the blocked force pass vectorises.
+    #[inline(always)]
+    pub fn force_cn<const E: bool>(&self, k: &PairKin, cn: f64, us: &mut f64) -> PairOut {
         let ct = self.shear_damping * cn;
         let f_n = self.kn * k.delta - cn * k.vn;
-        *us += k.vt * k.dt;
-        let mut f_t = -self.ks * *us - ct * k.vt;
+        let us1 = *us + k.vt * k.dt;
+        let ft0 = -self.ks * us1 - ct * k.vt;
         let f_max = self.mu * f_n.max(0.0);
+        let slip = ft0.abs() > f_max;
+        let ft_s = f_max.copysign(ft0);
+        // 1/k_s is loop-invariant: one division per block instead of one per pair.
+        let inv_ks = if self.ks > 0.0 { 1.0 / self.ks } else { 0.0 };
+        let us_s = -(ft_s + ct * k.vt) * inv_ks;
+        let f_t = if slip { ft_s } else { ft0 };
+        *us = if slip { us_s } else { us1 };
         let mut out = PairOut {
             f_n,
+            f_t,
             ..PairOut::default()
         };
-        if f_t.abs() > f_max {
-            let trial = *us;
-            f_t = f_max.copysign(f_t);
-            *us = if self.ks > 0.0 {
-                -(f_t + ct * k.vt) / self.ks
+        if E {
+            out.e_fric = if slip {
+                f_max * (us1 - us_s).abs()
             } else {
                 0.0
             };
-            if E {
-                out.e_fric = f_max * (trial - *us).abs();
-            }
-        }
-        out.f_t = f_t;
-        if E {
             out.e_damp = (cn * k.vn * k.vn + ct * k.vt * k.vt) * k.dt;
             out.e_strain = 0.5 * self.kn * k.delta * k.delta + 0.5 * self.ks * *us * *us;
         }

@@ -16,6 +16,7 @@
 pub mod disc_disc;
 pub mod disc_segment;
 pub mod hertz_mindlin;
+pub mod kernel;
 pub mod linear_spring_dashpot;
 pub mod rolling;
 

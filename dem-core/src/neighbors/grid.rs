@@ -255,3 +255,78 @@ fn partners(
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::state::Periodic;
+    use clumpgen::synth::SplitMix64;
+
+    /// All pairs with gap < skin by brute force (minimum image).
+    fn brute(st: &State, skin: f64, img: &MinImage) -> Vec<u64> {
+        let d = &st.discs;
+        let mut out = Vec::new();
+        for i in 0..d.len() {
+            for j in i + 1..d.len() {
+                let (dx, dy) = img.delta(d.x[j] - d.x[i], d.y[j] - d.y[i]);
+                let reach = d.r[i] + d.r[j] + skin;
+                if dx * dx + dy * dy < reach * reach {
+                    out.push(((i as u64) << 32) | j as u64);
+                }
+            }
+        }
+        out
+    }
+
+    fn scene(periodic: [bool; 2], ratio: f64, seed: u64) -> State {
+        let mut rng = SplitMix64::new(seed);
+        let (lx, ly) = (1.0, 0.7);
+        let mut st = State {
+            periodic: Periodic {
+                lo: [-0.2, 0.1],
+                length: [periodic[0].then_some(lx), periodic[1].then_some(ly)],
+            },
+            ..State::default()
+        };
+        let r0 = 0.004;
+        for _ in 0..1500 {
+            // Log-uniform radii over the ratio, so every level is populated.
+            let r = r0 * ratio.powf(rng.uniform());
+            let x = -0.2 + lx * rng.uniform();
+            let y = 0.1 + ly * rng.uniform();
+            st.discs.push_uniform(x, y, r, 1000.0, 1.0, 0);
+        }
+        st
+    }
+
+    #[test]
+    fn grid_pairs_equal_brute_force_for_radius_ratio_10() {
+        for (k, per) in [[false, false], [true, false], [true, true]]
+            .iter()
+            .enumerate()
+        {
+            let st = scene(*per, 10.0, 7 + k as u64);
+            let img = MinImage::new(&st.periodic);
+            let skin = 0.001;
+            let fast = find_pairs(&st, skin, &img);
+            let slow = brute(&st, skin, &img);
+            assert!(slow.len() > 1000, "scene too sparse: {}", slow.len());
+            assert_eq!(fast, slow, "periodic {per:?}");
+        }
+    }
+
+    #[test]
+    fn clump_members_are_not_paired() {
+        let mut st = scene([false, false], 1.0, 3);
+        st.clumps.x.push(0.0);
+        for b in st.discs.body.iter_mut().take(10) {
+            *b = 0;
+        }
+        let img = MinImage::new(&st.periodic);
+        let pairs = find_pairs(&st, 0.5, &img);
+        for k in pairs {
+            let (i, j) = ((k >> 32) as usize, (k as u32) as usize);
+            assert!(!(i < 10 && j < 10), "members {i} and {j} paired");
+        }
+    }
+}

@@ -94,6 +94,11 @@ pub struct Neighbors {
     pub walls: WallPairs,
     /// Number of builds so far.
     pub builds: u64,
+    /// Whether every index in the lists is known to be in range (set by `rebuild`, which
+    /// builds them so; cleared by deserialisation and `remap`). The force pass checks the
+    /// indices once when this is false.
+    #[serde(skip)]
+    pub verified: bool,
 }
 
 impl Neighbors {
@@ -208,6 +213,7 @@ impl Neighbors {
             .collect();
         self.skin = skin;
         self.builds += 1;
+        self.verified = true;
     }
 
     fn rebuild_walls(&mut self, st: &State, skin: f64, img: &MinImage) {
@@ -290,6 +296,7 @@ impl Neighbors {
             *dsc = new_of_old[*dsc as usize];
         }
         // Positions at build and reverse lists are refreshed by the rebuild that follows.
+        self.verified = false;
         self.x0.clear();
         self.y0.clear();
     }
@@ -311,4 +318,52 @@ pub fn closest_on_segment(w: &Wall, x: f64, y: f64, img: &MinImage) -> (f64, f64
     let (dx, dy) = (rx - px, ry - py);
     // Return the point in the frame of (x, y): x − (r − p).
     (x - dx, y - dy, (dx * dx + dy * dy).sqrt())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn history_follows_pairs_through_remap_and_rebuild() {
+        let mut st = State::default();
+        for k in 0..6 {
+            st.discs
+                .push_uniform(k as f64 * 0.019, 0.0, 0.01, 1.0, 1.0, 0);
+        }
+        let mut nb = Neighbors::default();
+        let none = BTreeMap::new();
+        nb.rebuild(&st, 0.001, &none);
+        assert_eq!(nb.n_pairs(), 5);
+        // History value = 10·i + j (ids), rolling = i − j.
+        for i in 0..6 {
+            for p in nb.start[i] as usize..nb.start[i + 1] as usize {
+                let j = nb.nbr[p] as usize;
+                nb.us[p] = 10.0 * i as f64 + j as f64;
+                nb.mr[p] = i as f64 - j as f64;
+            }
+        }
+        // Reverse the order of the discs.
+        let order: Vec<u32> = (0..6).rev().collect();
+        let new_of_old: Vec<u32> = (0..6u32).map(|o| 5 - o).collect();
+        st.discs.permute(&order);
+        nb.remap(&new_of_old);
+        nb.rebuild(&st, 0.001, &none);
+        assert_eq!(nb.n_pairs(), 5);
+        for i in 0..6 {
+            for p in nb.start[i] as usize..nb.start[i + 1] as usize {
+                let j = nb.nbr[p] as usize;
+                let (a, b) = (st.discs.id[i] as f64, st.discs.id[j] as f64);
+                // Pair keyed by ids: (lo, hi) = (min, max); u_s is invariant under i ↔ j, the
+                // rolling moment on the new first disc flips sign.
+                let (lo, hi) = (a.min(b), a.max(b));
+                assert_eq!(nb.us[p], 10.0 * lo + hi);
+                assert_eq!(nb.mr[p], a - b, "rolling moment sign");
+            }
+        }
+        // A pair that separates beyond the skin loses its history; a new pair starts at 0.
+        st.discs.x[0] += 1.0;
+        nb.rebuild(&st, 0.001, &none);
+        assert_eq!(nb.n_pairs(), 4);
+    }
 }

@@ -1,25 +1,17 @@
 //! Spatial reordering of discs for cache locality: discs are sorted by the cell they fall in
-//! on a grid of cell side ≈ the median diameter, cells taken in Morton (Z) order, ties kept in
-//! the current order. Neighbours in space then sit close in memory, so the force pass reads
+//! on a grid of cell side ≈ the median diameter, cells taken in vertical strips of
+//! [`STRIP`] cells, row by row within a strip, ties kept in the current order. A disc's
+//! partners then sit within about two strip rows of it in memory (a few kB per array), which
+//! measured faster on the dense benchmark than Morton (Z) order, whose block boundaries put
+//! some partners far away. Neighbours in space then sit close in memory, so the force pass reads
 //! partner data from cache. The caller applies the permutation to the state and remaps every
 //! per-disc and per-pair array (neighbour history, bonds, clump member lookup).
 
 use crate::state::State;
 
-/// Interleave the low 16 bits of x and y (Morton code).
-#[inline]
-fn morton(x: u32, y: u32) -> u64 {
-    fn spread(v: u32) -> u64 {
-        let mut v = v as u64 & 0xffff_ffff;
-        v = (v | (v << 16)) & 0x0000_ffff_0000_ffff;
-        v = (v | (v << 8)) & 0x00ff_00ff_00ff_00ff;
-        v = (v | (v << 4)) & 0x0f0f_0f0f_0f0f_0f0f;
-        v = (v | (v << 2)) & 0x3333_3333_3333_3333;
-        v = (v | (v << 1)) & 0x5555_5555_5555_5555;
-        v
-    }
-    spread(x) | (spread(y) << 1)
-}
+/// Strip width in cells.
+pub const STRIP: u32 = 32;
+const MAXC: i64 = (1 << 21) - 1;
 
 /// Order of discs (new position k holds old index `order[k]`) and its inverse
 /// (`new_of_old[old] = new`). Returns `None` when the current order is already that order.
@@ -39,9 +31,10 @@ pub fn spatial_order(st: &State) -> Option<(Vec<u32>, Vec<u32>)> {
     }
     let mut keyed: Vec<(u64, u32)> = (0..n)
         .map(|k| {
-            let cx = (((d.x[k] - xmin) / cell).floor() as i64).clamp(0, u32::MAX as i64) as u32;
-            let cy = (((d.y[k] - ymin) / cell).floor() as i64).clamp(0, u32::MAX as i64) as u32;
-            (morton(cx, cy), k as u32)
+            let cx = (((d.x[k] - xmin) / cell).floor() as i64).clamp(0, MAXC) as u32;
+            let cy = (((d.y[k] - ymin) / cell).floor() as i64).clamp(0, MAXC) as u32;
+            let key = ((cx / STRIP) as u64) << 42 | (cy as u64) << 21 | (cx % STRIP) as u64;
+            (key, k as u32)
         })
         .collect();
     keyed.sort_unstable();
@@ -59,14 +52,6 @@ pub fn spatial_order(st: &State) -> Option<(Vec<u32>, Vec<u32>)> {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn morton_interleaves() {
-        assert_eq!(morton(0, 0), 0);
-        assert_eq!(morton(1, 0), 1);
-        assert_eq!(morton(0, 1), 2);
-        assert_eq!(morton(3, 3), 15);
-    }
 
     #[test]
     fn order_is_a_permutation_grouping_space() {

@@ -1,47 +1,49 @@
 //! History CSV: one row every N steps with time, step, dt, the reaction force and moment of every
-//! wall, the energy terms and balance, and the broken bonds per group and mode.
+//! wall, the energy terms and balance ([`EnergyReport`]: kinetic, strain in contacts and bonds,
+//! gravity potential, boundary work, damping, friction, released at breaks, total, initial,
+//! relative balance error), and the broken bonds per group and mode (cumulative).
 //!
 //! Rows are kept as text and the file is rewritten atomically at each flush (checkpoints, the end
 //! of the run, and at most every few seconds), so it is always complete and a restart continues
 //! it exactly (the rows travel in the checkpoint).
 
 use super::{finite, push_num, write_atomic, OutputError};
+use crate::energy::EnergyReport;
 use crate::state::Wall;
 use std::path::{Path, PathBuf};
 
-/// Energy terms (J) of one history row; see the engine's energy bookkeeping for definitions.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
-pub struct Energies {
-    pub kinetic_trans: f64,
-    pub kinetic_rot: f64,
-    pub strain_contact: f64,
-    pub strain_bond: f64,
-    /// Work done on the discs by walls since the start.
-    pub wall_work: f64,
-    /// Work done by gravity since the start.
-    pub gravity_work: f64,
-    /// Dissipated by local/viscous damping and contact dashpots since the start.
-    pub damping: f64,
-    /// Dissipated by friction slip since the start.
-    pub friction: f64,
-    /// Strain energy released at bond breaks since the start.
-    pub released: f64,
-    /// Energy balance error: input − (stored + dissipated), in J.
-    pub balance_error: f64,
-}
-
-const ENERGY_COLUMNS: [&str; 10] = [
+const ENERGY_COLUMNS: [&str; 12] = [
     "ek_trans",
     "ek_rot",
     "e_contact",
     "e_bond",
-    "w_walls",
-    "w_gravity",
+    "e_gravity",
+    "w_boundary",
     "e_damping",
     "e_friction",
     "e_released",
+    "e_total",
+    "e_initial",
     "balance_error",
 ];
+
+/// The energy columns of a report, in [`ENERGY_COLUMNS`] order.
+fn energy_values(e: &EnergyReport) -> [f64; 12] {
+    [
+        e.kinetic_translation,
+        e.kinetic_rotation,
+        e.strain_contact,
+        e.strain_bond,
+        e.gravity_potential,
+        e.boundary_work,
+        e.damping,
+        e.friction,
+        e.bond_break,
+        e.total,
+        e.initial,
+        e.balance_error,
+    ]
+}
 
 /// Column-name safe text: letters, digits, `_`, `-`, `.`; anything else becomes `_`.
 pub fn column_name(s: &str) -> String {
@@ -110,7 +112,7 @@ impl History {
         step: u64,
         dt: f64,
         walls: &[Wall],
-        e: &Energies,
+        e: &EnergyReport,
         broken: &[[u64; 2]],
     ) -> Result<(), OutputError> {
         debug_assert_eq!(walls.len(), self.walls);
@@ -132,19 +134,7 @@ impl History {
                 );
             }
         }
-        let ev = [
-            e.kinetic_trans,
-            e.kinetic_rot,
-            e.strain_contact,
-            e.strain_bond,
-            e.wall_work,
-            e.gravity_work,
-            e.damping,
-            e.friction,
-            e.released,
-            e.balance_error,
-        ];
-        for (name, v) in ENERGY_COLUMNS.iter().zip(ev) {
+        for (name, v) in ENERGY_COLUMNS.iter().zip(energy_values(e)) {
             row.push(',');
             push_num(&mut row, finite(p, || format!("{name} at step {step}"), v)?);
         }
@@ -193,9 +183,9 @@ mod tests {
             Wall::new("left wall", [0.0, 0.0], [0.0, 1.0], 0),
         ];
         w[0].force = [0.5, -2.0];
-        let e = Energies {
-            kinetic_trans: 1.5,
-            ..Energies::default()
+        let e = EnergyReport {
+            kinetic_translation: 1.5,
+            ..EnergyReport::default()
         };
         h.push(0.001, 10, 1e-4, &w, &e, &[[3, 1]]).unwrap();
         w[1].moment = f64::NAN;

@@ -6,6 +6,7 @@
 //! the blow-up guard stops a run before its outputs, so a NaN reaching a writer is a bug, and it
 //! is reported instead of written.
 
+pub mod driver;
 pub mod history;
 pub mod summary;
 pub mod vtk;

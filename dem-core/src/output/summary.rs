@@ -1,25 +1,11 @@
 //! The run summary (`summary.json`): what ran, how fast, and where the energy went.
 
 use super::{finite, write_atomic, OutputError};
+use crate::energy::EnergyReport;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
 pub const SCHEMA: &str = "dem.summary/1";
-
-/// Final energy terms (J) and the balance error relative to the largest term.
-#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
-pub struct EnergySummary {
-    pub kinetic: f64,
-    pub strain: f64,
-    pub wall_work: f64,
-    pub gravity_work: f64,
-    pub damping: f64,
-    pub friction: f64,
-    pub released: f64,
-    pub balance_error: f64,
-    /// |balance error| / max(|terms|), 0 when every term is 0.
-    pub balance_error_rel: f64,
-}
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct RunSummary {
@@ -48,7 +34,8 @@ pub struct RunSummary {
     pub wall_time_s: f64,
     /// discs × steps / wall time of the stepping (outputs excluded).
     pub particle_steps_per_s: f64,
-    pub energy: EnergySummary,
+    /// Final energies (J) and relative balance error, see [`crate::energy::EnergyReport`].
+    pub energy: EnergyReport,
     /// Files written (relative to the output folder).
     pub files: Vec<String>,
 }
@@ -64,15 +51,18 @@ impl RunSummary {
             ("dt_max", self.dt_max),
             ("wall_time_s", self.wall_time_s),
             ("particle_steps_per_s", self.particle_steps_per_s),
-            ("energy.kinetic", e.kinetic),
-            ("energy.strain", e.strain),
-            ("energy.wall_work", e.wall_work),
-            ("energy.gravity_work", e.gravity_work),
+            ("energy.kinetic_translation", e.kinetic_translation),
+            ("energy.kinetic_rotation", e.kinetic_rotation),
+            ("energy.strain_contact", e.strain_contact),
+            ("energy.strain_bond", e.strain_bond),
+            ("energy.gravity_potential", e.gravity_potential),
+            ("energy.boundary_work", e.boundary_work),
             ("energy.damping", e.damping),
             ("energy.friction", e.friction),
-            ("energy.released", e.released),
+            ("energy.bond_break", e.bond_break),
+            ("energy.total", e.total),
+            ("energy.initial", e.initial),
             ("energy.balance_error", e.balance_error),
-            ("energy.balance_error_rel", e.balance_error_rel),
         ] {
             finite(path, || k.to_string(), v)?;
         }

@@ -287,4 +287,37 @@ mod tests {
         assert!(pvd.contains("timestep=\"0.5\" group=\"\" part=\"0\" file=\"s.vtp\""));
         std::fs::remove_dir_all(&dir).unwrap();
     }
+
+    #[test]
+    fn bonds_across_a_periodic_boundary_are_left_out() {
+        let dir = std::env::temp_dir().join(format!("dem-vtk-per-{}", std::process::id()));
+        let mut st = State::default();
+        st.periodic.length = [Some(10.0), None];
+        for x in [0.2, 9.8, 5.0] {
+            st.discs.push_uniform(x, 0.0, 0.3, 1000.0, 1.0, 0);
+        }
+        let bond = |i, j| BondLine {
+            i,
+            j,
+            group: 0,
+            intact: false,
+            normal_force: 0.0,
+            shear_force: 0.0,
+            moment: 0.0,
+        };
+        let p = dir.join("p.vtp");
+        write_discs(&p, &st, &[bond(0, 1), bond(1, 2), bond(0, 7)]).unwrap();
+        let t = std::fs::read_to_string(&p).unwrap();
+        // Only 1-2 is drawn (0-1 wraps, 0-7 names no disc); its state is "broken" (0).
+        assert!(t.contains("NumberOfLines=\"1\""), "{t}");
+        assert!(
+            t.contains("Name=\"connectivity\" format=\"ascii\">\n1 2\n"),
+            "{t}"
+        );
+        assert!(
+            t.contains("Name=\"bond_state\" format=\"ascii\">\n0\n"),
+            "{t}"
+        );
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 }

@@ -3,7 +3,7 @@
 //! silently ignored is an error, so a misread scene cannot run); value ranges are the bond
 //! module's own ([`crate::bond::BondGroup::validate`]), reported with the scene field name.
 
-use super::resolve::Ck;
+use super::check::Ck;
 use super::schema::{BondGroupSpec, BondModelName, CriterionName};
 use super::SceneError;
 use crate::bond::{

@@ -13,8 +13,8 @@
 //!   either defers to the other; none at all means no dashpot. Hertz-Mindlin takes restitution
 //!   only (its damping is calibrated for it).
 
+use super::check::Ck;
 use super::model::{NormalDamping, PairLaw, PairStiffness, Scene};
-use super::resolve::Ck;
 use super::schema::{ContactSpec, LawName, PairSpec};
 use super::SceneError;
 use std::collections::{BTreeSet, HashMap};
@@ -182,16 +182,16 @@ fn pair(
         }
     };
     let damping = match (law, damping) {
-        (LawName::HertzMindlin, NormalDamping::Ratio(0.0)) => {
-            NormalDamping::Restitution(1.0)
-        }
-        (LawName::HertzMindlin, NormalDamping::Ratio(_)) => return Err(ck.err(
-            ov.map(|(i, _)| format!("contact.pairs[{i}].damping_ratio"))
-                .unwrap_or_else(|| "contact.law".into()),
-            format!(
+        (LawName::HertzMindlin, NormalDamping::Ratio(0.0)) => NormalDamping::Restitution(1.0),
+        (LawName::HertzMindlin, NormalDamping::Ratio(_)) => {
+            return Err(ck.err(
+                ov.map(|(i, _)| format!("contact.pairs[{i}].damping_ratio"))
+                    .unwrap_or_else(|| "contact.law".into()),
+                format!(
                 "{what} uses hertz_mindlin, whose damping is set by restitution, not damping_ratio"
             ),
-        )),
+            ))
+        }
         (_, d) => d,
     };
     let rolling = if rolling {

@@ -3,11 +3,15 @@
 //! construction of a `World` from it.
 
 mod bondspec;
+pub mod build;
+mod check;
+mod controls;
 mod mix;
 pub mod model;
 pub mod resolve;
 pub mod schema;
 
+pub use build::build;
 pub use model::Scene;
 pub use resolve::{load, parse};
 
@@ -29,6 +33,12 @@ pub enum SceneError {
     Field {
         file: String,
         field: String,
+        reason: String,
+    },
+    #[error("{file}: cannot build {what}: {reason}")]
+    Build {
+        file: String,
+        what: String,
         reason: String,
     },
 }

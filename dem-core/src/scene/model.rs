@@ -28,10 +28,12 @@ pub struct Scene {
     pub clumps: Vec<ClumpInit>,
     pub auto_bonds: Vec<AutoBond>,
     pub walls: Vec<WallInit>,
+    pub loads: Vec<crate::pipeline::ExternalLoad>,
     pub periodic: Periodic,
     pub gravity: Option<[f64; 2]>,
     pub damping: Damping,
-    #[serde(skip)]
+    /// Run control: the time-step and guard settings enter the physics hash, the stop and
+    /// step cap do not (a restart may extend a run).
     pub run: Run,
     #[serde(skip)]
     pub outputs: Outputs,
@@ -108,9 +110,9 @@ pub struct ClumpInit {
     pub mode: ClumpMode,
     pub bond_group: Option<usize>,
     pub bond_tolerance: f64,
-    /// Masses of the template times this (material density × scene thickness over the
-    /// template's density × thickness).
-    pub mass_scale: f64,
+    /// Material density over the template's density (masses are scaled by it, and by the
+    /// scene thickness over the template's).
+    pub density_ratio: f64,
     pub x: f64,
     pub y: f64,
     pub angle: f64,
@@ -148,12 +150,14 @@ pub struct Damping {
 }
 
 /// Run control.
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Copy, Default, Serialize)]
 pub struct Run {
     /// Stop when time ≥ duration (s), or after `steps`.
+    #[serde(skip)]
     pub stop: Stop,
     pub dt_factor: Option<f64>,
     pub dt: Option<f64>,
+    #[serde(skip)]
     pub max_steps: Option<u64>,
     /// Verlet skin (m).
     pub skin: Option<f64>,

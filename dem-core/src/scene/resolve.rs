@@ -2,14 +2,14 @@
 //! lengths to SI once, resolve names to indices, load templates and specimens, check every value.
 //! Every error names the file, the field and the reason.
 
+use super::check::{dir_of, parse_json, Ck};
+use super::controls;
 use super::mix::pair_laws;
 use super::model::*;
 use super::schema::*;
 use super::SceneError;
 use crate::bond::BondGroup;
-use crate::state::Periodic;
 use clumpgen::Template;
-use serde::de::DeserializeOwned;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
@@ -27,82 +27,6 @@ pub fn parse(text: &str, path: &Path) -> Result<Scene, SceneError> {
     let file = path.display().to_string();
     let raw: SceneFile = parse_json(text, &file)?;
     Resolver::new(path).scene(raw)
-}
-
-/// Deserialises JSON, reporting the JSON path of the first offending value.
-pub(crate) fn parse_json<T: DeserializeOwned>(text: &str, file: &str) -> Result<T, SceneError> {
-    let mut de = serde_json::Deserializer::from_str(text);
-    let value: T = serde_path_to_error::deserialize(&mut de).map_err(|e| {
-        let path = e.path().to_string();
-        SceneError::Json {
-            file: file.to_string(),
-            path,
-            reason: e.into_inner().to_string(),
-        }
-    })?;
-    de.end().map_err(|e| SceneError::Json {
-        file: file.to_string(),
-        path: ".".into(),
-        reason: e.to_string(),
-    })?;
-    Ok(value)
-}
-
-/// Field checks of one file.
-pub(crate) struct Ck {
-    pub file: String,
-}
-
-impl Ck {
-    pub fn err(&self, field: impl Into<String>, reason: impl Into<String>) -> SceneError {
-        SceneError::Field {
-            file: self.file.clone(),
-            field: field.into(),
-            reason: reason.into(),
-        }
-    }
-
-    pub fn finite(&self, field: &str, v: f64) -> Result<f64, SceneError> {
-        if v.is_finite() {
-            Ok(v)
-        } else {
-            Err(self.err(field, "must be a finite number"))
-        }
-    }
-
-    pub fn positive(&self, field: &str, v: f64) -> Result<f64, SceneError> {
-        if v.is_finite() && v > 0.0 {
-            Ok(v)
-        } else {
-            Err(self.err(field, format!("must be positive (got {v})")))
-        }
-    }
-
-    pub fn non_negative(&self, field: &str, v: f64) -> Result<f64, SceneError> {
-        if v.is_finite() && v >= 0.0 {
-            Ok(v)
-        } else {
-            Err(self.err(field, format!("must be zero or positive (got {v})")))
-        }
-    }
-
-    /// `lo <= v < hi` (or `<= hi` when `closed`).
-    pub fn range(
-        &self,
-        field: &str,
-        v: f64,
-        lo: f64,
-        hi: f64,
-        closed: bool,
-    ) -> Result<f64, SceneError> {
-        let ok = v.is_finite() && v >= lo && (v < hi || (closed && v == hi));
-        if ok {
-            Ok(v)
-        } else {
-            let close = if closed { "]" } else { ")" };
-            Err(self.err(field, format!("must lie in [{lo}, {hi}{close} (got {v})")))
-        }
-    }
 }
 
 /// State of one scene load: material and group names, template cache, id counters.
@@ -245,7 +169,8 @@ impl Resolver {
         }
         let auto_bonds = self.auto_bonds(&raw.auto_bonds, u)?;
         let walls = self.walls(&raw.walls, u)?;
-        let periodic = self.periodic(raw.periodic.as_ref(), u)?;
+        let loads = self.loads(&raw.loads)?;
+        let periodic = controls::periodic(&ck, raw.periodic.as_ref(), u)?;
         let gravity = match raw.gravity {
             Some(g) => Some([
                 ck.finite("gravity[0]", g[0])? * u,
@@ -257,8 +182,8 @@ impl Resolver {
             local: ck.range("damping.local", raw.damping.local, 0.0, 1.0, false)?,
             viscous: ck.range("damping.viscous", raw.damping.viscous, 0.0, 1.0, false)?,
         };
-        let run = self.run(&raw.run, u)?;
-        let outputs = self.outputs(&raw.outputs)?;
+        let run = controls::run(&ck, &raw.run, u)?;
+        let outputs = controls::outputs(&ck, &self.scene_path, &raw.outputs)?;
         if self.discs.is_empty() && self.clumps.is_empty() {
             return Err(ck.err("bodies", "the scene has no discs"));
         }
@@ -275,6 +200,7 @@ impl Resolver {
             clumps: std::mem::take(&mut self.clumps),
             auto_bonds,
             walls,
+            loads,
             periodic,
             gravity,
             damping,
@@ -461,7 +387,7 @@ impl Resolver {
             }
         };
         let t = &self.templates[ti];
-        let mass_scale = rho * self.thickness / (t.density * t.thickness);
+        let density_ratio = rho / t.density;
         let bond_group = match (set.mode, &set.bond_group) {
             (ClumpMode::Bonded, Some(g)) => {
                 Some(self.group(ck, &format!("{field}.bond_group"), g)?)
@@ -493,7 +419,7 @@ impl Resolver {
                 mode: set.mode,
                 bond_group,
                 bond_tolerance,
-                mass_scale,
+                density_ratio,
                 x: ck.finite(&f("x"), p.x)? * u + off[0],
                 y: ck.finite(&f("y"), p.y)? * u + off[1],
                 angle: ck.finite(&f("angle"), p.angle)?,
@@ -566,93 +492,35 @@ impl Resolver {
             .collect()
     }
 
-    fn periodic(&self, raw: Option<&PeriodicSpec>, u: f64) -> Result<Periodic, SceneError> {
-        let mut p = Periodic::default();
-        let Some(raw) = raw else { return Ok(p) };
-        for (axis, (name, r)) in [("x", raw.x), ("y", raw.y)].into_iter().enumerate() {
-            if let Some([lo, hi]) = r {
-                let field = format!("periodic.{name}");
-                let lo = self.ck.finite(&field, lo)? * u;
-                let hi = self.ck.finite(&field, hi)? * u;
-                if hi <= lo {
-                    return Err(self.ck.err(field, "needs [lo, hi] with hi > lo"));
+    fn loads(&self, raw: &[LoadSpec]) -> Result<Vec<crate::pipeline::ExternalLoad>, SceneError> {
+        let n = self.discs.len()
+            + self
+                .clumps
+                .iter()
+                .map(|c| self.templates[c.template].discs.len())
+                .sum::<usize>();
+        raw.iter()
+            .enumerate()
+            .map(|(i, l)| {
+                let f = |k: &str| format!("loads[{i}].{k}");
+                if l.disc as usize >= n {
+                    return Err(self.ck.err(
+                        f("disc"),
+                        format!(
+                            "no disc {} (the scene has {n}; ids count from 0 in creation order)",
+                            l.disc
+                        ),
+                    ));
                 }
-                p.lo[axis] = lo;
-                p.length[axis] = Some(hi - lo);
-            }
-        }
-        Ok(p)
-    }
-
-    fn run(&self, r: &RunSpec, u: f64) -> Result<Run, SceneError> {
-        let ck = &self.ck;
-        let stop = match (r.duration, r.steps) {
-            (Some(d), None) => Stop::Duration(ck.positive("run.duration", d)?),
-            (None, Some(s)) => Stop::Steps(s),
-            (Some(_), Some(_)) => {
-                return Err(ck.err("run.steps", "give duration or steps, not both"))
-            }
-            (None, None) => return Err(ck.err("run", "needs duration (s) or steps")),
-        };
-        if r.dt.is_some() && r.dt_factor.is_some() {
-            return Err(ck.err(
-                "run.dt",
-                "give dt (fixed) or dt_factor (automatic), not both",
-            ));
-        }
-        Ok(Run {
-            stop,
-            dt_factor: r
-                .dt_factor
-                .map(|f| ck.range("run.dt_factor", f, 0.0, 1.0, true))
-                .transpose()?,
-            dt: r.dt.map(|d| ck.positive("run.dt", d)).transpose()?,
-            max_steps: r.max_steps,
-            skin: r
-                .skin
-                .map(|v| ck.positive("run.skin", v).map(|v| v * u))
-                .transpose()?,
-            max_overlap_fraction: r
-                .max_overlap_fraction
-                .map(|v| ck.range("run.max_overlap_fraction", v, 0.0, 1.0, true))
-                .transpose()?,
-            max_energy_growth: r
-                .max_energy_growth
-                .map(|v| ck.positive("run.max_energy_growth", v))
-                .transpose()?,
-        })
-    }
-
-    fn outputs(&self, o: &OutputSpec) -> Result<Outputs, SceneError> {
-        let dir = match &o.dir {
-            Some(d) => dir_of(&self.scene_path).join(d),
-            None => {
-                let stem = self
-                    .scene_path
-                    .file_stem()
-                    .map(|s| s.to_string_lossy().into_owned())
-                    .unwrap_or_else(|| "scene".into());
-                dir_of(&self.scene_path).join(format!("{stem}.out"))
-            }
-        };
-        if o.guard_every == 0 {
-            return Err(self.ck.err("outputs.guard_every", "must be at least 1"));
-        }
-        Ok(Outputs {
-            dir,
-            history_every: o.history_every,
-            vtk_every: o.vtk_every,
-            checkpoint_every: o.checkpoint_every,
-            guard_every: o.guard_every,
-            summary: o.summary,
-        })
-    }
-}
-
-/// The folder of a file ("." for a bare name).
-fn dir_of(p: &Path) -> PathBuf {
-    match p.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
-        _ => PathBuf::from("."),
+                Ok(crate::pipeline::ExternalLoad {
+                    id: l.disc,
+                    force: [
+                        self.ck.finite(&f("force[0]"), l.force[0])?,
+                        self.ck.finite(&f("force[1]"), l.force[1])?,
+                    ],
+                    torque: self.ck.finite(&f("torque"), l.torque)?,
+                })
+            })
+            .collect()
     }
 }

@@ -59,6 +59,9 @@ pub struct SceneFile {
     pub auto_bonds: Vec<AutoBondSpec>,
     #[serde(default)]
     pub walls: Vec<WallSpec>,
+    /// Constant external forces and torques on single discs.
+    #[serde(default)]
+    pub loads: Vec<LoadSpec>,
     #[serde(default)]
     pub periodic: Option<PeriodicSpec>,
     /// Gravitational acceleration (length unit / s²); absent = no gravity stage.
@@ -368,6 +371,18 @@ pub struct WallSpec {
     pub center: Option<[f64; 2]>,
 }
 
+/// A constant external force (N) and torque (N·m) on the disc with creation index `disc` (on
+/// a rigid-clump member it acts on the whole clump).
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LoadSpec {
+    pub disc: u32,
+    #[serde(default)]
+    pub force: [f64; 2],
+    #[serde(default)]
+    pub torque: f64,
+}
+
 /// Periodic axes: `[lo, hi]` per periodic axis.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -406,7 +421,7 @@ pub struct RunSpec {
     /// Fixed time step (s) instead of the automatic one.
     #[serde(default)]
     pub dt: Option<f64>,
-    /// Hard cap on the number of steps (a duration run stops there with an error).
+    /// Cap on the world's step count: the run stops there (and can be continued by a restart).
     #[serde(default)]
     pub max_steps: Option<u64>,
     /// Verlet skin (length unit); default 0.2 × the smallest radius.

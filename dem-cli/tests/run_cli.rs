@@ -1,0 +1,213 @@
+//! `dem run` end to end: a tiny scene writes history, snapshots and summary; bad scenes and
+//! bad restarts are messages naming the file and field, with exit code 2 and no panic.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn tmp(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("dem-run-cli-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn dem(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_dem"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+fn text(o: &Output) -> String {
+    format!(
+        "{}\n{}",
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr)
+    )
+}
+
+/// Two discs meeting head-on between two walls, with every output on.
+fn tiny_scene(dir: &Path) -> PathBuf {
+    let scene = serde_json::json!({
+        "schema": "dem.scene/1",
+        "name": "tiny",
+        "units": "mm",
+        "materials": [{"name": "glass", "density": 2500, "kn": 1e5, "ks": 5e4, "friction": 0.3, "restitution": 0.7}],
+        "bodies": {"discs": [
+            {"material": "glass", "velocity": [500, 0], "discs": [[-2, 0, 1]]},
+            {"material": "glass", "velocity": [-500, 0], "discs": [[2, 0, 1]]}
+        ]},
+        "walls": [{"name": "floor", "a": [-10, -1.5], "b": [10, -1.5], "material": "glass"}],
+        "run": {"steps": 400},
+        "outputs": {"history_every": 20, "vtk_every": 100, "checkpoint_every": 200}
+    });
+    let p = dir.join("tiny.json");
+    std::fs::write(&p, serde_json::to_string_pretty(&scene).unwrap()).unwrap();
+    p
+}
+
+#[test]
+fn run_writes_history_snapshots_and_summary() {
+    let dir = tmp("ok");
+    let scene = tiny_scene(&dir);
+    let out = dir.join("out");
+    // Leftovers of an earlier run are cleared; other files are kept.
+    std::fs::create_dir_all(&out).unwrap();
+    std::fs::write(out.join("snap-000999999.vtp"), "old").unwrap();
+    std::fs::write(out.join("notes.txt"), "mine").unwrap();
+    let o = dem(&[
+        "run",
+        scene.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--threads",
+        "1",
+    ]);
+    let t = text(&o);
+    assert_eq!(o.status.code(), Some(0), "{t}");
+    assert!(
+        t.contains("active stages: neighbours, contacts, walls, integrate"),
+        "{t}"
+    );
+    assert!(t.contains("completed: 400 steps"), "{t}");
+    let hist = std::fs::read_to_string(out.join("history.csv")).unwrap();
+    let lines: Vec<&str> = hist.lines().collect();
+    assert_eq!(lines.len(), 1 + 400 / 20, "{hist}");
+    assert!(lines[0].starts_with("time,step,dt,floor_fx,floor_fy,floor_moment,ek_trans"));
+    // The discs collide: kinetic energy drops below its start and comes back to ~e² of it.
+    let ek: Vec<f64> = lines[1..]
+        .iter()
+        .map(|l| l.split(',').nth(6).unwrap().parse().unwrap())
+        .collect();
+    assert!(ek.iter().all(|v| v.is_finite()));
+    let ratio = ek.last().unwrap() / ek[0];
+    assert!(
+        (ratio - 0.49).abs() < 0.01,
+        "rebound energy ratio {ratio}, expected e² = 0.49"
+    );
+    for k in [0, 100, 200, 300, 400] {
+        let p = out.join(format!("snap-{k:09}.vtp"));
+        let v = std::fs::read_to_string(&p).unwrap_or_else(|_| panic!("{}", p.display()));
+        assert!(v.contains("NumberOfPoints=\"2\"") && v.contains("Name=\"radius\""));
+    }
+    assert!(!out.join("snap-000999999.vtp").exists() && out.join("notes.txt").exists());
+    let pvd = std::fs::read_to_string(out.join("snapshots.pvd")).unwrap();
+    assert_eq!(pvd.matches("<DataSet").count(), 10, "{pvd}");
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(s["status"], "completed");
+    assert_eq!(s["steps"], 400);
+    assert!(s["particle_steps_per_s"].as_f64().unwrap() > 0.0);
+    assert!(out.join("ckpt-000000200.json").exists() && out.join("ckpt-final.json").exists());
+
+    // Restart from the step-200 checkpoint into another folder: the same final state.
+    let out2 = dir.join("out2");
+    let ck = out.join("ckpt-000000200.json");
+    let o = dem(&[
+        "run",
+        scene.to_str().unwrap(),
+        "--out",
+        out2.to_str().unwrap(),
+        "--restart",
+        ck.to_str().unwrap(),
+        "--threads",
+        "2",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    assert!(
+        text(&o).contains("completed: 200 steps to step 400"),
+        "{}",
+        text(&o)
+    );
+    assert_eq!(
+        std::fs::read(out.join("ckpt-final.json")).unwrap(),
+        std::fs::read(out2.join("ckpt-final.json")).unwrap()
+    );
+    assert_eq!(
+        hist,
+        std::fs::read_to_string(out2.join("history.csv")).unwrap()
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn bad_scenes_are_messages_with_exit_code_2() {
+    let dir = tmp("bad");
+    let scene = tiny_scene(&dir);
+    let good = std::fs::read_to_string(&scene).unwrap();
+    // An unknown field (a typo of "friction").
+    let p = dir.join("bad-field.json");
+    std::fs::write(&p, good.replace("\"friction\"", "\"frikshun\"")).unwrap();
+    let o = dem(&[
+        "run",
+        p.to_str().unwrap(),
+        "--out",
+        dir.join("o").to_str().unwrap(),
+    ]);
+    let t = text(&o);
+    assert_eq!(o.status.code(), Some(2), "{t}");
+    assert!(
+        t.contains("bad-field.json")
+            && t.contains("materials[0].frikshun")
+            && t.contains("unknown field"),
+        "{t}"
+    );
+    assert!(!t.contains("panicked"), "{t}");
+    // Structured edits for the rest.
+    let mut v: serde_json::Value = serde_json::from_str(&good).unwrap();
+    v["bodies"]["discs"][1]["discs"][0][2] = (-1.0).into();
+    v["walls"][0]["material"] = "steel".into();
+    let p = dir.join("bad-radius.json");
+    std::fs::write(&p, v.to_string()).unwrap();
+    let o = dem(&["run", p.to_str().unwrap()]);
+    let t = text(&o);
+    assert_eq!(o.status.code(), Some(2), "{t}");
+    assert!(
+        t.contains("bad-radius.json")
+            && t.contains("bodies.discs[1].discs[0][2]")
+            && t.contains("radius must be positive"),
+        "{t}"
+    );
+    v["bodies"]["discs"][1]["discs"][0][2] = 1.0.into();
+    std::fs::write(&p, v.to_string()).unwrap();
+    let t = text(&dem(&["run", p.to_str().unwrap()]));
+    assert!(
+        t.contains("walls[0].material") && t.contains("no material named \"steel\""),
+        "{t}"
+    );
+    // Missing file, and a restart file that is not a checkpoint.
+    let o = dem(&["run", dir.join("nope.json").to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(text(&o).contains("nope.json"));
+    let o = dem(&[
+        "run",
+        scene.to_str().unwrap(),
+        "--restart",
+        scene.to_str().unwrap(),
+        "--out",
+        dir.join("o").to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    assert!(text(&o).contains("not a checkpoint"), "{}", text(&o));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn bench_prints_the_figure_last() {
+    for kind in ["dense", "bonded"] {
+        let o = dem(&["bench", kind, "--steps", "3", "--threads", "1"]);
+        let t = text(&o);
+        assert_eq!(o.status.code(), Some(0), "{t}");
+        let stdout = String::from_utf8_lossy(&o.stdout);
+        let last = stdout.lines().last().unwrap();
+        let v: f64 = last
+            .strip_prefix("particle-steps/s: ")
+            .unwrap_or_else(|| panic!("{last}"))
+            .parse()
+            .unwrap();
+        assert!(v > 0.0 && v.is_finite(), "{last}");
+        assert!(stdout.contains("46000 discs"), "{stdout}");
+    }
+    let o = dem(&["bench", "dense", "--steps", "0"]);
+    assert_eq!(o.status.code(), Some(2));
+}

@@ -1,0 +1,353 @@
+//! The blocked pair kernel of the disc–disc pass: a gather loop copies up to [`BLOCK`] pairs'
+//! data into small local arrays (disc by disc, so the first disc's data is read once), a
+//! branch-free loop evaluates the law over the whole block (compiled twice: baseline and AVX2,
+//! chosen at run time; only correctly rounded IEEE operations and no FMA contraction are used,
+//! so both give the same bits), and the caller scatters the forces.
+
+use super::disc_disc::PassEnergy;
+use super::{ContactLaws, HertzMindlin, LinearSpringDashpot, PairKin, PairOut};
+use crate::neighbors::MinImage;
+
+/// Pairs per block of the kernel.
+pub const BLOCK: usize = 64;
+
+/// Unchecked read; the force pass validates all indices once per call.
+macro_rules! at {
+    ($s:expr, $i:expr) => {
+        // SAFETY: `disc_disc::valid` checked that every disc index in the list is < n and
+        // every pair index is < the slot length.
+        unsafe { *$s.get_unchecked($i) }
+    };
+}
+pub(crate) use at;
+
+/// A contact law as the force pass sees it: the uniform laws skip the material lookup and
+/// have branch-free bodies.
+pub trait PairLaw: Sync {
+    /// Whether the law depends on the materials (table lookup).
+    const MATERIAL: bool;
+    /// Whether rolling resistance may apply.
+    const ROLLING: bool;
+    fn force<const E: bool>(&self, mi: u16, mj: u16, k: &PairKin, us: &mut f64) -> PairOut;
+    /// Rolling moment on i after the update, dissipated and stored energy
+    /// (see [`super::RollingResistance::update`]).
+    #[inline(always)]
+    fn rolling(
+        &self,
+        _mi: u16,
+        _mj: u16,
+        _k: &PairKin,
+        _f_n: f64,
+        _w: f64,
+        _mr: &mut f64,
+    ) -> [f64; 3] {
+        [0.0; 3]
+    }
+}
+
+/// Linear law with c_n = γ m*.
+pub struct LinearGamma(pub LinearSpringDashpot, pub f64);
+/// Linear law with c_n = 2ζ√(m* k_n).
+pub struct LinearRatio(pub LinearSpringDashpot, pub f64);
+
+impl PairLaw for LinearGamma {
+    const MATERIAL: bool = false;
+    const ROLLING: bool = false;
+    #[inline(always)]
+    fn force<const E: bool>(&self, _: u16, _: u16, k: &PairKin, us: &mut f64) -> PairOut {
+        self.0.force_cn::<E>(k, self.1 * k.m_eff, us)
+    }
+}
+
+impl PairLaw for LinearRatio {
+    const MATERIAL: bool = false;
+    const ROLLING: bool = false;
+    #[inline(always)]
+    fn force<const E: bool>(&self, _: u16, _: u16, k: &PairKin, us: &mut f64) -> PairOut {
+        self.0
+            .force_cn::<E>(k, 2.0 * self.1 * (k.m_eff * self.0.kn).sqrt(), us)
+    }
+}
+
+impl PairLaw for HertzMindlin {
+    const MATERIAL: bool = false;
+    const ROLLING: bool = false;
+    #[inline(always)]
+    fn force<const E: bool>(&self, _: u16, _: u16, k: &PairKin, us: &mut f64) -> PairOut {
+        HertzMindlin::force::<E>(self, k, us)
+    }
+}
+
+impl PairLaw for ContactLaws {
+    const MATERIAL: bool = true;
+    const ROLLING: bool = true;
+    #[inline(always)]
+    fn force<const E: bool>(&self, mi: u16, mj: u16, k: &PairKin, us: &mut f64) -> PairOut {
+        self.model(mi, mj).force::<E>(k, us)
+    }
+    #[inline(always)]
+    fn rolling(&self, mi: u16, mj: u16, k: &PairKin, f_n: f64, w: f64, mr: &mut f64) -> [f64; 3] {
+        let Some(rr) = self.rolling(mi, mj) else {
+            return [0.0; 3];
+        };
+        let kn = self.model(mi, mj).kn(k.r_eff, k.delta);
+        let diss = rr.update(kn, k.r_eff, f_n, w, k.dt, mr);
+        let kr = rr.kr(kn, k.r_eff);
+        let strain = if kr > 0.0 { 0.5 * *mr * *mr / kr } else { 0.0 };
+        [*mr, diss, strain]
+    }
+}
+
+/// Read-only data of the pass.
+pub(crate) struct Ctx<'a, L: PairLaw> {
+    pub(crate) x: &'a [f64],
+    pub(crate) y: &'a [f64],
+    pub(crate) vx: &'a [f64],
+    pub(crate) vy: &'a [f64],
+    pub(crate) w: &'a [f64],
+    pub(crate) r: &'a [f64],
+    pub(crate) mat: &'a [u16],
+    pub(crate) minv: &'a [f64],
+    pub(crate) start: &'a [u32],
+    pub(crate) nbr: &'a [u32],
+    pub(crate) g0: &'a [f64],
+    pub(crate) law: &'a L,
+    pub(crate) img: MinImage,
+    pub(crate) dt: f64,
+}
+
+/// Working arrays of one block (inputs gathered per pair, outputs per pair).
+#[derive(Clone)]
+pub struct Scratch {
+    dx: [f64; BLOCK],
+    dy: [f64; BLOCK],
+    reach: [f64; BLOCK],
+    wr: [f64; BLOCK],
+    wrel: [f64; BLOCK],
+    dvx: [f64; BLOCK],
+    dvy: [f64; BLOCK],
+    ms: [f64; BLOCK],
+    ri: [f64; BLOCK],
+    rj: [f64; BLOCK],
+    mi: [u16; BLOCK],
+    mj: [u16; BLOCK],
+    pub(crate) us: [f64; BLOCK],
+    pub(crate) mr: [f64; BLOCK],
+    pub(crate) fx: [f64; BLOCK],
+    pub(crate) fy: [f64; BLOCK],
+    pub(crate) ti: [f64; BLOCK],
+    pub(crate) tj: [f64; BLOCK],
+    es: [f64; BLOCK],
+    ed: [f64; BLOCK],
+    ef: [f64; BLOCK],
+}
+
+impl std::fmt::Debug for Scratch {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("Scratch")
+    }
+}
+
+impl Default for Scratch {
+    fn default() -> Scratch {
+        let z = [0.0; BLOCK];
+        Scratch {
+            dx: z,
+            dy: z,
+            reach: z,
+            wr: z,
+            wrel: z,
+            dvx: z,
+            dvy: z,
+            ms: z,
+            ri: z,
+            rj: z,
+            mi: [0; BLOCK],
+            mj: [0; BLOCK],
+            us: z,
+            mr: z,
+            fx: z,
+            fy: z,
+            ti: z,
+            tj: z,
+            es: z,
+            ed: z,
+            ef: z,
+        }
+    }
+}
+
+/// Gather pairs p0..p0+q (q ≤ BLOCK) into the scratch arrays, disc by disc (`gi` is the
+/// disc owning pair p0 or an earlier disc; it is advanced). The history is read from `us`,
+/// `mr`, the slots of these q pairs (indexed from 0).
+#[inline(always)]
+fn gather<L: PairLaw, const G0: bool>(
+    c: &Ctx<L>,
+    p0: usize,
+    q: usize,
+    gi: &mut usize,
+    us: &[f64],
+    mr: &[f64],
+    s: &mut Scratch,
+) {
+    assert!(q <= BLOCK && us.len() == q && mr.len() == q);
+    let (mut p, end) = (p0, p0 + q);
+    let mut k = 0;
+    while p < end {
+        while at!(c.start, *gi + 1) as usize <= p {
+            *gi += 1;
+        }
+        let i = *gi;
+        let b = (at!(c.start, i + 1) as usize).min(end);
+        let (xi, yi, ri, wi) = (at!(c.x, i), at!(c.y, i), at!(c.r, i), at!(c.w, i));
+        let (vxi, vyi, mvi) = (at!(c.vx, i), at!(c.vy, i), at!(c.minv, i));
+        let wri = wi * ri;
+        let mati = if L::MATERIAL { at!(c.mat, i) } else { 0 };
+        while p < b {
+            let j = at!(c.nbr, p) as usize;
+            let (ddx, ddy) = c.img.delta(at!(c.x, j) - xi, at!(c.y, j) - yi);
+            s.dx[k] = ddx;
+            s.dy[k] = ddy;
+            let rj = at!(c.r, j);
+            s.ri[k] = ri;
+            s.rj[k] = rj;
+            s.reach[k] = if G0 { ri + rj + at!(c.g0, p) } else { ri + rj };
+            let wj = at!(c.w, j);
+            s.wr[k] = wri + wj * rj;
+            s.dvx[k] = at!(c.vx, j) - vxi;
+            s.dvy[k] = at!(c.vy, j) - vyi;
+            s.ms[k] = mvi + at!(c.minv, j);
+            s.us[k] = at!(us, k);
+            if L::ROLLING {
+                s.wrel[k] = wi - wj;
+                s.mr[k] = at!(mr, k);
+            }
+            if L::MATERIAL {
+                s.mi[k] = mati;
+                s.mj[k] = at!(c.mat, j);
+            }
+            k += 1;
+            p += 1;
+        }
+    }
+    // Entries q..BLOCK keep stale but finite data (or zeros) and are ignored.
+}
+
+/// Evaluate the law for all BLOCK entries (branch-free, fixed trip count: vectorisable).
+#[inline(always)]
+fn eval<const E: bool, L: PairLaw>(law: &L, dt: f64, s: &mut Scratch) {
+    for k in 0..BLOCK {
+        let (dx, dy) = (s.dx[k], s.dy[k]);
+        let d2 = dx * dx + dy * dy;
+        let rc = s.reach[k];
+        let touch = d2 < rc * rc && rc > 0.0 && s.ms[k] > 0.0;
+        let d = d2.sqrt();
+        let inv = 1.0 / d;
+        let (nx, ny) = (dx * inv, dy * inv);
+        let rvx = s.dvx[k] + s.wr[k] * ny;
+        let rvy = s.dvy[k] - s.wr[k] * nx;
+        let (ri, rj) = (s.ri[k], s.rj[k]);
+        let kin = PairKin {
+            delta: rc - d,
+            vn: rvx * nx + rvy * ny,
+            vt: rvy * nx - rvx * ny,
+            m_eff: 1.0 / s.ms[k],
+            r_eff: ri * rj / (ri + rj),
+            dt,
+        };
+        let mut u = s.us[k];
+        let o = law.force::<E>(s.mi[k], s.mj[k], &kin, &mut u);
+        let mut m = s.mr[k];
+        let roll = if L::ROLLING && touch {
+            law.rolling(s.mi[k], s.mj[k], &kin, o.f_n, s.wrel[k], &mut m)
+        } else {
+            [0.0; 3]
+        };
+        s.us[k] = if touch { u } else { 0.0 };
+        s.mr[k] = if touch { m } else { 0.0 };
+        // t = (−n_y, n_x): F = F_n n + F_t t.
+        let fx = o.f_n * nx - o.f_t * ny;
+        let fy = o.f_n * ny + o.f_t * nx;
+        let ti = -ri * o.f_t + roll[0];
+        let tj = -rj * o.f_t - roll[0];
+        s.fx[k] = if touch { fx } else { 0.0 };
+        s.fy[k] = if touch { fy } else { 0.0 };
+        s.ti[k] = if touch { ti } else { 0.0 };
+        s.tj[k] = if touch { tj } else { 0.0 };
+        if E {
+            s.es[k] = if touch { o.e_strain + roll[2] } else { 0.0 };
+            s.ed[k] = if touch { o.e_damp } else { 0.0 };
+            s.ef[k] = if touch { o.e_fric + roll[1] } else { 0.0 };
+        }
+    }
+}
+
+/// [`eval`] compiled for AVX2 (4 lanes). Only selects, +, −, ×, ÷ and √ are used, all
+/// correctly rounded in IEEE 754, and no FMA contraction happens, so the results are the same
+/// bits as the baseline build.
+///
+/// # Safety
+/// The CPU must support AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn eval_avx2<const E: bool, L: PairLaw>(law: &L, dt: f64, s: &mut Scratch) {
+    eval::<E, L>(law, dt, s)
+}
+
+/// Evaluate one gathered block with the best instruction set available.
+#[inline(always)]
+fn eval_best<const E: bool, L: PairLaw>(law: &L, dt: f64, s: &mut Scratch, avx2: bool) {
+    #[cfg(target_arch = "x86_64")]
+    if avx2 {
+        // SAFETY: `avx2` is true only when the CPU reports AVX2 (see `has_avx2`).
+        unsafe { eval_avx2::<E, L>(law, dt, s) };
+        return;
+    }
+    let _ = avx2;
+    eval::<E, L>(law, dt, s)
+}
+
+pub(crate) fn has_avx2() -> bool {
+    #[cfg(target_arch = "x86_64")]
+    {
+        std::is_x86_feature_detected!("avx2")
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        false
+    }
+}
+
+/// Evaluate pairs p0..p0+q: gather, evaluate, write the rolling history back and add the
+/// energies in pair order. Forces and the new `us` stay in the scratch [..q]; the caller
+/// writes `us` back.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn block<const E: bool, L: PairLaw>(
+    c: &Ctx<L>,
+    p0: usize,
+    gi: &mut usize,
+    us: &mut [f64],
+    mr: &mut [f64],
+    s: &mut Scratch,
+    e: &mut PassEnergy,
+    avx2: bool,
+) {
+    let q = us.len();
+    if c.g0.is_empty() {
+        gather::<L, false>(c, p0, q, gi, us, mr, s);
+    } else {
+        gather::<L, true>(c, p0, q, gi, us, mr, s);
+    }
+    eval_best::<E, L>(c.law, c.dt, s, avx2);
+    if L::ROLLING {
+        mr.copy_from_slice(&s.mr[..q]);
+    }
+    if E {
+        for k in 0..q {
+            e.strain += s.es[k];
+            e.damp += s.ed[k];
+            e.fric += s.ef[k];
+        }
+    }
+}

@@ -1,0 +1,507 @@
+//! The run driver: steps a scene's world to its end with the scene's output cadence, runs the
+//! blow-up guard at output intervals, reports progress, and writes the summary.
+//!
+//! Cadence (steps counted by the world, so a restarted run keeps the same rhythm): the guard
+//! runs every `guard_every` steps and before every output; a history row every `history_every`
+//! steps; a VTK snapshot every `vtk_every` steps (and at step 0 of a fresh run); a checkpoint
+//! every `checkpoint_every` steps; `ckpt-final.json`, the break log and the summary at the end.
+//! When the guard fails, the run stops: the last state that passed is written to
+//! `last-good-state.json`, the history (all rows passed the guard) and the summary are written,
+//! and the error names the step, the disc and the likely cause. No output ever holds a NaN.
+
+use super::history::History;
+use super::summary::{RunSummary, SCHEMA as SUMMARY_SCHEMA};
+use super::vtk::{self, BondLine, Collection, Entry};
+use super::{write_atomic, OutputError};
+use crate::bond::BondStatus;
+use crate::checkpoint::{self, CheckpointError};
+use crate::guard::GuardError;
+use crate::pipeline::World;
+use crate::scene::model::{Scene, Stop};
+use crate::scene::SceneError;
+use std::collections::BTreeSet;
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+/// Overrides of the scene's run and output settings (the `dem run` flags).
+#[derive(Debug, Clone, Default)]
+pub struct RunOptions {
+    /// Output folder instead of the scene's.
+    pub out_dir: Option<PathBuf>,
+    /// Continue from this checkpoint.
+    pub restart: Option<PathBuf>,
+    /// Stop when the world reaches this step count (instead of the scene's `max_steps`).
+    pub max_steps: Option<u64>,
+}
+
+/// Why a run did not complete.
+#[derive(Debug, thiserror::Error)]
+pub enum RunError {
+    #[error(transparent)]
+    Scene(#[from] SceneError),
+    #[error(transparent)]
+    Output(#[from] OutputError),
+    #[error(transparent)]
+    Checkpoint(#[from] CheckpointError),
+    #[error("run stopped by the blow-up guard: {error}; the last good state (step {good_step}) is in {saved}")]
+    Guard {
+        error: GuardError,
+        good_step: u64,
+        saved: String,
+    },
+}
+
+/// How a run ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Ending {
+    /// Reached the scene's duration or step count.
+    Completed,
+    /// Stopped at the step cap before the end.
+    MaxSteps,
+}
+
+/// A scene being run: the world plus the output state.
+pub struct Simulation {
+    pub scene: Scene,
+    pub world: World,
+    out: PathBuf,
+    hash: String,
+    history: Option<History>,
+    pvd: Option<Collection>,
+    group_names: Vec<String>,
+    start_step: u64,
+    max_steps: Option<u64>,
+    restarted_from: Option<String>,
+    files: BTreeSet<String>,
+    dt_range: [f64; 2],
+    last_flush: Instant,
+    output_time: Duration,
+}
+
+/// Whether `name` is a file the driver writes.
+fn is_output_name(name: &str) -> bool {
+    let numbered = |pre: &str, ext: &str| {
+        name.strip_prefix(pre)
+            .and_then(|r| r.strip_suffix(ext))
+            .is_some_and(|n| !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit()))
+    };
+    numbered("snap-", ".vtp")
+        || numbered("walls-", ".vtp")
+        || numbered("ckpt-", ".json")
+        || [
+            "ckpt-final.json",
+            "history.csv",
+            "breaks.csv",
+            "summary.json",
+            "snapshots.pvd",
+            "last-good-state.json",
+        ]
+        .contains(&name)
+}
+
+/// History is rewritten at least this often while running (besides checkpoints and the end).
+const FLUSH_EVERY: Duration = Duration::from_secs(5);
+
+impl Simulation {
+    /// Builds the scene's world (or loads the checkpoint) and prepares the outputs.
+    pub fn new(scene: Scene, opts: &RunOptions) -> Result<Simulation, RunError> {
+        let out = opts
+            .out_dir
+            .clone()
+            .unwrap_or_else(|| scene.outputs.dir.clone());
+        let hash = scene.physics_hash();
+        let (world, rows, snaps, restarted_from) = match &opts.restart {
+            Some(p) => {
+                let c = checkpoint::load(p, &hash)?;
+                (
+                    c.world,
+                    c.history_rows,
+                    c.snapshots,
+                    Some(p.display().to_string()),
+                )
+            }
+            None => (
+                crate::scene::build(&scene)?,
+                String::new(),
+                Vec::new(),
+                None,
+            ),
+        };
+        let group_names = world
+            .bonds
+            .as_ref()
+            .map(|b| b.group_names())
+            .unwrap_or_default();
+        let o = &scene.outputs;
+        let history = (o.history_every > 0).then(|| {
+            let walls: Vec<&str> = world.state.walls.iter().map(|w| w.name.as_str()).collect();
+            let groups: Vec<&str> = group_names.iter().map(String::as_str).collect();
+            let mut h = History::new(&out.join("history.csv"), &walls, &groups);
+            h.set_rows(rows);
+            h
+        });
+        let pvd = (o.vtk_every > 0).then(|| {
+            let mut c = Collection::new(&out.join("snapshots.pvd"));
+            c.entries = snaps;
+            c
+        });
+        let dt = world.dt();
+        Ok(Simulation {
+            max_steps: opts.max_steps.or(scene.run.max_steps),
+            start_step: world.state.step,
+            scene,
+            world,
+            out,
+            hash,
+            history,
+            pvd,
+            group_names,
+            restarted_from,
+            files: BTreeSet::new(),
+            dt_range: [dt, dt],
+            last_flush: Instant::now(),
+            output_time: Duration::ZERO,
+        })
+    }
+
+    /// The output folder.
+    pub fn out_dir(&self) -> &Path {
+        &self.out
+    }
+
+    /// The stages the world runs.
+    pub fn active_stages(&self) -> Vec<&'static str> {
+        self.world.active_stages()
+    }
+
+    fn ending(&self) -> Option<Ending> {
+        let st = &self.world.state;
+        let done = match self.scene.run.stop {
+            Stop::Steps(n) => st.step >= n,
+            Stop::Duration(d) => st.time >= d,
+        };
+        if done {
+            Some(Ending::Completed)
+        } else if self.max_steps.is_some_and(|m| st.step >= m) {
+            Some(Ending::MaxSteps)
+        } else {
+            None
+        }
+    }
+
+    /// Estimated total steps of this invocation (exact for a step count).
+    pub fn total_steps(&self) -> u64 {
+        let st = &self.world.state;
+        let end = match self.scene.run.stop {
+            Stop::Steps(n) => n,
+            Stop::Duration(d) => {
+                let left = ((d - st.time) / self.world.dt()).ceil();
+                st.step
+                    + if left.is_finite() && left > 0.0 {
+                        left as u64
+                    } else {
+                        0
+                    }
+            }
+        };
+        let end = self.max_steps.map_or(end, |m| end.min(m));
+        end.saturating_sub(self.start_step)
+    }
+
+    fn record(&mut self, file: &Path) {
+        if let Ok(rel) = file.strip_prefix(&self.out) {
+            self.files.insert(rel.display().to_string());
+        }
+    }
+
+    /// Runs to the end; `progress(done, total)` is called now and then.
+    pub fn run(
+        &mut self,
+        progress: &mut dyn FnMut(u64, u64),
+    ) -> Result<(RunSummary, Ending), RunError> {
+        let t0 = Instant::now();
+        let o = self.scene.outputs.clone();
+        std::fs::create_dir_all(&self.out).map_err(|source| OutputError::Io {
+            file: self.out.display().to_string(),
+            source,
+        })?;
+        if self.restarted_from.is_none() {
+            self.clear_stale()?;
+        }
+        self.guard(t0)?;
+        if self.world.state.step == 0 && o.vtk_every > 0 {
+            self.snapshot()?;
+        }
+        let mut total = self.total_steps();
+        progress(0, total);
+        let every = |n: u64, s: u64| n > 0 && s.is_multiple_of(n);
+        let ending = loop {
+            if let Some(e) = self.ending() {
+                break e;
+            }
+            self.world.step();
+            let dt = self.world.dt();
+            self.dt_range = [self.dt_range[0].min(dt), self.dt_range[1].max(dt)];
+            let s = self.world.state.step;
+            let (h, v, c) = (
+                every(o.history_every, s),
+                every(o.vtk_every, s),
+                every(o.checkpoint_every, s),
+            );
+            if h || v || c || every(o.guard_every, s) {
+                let ts = Instant::now();
+                self.guard(t0)?;
+                if h {
+                    self.history_row()?;
+                }
+                if v {
+                    self.snapshot()?;
+                }
+                if c {
+                    self.checkpoint(&self.out.join(format!("ckpt-{s:09}.json")))?;
+                } else if self.last_flush.elapsed() > FLUSH_EVERY {
+                    self.flush()?;
+                }
+                self.output_time += ts.elapsed();
+                if matches!(self.scene.run.stop, Stop::Duration(_)) {
+                    total = self.total_steps().max(s - self.start_step);
+                }
+                progress(s - self.start_step, total);
+            }
+        };
+        self.guard(t0)?;
+        self.checkpoint(&self.out.join("ckpt-final.json"))?;
+        let steps = self.world.state.step - self.start_step;
+        progress(steps, steps);
+        let status = match ending {
+            Ending::Completed => "completed",
+            Ending::MaxSteps => "max_steps",
+        };
+        let summary = self.summary(t0, status, None)?;
+        Ok((summary, ending))
+    }
+
+    /// A fresh run removes the files an earlier run left in the output folder (only names this
+    /// driver writes), so snapshots and checkpoints of two runs are never mixed.
+    fn clear_stale(&self) -> Result<(), OutputError> {
+        let io = |source| OutputError::Io {
+            file: self.out.display().to_string(),
+            source,
+        };
+        for entry in std::fs::read_dir(&self.out).map_err(io)? {
+            let entry = entry.map_err(io)?;
+            let name = entry.file_name().to_string_lossy().into_owned();
+            if is_output_name(&name) && entry.file_type().map_err(io)?.is_file() {
+                std::fs::remove_file(entry.path()).map_err(io)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Runs the guard; on failure writes what is safe and returns the error.
+    fn guard(&mut self, t0: Instant) -> Result<(), RunError> {
+        let Err(error) = self.world.guard() else {
+            return Ok(());
+        };
+        let saved = self.out.join("last-good-state.json");
+        let good = self
+            .world
+            .last_good()
+            .cloned()
+            .unwrap_or_else(|| self.world.state.clone());
+        let text = serde_json::to_string(&good).map_err(|e| OutputError::Io {
+            file: saved.display().to_string(),
+            source: std::io::Error::other(e),
+        })?;
+        write_atomic(&saved, text.as_bytes())?;
+        self.record(&saved);
+        self.flush()?;
+        let _ = self.summary(t0, "stopped", Some(error.to_string()));
+        Err(RunError::Guard {
+            error,
+            good_step: good.step,
+            saved: saved.display().to_string(),
+        })
+    }
+
+    fn history_row(&mut self) -> Result<(), OutputError> {
+        let Some(h) = self.history.as_mut() else {
+            return Ok(());
+        };
+        let broken = self
+            .world
+            .bonds
+            .as_ref()
+            .map(|b| b.broken_counts().to_vec())
+            .unwrap_or_default();
+        let st = &self.world.state;
+        h.push(
+            st.time,
+            st.step,
+            self.world.dt(),
+            &st.walls,
+            &self.world.energy(),
+            &broken,
+        )
+    }
+
+    fn snapshot(&mut self) -> Result<(), OutputError> {
+        let st = &self.world.state;
+        let s = st.step;
+        let lines: Vec<BondLine> = self
+            .world
+            .bonds
+            .as_ref()
+            .map(|b| {
+                b.iter()
+                    .map(|v| BondLine {
+                        i: v.i,
+                        j: v.j,
+                        group: v.group as u32,
+                        intact: v.status == BondStatus::Intact,
+                        normal_force: v.fn_,
+                        shear_force: v.fs,
+                        moment: v.m,
+                    })
+                    .collect()
+            })
+            .unwrap_or_default();
+        let name = format!("snap-{s:09}.vtp");
+        let path = self.out.join(&name);
+        vtk::write_discs(&path, st, &lines)?;
+        let mut new = vec![(0, name)];
+        if !st.walls.is_empty() {
+            let wname = format!("walls-{s:09}.vtp");
+            vtk::write_walls(&self.out.join(&wname), &st.walls)?;
+            new.push((1, wname));
+        }
+        let time = st.time;
+        for (part, file) in new {
+            self.record(&self.out.join(&file));
+            if let Some(c) = self.pvd.as_mut() {
+                c.entries.push(Entry {
+                    time,
+                    step: s,
+                    part,
+                    file,
+                });
+            }
+        }
+        if let Some(c) = &self.pvd {
+            c.flush()?;
+            let p = c.path.clone();
+            self.record(&p);
+        }
+        Ok(())
+    }
+
+    /// Rewrites the history and the break log.
+    fn flush(&mut self) -> Result<(), OutputError> {
+        if let Some(h) = &self.history {
+            h.flush()?;
+            let p = h.path().to_path_buf();
+            self.record(&p);
+        }
+        if let Some(b) = &self.world.bonds {
+            let p = self.out.join("breaks.csv");
+            b.log()
+                .write_csv(&p, &self.group_names)
+                .map_err(|source| OutputError::Io {
+                    file: p.display().to_string(),
+                    source,
+                })?;
+            self.record(&p);
+        }
+        self.last_flush = Instant::now();
+        Ok(())
+    }
+
+    fn checkpoint(&mut self, path: &Path) -> Result<(), RunError> {
+        self.flush()?;
+        let rows = self.history.as_ref().map_or("", |h| h.rows());
+        let snaps = self.pvd.as_ref().map_or(&[][..], |c| &c.entries[..]);
+        checkpoint::save(path, &self.world, &self.hash, rows, snaps)?;
+        self.record(path);
+        Ok(())
+    }
+
+    fn summary(
+        &mut self,
+        t0: Instant,
+        status: &str,
+        error: Option<String>,
+    ) -> Result<RunSummary, OutputError> {
+        let path = self.out.join("summary.json");
+        if self.scene.outputs.summary {
+            self.record(&path);
+        }
+        let w = &self.world;
+        let st = &w.state;
+        let steps = st.step - self.start_step;
+        let wall = t0.elapsed();
+        let stepping = wall.saturating_sub(self.output_time).as_secs_f64();
+        let (bonds, broken) = w.bonds.as_ref().map_or((0, 0), |b| {
+            (b.len(), b.broken_counts().iter().map(|c| c[0] + c[1]).sum())
+        });
+        let s = RunSummary {
+            schema: SUMMARY_SCHEMA.into(),
+            scene: self.scene.file.display().to_string(),
+            name: self.scene.name.clone(),
+            status: status.into(),
+            error,
+            restarted_from: self.restarted_from.clone(),
+            active_stages: w.active_stages().iter().map(|s| s.to_string()).collect(),
+            threads: rayon::current_num_threads(),
+            discs: st.discs.len(),
+            clumps: st.clumps.len(),
+            bonds,
+            bonds_broken: broken,
+            steps,
+            final_step: st.step,
+            time: st.time,
+            dt: w.dt(),
+            dt_min: self.dt_range[0],
+            dt_max: self.dt_range[1],
+            wall_time_s: wall.as_secs_f64(),
+            particle_steps_per_s: if stepping > 0.0 {
+                st.discs.len() as f64 * steps as f64 / stepping
+            } else {
+                0.0
+            },
+            energy: w.energy(),
+            files: self.files.iter().cloned().collect(),
+        };
+        if self.scene.outputs.summary {
+            s.save(&path)?;
+        }
+        Ok(s)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::is_output_name;
+
+    #[test]
+    fn only_driver_names_are_outputs() {
+        for n in [
+            "snap-000000100.vtp",
+            "walls-1.vtp",
+            "ckpt-000000200.json",
+            "ckpt-final.json",
+            "history.csv",
+        ] {
+            assert!(is_output_name(n), "{n}");
+        }
+        for n in [
+            "snap-.vtp",
+            "snap-12a.vtp",
+            "notes.txt",
+            "ckpt-half.json",
+            "history.csv.bak",
+            "scene.json",
+        ] {
+            assert!(!is_output_name(n), "{n}");
+        }
+    }
+}
