@@ -86,3 +86,28 @@ pub fn run_bench_on(world: &mut World, steps: u64, threads: usize) -> f64 {
         Err(_) => go(),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn dense_lattice_matches_the_lammps_input() {
+        let w = dense_lattice_scene();
+        let d = &w.state.discs;
+        assert_eq!(d.len(), 46_000);
+        // LAMMPS 29 Sep 2021: `set density 2500` on diameter 1.002 mm gives 1.31686663906497e-6 kg.
+        assert!(
+            (d.m[0] / 1.31686663906497e-6 - 1.0).abs() < 1e-12,
+            "mass {}",
+            d.m[0]
+        );
+        assert!((d.inertia[0] / (0.5 * d.m[0] * 0.501e-3 * 0.501e-3) - 1.0).abs() < 1e-12);
+        // Six touching neighbours per disc on the hex lattice, listed once: 3 per disc.
+        assert_eq!(w.n_pairs(), 138_000);
+        assert_eq!(w.dt(), 1e-6);
+        let l = w.state.periodic.length;
+        assert_eq!(l[0], Some(0.2));
+        assert!((l[1].unwrap() - 115.0 * 3f64.sqrt() * 1e-3).abs() < 1e-15);
+    }
+}
