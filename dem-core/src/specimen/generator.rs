@@ -43,6 +43,8 @@ const GROW: f64 = 1.005;
 const GROW_STEPS: u64 = 40;
 /// Unbalanced-force ratio counted as equilibrium during packing.
 pub const EQ_TOL: f64 = 2e-3;
+/// Most steps spent settling between two servo changes far from the target stress.
+const FAR_STEPS: u64 = 20_000;
 const FLOATER_PASSES: usize = 3;
 
 fn draw_radius(rng: &mut Rng, p: &SpecimenParams) -> f64 {
@@ -246,9 +248,11 @@ pub fn pack(
     let loose: Vec<usize> = (0..near.len()).filter(|&k| !near[k]).collect();
     if !loose.is_empty() {
         stats.loose_removed = loose.len();
-        let (nw, _) = without(&world, &full, &loose, p)?;
+        let (nw, nf) = without(&world, &full, &loose, p)?;
         world = nw;
+        full = nf;
         stats.steps += settle(&mut world, "floaters", p, progress)?;
+        stats.steps += servo(&mut world, &mut full, p, progress)?;
     }
     stats.wall_stress = relax::wall_stress(&world.state);
     Ok((world, stats))
@@ -262,7 +266,7 @@ fn servo(
     p: &SpecimenParams,
     progress: &mut dyn FnMut(Progress),
 ) -> Result<u64, SpecimenError> {
-    servo_with(w, p, progress, |w, eps| {
+    servo_with(w, p, p.iso_stress, p.iso_tolerance, progress, |w, eps| {
         for r in full.iter_mut() {
             *r *= 1.0 + eps;
         }
@@ -274,24 +278,22 @@ fn servo(
 /// growth factor 1 + ε), then the world is cycled to equilibrium and the isotropic wall stress σ
 /// read. The log-strain of the next step: from above only, aim at max(σ0, σ/2) (a geometric
 /// descent that does not unjam the packing in one go); from below only, (σ0 − σ)/K, or 1e-3
-/// while the assembly carries no stress; once σ0 is bracketed, regula falsi (Illinois variant)
+/// while the assembly carries less than σ0/4 (unjammed or flowing: K means nothing there); once σ0 is bracketed, regula falsi (Illinois variant)
 /// inside the middle 90 % of the bracket. K is the secant stiffness of the last step when it is sane, else
 /// K = 2E_c Z (1 − n)/π (a disc packing of coordination Z under uniform radius strain, contacts
-/// k_n = 2tE_c); steps are at most 1 %. Stops when |σ − σ0| ≤ tol·σ0.
+/// k_n = 2tE_c); steps are at most 1 %. Stops when |σ − σ0| ≤ `tolerance`·σ0, σ0 = `s0`.
 pub fn servo_with(
     w: &mut World,
     p: &SpecimenParams,
+    s0: f64,
+    tolerance: f64,
     progress: &mut dyn FnMut(Progress),
     mut apply: impl FnMut(&mut World, f64),
 ) -> Result<u64, SpecimenError> {
-    let s0 = p.iso_stress;
     let rest = rest_energy(w, p);
     let mut steps = 0;
     let mut cur = 0.0f64; // log-strain applied so far
-                          // Bracket ends (log-strain, σ − σ0) and which end the last point replaced (Illinois).
-    let mut lo: Option<(f64, f64)> = None;
-    let mut hi: Option<(f64, f64)> = None;
-    let mut last_side = 0i8;
+    let mut was_above = false;
     let mut prev: Option<(f64, f64)> = None;
     for it in 0..60 {
         let sigma = relax::iso_stress(&w.state);
@@ -300,62 +302,52 @@ pub fn servo_with(
             fraction: (it as f64 / 60.0).min(1.0),
             message: format!("σ = {:.3e} Pa (target {s0:.3e})", sigma),
         });
-        if (sigma - s0).abs() <= p.iso_tolerance * s0 {
+        if (sigma - s0).abs() <= tolerance * s0 {
             return Ok(steps);
         }
         let counts = relax::contact_counts(w);
         let z = counts.iter().map(|&c| c as f64).sum::<f64>() / counts.len().max(1) as f64;
         let k_est =
             2.0 * p.micro.contact_modulus * z.max(1.0) * (1.0 - p.porosity) / std::f64::consts::PI;
+        // Secant stiffness of the last step, kept within [0.05, 20] × the estimate; a step that
+        // lowered the stress it should have raised (flow) counts as soft.
         let k = match prev {
-            Some((e_prev, s_prev)) if sigma > 0.0 && s_prev > 0.0 && cur != e_prev => {
+            Some((e_prev, s_prev)) if cur != e_prev => {
                 let ks = (sigma - s_prev) / (cur - e_prev);
-                if ks > 0.05 * k_est && ks < 20.0 * k_est {
-                    ks
+                if ks.is_finite() && ks > 0.0 {
+                    ks.clamp(0.05 * k_est, 20.0 * k_est)
                 } else {
-                    k_est
+                    0.05 * k_est
                 }
             }
             _ => k_est,
         };
-        let f = sigma - s0;
-        if f < 0.0 {
-            if last_side == -1 {
-                if let Some(h) = hi.as_mut() {
-                    h.1 *= 0.5;
-                }
-            }
-            lo = Some((cur, f));
-            last_side = -1;
+        was_above |= sigma > s0;
+        let target = if sigma > s0 {
+            // Geometric descent, then an under-relaxed secant step into the window.
+            let aim = (0.5 * sigma).max(s0);
+            let f = if aim == s0 { 0.7 } else { 1.0 };
+            cur + (f * (aim - sigma) / k).max(-0.01)
+        } else if sigma <= 0.25 * s0 && !was_above {
+            cur + 1e-3
         } else {
-            if last_side == 1 {
-                if let Some(l) = lo.as_mut() {
-                    l.1 *= 0.5;
-                }
-            }
-            hi = Some((cur, f));
-            last_side = 1;
-        }
-        let target = match (lo, hi) {
-            (Some(l), Some(h)) => {
-                let t = l.0 - l.1 * (h.0 - l.0) / (h.1 - l.1);
-                let (a, b) = (l.0 + 0.05 * (h.0 - l.0), l.0 + 0.95 * (h.0 - l.0));
-                t.clamp(a.min(b), a.max(b))
-            }
-            (None, Some(_)) => cur + (((sigma / 2.0).max(s0) - sigma) / k).max(-0.01),
-            _ if sigma <= 1e-3 * s0 => cur + 1e-3,
-            _ => cur + ((s0 - sigma) / k).min(0.01),
+            cur + (0.7 * (s0 - sigma) / k).min(0.01)
         };
         prev = Some((cur, sigma));
         apply(w, (target - cur).exp_m1());
         cur = target;
-        // Far from σ0 a rough equilibrium is enough to choose the next change.
-        let tol = if (sigma - s0).abs() > 0.5 * s0 {
-            5.0 * EQ_TOL
+        // Far from σ0 a rough equilibrium, or FAR_STEPS steps, is enough to choose the next
+        // change (a flowing assembly would take long to come to rest).
+        let far = (sigma - s0).abs() > 0.5 * s0;
+        let (tol, max) = if far {
+            (5.0 * EQ_TOL, FAR_STEPS.min(p.max_stage_steps))
         } else {
-            EQ_TOL
+            (EQ_TOL, p.max_stage_steps)
         };
-        steps += relax::to_equilibrium(w, "stress", tol, rest, p.max_stage_steps, progress)?;
+        steps += match relax::to_equilibrium(w, "stress", tol, rest, max, progress) {
+            Err(SpecimenError::NoConvergence { steps: n, .. }) if far => n,
+            r => r?,
+        };
     }
     Err(SpecimenError::NoConvergence {
         stage: "stress",

@@ -10,7 +10,7 @@
 
 use super::generator;
 use super::grains::Grains;
-use super::methods::{bond_groups, INTRA};
+use super::methods::{bond_groups_with, INTRA};
 use super::relax::{self, DISC};
 use super::{Progress, SpecimenError, SpecimenParams};
 use crate::bond::Bonds;
@@ -26,6 +26,9 @@ use serde::{Deserialize, Serialize};
 /// time step √(m/k) 30-fold; 0.2 keeps it within 2.2× (on 20 × 10 mm Si3N4 tessellations it
 /// changed neither the disc counts nor the number of infeasible grains measurably).
 pub const MASS_FLOOR: f64 = 0.2;
+
+/// Pre-compaction stress of the improved-ORC packing, in units of σ0.
+pub const PRECOMPACTION: f64 = 100.0;
 
 /// Figures of the template stage.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
@@ -140,7 +143,7 @@ pub fn build(
         walls: relax::box_walls(p.width, p.height),
         ..State::default()
     };
-    let mut bonds = Bonds::new(bond_groups(p))?;
+    let mut bonds = Bonds::new(bond_groups_with(p, true))?;
     let mut offsets = Vec::new();
     let mut ts = TemplateStats {
         grains: n,
@@ -177,124 +180,64 @@ pub fn build(
         ts.discs_mean /= n as f64;
         ts.cover_mean /= n as f64;
     }
-    let mut w = World::try_new(st, relax::params(), relax::laws(p, 0.0))?;
-    let nd = w.state.discs.len();
-    let new_of_old: Vec<u32> = (0..nd as u32)
-        .map(|id| w.index_of_id(id).map_or(u32::MAX, |k| k as u32))
-        .collect();
-    bonds.remap(&new_of_old);
-    w.bonds = Some(bonds);
-    for &(a, b, g0) in &offsets {
-        w.set_contact_offset(a, b, g0);
-    }
-    w.refresh();
+    let w = crate::bond::attach::world_with_bonds(
+        st,
+        relax::params(),
+        relax::laws(p, 0.0),
+        bonds,
+        &offsets,
+    )?;
     Ok((w, offsets, ts))
 }
 
-/// Move the four walls along their normals until each carries σ0 (within the tolerance) with
-/// the assembly in equilibrium (PFC's servo, v = G (σ0 − σ), G = α A / (k_w N_c Δt),
-/// α = 0.5, speed capped at 1e-4 r_min per step). Returns the steps taken.
-#[allow(clippy::manual_is_multiple_of)] // rust-version 1.80
-pub fn wall_servo(
+/// Pack the grains to the isotropic stress σ0: affine contraction of the grain mass centres
+/// and of the walls about the box centre (x ↦ c + (x − c)/(1 + ε), for the gaps between
+/// grains the same as a radius growth ε, while every grain keeps its template), driven by the
+/// stress servo [`generator::servo_with`]: first to [`PRECOMPACTION`] × σ0 (±50 %), then down
+/// to σ0. At σ0 alone (~1e-5 E) the frictionless grains keep flowing into the gaps left by the
+/// templates' cover for millions of steps; under the higher stress they settle at once, and
+/// the unloading is nearly elastic (the same path the disc packing takes from its jammed
+/// state). Returns the steps taken.
+pub fn compact(
     w: &mut World,
     p: &SpecimenParams,
     progress: &mut dyn FnMut(Progress),
 ) -> Result<u64, SpecimenError> {
-    let s0 = p.iso_stress;
-    let kw = 2.0 * p.thickness * p.micro.contact_modulus * p.micro.wall_stiffness_factor;
-    let r_min = w
-        .state
-        .discs
-        .r
-        .iter()
-        .cloned()
-        .fold(f64::INFINITY, f64::min);
-    // (name, axis, inward direction)
-    let walls = [
-        ("left", 0usize, 1.0f64),
-        ("right", 0, -1.0),
-        ("bottom", 1, 1.0),
-        ("top", 1, -1.0),
-    ];
-    let mut steps = 0u64;
-    let mut counts = [0usize; 4];
-    // Wall stresses averaged over ~100 steps (exponential moving average): the instantaneous
-    // ones rattle with every impact.
-    let mut ema = [0.0f64; 4];
-    loop {
-        let Some(b) = relax::box_of_walls(&w.state) else {
-            return Ok(steps);
-        };
-        if steps % 50 == 0 {
-            for (k, (name, _, _)) in walls.iter().enumerate() {
-                counts[k] = w
-                    .state
-                    .walls
-                    .iter()
-                    .find(|x| x.name == *name)
-                    .map_or(0, |wall| {
-                        let d = &w.state.discs;
-                        (0..d.len())
-                            .filter(|&i| relax::disc_touches_wall(d.x[i], d.y[i], d.r[i], wall))
-                            .count()
-                    });
-            }
-        }
-        let dt = w.dt();
-        let vmax = 1e-4 * r_min / dt;
-        let mut worst: f64 = 0.0;
-        for (k, (name, axis, dir)) in walls.iter().enumerate() {
-            let len = if *axis == 0 { b[3] - b[2] } else { b[1] - b[0] };
-            let Some(wall) = w.state.walls.iter_mut().find(|x| x.name == *name) else {
-                continue;
-            };
-            let sigma = -dir * wall.force[*axis] / (len * p.thickness);
-            ema[k] += 0.01 * (sigma - ema[k]);
-            let err = s0 - sigma;
-            worst = worst.max((s0 - ema[k]).abs() / s0);
-            let gain = 0.5 * len * p.thickness / (kw * counts[k].max(1) as f64 * dt);
-            let v = if counts[k] == 0 && err > 0.0 {
-                vmax
-            } else {
-                (gain * err).clamp(-vmax, vmax)
-            };
-            wall.v = [0.0; 2];
-            wall.v[*axis] = dir * v;
-        }
-        if steps % 500 == 0 {
-            progress(Progress {
-                stage: "servo",
-                fraction: (steps as f64 / p.max_stage_steps as f64).min(1.0),
-                message: format!(
-                    "largest wall stress error {:.1} %, box {:.4} x {:.4} mm",
-                    100.0 * worst,
-                    (b[1] - b[0]) * 1e3,
-                    (b[3] - b[2]) * 1e3,
-                ),
-            });
-        }
-        if worst <= 0.5 * p.iso_tolerance && steps % 100 == 0 {
-            // Close: hold the walls, let the assembly settle roughly (ratio 1e-2; the bonded
-            // specimen is relaxed fully later), and accept if σ0 holds there.
-            for wall in &mut w.state.walls {
-                wall.v = [0.0; 2];
-            }
-            let rest = generator::rest_energy(w, p);
-            steps += relax::to_equilibrium(w, "servo", 1e-2, rest, p.max_stage_steps, progress)?;
-            let s = relax::wall_stress(&w.state);
-            if s.iter().all(|&x| (x - s0).abs() <= p.iso_tolerance * s0) {
-                return Ok(steps);
-            }
-            ema = [0.5 * (s[0] + s[1]); 4];
-        }
-        if steps >= p.max_stage_steps {
-            return Err(SpecimenError::NoConvergence {
-                stage: "servo",
-                steps,
-                detail: format!("largest wall stress error {:.1} %", 100.0 * worst),
-            });
-        }
-        w.step();
-        steps += 1;
+    let high = PRECOMPACTION * p.iso_stress;
+    let mut steps = generator::servo_with(w, p, high, 0.5, progress, |w, eps| {
+        contract(w, 1.0 / (1.0 + eps))
+    })?;
+    steps += generator::servo_with(w, p, p.iso_stress, p.iso_tolerance, progress, |w, eps| {
+        contract(w, 1.0 / (1.0 + eps))
+    })?;
+    Ok(steps)
+}
+
+/// Scale grain mass-centre positions and the walls by `f` about the centre of the walls' box.
+fn contract(w: &mut World, f: f64) {
+    let Some(b) = relax::box_of_walls(&w.state) else {
+        return;
+    };
+    let c = [0.5 * (b[0] + b[1]), 0.5 * (b[2] + b[3])];
+    let d = &mut w.state.discs;
+    let mut acc: std::collections::BTreeMap<u32, [f64; 3]> = Default::default();
+    for k in 0..d.len() {
+        let e = acc.entry(d.group[k]).or_default();
+        e[0] += d.m[k] * d.x[k];
+        e[1] += d.m[k] * d.y[k];
+        e[2] += d.m[k];
     }
+    for k in 0..d.len() {
+        let e = acc[&d.group[k]];
+        let (gx, gy) = (e[0] / e[2], e[1] / e[2]);
+        d.x[k] += (f - 1.0) * (gx - c[0]);
+        d.y[k] += (f - 1.0) * (gy - c[1]);
+    }
+    for wall in &mut w.state.walls {
+        for q in [&mut wall.a, &mut wall.b, &mut wall.center] {
+            q[0] = c[0] + f * (q[0] - c[0]);
+            q[1] = c[1] + f * (q[1] - c[1]);
+        }
+    }
+    w.refresh();
 }

@@ -35,6 +35,12 @@ pub struct Specimen {
 
 /// The two bond groups (parallel bonds, maximum-stress criterion), k̄_n = Ē_c/(2 r̄).
 pub fn bond_groups(p: &SpecimenParams) -> Vec<BondGroup> {
+    bond_groups_with(p, false)
+}
+
+/// The bond groups; `unbreakable` gives them strengths of f64::MAX (grains are packed as
+/// unbreakable clumps, as PFC packs clumps; the real strengths apply from bonding on).
+pub fn bond_groups_with(p: &SpecimenParams, unbreakable: bool) -> Vec<BondGroup> {
     let m = &p.micro;
     let r_mean = 0.5 * (p.r_min + p.r_max);
     let kn = m.bond_modulus / (2.0 * r_mean);
@@ -44,12 +50,13 @@ pub fn bond_groups(p: &SpecimenParams) -> Vec<BondGroup> {
         lambda: m.bond_radius_multiplier,
         beta: 1.0,
     });
+    let strength = |v: f64| if unbreakable { f64::MAX } else { v };
     let group = |name: &str, tensile: f64, cohesion: f64| BondGroup {
         name: name.to_string(),
         model,
         criterion: Criterion::Stress {
-            tensile,
-            cohesion,
+            tensile: strength(tensile),
+            cohesion: strength(cohesion),
             friction_angle: 0.0,
         },
     };
@@ -97,7 +104,7 @@ pub fn generate(
             let g = tessellation(p, &mut grain_rng)?;
             let (mut w, offsets, tstats) = improved::build(p, &g, progress)?;
             stats.templates = Some(tstats);
-            stats.pack.steps += improved::wall_servo(&mut w, p, progress)?;
+            stats.pack.steps += improved::compact(&mut w, p, progress)?;
             stats.pack.wall_stress = relax::wall_stress(&w.state);
             let group = w.state.discs.group.clone();
             bond_and_release(&mut w, p, &mut stats, move |i, j| {
@@ -194,12 +201,18 @@ fn bond_and_release(
     stats: &mut Stats,
     choose: impl FnMut(usize, usize) -> Option<u16>,
 ) -> Result<(), SpecimenError> {
-    let mut bonds = match w.bonds.take() {
-        Some(b) => b,
-        None => Bonds::new(bond_groups(p))?,
-    };
+    // Intact bonds of the packing stage (unbreakable intra-grain bonds) are re-installed
+    // force-free with the real groups, like every new bond.
+    let mut bonds = Bonds::new(bond_groups(p))?;
+    if let Some(old) = w.bonds.take() {
+        for v in old.iter() {
+            if v.status == crate::bond::BondStatus::Intact {
+                bonds.add(&w.state, v.i as usize, v.j as usize, v.group)?;
+            }
+        }
+    }
     bonds.install_within_gap(&w.state, p.bond_gap, choose)?;
-    w.bonds = Some(bonds);
+    crate::bond::attach::attach(w, bonds);
     stats.bonded_box = relax::box_of_walls(&w.state).unwrap_or([0.0, p.width, 0.0, p.height]);
     // Without walls the wall law would only hold the time step down (its stiffness is part of
     // every disc's stiffness floor).

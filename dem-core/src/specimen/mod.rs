@@ -23,6 +23,7 @@
 pub mod generator;
 pub mod grains;
 pub mod improved;
+pub mod io;
 
 pub mod methods;
 pub mod orc;
@@ -177,7 +178,7 @@ pub struct SpecimenParams {
 
 impl SpecimenParams {
     /// Defaults for a `width × height` box and radii in [r_min, r_max]: normal radii,
-    /// porosity 0.16, σ0 = 1 % of the tensile strength (tolerance 10 %), touching pairs bonded,
+    /// porosity 0.16, σ0 = 1 % of the tensile strength (tolerance 25 %), touching pairs bonded,
     /// grain size 4 mean disc radii, templates of ≤ 9 discs with radii from r_min/2 to 4 r_max
     /// at 95 % cover, relaxed to KE ≤ 1e-6 × strain energy, t = 1 m; micro-parameters from E
     /// and σ_t ([`MicroParams::from_modulus`]).
@@ -207,7 +208,7 @@ impl SpecimenParams {
             density,
             micro: MicroParams::from_modulus(youngs_modulus, tensile_strength),
             iso_stress: 0.01 * tensile_strength,
-            iso_tolerance: 0.1,
+            iso_tolerance: 0.25,
             bond_gap: 0.0,
             grain_size: 4.0 * r_mean,
             template_max_discs: 9,
