@@ -68,12 +68,23 @@ pub struct SpecimenArgs {
     /// else "specimen").
     #[arg(long)]
     material_name: Option<String>,
-    /// Output specimen file (JSON); the summary goes to <stem>.summary.json beside it.
+    /// Output specimen file (JSON); the summary goes to <stem>.summary.json beside it, and a
+    /// scene that loads the specimen with its generation micro-parameters to <stem>.scene.json.
     #[arg(long)]
     out: PathBuf,
     /// Worker threads (default: all cores); results do not depend on it.
     #[arg(long)]
     threads: Option<usize>,
+}
+
+/// `x.json` → `x.scene.json` beside it.
+fn scene_path(out: &std::path::Path) -> PathBuf {
+    let name = out
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let stem = name.strip_suffix(".json").unwrap_or(&name);
+    out.with_file_name(format!("{stem}.scene.json"))
 }
 
 /// `20mm`, `0.2mm`, `500um`, `1e-3m` → metres.
@@ -227,8 +238,21 @@ pub fn run(a: SpecimenArgs) -> Result<ExitCode, String> {
     bar.finish_and_clear();
     let spec = spec.map_err(|e| e.to_string())?;
     let summary_file = io::save(&spec, &material, &a.out).map_err(|e| e.to_string())?;
+    let name = a
+        .out
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let scene_file = scene_path(&a.out);
+    let scene = io::example_scene(&spec, &material, &name, 1000);
+    let text = serde_json::to_string_pretty(&scene).map_err(|e| e.to_string())?;
+    io::write_atomic(&scene_file, &text).map_err(|e| e.to_string())?;
     print!("{}", spec.summary.text());
     println!("specimen: {} (material {material:?})", a.out.display());
     println!("summary:  {}", summary_file.display());
+    println!(
+        "scene:    {} (dem run it to load the specimen)",
+        scene_file.display()
+    );
     Ok(ExitCode::SUCCESS)
 }

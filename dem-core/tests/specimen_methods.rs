@@ -254,7 +254,8 @@ fn same_seed_same_specimen_for_any_thread_count() {
     assert_ne!(a.world.state.discs.x, c.world.state.discs.x);
 }
 
-/// Save, load through a scene, compare discs, masses, bonds, clumps and contact offsets.
+/// Save, load through a scene, compare discs, masses, bonds, clumps and contact offsets; the
+/// loaded specimen is at rest.
 fn round_trip(s: &Specimen, name: &str) {
     let dir = std::env::temp_dir().join(format!("dem-specimen-rt-{}-{name}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
@@ -327,6 +328,16 @@ fn round_trip(s: &Specimen, name: &str) {
             assert!(c.overlap < 0.01 * g0.abs(), "offset of pair {fa}-{fb} lost");
         }
     }
+    // Stress-free hand-over: the loaded specimen stays at rest (KE within the relaxation
+    // bound of the specimen it came from) over 300 steps.
+    let mut w = w;
+    w.run(300);
+    let u = s.summary.strain_energy;
+    let ke = w.energy().kinetic();
+    assert!(
+        ke <= s.params.ke_ratio * u,
+        "loaded specimen moves: KE {ke:e} J, U {u:e} J"
+    );
     std::fs::remove_dir_all(&dir).ok();
 }
 

@@ -4,10 +4,21 @@
 //! A relaxed specimen is written as: one disc set (positions and radii in metres, shifted so
 //! the discs' bounding box starts at the origin; per-disc grain ids; per-disc mass factors for
 //! improved-ORC members, whose masses are the templates' solved ones), the rigid clumps (ORC) as
-//! member lists, and the intact bonds per bond group as disc index pairs, with the contact
-//! reference gaps of overlapping bonded-clump members. Disc indices are the discs' order in the
-//! file (the world's stable ids, in order). Materials and bond groups are named; a scene
-//! defines them. Both files are written atomically (temporary file, then rename).
+//! member lists, and the intact bonds per bond group as disc index pairs.
+//!
+//! **Stress-free hand-over.** Bonds are installed force-free when a scene loads them (the bond
+//! store sets each bond's reference gap to the gap at installation), so the forces the relaxed
+//! specimen holds in its bonds cannot be restored; the contacts of bonded pairs would then push
+//! the specimen apart when it is loaded. So every bonded pair that overlaps is given its
+//! current gap as contact reference gap (`contact_offsets`; for improved-ORC members that is
+//! their designed overlap plus the small elastic one): the loaded specimen starts with no force
+//! in any bonded contact and no bond force, i.e. at rest, with its locked-in stress (reported
+//! in the summary) released. The reference gaps are of the order of σ0·r/E (~1e-5 r) except
+//! for the members of improved grains.
+//!
+//! Disc indices are the discs' order in the file (the world's stable ids, in order). Materials
+//! and bond groups are named; a scene defines them. Both files are written atomically
+//! (temporary file, then rename).
 
 use super::{Specimen, SpecimenError};
 use crate::bond::BondStatus;
@@ -66,11 +77,9 @@ pub fn to_file(s: &Specimen, material: &str) -> SpecimenFile {
                 .collect()
         })
         .collect();
-    let offsets: HashMap<(u32, u32), f64> = s
-        .offsets
-        .iter()
-        .map(|&(a, b, g)| ((a.min(b), a.max(b)), g))
-        .collect();
+    // Stress-free hand-over: every bonded pair that overlaps gets its current gap as contact
+    // reference gap, and the loader installs the bonds force-free, so the loaded specimen
+    // starts with no force in any bonded contact (see the module docs).
     let mut bonds = Vec::new();
     if let Some(b) = &w.bonds {
         for (g, name) in b.group_names().into_iter().enumerate() {
@@ -80,14 +89,9 @@ pub fn to_file(s: &Specimen, material: &str) -> SpecimenFile {
                 if v.status != BondStatus::Intact {
                     continue;
                 }
-                let (ia, ib) = (d.id[v.i as usize], d.id[v.j as usize]);
-                pairs.push([file_of_id[&ia], file_of_id[&ib]]);
-                gaps.push(
-                    offsets
-                        .get(&(ia.min(ib), ia.max(ib)))
-                        .copied()
-                        .unwrap_or(0.0),
-                );
+                let (i, j) = (v.i as usize, v.j as usize);
+                pairs.push([file_of_id[&d.id[i]], file_of_id[&d.id[j]]]);
+                gaps.push(crate::bond::install::gap(&w.state, i, j).min(0.0));
             }
             if pairs.is_empty() {
                 continue;
