@@ -90,8 +90,9 @@ pub enum RadiusDist {
 /// loads the specimen sets its own; these are written to the summary.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct MicroParams {
-    /// Contact modulus E_c (Pa): linear contact stiffness k_n = 2 t E_c (PFC2D, Potyondy &
-    /// Cundall 2004 eq. 5 with A = 2Rt, L = 2R).
+    /// Contact modulus E_c (Pa): linear contact stiffness k_n = A E_c / L with A = 2Rt and
+    /// L = 2R, i.e. k_n = 2 t E_c (the 2D deformability relation of Potyondy & Cundall 2004,
+    /// §2.3).
     pub contact_modulus: f64,
     /// k_n / k_s of contacts.
     pub stiffness_ratio: f64,

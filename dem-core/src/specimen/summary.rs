@@ -54,9 +54,12 @@ pub struct Summary {
     pub iso_stress_target: f64,
     pub wall_stress_at_bonding: [f64; 2],
     /// Locked-in stress after relaxation: mean normal stress (σ_xx + σ_yy)/2 carried by the
-    /// contacts, σ = Σ F_n ℓ / (2 A t) over touching pairs (ℓ centre distance, A the box area at
-    /// bonding; compression positive), and the same sum over intact bonds (F̄n, compression
-    /// positive). Without walls the two nearly cancel.
+    /// contacts, the trace of the average stress of a granular assembly σ_ij = (1/V) Σ f_i ℓ_j
+    /// (Christoffersen, Mehrabadi & Nemat-Nasser 1981, J. Appl. Mech. 48:339) over 2:
+    /// σ = Σ F_n ℓ / (2 A t) over touching pairs (ℓ centre distance, A the box area at bonding;
+    /// compression positive); and the same sum over intact bonds (F̄n, compression positive).
+    /// Without walls the two nearly cancel. The specimen file hands the specimen over
+    /// stress-free (see [`super::io`]).
     pub locked_in_contact_stress: f64,
     pub locked_in_bond_stress: f64,
     pub floaters_resized: usize,
