@@ -7,6 +7,7 @@ use std::process::ExitCode;
 mod bench;
 mod clump;
 mod run;
+mod specimen;
 
 #[derive(Parser)]
 #[command(name = "dem", version, about = "2D DEM of brittle-material machining")]
@@ -21,6 +22,8 @@ enum Command {
     Clump(clump::ClumpArgs),
     /// Run a scene file (JSON, docs/scene-schema.md) with its outputs.
     Run(run::RunArgs),
+    /// Build a relaxed bonded specimen (traditional, ORC or improved ORC) as a specimen file.
+    Specimen(specimen::SpecimenArgs),
     /// Speed benchmarks; the last line printed is the figure.
     #[command(subcommand)]
     Bench(bench::BenchKind),
@@ -31,6 +34,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Clump(a) => clump::run(a),
         Command::Run(a) => run::run(a),
+        Command::Specimen(a) => specimen::run(a),
         Command::Bench(k) => bench::run(k),
     };
     match result {

@@ -30,6 +30,7 @@ pub mod output;
 pub mod params;
 pub mod pipeline;
 pub mod scene;
+pub mod specimen;
 pub mod state;
 pub mod timestep;
 pub mod validate;

@@ -2,8 +2,8 @@
 //! bonds, walls, contact laws per material pair, parameters. Only what the scene uses is built:
 //! no bond store without bonds, no clump pass without rigid clumps, no gravity unless set.
 //!
-//! Order: free discs, then clumps in scene order (their discs get the next ids), then automatic
-//! bonds, then the world (`World::try_new` may reorder the discs in space; the bonds, built on
+//! Order: free discs, the rigid clumps and explicit bonds of specimen files (made of those
+//! discs), then clumps in scene order (their discs get the next ids), then automatic bonds, then the world (`World::try_new` may reorder the discs in space; the bonds, built on
 //! creation indices, are remapped and attached and the reference gaps of overlapping
 //! bonded-clump members registered by [`world_with_bonds`]).
 
@@ -52,6 +52,15 @@ pub fn build(scene: &Scene) -> Result<World, SceneError> {
         st.discs.omega[k] = d.omega;
         st.discs.fixed[k] = d.fixed;
     }
+    // Rigid clumps of specimen-file discs (the scene's discs come first: index = id).
+    for (k, m) in scene.rigid_clumps.iter().enumerate() {
+        crate::specimen::orc::make_rigid_clump(&mut st, m, "specimen").ok_or_else(|| {
+            fail(
+                &format!("rigid clump {k}"),
+                "a member is missing or in another clump".into(),
+            )
+        })?;
+    }
     let mut bonds = if scene.bond_groups.is_empty() {
         None
     } else {
@@ -61,6 +70,17 @@ pub fn build(scene: &Scene) -> Result<World, SceneError> {
         )
     };
     let mut offsets = Vec::new();
+    for (k, e) in scene.bonds.iter().enumerate() {
+        let what = format!("specimen bond {k}");
+        let b = bonds
+            .as_mut()
+            .ok_or_else(|| fail(&what, "no bond groups".into()))?;
+        b.add(&st, e.a, e.b, e.group as u16)
+            .map_err(|err| fail(&what, err.to_string()))?;
+        if e.contact_offset < 0.0 {
+            offsets.push((st.discs.id[e.a], st.discs.id[e.b], e.contact_offset));
+        }
+    }
     let mut scaled: HashMap<(usize, u16), Template> = HashMap::new();
     for (k, c) in scene.clumps.iter().enumerate() {
         let tpl = scaled

@@ -26,6 +26,10 @@ pub struct Scene {
     pub templates: Vec<Template>,
     pub discs: Vec<DiscInit>,
     pub clumps: Vec<ClumpInit>,
+    /// Rigid clumps (ORC sums of the members) of specimen-file discs: indices into `discs`.
+    pub rigid_clumps: Vec<Vec<usize>>,
+    /// Explicit bonds of specimen files.
+    pub bonds: Vec<ExplicitBond>,
     pub auto_bonds: Vec<AutoBond>,
     pub walls: Vec<WallInit>,
     pub loads: Vec<crate::pipeline::ExternalLoad>,
@@ -121,6 +125,16 @@ pub struct ClumpInit {
     pub omega: f64,
     /// Each clump gets its own group (grain id).
     pub group: u32,
+}
+
+/// A bond listed in a specimen file: discs `a`, `b` (indices into [`Scene::discs`]), bond
+/// group index, and the pair's contact reference gap (m, ≤ 0; 0 = none).
+#[derive(Debug, Clone, Serialize)]
+pub struct ExplicitBond {
+    pub a: usize,
+    pub b: usize,
+    pub group: usize,
+    pub contact_offset: f64,
 }
 
 #[derive(Debug, Clone, Serialize)]

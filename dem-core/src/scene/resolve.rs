@@ -41,6 +41,9 @@ struct Resolver {
     templates: Vec<Template>,
     discs: Vec<DiscInit>,
     clumps: Vec<ClumpInit>,
+    /// From specimen files: rigid clumps of listed discs and explicit bonds.
+    rigid_clumps: Vec<Vec<usize>>,
+    bonds: Vec<ExplicitBond>,
     rng: SplitMix64,
 }
 
@@ -77,6 +80,8 @@ impl Resolver {
             templates: Vec::new(),
             discs: Vec::new(),
             clumps: Vec::new(),
+            rigid_clumps: Vec::new(),
+            bonds: Vec::new(),
             rng: SplitMix64(0),
         }
     }
@@ -142,9 +147,16 @@ impl Resolver {
                 ));
             }
             let su = spec.units.metres();
+            let base = self.discs.len();
             for (k, set) in spec.discs.iter().enumerate() {
                 self.disc_set(&sck, &format!("discs[{k}]"), set, su, off)?;
             }
+            let n = self.discs.len() - base;
+            let links = crate::specimen::io::resolve_links(&sfile, &spec, base, n, su, |f, g| {
+                self.group(&sck, f, g)
+            })?;
+            self.rigid_clumps.extend(links.0);
+            self.bonds.extend(links.1);
             for (k, set) in spec.clumps.iter().enumerate() {
                 clump_sets.push((
                     format!("clumps[{k}]"),
@@ -198,6 +210,8 @@ impl Resolver {
             templates: std::mem::take(&mut self.templates),
             discs: std::mem::take(&mut self.discs),
             clumps: std::mem::take(&mut self.clumps),
+            rigid_clumps: std::mem::take(&mut self.rigid_clumps),
+            bonds: std::mem::take(&mut self.bonds),
             auto_bonds,
             walls,
             loads,
@@ -322,7 +336,26 @@ impl Resolver {
         u: f64,
         off: [f64; 2],
     ) -> Result<(), SceneError> {
-        let (material, _) = self.disc_material(ck, &format!("{field}.material"), &set.material)?;
+        let (material, rho) =
+            self.disc_material(ck, &format!("{field}.material"), &set.material)?;
+        let n = set.discs.len();
+        if set.groups.as_ref().is_some_and(|g| g.len() != n) {
+            return Err(ck.err(
+                format!("{field}.groups"),
+                format!("needs {n} entries, one per disc"),
+            ));
+        }
+        if let Some(f) = &set.mass_factors {
+            if f.len() != n {
+                return Err(ck.err(
+                    format!("{field}.mass_factors"),
+                    format!("needs {n} entries, one per disc"),
+                ));
+            }
+            for (k, &v) in f.iter().enumerate() {
+                ck.positive(&format!("{field}.mass_factors[{k}]"), v)?;
+            }
+        }
         let vel = [
             ck.finite(&format!("{field}.velocity[0]"), set.velocity[0])? * u,
             ck.finite(&format!("{field}.velocity[1]"), set.velocity[1])? * u,
@@ -353,9 +386,13 @@ impl Resolver {
                 vy,
                 omega,
                 material,
-                group: set.group,
+                group: set.groups.as_ref().map_or(set.group, |g| g[k]),
                 fixed: set.fixed,
-                mass: None,
+                mass: set.mass_factors.as_ref().map(|f| {
+                    let r = r * u;
+                    let m = f[k] * rho * self.thickness * std::f64::consts::PI * r * r;
+                    (m, 0.5 * m * r * r)
+                }),
             });
         }
         Ok(())

@@ -253,6 +253,14 @@ pub struct DiscSetSpec {
     pub fixed: bool,
     /// `[x, y, r]` per disc (length unit).
     pub discs: Vec<[f64; 3]>,
+    /// Per-disc group (e.g. grain id), replacing `group`; one per disc when given.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub groups: Option<Vec<u32>>,
+    /// Per-disc mass as a multiple of the uniform disc's ρ·t·π·r² (improved-ORC grain members
+    /// carry their template's solved masses); the inertia is then m·r²/2. One per disc when
+    /// given; dimensionless, so independent of the scene's density and thickness.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mass_factors: Option<Vec<f64>>,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -322,6 +330,30 @@ pub struct SpecimenFile {
     pub discs: Vec<DiscSetSpec>,
     #[serde(default)]
     pub clumps: Vec<ClumpSetSpec>,
+    /// Rigid clumps (ORC) made of the specimen's own discs: member indices in the order the
+    /// `discs` sets list them. Mass, centroid and inertia are the ORC sums of the members
+    /// (`specimen::orc`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub rigid_clumps: Vec<Vec<u32>>,
+    /// Explicit bonds between the specimen's own discs (indices as in `rigid_clumps`),
+    /// installed force-free at the loaded positions.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub bonds: Vec<BondListSpec>,
+}
+
+/// Bonds of one group between listed disc pairs of a specimen file.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BondListSpec {
+    /// A bond group of the scene.
+    pub bond_group: String,
+    /// Disc index pairs.
+    pub pairs: Vec<[u32; 2]>,
+    /// Contact reference gap of each pair (length unit): a negative value is an overlap the
+    /// contact law ignores (bonded-clump members overlap by design, see
+    /// `World::set_contact_offset`); 0 = none. One per pair when given.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub contact_offsets: Option<Vec<f64>>,
 }
 
 /// Which disc pairs automatic bonding may join.

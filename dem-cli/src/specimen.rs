@@ -1,0 +1,258 @@
+//! `dem specimen`: build a relaxed bonded specimen (traditional, ORC or improved ORC) and
+//! write it as a `dem.specimen/1` file with a summary JSON beside it (`docs/specimen.md`).
+
+use clap::Args;
+use dem_core::specimen::{self, io, Method, Progress, RadiusDist, SpecimenParams};
+use indicatif::{ProgressBar, ProgressStyle};
+use std::io::IsTerminal;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+#[derive(Args)]
+pub struct SpecimenArgs {
+    /// traditional | orc | improved.
+    #[arg(long, default_value = "traditional")]
+    method: String,
+    /// Specimen width with unit (`20mm`, `2e-2m`, `500um`).
+    #[arg(long)]
+    width: String,
+    /// Specimen height with unit.
+    #[arg(long)]
+    height: String,
+    /// Smallest disc radius with unit.
+    #[arg(long)]
+    r_min: String,
+    /// Largest disc radius with unit.
+    #[arg(long)]
+    r_max: String,
+    /// Radius distribution: normal (mean (r_min + r_max)/2, sd (r_max − r_min)/6, truncated)
+    /// or uniform.
+    #[arg(long, default_value = "normal")]
+    dist: String,
+    /// Random seed; a seed gives the same specimen on every machine and thread count.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Material file (data/materials/*.json): name, density, E and a tensile strength
+    /// (Brazilian, else flexural) set the defaults below.
+    #[arg(long)]
+    material: Option<PathBuf>,
+    /// Density (kg/m³), overriding the material file.
+    #[arg(long)]
+    density: Option<f64>,
+    /// Young's modulus with unit (`310GPa`): contact and bond moduli E_c = Ē_c.
+    #[arg(long)]
+    youngs: Option<String>,
+    /// Tensile strength with unit (`800MPa`): grain-boundary bond strengths σ̄c = c̄ (intra-grain
+    /// twice that); σ0 defaults to 1 % of it.
+    #[arg(long)]
+    tensile: Option<String>,
+    /// Isotropic stress installed before bonding, with unit (`8MPa`).
+    #[arg(long)]
+    iso_stress: Option<String>,
+    /// Target 2D porosity of the initial packing.
+    #[arg(long, default_value_t = 0.16)]
+    porosity: f64,
+    /// Mean equivalent grain diameter (ORC, improved), with unit; default 4 mean radii.
+    #[arg(long)]
+    grain_size: Option<String>,
+    /// Smallest template disc radius (improved), with unit; default r_min/2.
+    #[arg(long)]
+    template_r_min: Option<String>,
+    /// Largest number of discs per improved-ORC grain (9 in the paper).
+    #[arg(long, default_value_t = 9)]
+    max_discs: usize,
+    /// Relaxed when kinetic energy ≤ this × stored strain energy.
+    #[arg(long, default_value_t = 1e-6)]
+    ke_ratio: f64,
+    /// Name of the material the file's discs refer to (default: the material file's name,
+    /// else "specimen").
+    #[arg(long)]
+    material_name: Option<String>,
+    /// Output specimen file (JSON); the summary goes to <stem>.summary.json beside it, and a
+    /// scene that loads the specimen with its generation micro-parameters to <stem>.scene.json.
+    #[arg(long)]
+    out: PathBuf,
+    /// Worker threads (default: all cores); results do not depend on it.
+    #[arg(long)]
+    threads: Option<usize>,
+}
+
+/// `x.json` → `x.scene.json` beside it.
+fn scene_path(out: &std::path::Path) -> PathBuf {
+    let name = out
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let stem = name.strip_suffix(".json").unwrap_or(&name);
+    out.with_file_name(format!("{stem}.scene.json"))
+}
+
+/// `20mm`, `0.2mm`, `500um`, `1e-3m` → metres.
+pub fn parse_length(s: &str, what: &str) -> Result<f64, String> {
+    parse_unit(
+        s,
+        what,
+        &[("mm", 1e-3), ("um", 1e-6), ("µm", 1e-6), ("m", 1.0)],
+    )
+}
+
+/// `8MPa`, `310GPa`, `1e5Pa` → pascals.
+pub fn parse_stress(s: &str, what: &str) -> Result<f64, String> {
+    parse_unit(
+        s,
+        what,
+        &[("GPa", 1e9), ("MPa", 1e6), ("kPa", 1e3), ("Pa", 1.0)],
+    )
+}
+
+fn parse_unit(s: &str, what: &str, units: &[(&str, f64)]) -> Result<f64, String> {
+    let t = s.trim();
+    for (u, f) in units {
+        if let Some(num) = t.strip_suffix(u) {
+            let v: f64 = num
+                .trim()
+                .parse()
+                .map_err(|_| format!("{what}: cannot read the number in {s:?}"))?;
+            if !(v.is_finite() && v > 0.0) {
+                return Err(format!("{what}: {s:?} must be positive"));
+            }
+            return Ok(v * f);
+        }
+    }
+    let names: Vec<&str> = units.iter().map(|u| u.0).collect();
+    Err(format!("{what}: {s:?} needs a unit ({})", names.join(", ")))
+}
+
+/// Name, density (kg/m³), E (Pa), tensile strength (Pa) from a `data/materials` file.
+type MaterialInfo = (String, Option<f64>, Option<f64>, Option<f64>);
+
+fn read_material(path: &PathBuf) -> Result<MaterialInfo, String> {
+    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let v: serde_json::Value =
+        serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
+    let num = |sec: &str, key: &str| v.get(sec).and_then(|s| s.get(key)).and_then(|x| x.as_f64());
+    let name = v
+        .get("material")
+        .and_then(|x| x.as_str())
+        .unwrap_or("specimen")
+        .to_string();
+    let density = v.get("density_kg_m3").and_then(|x| x.as_f64());
+    let e = num("measured", "E_GPa")
+        .or_else(|| num("assumed", "E_GPa"))
+        .map(|g| g * 1e9);
+    let tensile = num("measured", "brazilian_MPa")
+        .or_else(|| num("measured", "flexural_MPa"))
+        .map(|m| m * 1e6);
+    Ok((name, density, e, tensile))
+}
+
+pub fn run(a: SpecimenArgs) -> Result<ExitCode, String> {
+    let method = Method::parse(&a.method)
+        .ok_or_else(|| format!("--method {:?}: use traditional, orc or improved", a.method))?;
+    let dist = match a.dist.as_str() {
+        "normal" => RadiusDist::Normal,
+        "uniform" => RadiusDist::Uniform,
+        d => return Err(format!("--dist {d:?}: use normal or uniform")),
+    };
+    let (mat_name, mat_rho, mat_e, mat_t) = match &a.material {
+        Some(p) => read_material(p)?,
+        None => ("specimen".to_string(), None, None, None),
+    };
+    let need = |v: Option<f64>, what: &str| {
+        v.ok_or_else(|| format!("{what} is not set: give it or a --material file that has it"))
+    };
+    let density = need(a.density.or(mat_rho), "--density")?;
+    let e = need(
+        a.youngs
+            .as_deref()
+            .map(|s| parse_stress(s, "--youngs"))
+            .transpose()?
+            .or(mat_e),
+        "--youngs",
+    )?;
+    let tensile = need(
+        a.tensile
+            .as_deref()
+            .map(|s| parse_stress(s, "--tensile"))
+            .transpose()?
+            .or(mat_t),
+        "--tensile",
+    )?;
+    let mut p = SpecimenParams::new(
+        method,
+        parse_length(&a.width, "--width")?,
+        parse_length(&a.height, "--height")?,
+        parse_length(&a.r_min, "--r-min")?,
+        parse_length(&a.r_max, "--r-max")?,
+        density,
+        e,
+        tensile,
+        a.seed,
+    );
+    p.distribution = dist;
+    p.porosity = a.porosity;
+    p.template_max_discs = a.max_discs;
+    p.ke_ratio = a.ke_ratio;
+    if let Some(s) = &a.iso_stress {
+        p.iso_stress = parse_stress(s, "--iso-stress")?;
+    }
+    if let Some(s) = &a.grain_size {
+        p.grain_size = parse_length(s, "--grain-size")?;
+    }
+    if let Some(s) = &a.template_r_min {
+        p.template_r_min = parse_length(s, "--template-r-min")?;
+    }
+    p.validate().map_err(|e| e.to_string())?;
+    let material = a.material_name.unwrap_or(mat_name);
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(a.threads.unwrap_or(0))
+        .build()
+        .map_err(|e| e.to_string())?;
+    println!(
+        "{} specimen {:.4} x {:.4} mm, radii {:.4}-{:.4} mm, seed {}, σ0 {:.3} MPa",
+        method.name(),
+        p.width * 1e3,
+        p.height * 1e3,
+        p.r_min * 1e3,
+        p.r_max * 1e3,
+        p.seed,
+        p.iso_stress * 1e-6
+    );
+    let bar = if std::io::stderr().is_terminal() {
+        let b = ProgressBar::new(1000);
+        b.set_style(
+            ProgressStyle::with_template("{elapsed:>5} {prefix:<10} {bar:30} {msg}")
+                .map_err(|e| e.to_string())?,
+        );
+        b
+    } else {
+        ProgressBar::hidden()
+    };
+    let spec = pool.install(|| {
+        specimen::generate(&p, &mut |pr: Progress| {
+            bar.set_prefix(pr.stage);
+            bar.set_position((pr.fraction.clamp(0.0, 1.0) * 1000.0) as u64);
+            bar.set_message(pr.message);
+        })
+    });
+    bar.finish_and_clear();
+    let spec = spec.map_err(|e| e.to_string())?;
+    let summary_file = io::save(&spec, &material, &a.out).map_err(|e| e.to_string())?;
+    let name = a
+        .out
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let scene_file = scene_path(&a.out);
+    let scene = io::example_scene(&spec, &material, &name, 1000);
+    let text = serde_json::to_string_pretty(&scene).map_err(|e| e.to_string())?;
+    io::write_atomic(&scene_file, &text).map_err(|e| e.to_string())?;
+    print!("{}", spec.summary.text());
+    println!("specimen: {} (material {material:?})", a.out.display());
+    println!("summary:  {}", summary_file.display());
+    println!(
+        "scene:    {} (dem run it to load the specimen)",
+        scene_file.display()
+    );
+    Ok(ExitCode::SUCCESS)
+}

@@ -1,0 +1,143 @@
+//! `dem specimen` end to end: a small traditional Si3N4 specimen is written with its summary and
+//! a scene that `dem run` loads; bad arguments are messages with exit code 2.
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+fn tmp(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("dem-specimen-cli-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn dem(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_dem"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+fn text(o: &Output) -> String {
+    format!(
+        "{}\n{}",
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr)
+    )
+}
+
+fn material() -> String {
+    concat!(env!("CARGO_MANIFEST_DIR"), "/../data/materials/si3n4.json").to_string()
+}
+
+#[test]
+fn specimen_writes_file_summary_and_a_scene_that_runs() {
+    let dir = tmp("ok");
+    let out = dir.join("trad.json");
+    let o = dem(&[
+        "specimen",
+        "--method",
+        "traditional",
+        "--width",
+        "3mm",
+        "--height",
+        "1.5mm",
+        "--r-min",
+        "0.1mm",
+        "--r-max",
+        "0.16mm",
+        "--seed",
+        "5",
+        "--material",
+        &material(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    let t = text(&o);
+    assert!(
+        t.contains("coordination number") && t.contains("kinetic energy"),
+        "{t}"
+    );
+    let spec: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    assert_eq!(spec["schema"], "dem.specimen/1");
+    assert_eq!(spec["discs"][0]["material"], "Si3N4");
+    let n = spec["discs"][0]["discs"].as_array().unwrap().len();
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("trad.summary.json")).unwrap())
+            .unwrap();
+    assert_eq!(summary["discs"].as_u64().unwrap() as usize, n);
+    assert_eq!(summary["method"], "traditional");
+    // σ0 defaults to 1 % of the material's flexural strength (800 MPa).
+    assert_eq!(summary["iso_stress_target"].as_f64().unwrap(), 8e6);
+    let ke = summary["kinetic_energy"].as_f64().unwrap();
+    let u = summary["strain_energy"].as_f64().unwrap();
+    assert!(ke <= 1e-6 * u, "KE {ke} strain {u}");
+    let scene = dir.join("trad.scene.json");
+    let r = dem(&["run", scene.to_str().unwrap(), "--max-steps", "50"]);
+    assert!(r.status.success(), "{}", text(&r));
+    assert!(text(&r).contains(&format!("{n} discs")), "{}", text(&r));
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn bad_arguments_are_messages() {
+    let dir = tmp("bad");
+    let out = dir.join("x.json");
+    let o = dem(&[
+        "specimen",
+        "--width",
+        "3",
+        "--height",
+        "1.5mm",
+        "--r-min",
+        "0.1mm",
+        "--r-max",
+        "0.16mm",
+        "--material",
+        &material(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    assert!(text(&o).contains("--width") && text(&o).contains("needs a unit"));
+    let o = dem(&[
+        "specimen",
+        "--width",
+        "3mm",
+        "--height",
+        "1.5mm",
+        "--r-min",
+        "0.1mm",
+        "--r-max",
+        "2mm",
+        "--material",
+        &material(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    assert!(text(&o).contains("does not fit"), "{}", text(&o));
+    let o = dem(&[
+        "specimen",
+        "--method",
+        "hexagonal",
+        "--width",
+        "3mm",
+        "--height",
+        "1.5mm",
+        "--r-min",
+        "0.1mm",
+        "--r-max",
+        "0.16mm",
+        "--material",
+        &material(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(text(&o).contains("traditional, orc or improved"));
+    assert!(!out.exists());
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -1,0 +1,224 @@
+//! The three methods of S0 (Ye & Xu 2010), each ending as a relaxed bonded specimen: see the
+//! module docs of [`super`]. Disc groups ([`crate::Discs::group`]) are grain ids: a disc's own
+//! index for the traditional method, the grain index otherwise.
+
+use super::generator::{self, PackStats};
+use super::grains::{self, Grains};
+use super::improved;
+use super::orc::make_rigid_clump;
+use super::relax::{self, DISC};
+use super::rng::Rng;
+use super::summary::{self, Summary};
+use super::{Method, Progress, SpecimenError, SpecimenParams, GRAIN_BOUNDARY, INTRA_GRAIN};
+use crate::bond::{BondGroup, BondModel, Bonds, Criterion, ParallelBondParams};
+use crate::state::{State, FREE};
+use crate::World;
+use std::time::Instant;
+
+/// Index of the grain-boundary and intra-grain groups in the specimen's [`Bonds`].
+pub const GB: u16 = 0;
+pub const INTRA: u16 = 1;
+
+/// A relaxed bonded specimen.
+#[derive(Clone, Debug)]
+pub struct Specimen {
+    pub params: SpecimenParams,
+    /// The relaxed world: no walls; bond groups [`GRAIN_BOUNDARY`], [`INTRA_GRAIN`].
+    pub world: World,
+    /// Contact reference gaps registered with the world (disc ids a, b, g0 < 0): overlapping
+    /// members of improved-ORC grains.
+    pub offsets: Vec<(u32, u32, f64)>,
+    /// Grain tessellation (ORC and improved).
+    pub grains: Option<Grains>,
+    pub summary: Summary,
+}
+
+/// The two bond groups (parallel bonds, maximum-stress criterion), k̄_n = Ē_c/(2 r̄).
+pub fn bond_groups(p: &SpecimenParams) -> Vec<BondGroup> {
+    bond_groups_with(p, false)
+}
+
+/// The bond groups; `unbreakable` gives them strengths of f64::MAX (grains are packed as
+/// unbreakable clumps, as PFC packs clumps; the real strengths apply from bonding on).
+pub fn bond_groups_with(p: &SpecimenParams, unbreakable: bool) -> Vec<BondGroup> {
+    let m = &p.micro;
+    let r_mean = 0.5 * (p.r_min + p.r_max);
+    let kn = m.bond_modulus / (2.0 * r_mean);
+    let model = BondModel::Parallel(ParallelBondParams {
+        kn,
+        ks: kn / m.bond_stiffness_ratio,
+        lambda: m.bond_radius_multiplier,
+        beta: 1.0,
+    });
+    let strength = |v: f64| if unbreakable { f64::MAX } else { v };
+    let group = |name: &str, tensile: f64, cohesion: f64| BondGroup {
+        name: name.to_string(),
+        model,
+        criterion: Criterion::Stress {
+            tensile: strength(tensile),
+            cohesion: strength(cohesion),
+            friction_angle: 0.0,
+        },
+    };
+    vec![
+        group(GRAIN_BOUNDARY, m.boundary_tensile, m.boundary_cohesion),
+        group(INTRA_GRAIN, m.intra_tensile, m.intra_cohesion),
+    ]
+}
+
+/// Build a specimen by `p.method`; `progress` is called during every long stage.
+pub fn generate(
+    p: &SpecimenParams,
+    progress: &mut dyn FnMut(Progress),
+) -> Result<Specimen, SpecimenError> {
+    p.validate()?;
+    let t0 = Instant::now();
+    let mut rng = Rng::new(p.seed);
+    // Grains come from their own stream, so ORC and improved specimens of one seed share them.
+    let mut grain_rng = Rng::new(p.seed ^ 0x5bd1_e995_7f4a_7c15);
+    let mut stats = Stats::default();
+    let (mut world, grains, offsets) = match p.method {
+        Method::Traditional => {
+            let (mut w, pack) = generator::pack(p, &mut rng, progress)?;
+            for k in 0..w.state.discs.len() {
+                w.state.discs.group[k] = w.state.discs.id[k];
+            }
+            stats.pack = pack;
+            bond_and_release(&mut w, p, &mut stats, |_, _| Some(GB))?;
+            (w, None, Vec::new())
+        }
+        Method::Orc => {
+            let (w, pack) = generator::pack(p, &mut rng, progress)?;
+            stats.pack = pack;
+            let g = tessellation(p, &mut grain_rng)?;
+            let mut w = clump_grains(w, &g, p)?;
+            stats.pack.steps += generator::settle(&mut w, "clumps", p, progress)?;
+            stats.pack.wall_stress = relax::wall_stress(&w.state);
+            let body = w.state.discs.body.clone();
+            bond_and_release(&mut w, p, &mut stats, move |i, j| {
+                (body[i] != body[j] || body[i] == FREE).then_some(GB)
+            })?;
+            (w, Some(g), Vec::new())
+        }
+        Method::Improved => {
+            let g = tessellation(p, &mut grain_rng)?;
+            let (mut w, offsets, tstats) = improved::build(p, &g, progress)?;
+            stats.templates = Some(tstats);
+            stats.pack.steps += improved::compact(&mut w, p, progress)?;
+            stats.pack.wall_stress = relax::wall_stress(&w.state);
+            let group = w.state.discs.group.clone();
+            bond_and_release(&mut w, p, &mut stats, move |i, j| {
+                (group[i] != group[j]).then_some(GB)
+            })?;
+            (w, Some(g), offsets)
+        }
+    };
+    let (steps, ke, u) = relax::relax(&mut world, p.ke_ratio, p.max_stage_steps, progress)?;
+    stats.relax_steps = steps;
+    progress(Progress {
+        stage: "summary",
+        fraction: 1.0,
+        message: format!("relaxed: KE {ke:.3e} J, strain energy {u:.3e} J"),
+    });
+    let summary = summary::summarize(
+        p,
+        &world,
+        grains.as_ref(),
+        &stats,
+        t0.elapsed().as_secs_f64(),
+    );
+    Ok(Specimen {
+        params: p.clone(),
+        world,
+        offsets,
+        grains,
+        summary,
+    })
+}
+
+/// What the stages report to the summary.
+#[derive(Clone, Debug, Default)]
+pub struct Stats {
+    pub pack: PackStats,
+    /// Box `[x0, x1] × [y0, y1]` when the bonds were installed (walls' positions).
+    pub bonded_box: [f64; 4],
+    pub relax_steps: u64,
+    pub templates: Option<improved::TemplateStats>,
+}
+
+fn tessellation(p: &SpecimenParams, rng: &mut Rng) -> Result<Grains, SpecimenError> {
+    let seeds = grains::draw_seeds(rng, p.width, p.height, p.grain_size)?;
+    Ok(grains::tessellate(&seeds, p.width, p.height))
+}
+
+/// A new world whose discs (in id order) are grouped into one rigid ORC clump per grain.
+fn clump_grains(w: World, g: &Grains, p: &SpecimenParams) -> Result<World, SpecimenError> {
+    let d = &w.state.discs;
+    let mut order: Vec<usize> = (0..d.len()).collect();
+    order.sort_by_key(|&k| d.id[k]);
+    let mut st = State {
+        thickness: w.state.thickness,
+        walls: w.state.walls.clone(),
+        ..State::default()
+    };
+    for &k in &order {
+        st.discs.push(
+            d.x[k],
+            d.y[k],
+            d.r[k],
+            d.m[k],
+            d.inertia[k],
+            d.material[k],
+            0,
+        );
+    }
+    let pts: Vec<[f64; 2]> = (0..st.discs.len())
+        .map(|k| [st.discs.x[k], st.discs.y[k]])
+        .collect();
+    let owner = grains::assign(&g.seeds, g.width, g.height, &pts);
+    let mut members: Vec<Vec<usize>> = vec![Vec::new(); g.seeds.len()];
+    for (k, &o) in owner.iter().enumerate() {
+        members[o].push(k);
+    }
+    for (gi, m) in members.iter().enumerate() {
+        if m.is_empty() {
+            continue;
+        }
+        for &k in m {
+            st.discs.group[k] = gi as u32;
+        }
+        // Cannot fail: the members are distinct free discs.
+        make_rigid_clump(&mut st, m, &format!("grain-{gi}"));
+    }
+    Ok(World::try_new(st, w.params.clone(), relax::laws(p, 0.0))?)
+}
+
+/// Install grain-boundary bonds (pairs within `p.bond_gap` that `choose` accepts), switch
+/// friction on, remove the walls.
+fn bond_and_release(
+    w: &mut World,
+    p: &SpecimenParams,
+    stats: &mut Stats,
+    choose: impl FnMut(usize, usize) -> Option<u16>,
+) -> Result<(), SpecimenError> {
+    // Intact bonds of the packing stage (unbreakable intra-grain bonds) are re-installed
+    // force-free with the real groups, like every new bond.
+    let mut bonds = Bonds::new(bond_groups(p))?;
+    if let Some(old) = w.bonds.take() {
+        for v in old.iter() {
+            if v.status == crate::bond::BondStatus::Intact {
+                bonds.add(&w.state, v.i as usize, v.j as usize, v.group)?;
+            }
+        }
+    }
+    bonds.install_within_gap(&w.state, p.bond_gap, choose)?;
+    crate::bond::attach::attach(w, bonds);
+    stats.bonded_box = relax::box_of_walls(&w.state).unwrap_or([0.0, p.width, 0.0, p.height]);
+    // Without walls the wall law would only hold the time step down (its stiffness is part of
+    // every disc's stiffness floor).
+    w.laws =
+        crate::contact::ContactLaws::uniform(*relax::laws(p, p.micro.friction).model(DISC, DISC));
+    w.state.walls.clear();
+    w.refresh();
+    Ok(())
+}

@@ -1,0 +1,352 @@
+//! Bonded-disc specimens of a brittle material, built three ways (S0, Ye & Xu 2010; the
+//! generation procedure of S4, Tan et al., which is PFC's, Potyondy & Cundall 2004 §3.1):
+//!
+//! ```text
+//! generator  random discs at half size in four frictionless walls (stiffer than the discs),
+//!            radii grown to the target porosity, uniform radius change to the isotropic
+//!            stress σ0 (read from the wall forces), floaters re-sized or removed, equilibrium
+//! methods    traditional: one disc per grain, parallel bonds at every disc-disc contact
+//!            orc:         discs grouped into grains (grains.rs), each grain one rigid clump
+//!                         with the summed disc properties, grain-boundary bonds between clumps
+//!            improved:    each grain's cell filled with a clumpgen template (≤ 9 discs, solved
+//!                         masses), placed as a bonded clump (intra-grain bond group), packed
+//!                         by servo-controlled walls to σ0, grain-boundary bonds between grains
+//!            all three:   walls removed, relaxed with local damping until the kinetic energy
+//!                         is below `ke_ratio` × the stored strain energy
+//! summary    discs, grains, porosity, coordination, bonds, residual kinetic energy, stresses
+//! io         the `dem.specimen/1` file any scene can load, and the summary beside it
+//! ```
+//!
+//! Everything is deterministic per seed (own RNG, [`rng`]; the engine is bit-identical for any
+//! thread count).
+
+pub mod generator;
+pub mod grains;
+pub mod improved;
+pub mod io;
+
+pub mod methods;
+pub mod orc;
+pub mod relax;
+pub mod rng;
+pub mod summary;
+
+pub use methods::{generate, Specimen};
+pub use summary::Summary;
+
+use crate::bond::BondError;
+use crate::pipeline::WorldError;
+use serde::{Deserialize, Serialize};
+
+/// Name of the bond group between grains (every bond of a traditional specimen).
+pub const GRAIN_BOUNDARY: &str = "grain_boundary";
+/// Name of the bond group inside improved-ORC grains.
+pub const INTRA_GRAIN: &str = "intra_grain";
+/// Material name the specimen file uses for its discs (a scene defines its properties).
+pub const DEFAULT_MATERIAL: &str = "specimen";
+
+/// How grains are modelled.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Method {
+    /// One disc per grain.
+    Traditional,
+    /// Overlapping rigid clusters (Ashmawy et al. 2003): one rigid clump per grain.
+    Orc,
+    /// Improved ORC (Ye & Xu 2010): template discs with solved masses, bonded inside the grain.
+    Improved,
+}
+
+impl Method {
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::Traditional => "traditional",
+            Method::Orc => "orc",
+            Method::Improved => "improved",
+        }
+    }
+
+    pub fn parse(s: &str) -> Option<Method> {
+        match s.to_ascii_lowercase().as_str() {
+            "traditional" => Some(Method::Traditional),
+            "orc" => Some(Method::Orc),
+            "improved" | "improved_orc" | "improved-orc" => Some(Method::Improved),
+            _ => None,
+        }
+    }
+}
+
+/// Radius distribution between `r_min` and `r_max`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum RadiusDist {
+    Uniform,
+    /// Normal with mean (r_min + r_max)/2 and standard deviation (r_max − r_min)/6, truncated
+    /// to [r_min, r_max] by rejection (S4: "radii normally distributed").
+    Normal,
+}
+
+/// Micro-parameters used while the specimen is built (contacts, walls, bonds). A scene that
+/// loads the specimen sets its own; these are written to the summary.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct MicroParams {
+    /// Contact modulus E_c (Pa): linear contact stiffness k_n = A E_c / L with A = 2Rt and
+    /// L = 2R, i.e. k_n = 2 t E_c (the 2D deformability relation of Potyondy & Cundall 2004,
+    /// §2.3).
+    pub contact_modulus: f64,
+    /// k_n / k_s of contacts.
+    pub stiffness_ratio: f64,
+    /// Disc friction μ of the bonded specimen (packing is frictionless).
+    pub friction: f64,
+    /// Wall normal stiffness as a multiple of the disc k_n ("walls stiffer than discs", S4).
+    /// Every disc's time step is bounded by its stiffest possible contact, so a large factor
+    /// slows the whole packing down; 2 by default.
+    pub wall_stiffness_factor: f64,
+    /// Parallel-bond modulus Ē_c (Pa): k̄_n = Ē_c / (2 r̄) with r̄ the mean disc radius (PFC sets
+    /// Ē_c/(R_A + R_B) per bond; one value per group here).
+    pub bond_modulus: f64,
+    /// k̄_n / k̄_s.
+    pub bond_stiffness_ratio: f64,
+    /// Bond radius multiplier λ̄.
+    pub bond_radius_multiplier: f64,
+    /// Grain-boundary bond tensile strength σ̄_c and cohesion c̄ (Pa).
+    pub boundary_tensile: f64,
+    pub boundary_cohesion: f64,
+    /// Intra-grain bond tensile strength and cohesion (Pa), improved ORC.
+    pub intra_tensile: f64,
+    pub intra_cohesion: f64,
+}
+
+impl MicroParams {
+    /// Defaults from a Young's modulus E (Pa) and a tensile strength σ_t (Pa): E_c = Ē_c = E,
+    /// k_n/k_s = k̄_n/k̄_s = 2.5, μ = 0.5, λ̄ = 1 (Potyondy & Cundall 2004 Table 1 ratios);
+    /// σ̄_c = c̄ = σ_t at grain boundaries and 2σ_t inside grains. Walls 2× stiffer.
+    /// These are starting values, not a calibration.
+    pub fn from_modulus(e: f64, tensile: f64) -> MicroParams {
+        MicroParams {
+            contact_modulus: e,
+            stiffness_ratio: 2.5,
+            friction: 0.5,
+            wall_stiffness_factor: 2.0,
+            bond_modulus: e,
+            bond_stiffness_ratio: 2.5,
+            bond_radius_multiplier: 1.0,
+            boundary_tensile: tensile,
+            boundary_cohesion: tensile,
+            intra_tensile: 2.0 * tensile,
+            intra_cohesion: 2.0 * tensile,
+        }
+    }
+}
+
+/// Everything that defines a specimen. Lengths in m, stresses in Pa.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SpecimenParams {
+    pub method: Method,
+    pub width: f64,
+    pub height: f64,
+    pub r_min: f64,
+    pub r_max: f64,
+    pub distribution: RadiusDist,
+    /// Target 2D porosity n = 1 − Σπr²/A of the initial packing (before the stress servo).
+    pub porosity: f64,
+    pub seed: u64,
+    /// Disc thickness t (m); the geometry does not depend on it (masses and stiffnesses
+    /// both scale with t).
+    pub thickness: f64,
+    /// Density ρ (kg/m³).
+    pub density: f64,
+    pub micro: MicroParams,
+    /// Isotropic stress σ0 installed before bonding (Pa, compression positive).
+    pub iso_stress: f64,
+    /// Relative tolerance on σ0.
+    pub iso_tolerance: f64,
+    /// Pairs with gap ≤ this are bonded (m); 0 = touching pairs only.
+    pub bond_gap: f64,
+    /// Mean equivalent grain diameter (m), ORC and improved.
+    pub grain_size: f64,
+    /// Template fill of improved grains: largest disc count (9 in S0), area cover (0.95 in S0),
+    /// disc radius range (m).
+    pub template_max_discs: usize,
+    pub template_cover: f64,
+    pub template_r_min: f64,
+    pub template_r_max: f64,
+    /// Relaxed when kinetic energy ≤ `ke_ratio` × strain energy (contacts + bonds).
+    pub ke_ratio: f64,
+    /// Cap on the steps of any one stage.
+    pub max_stage_steps: u64,
+}
+
+impl SpecimenParams {
+    /// Defaults for a `width × height` box and radii in [r_min, r_max]: normal radii,
+    /// porosity 0.16, σ0 = 1 % of the tensile strength (tolerance 25 %), touching pairs bonded,
+    /// grain size 4 mean disc radii, templates of ≤ 9 discs with radii from r_min/2 to 4 r_max
+    /// at 95 % cover, relaxed to KE ≤ 1e-6 × strain energy, t = 1 m; micro-parameters from E
+    /// and σ_t ([`MicroParams::from_modulus`]).
+    #[allow(clippy::too_many_arguments)]
+    pub fn new(
+        method: Method,
+        width: f64,
+        height: f64,
+        r_min: f64,
+        r_max: f64,
+        density: f64,
+        youngs_modulus: f64,
+        tensile_strength: f64,
+        seed: u64,
+    ) -> SpecimenParams {
+        let r_mean = 0.5 * (r_min + r_max);
+        SpecimenParams {
+            method,
+            width,
+            height,
+            r_min,
+            r_max,
+            distribution: RadiusDist::Normal,
+            porosity: 0.16,
+            seed,
+            thickness: 1.0,
+            density,
+            micro: MicroParams::from_modulus(youngs_modulus, tensile_strength),
+            iso_stress: 0.01 * tensile_strength,
+            iso_tolerance: 0.25,
+            bond_gap: 0.0,
+            grain_size: 4.0 * r_mean,
+            template_max_discs: 9,
+            template_cover: 0.95,
+            template_r_min: 0.5 * r_min,
+            template_r_max: 4.0 * r_max,
+            ke_ratio: 1e-6,
+            max_stage_steps: 2_000_000,
+        }
+    }
+
+    /// Check every value.
+    pub fn validate(&self) -> Result<(), SpecimenError> {
+        let pos = |name: &str, v: f64| {
+            if v > 0.0 && v.is_finite() {
+                Ok(())
+            } else {
+                Err(SpecimenError::Param(format!(
+                    "{name} = {v} must be positive"
+                )))
+            }
+        };
+        pos("width", self.width)?;
+        pos("height", self.height)?;
+        pos("r_min", self.r_min)?;
+        pos("r_max", self.r_max)?;
+        pos("thickness", self.thickness)?;
+        pos("density", self.density)?;
+        pos("iso_stress", self.iso_stress)?;
+        pos("iso_tolerance", self.iso_tolerance)?;
+        pos("grain_size", self.grain_size)?;
+        pos("template_cover", self.template_cover)?;
+        pos("template_r_min", self.template_r_min)?;
+        pos("template_r_max", self.template_r_max)?;
+        pos("ke_ratio", self.ke_ratio)?;
+        let m = &self.micro;
+        for (n, v) in [
+            ("contact_modulus", m.contact_modulus),
+            ("stiffness_ratio", m.stiffness_ratio),
+            ("wall_stiffness_factor", m.wall_stiffness_factor),
+            ("bond_modulus", m.bond_modulus),
+            ("bond_stiffness_ratio", m.bond_stiffness_ratio),
+            ("bond_radius_multiplier", m.bond_radius_multiplier),
+            ("boundary_tensile", m.boundary_tensile),
+            ("boundary_cohesion", m.boundary_cohesion),
+            ("intra_tensile", m.intra_tensile),
+            ("intra_cohesion", m.intra_cohesion),
+        ] {
+            pos(n, v)?;
+        }
+        if !(m.friction >= 0.0 && m.friction.is_finite()) {
+            return Err(SpecimenError::Param("friction must be ≥ 0".into()));
+        }
+        if self.r_max < self.r_min {
+            return Err(SpecimenError::Param(format!(
+                "r_max = {} m is below r_min = {} m",
+                self.r_max, self.r_min
+            )));
+        }
+        if self.template_r_max < self.template_r_min {
+            return Err(SpecimenError::Param(
+                "template_r_max is below template_r_min".into(),
+            ));
+        }
+        if 2.0 * self.r_max >= self.width.min(self.height) {
+            return Err(SpecimenError::Param(format!(
+                "the largest disc (diameter {} m) does not fit in the {} × {} m box",
+                2.0 * self.r_max,
+                self.width,
+                self.height
+            )));
+        }
+        if !(self.porosity > 0.05 && self.porosity < 0.6) {
+            return Err(SpecimenError::Param(format!(
+                "porosity {} must lie in (0.05, 0.6)",
+                self.porosity
+            )));
+        }
+        if !(self.bond_gap >= 0.0 && self.bond_gap.is_finite()) {
+            return Err(SpecimenError::Param("bond_gap must be ≥ 0".into()));
+        }
+        if self.template_cover >= 1.0 || self.template_max_discs == 0 {
+            return Err(SpecimenError::Param(
+                "template cover must be below 1 and max discs at least 1".into(),
+            ));
+        }
+        let n_est = self.width * self.height * (1.0 - self.porosity)
+            / (std::f64::consts::PI * self.r_min * self.r_min);
+        if n_est > 5e6 {
+            return Err(SpecimenError::Param(format!(
+                "about {n_est:.0} discs: too many for the generator"
+            )));
+        }
+        if self.max_stage_steps == 0 {
+            return Err(SpecimenError::Param("max_stage_steps must be ≥ 1".into()));
+        }
+        Ok(())
+    }
+}
+
+/// Progress of a long stage, for progress bars.
+#[derive(Clone, Debug)]
+pub struct Progress {
+    /// Stage name ("place", "grow", "stress", "floaters", "bond", "relax", ...).
+    pub stage: &'static str,
+    /// Completion of the stage in [0, 1] (estimated for convergence loops).
+    pub fraction: f64,
+    /// A short status line.
+    pub message: String,
+}
+
+/// Why a specimen could not be built.
+#[derive(Debug, thiserror::Error)]
+pub enum SpecimenError {
+    #[error("specimen parameter: {0}")]
+    Param(String),
+    #[error("cannot place disc {index} of {count} without overlap after {attempts} attempts; raise the porosity or enlarge the box")]
+    Placement {
+        index: usize,
+        count: usize,
+        attempts: usize,
+    },
+    #[error("stage `{stage}` did not converge in {steps} steps: {detail}")]
+    NoConvergence {
+        stage: &'static str,
+        steps: u64,
+        detail: String,
+    },
+    #[error("grain {grain}: clump template: {source}")]
+    Template {
+        grain: usize,
+        source: clumpgen::ClumpError,
+    },
+    #[error(transparent)]
+    World(#[from] WorldError),
+    #[error(transparent)]
+    Bond(#[from] BondError),
+    #[error("specimen file {file}: {reason}")]
+    File { file: String, reason: String },
+}
