@@ -120,60 +120,6 @@ pub fn add_rigid_clump_props(
     Ok(ci)
 }
 
-/// Place the discs of a *bonded* clump (improved ORC, Ye & Xu 2010): every template disc
-/// becomes a free disc with the template's own mass m_i (scaled by
-/// `State::thickness / template.thickness`) and inertia m_i r_i²/2 — the disc inertia the
-/// template's mass fit assumes — so that, with an `improved` template, the discs together
-/// have exactly the grain's mass, centroid and inertia. The grain centroid (template origin)
-/// goes to (x, y), rotated by `angle`. Returns the discs' ids; the bond stage joins them
-/// (intra-clump bonds) and registers their reference gaps
-/// ([`crate::World::set_contact_offset`]).
-#[allow(clippy::too_many_arguments)]
-pub fn add_bonded_clump_discs(
-    st: &mut State,
-    template: &Template,
-    x: f64,
-    y: f64,
-    angle: f64,
-    material: u16,
-    group: u32,
-) -> Result<Vec<u32>, ClumpError> {
-    let bad = |reason: String| ClumpError::Template {
-        id: template.id.clone(),
-        reason,
-    };
-    if !(st.thickness > 0.0 && st.thickness.is_finite()) {
-        return Err(ClumpError::Thickness(st.thickness));
-    }
-    if template.discs.is_empty() {
-        return Err(bad("no discs".into()));
-    }
-    if !(template.thickness > 0.0 && template.thickness.is_finite()) {
-        return Err(bad(format!("thickness {}", template.thickness)));
-    }
-    let scale = st.thickness / template.thickness;
-    let (s, c) = angle.sin_cos();
-    let mut ids = Vec::with_capacity(template.discs.len());
-    for (k, d) in template.discs.iter().enumerate() {
-        let m = d.m * scale;
-        if !(d.r > 0.0 && d.r.is_finite() && m > 0.0 && m.is_finite()) {
-            return Err(bad(format!("disc {k} has r = {}, m = {}", d.r, d.m)));
-        }
-        let i = st.discs.push(
-            x + c * d.x - s * d.y,
-            y + s * d.x + c * d.y,
-            d.r,
-            m,
-            0.5 * m * d.r * d.r,
-            material,
-            group,
-        );
-        st.discs.theta[i] = angle;
-        ids.push(st.discs.id[i]);
-    }
-    Ok(ids)
-}
-
 /// Energies and displacement reported by the clump pass (see [`crate::integrate::Moved`]).
 pub use crate::integrate::Moved;
 

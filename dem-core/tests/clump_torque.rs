@@ -118,34 +118,3 @@ fn clump_under_central_force_accelerates_at_f_over_m() {
     assert!(c.omega[0].abs() < 1e-12 * (f[0] / m) * time / 1e-3);
     assert!((m / t.achieved.mass - 1.0).abs() < 1e-12);
 }
-
-#[test]
-fn bonded_clump_discs_carry_the_grain_mass_centroid_and_inertia() {
-    use dem_core::clump::add_bonded_clump_discs;
-    let t = template(Method::Improved);
-    let mut st = State {
-        thickness: 0.004, // twice the template's: masses scale by 2
-        ..State::default()
-    };
-    let (x, y, angle) = (0.03, -0.01, 1.1);
-    let ids = add_bonded_clump_discs(&mut st, &t, x, y, angle, 0, 7).expect("discs");
-    assert_eq!(ids.len(), t.discs.len());
-    let d = &st.discs;
-    let m: f64 = d.m.iter().sum();
-    let cx = d.m.iter().zip(&d.x).map(|(m, x)| m * x).sum::<f64>() / m;
-    let cy = d.m.iter().zip(&d.y).map(|(m, y)| m * y).sum::<f64>() / m;
-    let i: f64 = (0..d.len())
-        .map(|k| d.inertia[k] + d.m[k] * ((d.x[k] - cx).powi(2) + (d.y[k] - cy).powi(2)))
-        .sum();
-    let g = &t.target;
-    assert!((m / (2.0 * g.mass) - 1.0).abs() < 1e-9, "mass {m}");
-    assert!(
-        (cx - x).hypot(cy - y) < 1e-9 * 1.5e-3,
-        "centroid ({cx}, {cy})"
-    );
-    assert!(
-        (i / (2.0 * g.inertia_own) - 1.0).abs() < 1e-9,
-        "inertia {i}"
-    );
-    assert!(d.group.iter().all(|&g| g == 7) && d.body.iter().all(|&b| b == dem_core::FREE));
-}
