@@ -9,6 +9,7 @@ use super::model::*;
 use super::schema::*;
 use super::SceneError;
 use crate::bond::BondGroup;
+use clumpgen::synth::SplitMix64;
 use clumpgen::Template;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -44,21 +45,8 @@ struct Resolver {
     /// From specimen files: rigid clumps of listed discs and explicit bonds.
     rigid_clumps: Vec<Vec<usize>>,
     bonds: Vec<ExplicitBond>,
+    /// The scene's random numbers (initial speeds): SplitMix64 seeded with `seed`.
     rng: SplitMix64,
-}
-
-/// SplitMix64 (Steele, Lea & Flood 2014): the scene's random numbers (initial speeds).
-struct SplitMix64(u64);
-
-impl SplitMix64 {
-    fn next_f64(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^= z >> 31;
-        (z >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
-    }
 }
 
 fn v2(v: [f64; 2], u: f64) -> [f64; 2] {
@@ -82,7 +70,7 @@ impl Resolver {
             clumps: Vec::new(),
             rigid_clumps: Vec::new(),
             bonds: Vec::new(),
-            rng: SplitMix64(0),
+            rng: SplitMix64::new(0),
         }
     }
 
@@ -101,7 +89,7 @@ impl Resolver {
             Some(t) => ck.positive("thickness", t)? * u,
             None => 1.0,
         };
-        self.rng = SplitMix64(raw.seed);
+        self.rng = SplitMix64::new(raw.seed);
         let materials = self.materials(&raw.materials)?;
         let bond_groups = self.bond_groups(&raw.bond_groups)?;
         let scene_dir = dir_of(&self.scene_path);
@@ -374,7 +362,7 @@ impl Resolver {
             }
             let (mut vx, mut vy) = (vel[0], vel[1]);
             if speed > 0.0 {
-                let a = std::f64::consts::TAU * self.rng.next_f64();
+                let a = std::f64::consts::TAU * self.rng.uniform();
                 vx += speed * a.cos();
                 vy += speed * a.sin();
             }
