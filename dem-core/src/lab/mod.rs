@@ -1,4 +1,40 @@
 //! Virtual lab tests (uniaxial compression, Brazilian, three-point bending, cutting): scene
 //! builders and the analyses that turn their histories into material properties.
+//!
+//! ```text
+//! model     LabModel: density, thickness, micro-parameters → scene materials and bond groups
+//! run       write the test's scene file (plain, editable, `dem run` runs it), run it, read history
+//! history   history.csv back as named columns
+//! analysis  the standard formulas: E, ν, UCS; σ_t = 2F/(πDt); σ_f = 3FL/(2bh²); K_IC; force stats
+//! ```
 
 pub mod analysis;
+pub mod history;
+pub mod model;
+pub mod run;
+
+pub use model::LabModel;
+
+/// Errors of the lab tests; each names the file or field at fault.
+#[derive(Debug, thiserror::Error)]
+pub enum LabError {
+    #[error("{file}: {source}")]
+    Io {
+        file: String,
+        source: std::io::Error,
+    },
+    #[error(transparent)]
+    Scene(#[from] crate::scene::SceneError),
+    #[error(transparent)]
+    Run(#[from] crate::output::driver::RunError),
+    #[error(transparent)]
+    Output(#[from] crate::output::OutputError),
+    #[error(transparent)]
+    History(#[from] history::HistoryError),
+    #[error(transparent)]
+    Specimen(#[from] crate::specimen::SpecimenError),
+    #[error("{test}: {reason}")]
+    Analysis { test: String, reason: String },
+    #[error("{field}: {reason}")]
+    Param { field: String, reason: String },
+}

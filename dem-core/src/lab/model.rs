@@ -1,0 +1,143 @@
+//! The material model a lab test runs with: density, thickness and the micro-parameters
+//! ([`MicroParams`], the same struct the specimen generator uses), turned into the `materials`
+//! and `bond_groups` of a scene (`docs/scene-schema.md`). Calibration changes only this; the
+//! specimen geometry stays.
+
+use crate::specimen::{MicroParams, SpecimenParams, GRAIN_BOUNDARY, INTRA_GRAIN};
+use serde::{Deserialize, Serialize};
+use serde_json::{json, Value};
+
+/// Name of the specimen's disc material in lab scenes (the specimen files use it).
+pub const DISC_MATERIAL: &str = crate::specimen::DEFAULT_MATERIAL;
+/// Name of the material of loading walls (platens, supports, tool, slot).
+pub const WALL_MATERIAL: &str = "wall";
+
+/// Everything a lab-test scene needs to know about the material.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct LabModel {
+    /// Density ρ (kg/m³).
+    pub density: f64,
+    /// Disc thickness t (m).
+    pub thickness: f64,
+    /// Mean disc radius r̄ (m): parallel-bond stiffness k̄_n = Ē_c/(2r̄) (as the generator,
+    /// [`crate::specimen::methods::bond_groups`]).
+    pub r_mean: f64,
+    pub micro: MicroParams,
+}
+
+impl LabModel {
+    /// The model a specimen was generated with.
+    pub fn from_params(p: &SpecimenParams) -> LabModel {
+        LabModel {
+            density: p.density,
+            thickness: p.thickness,
+            r_mean: 0.5 * (p.r_min + p.r_max),
+            micro: p.micro.clone(),
+        }
+    }
+
+    /// Linear contact normal stiffness of two discs, k_n = 2 t E_c (Potyondy & Cundall 2004
+    /// §2.3 in 2D: k_n = A E_c / L with A = 2 R t and L = 2 R).
+    pub fn contact_kn(&self) -> f64 {
+        2.0 * self.thickness * self.micro.contact_modulus
+    }
+
+    /// Parallel-bond normal stiffness per area k̄_n = Ē_c / (2 r̄) (Pa/m).
+    pub fn bond_kn(&self) -> f64 {
+        self.micro.bond_modulus / (2.0 * self.r_mean)
+    }
+
+    /// The scene's `materials`: the disc material (density, linear contact k_n, k_s = k_n/κ,
+    /// friction μ, no dashpot: bonded-particle tests dissipate by local damping and friction)
+    /// and the frictionless wall material (its disc-wall stiffness is set by the pair entry of
+    /// [`LabModel::contact`], not by mixing).
+    pub fn materials(&self) -> Value {
+        let kn = self.contact_kn();
+        let ks = kn / self.micro.stiffness_ratio;
+        let f = self.micro.wall_stiffness_factor;
+        json!([
+            {"name": DISC_MATERIAL, "density": self.density, "kn": kn, "ks": ks,
+             "friction": self.micro.friction, "damping_ratio": 0.0},
+            {"name": WALL_MATERIAL, "kn": f * kn, "ks": f * ks, "friction": 0.0,
+             "damping_ratio": 0.0}
+        ])
+    }
+
+    /// The scene's `contact`: linear law; the disc-wall pair set explicitly to
+    /// k_n,wall = `wall_stiffness_factor` × k_n, frictionless.
+    pub fn contact(&self) -> Value {
+        let kn = self.contact_kn();
+        let f = self.micro.wall_stiffness_factor;
+        json!({
+            "law": "linear_spring_dashpot",
+            "pairs": [{"materials": [DISC_MATERIAL, WALL_MATERIAL], "law": "linear_spring_dashpot",
+                       "kn": f * kn, "ks": f * kn / self.micro.stiffness_ratio,
+                       "friction": 0.0, "damping_ratio": 0.0}]
+        })
+    }
+
+    /// The scene's `bond_groups`: grain-boundary and intra-grain parallel bonds (Potyondy &
+    /// Cundall 2004), maximum-stress criterion, k̄_s = k̄_n/κ̄, λ̄, β̄ = 1, φ̄ = 0.
+    pub fn bond_groups(&self) -> Value {
+        let m = &self.micro;
+        let kn = self.bond_kn();
+        let group = |name: &str, tensile: f64, cohesion: f64| {
+            json!({"name": name, "model": "parallel_potyondy2004", "criterion": "stress",
+                   "kn": kn, "ks": kn / m.bond_stiffness_ratio,
+                   "radius_multiplier": m.bond_radius_multiplier, "moment_factor": 1.0,
+                   "tensile_strength": tensile, "cohesion": cohesion, "friction_angle": 0.0})
+        };
+        json!([
+            group(GRAIN_BOUNDARY, m.boundary_tensile, m.boundary_cohesion),
+            group(INTRA_GRAIN, m.intra_tensile, m.intra_cohesion)
+        ])
+    }
+
+    /// A scene skeleton with this model: schema, units m, thickness, materials, contact, bond
+    /// groups, one specimen file (path relative to the scene). Tests add walls, run and outputs.
+    pub fn scene_base(&self, name: &str, specimen_file: &str, offset: [f64; 2]) -> Value {
+        json!({
+            "schema": crate::scene::schema::SCHEMA,
+            "name": name,
+            "units": "m",
+            "thickness": self.thickness,
+            "materials": self.materials(),
+            "contact": self.contact(),
+            "bond_groups": self.bond_groups(),
+            "bodies": {"specimens": [{"file": specimen_file, "offset": offset}]},
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::specimen::Method;
+
+    fn model() -> LabModel {
+        let p = SpecimenParams::new(
+            Method::Traditional,
+            4e-3,
+            2e-3,
+            1e-4,
+            1.5e-4,
+            3200.0,
+            300e9,
+            500e6,
+            1,
+        );
+        LabModel::from_params(&p)
+    }
+
+    #[test]
+    fn stiffnesses_follow_the_2d_relations() {
+        let m = model();
+        assert_eq!(m.contact_kn(), 2.0 * 1.0 * 300e9);
+        assert!((m.bond_kn() - 300e9 / (2.0 * 1.25e-4)).abs() < 1e-3);
+        let g = m.bond_groups();
+        assert_eq!(g[0]["name"], GRAIN_BOUNDARY);
+        assert_eq!(g[1]["tensile_strength"], 1000e6);
+        let c = m.contact();
+        assert_eq!(c["pairs"][0]["kn"], 2.0 * 2.0 * 300e9);
+    }
+}
