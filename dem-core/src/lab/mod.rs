@@ -6,12 +6,17 @@
 //! run       write the test's scene file (plain, editable, `dem run` runs it), run it, read history
 //! history   history.csv back as named columns
 //! analysis  the standard formulas: E, ν, UCS; σ_t = 2F/(πDt); σ_f = 3FL/(2bh²); K_IC; force stats
+//! cutting   the cutting test (tool.rs geometry, chips.rs fragments, surface.rs roughness)
 //! ```
 
 pub mod analysis;
+pub mod chips;
+pub mod cutting;
 pub mod history;
 pub mod model;
 pub mod run;
+pub mod surface;
+pub mod tool;
 
 pub use model::LabModel;
 
