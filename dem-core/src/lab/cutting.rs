@@ -84,6 +84,13 @@ pub struct CuttingTest {
     pub surface_bin: f64,
     /// VTK snapshots over the run (0 = none).
     pub snapshots: u64,
+    /// Blow-up guard: kinetic energy may not exceed this × the energy supplied (scene
+    /// `run.max_energy_growth`). Default 1e6 instead of the engine's 2: a specimen handed over
+    /// stress-free holds ~1e-24 J, and round-off in the undamped bonded assembly grows to
+    /// ~1e-20 J while the tool approaches, which trips the factor 2 before any work is done
+    /// (measured: docs/cutting.md). A real blow-up grows exponentially and passes 1e6× within
+    /// tens of steps; the overlap and non-finite checks are unchanged.
+    pub max_energy_growth: f64,
 }
 
 impl Default for CuttingTest {
@@ -105,6 +112,7 @@ impl Default for CuttingTest {
             window_start: 2.0,
             surface_bin: 1.0,
             snapshots: 0,
+            max_energy_growth: 1e6,
         }
     }
 }
@@ -138,6 +146,7 @@ impl CuttingTest {
             ("tool_stiffness", self.tool_stiffness),
             ("dt_factor", self.dt_factor),
             ("surface_bin", self.surface_bin),
+            ("max_energy_growth", self.max_energy_growth),
         ] {
             if !(v > 0.0 && v.is_finite()) {
                 return bad(f, format!("{v} must be positive"));
@@ -367,7 +376,8 @@ pub fn scene(
     if test.local_damping > 0.0 {
         s["damping"] = json!({"local": test.local_damping});
     }
-    s["run"] = json!({"duration": g.duration, "dt_factor": test.dt_factor});
+    s["run"] = json!({"duration": g.duration, "dt_factor": test.dt_factor,
+                      "max_energy_growth": test.max_energy_growth});
     let every = history_every.max(1);
     let vtk = if test.snapshots > 0 {
         // Roughly `snapshots` over the run: history rows × every = total steps.
@@ -448,8 +458,10 @@ pub struct RunFigures {
     pub dt_max: f64,
     pub history_rows: usize,
     pub history_every: u64,
-    /// Relative energy balance error (history column `balance_error`): last row and largest
-    /// magnitude over the rows.
+    /// Relative energy balance error (history column `balance_error`, relative to the largest
+    /// of initial, current, dissipated energy and boundary work): last row, and largest
+    /// magnitude over the rows of the steady window (before the tool has done work the
+    /// relative error is round-off over ~1e-24 J and means nothing).
     pub balance_error_final: f64,
     pub balance_error_max_abs: f64,
     pub wall_time_s: f64,
@@ -582,7 +594,12 @@ pub fn analyze(
         history_rows: history.rows.len(),
         history_every: 0,
         balance_error_final: bal.last().copied().unwrap_or(0.0),
-        balance_error_max_abs: bal.iter().map(|v| v.abs()).fold(0.0, f64::max),
+        balance_error_max_abs: bal
+            .iter()
+            .zip(&f.travel)
+            .filter(|(_, s)| **s >= window[0])
+            .map(|(v, _)| v.abs())
+            .fold(0.0, f64::max),
         wall_time_s: 0.0,
         threads: rayon::current_num_threads(),
     };
