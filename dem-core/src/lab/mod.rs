@@ -9,6 +9,7 @@
 //! ```
 
 pub mod analysis;
+pub mod calibrate;
 pub mod history;
 pub mod model;
 pub mod run;
