@@ -5,3 +5,4 @@
 pub mod clump_sweep;
 pub mod report;
 pub mod table1;
+pub mod table2;
