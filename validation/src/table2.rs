@@ -257,13 +257,13 @@ pub fn claims(cells: &[Cell]) -> Vec<Claim> {
             find(cells, "improved", d, v),
             find(cells, "traditional", d, v),
         ) {
-            for k in 0..2 {
+            for (k, kind) in kind.iter().enumerate() {
                 let h = q(o, k) > q(i, k) && q(i, k) > q(t, k);
                 ok &= h;
                 det.push(format!(
                     "{} a_p {d} mm, v {v} m/s, {}: ORC {:.2} > improved {:.2} > traditional {:.2}",
                     mark(h),
-                    kind[k],
+                    kind,
                     q(o, k),
                     q(i, k),
                     q(t, k)
@@ -285,14 +285,14 @@ pub fn claims(cells: &[Cell]) -> Vec<Claim> {
             let gap = |d: f64, k: usize| {
                 Some(q(find(cells, "orc", d, v)?, k) - q(find(cells, "improved", d, v)?, k))
             };
-            for k in 0..2 {
+            for (k, kind) in kind.iter().enumerate() {
                 if let (Some(g1), Some(g2)) = (gap(w[0], k), gap(w[1], k)) {
                     let h = g2 > g1;
                     ok &= h;
                     det.push(format!(
                         "{} v {v} m/s, {}: ORC − improved {:.2} at {} mm → {:.2} at {} mm",
                         mark(h),
-                        kind[k],
+                        kind,
                         g1,
                         w[0],
                         g2,
@@ -331,7 +331,7 @@ pub fn claims(cells: &[Cell]) -> Vec<Claim> {
                         }
                     };
                     if let (Some(a), Some(b)) = (get(w[0]), get(w[1])) {
-                        for k in 0..2 {
+                        for (k, kind) in kind.iter().enumerate() {
                             let h = if across_depth {
                                 q(b, k) > q(a, k)
                             } else {
@@ -346,7 +346,7 @@ pub fn claims(cells: &[Cell]) -> Vec<Claim> {
                             det.push(format!(
                                 "{} {m}, {other}, {}: {:.2} at {} {unit} → {:.2} at {} {unit}",
                                 mark(h),
-                                kind[k],
+                                kind,
                                 q(a, k),
                                 w[0],
                                 q(b, k),
