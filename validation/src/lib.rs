@@ -3,6 +3,7 @@
 //! and JSON.
 
 pub mod clump_sweep;
+pub mod plot;
 pub mod report;
 pub mod table1;
 pub mod table2;
