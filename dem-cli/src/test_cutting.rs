@@ -4,8 +4,10 @@
 //! analysed: peak and mean main and vertical force over the steady window, chips, broken
 //! bonds, machined surface, residual cracks.
 
-use crate::specimen::parse_length;
+use crate::specimen::{parse_length, read_material};
+use crate::test::{progress_bar, LabArgs};
 use clap::Args;
+use dem_core::specimen::io;
 use dem_core::lab::cutting::{self, CuttingResult, CuttingTest};
 use dem_core::lab::LabModel;
 use indicatif::{ProgressBar, ProgressStyle};
@@ -18,9 +20,46 @@ use std::process::ExitCode;
 #[derive(Args, Clone, Debug)]
 pub struct CuttingArgs {
     /// Specimen file written by `dem specimen` (<stem>.summary.json and <stem>.scene.json
-    /// beside it give the model unless --model is given).
+    /// beside it give the model unless --model is given). Without it a specimen is generated
+    /// from the specimen flags below into <out>/specimen.json.
     #[arg(long)]
-    pub specimen: PathBuf,
+    pub specimen: Option<PathBuf>,
+    /// Generation (without --specimen): traditional | orc | improved.
+    #[arg(long, default_value = "traditional")]
+    pub method: String,
+    /// Generation: specimen width with unit.
+    #[arg(long, default_value = "20mm")]
+    pub width: String,
+    /// Generation: specimen height with unit.
+    #[arg(long, default_value = "10mm")]
+    pub height: String,
+    /// Generation: smallest disc radius with unit (required without --specimen).
+    #[arg(long)]
+    pub r_min: Option<String>,
+    /// Generation: largest disc radius with unit (required without --specimen).
+    #[arg(long)]
+    pub r_max: Option<String>,
+    /// Generation: mean grain diameter with unit (orc, improved).
+    #[arg(long)]
+    pub grain_size: Option<String>,
+    /// Generation: smallest template disc radius with unit (improved).
+    #[arg(long)]
+    pub template_r_min: Option<String>,
+    /// Generation: material file (data/materials/*.json).
+    #[arg(long)]
+    pub material: Option<PathBuf>,
+    /// Generation: Young's modulus with unit, overriding the material file.
+    #[arg(long)]
+    pub youngs: Option<String>,
+    /// Generation: tensile strength with unit, overriding the material file.
+    #[arg(long)]
+    pub tensile: Option<String>,
+    /// Generation: density (kg/m³), overriding the material file.
+    #[arg(long)]
+    pub density: Option<f64>,
+    /// Generation: random seed.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
     /// A CuttingTest JSON (all fields optional, SI units, see docs/cutting.md); the flags
     /// below override it.
     #[arg(long)]
@@ -127,28 +166,93 @@ impl CuttingArgs {
     }
 
     /// The model: `--model`, else the specimen's own.
-    pub fn model(&self) -> Result<LabModel, String> {
+    pub fn model(&self, specimen: &std::path::Path) -> Result<LabModel, String> {
         match &self.model {
             Some(p) => {
                 let text =
                     std::fs::read_to_string(p).map_err(|e| format!("{}: {e}", p.display()))?;
                 serde_json::from_str(&text).map_err(|e| format!("--model {}: {e}", p.display()))
             }
-            None => cutting::model_from_specimen(&self.specimen).map_err(|e| e.to_string()),
+            None => cutting::model_from_specimen(specimen).map_err(|e| e.to_string()),
         }
+    }
+
+    /// The specimen file: `--specimen`, else one generated from the specimen flags (the shared
+    /// lab-test flags, `crate::test::LabArgs`) into `<out>/specimen.json`, with its summary and
+    /// scene beside it as `dem specimen` writes them.
+    fn specimen_file(&self) -> Result<PathBuf, String> {
+        if let Some(p) = &self.specimen {
+            return Ok(p.clone());
+        }
+        let need = |v: &Option<String>, f: &str| {
+            v.clone()
+                .ok_or_else(|| format!("give --specimen, or {f} (and the other specimen flags)"))
+        };
+        let lab = LabArgs {
+            method: self.method.clone(),
+            r_min: need(&self.r_min, "--r-min")?,
+            r_max: need(&self.r_max, "--r-max")?,
+            dist: "normal".into(),
+            seed: self.seed,
+            material: self.material.clone(),
+            density: self.density,
+            youngs: self.youngs.clone(),
+            tensile: self.tensile.clone(),
+            iso_stress: None,
+            porosity: 0.16,
+            grain_size: self.grain_size.clone(),
+            template_r_min: self.template_r_min.clone(),
+            max_discs: 9,
+            model: self.model.clone(),
+            out: self.out.clone(),
+            threads: self.threads,
+            dt_factor: self.dt_factor,
+        };
+        let w = parse_length(&self.width, "--width")?;
+        let h = parse_length(&self.height, "--height")?;
+        let p = lab.specimen_params(w, h)?;
+        let name = match &self.material {
+            Some(m) => read_material(m)?.0,
+            None => dem_core::specimen::DEFAULT_MATERIAL.to_string(),
+        };
+        std::fs::create_dir_all(&self.out).map_err(|e| format!("{}: {e}", self.out.display()))?;
+        let path = self.out.join("specimen.json");
+        println!(
+            "generating a {} specimen {} x {} mm into {}",
+            p.method.name(),
+            p.width * 1e3,
+            p.height * 1e3,
+            path.display()
+        );
+        let bar = progress_bar();
+        let s = lab.pool()?.install(|| {
+            dem_core::specimen::generate(&p, &mut |pr| {
+                bar.set_prefix(pr.stage);
+                bar.set_position((pr.fraction.clamp(0.0, 1.0) * 1000.0) as u64);
+            })
+        });
+        bar.finish_and_clear();
+        let s = s.map_err(|e| e.to_string())?;
+        io::save(&s, &name, &path).map_err(|e| e.to_string())?;
+        let scene = io::example_scene(&s, &name, "specimen.json", 1000);
+        let text = serde_json::to_string_pretty(&scene).map_err(|e| e.to_string())?;
+        io::write_atomic(&self.out.join("specimen.scene.json"), &text)
+            .map_err(|e| e.to_string())?;
+        Ok(path)
     }
 }
 
 pub fn run(a: CuttingArgs) -> Result<ExitCode, String> {
     let test = a.test()?;
-    let model = a.model()?;
+    let specimen = a.specimen_file()?;
+    let model = a.model(&specimen)?;
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(a.threads.unwrap_or(0))
         .build()
         .map_err(|e| e.to_string())?;
     println!(
         "cutting {}: a_p {} mm, v {} m/s, L {} mm, rake {}°, clearance {}°, tool {}× k_n, dt factor {}",
-        a.specimen.display(),
+        specimen.display(),
         test.depth * 1e3,
         test.speed,
         test.length * 1e3,
@@ -169,7 +273,7 @@ pub fn run(a: CuttingArgs) -> Result<ExitCode, String> {
         ProgressBar::hidden()
     };
     let r = pool.install(|| {
-        cutting::run(&test, &model, &a.specimen, &a.out, &mut |done, total| {
+        cutting::run(&test, &model, &specimen, &a.out, &mut |done, total| {
             bar.set_length(total.max(1));
             bar.set_position(done);
         })

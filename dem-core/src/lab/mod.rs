@@ -10,6 +10,7 @@
 //! ```
 
 pub mod analysis;
+pub mod calibrate;
 pub mod chips;
 pub mod cutting;
 pub mod history;
