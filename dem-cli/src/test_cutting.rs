@@ -7,9 +7,9 @@
 use crate::specimen::{parse_length, read_material};
 use crate::test::{progress_bar, LabArgs};
 use clap::Args;
-use dem_core::specimen::io;
 use dem_core::lab::cutting::{self, CuttingResult, CuttingTest};
 use dem_core::lab::LabModel;
+use dem_core::specimen::io;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
 use std::path::PathBuf;
@@ -85,6 +85,9 @@ pub struct CuttingArgs {
     /// Tool-disc friction coefficient (default 0).
     #[arg(long)]
     pub tool_friction: Option<f64>,
+    /// PFC local damping α (default 0.7, PFC's default; 0 = undamped).
+    #[arg(long)]
+    pub local_damping: Option<f64>,
     /// Safety factor of the automatic time step (default 0.3).
     #[arg(long)]
     pub dt_factor: Option<f64>,
@@ -154,6 +157,9 @@ impl CuttingArgs {
         }
         if let Some(v) = self.dt_factor {
             t.dt_factor = v;
+        }
+        if let Some(v) = self.local_damping {
+            t.local_damping = v;
         }
         if let Some(v) = self.history_rows {
             t.history_rows = v;
@@ -251,7 +257,7 @@ pub fn run(a: CuttingArgs) -> Result<ExitCode, String> {
         .build()
         .map_err(|e| e.to_string())?;
     println!(
-        "cutting {}: a_p {} mm, v {} m/s, L {} mm, rake {}°, clearance {}°, tool {}× k_n, dt factor {}",
+        "cutting {}: a_p {} mm, v {} m/s, L {} mm, rake {}°, clearance {}°, tool {}× k_n, local damping {}, dt factor {}",
         specimen.display(),
         test.depth * 1e3,
         test.speed,
@@ -259,6 +265,7 @@ pub fn run(a: CuttingArgs) -> Result<ExitCode, String> {
         test.rake_angle.to_degrees(),
         test.clearance_angle.to_degrees(),
         test.tool_stiffness,
+        test.local_damping,
         test.dt_factor
     );
     let bar = if std::io::stderr().is_terminal() {
