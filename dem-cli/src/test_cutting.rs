@@ -251,6 +251,7 @@ impl CuttingArgs {
 pub fn run(a: CuttingArgs) -> Result<ExitCode, String> {
     let test = a.test()?;
     let specimen = a.specimen_file()?;
+    cutting::SpecimenInfo::read(&specimen).map_err(|e| e.to_string())?;
     let model = a.model(&specimen)?;
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(a.threads.unwrap_or(0))

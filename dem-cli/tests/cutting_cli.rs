@@ -39,9 +39,9 @@ fn cutting_generates_cuts_and_reports() {
         "test",
         "cutting",
         "--width",
-        "4mm",
+        "3mm",
         "--height",
-        "2mm",
+        "1.5mm",
         "--r-min",
         "0.1mm",
         "--r-max",
@@ -51,11 +51,11 @@ fn cutting_generates_cuts_and_reports() {
         "--seed",
         "2",
         "--depth",
-        "0.5mm",
+        "0.4mm",
         "--speed",
         "10m/s",
         "--length",
-        "1.2mm",
+        "1mm",
         "--history-rows",
         "200",
         "--threads",
@@ -91,7 +91,7 @@ fn cutting_generates_cuts_and_reports() {
         serde_json::from_str(&std::fs::read_to_string(out.join("cutting.result.json")).unwrap())
             .unwrap();
     assert!(r["main_force"]["mean"].as_f64().unwrap() > 0.0);
-    assert_eq!(r["test"]["depth"].as_f64().unwrap(), 0.5e-3);
+    assert_eq!(r["test"]["depth"].as_f64().unwrap(), 0.4e-3);
     assert_eq!(r["test"]["speed"].as_f64().unwrap(), 10.0);
     // The scene is plain: `dem run` loads and starts it (capped at 200 steps).
     let o = dem(&[
