@@ -19,6 +19,7 @@
 pub mod analysis;
 pub mod bending;
 pub mod brazilian;
+pub mod calibrate;
 pub mod common;
 pub mod history;
 pub mod model;
