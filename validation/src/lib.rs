@@ -4,4 +4,5 @@
 
 pub mod clump_sweep;
 pub mod report;
+pub mod stability;
 pub mod table1;
