@@ -123,3 +123,24 @@ fn a_bonded_block_at_rest_is_not_stopped_by_the_guard() {
         }
     }
 }
+
+/// The full suite (several minutes): `STABILITY_OUT=<folder> cargo test --release -p validation
+/// --test stability -- --ignored --nocapture` writes the scenes, `stability.json` and
+/// `stability.md` there.
+#[test]
+#[ignore]
+fn full_suite() {
+    let out = std::env::var_os("STABILITY_OUT")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| temp_dir("full"));
+    let rep = run_suite(&out, false, &mut |l| eprintln!("{l}")).expect("suite runs");
+    let md = rep.to_markdown();
+    println!("{md}");
+    std::fs::write(out.join("stability.md"), &md).unwrap();
+    std::fs::write(
+        out.join("stability.json"),
+        serde_json::to_string_pretty(&rep).unwrap(),
+    )
+    .unwrap();
+    assert!(rep.all_passed);
+}
