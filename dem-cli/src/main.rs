@@ -8,6 +8,7 @@ mod bench;
 mod clump;
 mod run;
 mod specimen;
+mod test;
 
 #[derive(Parser)]
 #[command(name = "dem", version, about = "2D DEM of brittle-material machining")]
@@ -24,6 +25,10 @@ enum Command {
     Run(run::RunArgs),
     /// Build a relaxed bonded specimen (traditional, ORC or improved ORC) as a specimen file.
     Specimen(specimen::SpecimenArgs),
+    /// Virtual lab tests (uniaxial compression, Brazilian, three-point bending) on a generated
+    /// specimen: scene file, run, analysis, `<test>.result.json`.
+    #[command(subcommand)]
+    Test(test::TestKind),
     /// Speed benchmarks; the last line printed is the figure.
     #[command(subcommand)]
     Bench(bench::BenchKind),
@@ -35,6 +40,7 @@ fn main() -> ExitCode {
         Command::Clump(a) => clump::run(a),
         Command::Run(a) => run::run(a),
         Command::Specimen(a) => specimen::run(a),
+        Command::Test(k) => test::run(k),
         Command::Bench(k) => bench::run(k),
     };
     match result {

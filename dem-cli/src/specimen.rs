@@ -124,9 +124,9 @@ fn parse_unit(s: &str, what: &str, units: &[(&str, f64)]) -> Result<f64, String>
 }
 
 /// Name, density (kg/m³), E (Pa), tensile strength (Pa) from a `data/materials` file.
-type MaterialInfo = (String, Option<f64>, Option<f64>, Option<f64>);
+pub type MaterialInfo = (String, Option<f64>, Option<f64>, Option<f64>);
 
-fn read_material(path: &PathBuf) -> Result<MaterialInfo, String> {
+pub fn read_material(path: &PathBuf) -> Result<MaterialInfo, String> {
     let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
     let v: serde_json::Value =
         serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;

@@ -1,8 +1,13 @@
-//! Writes the report folder: Markdown and the JSON behind every table.
+//! Writes the report folder: `index.md`, a self-contained `index.html`, SVG plots and the JSON
+//! behind every table and plot. Sections run in order; each is one module of this crate.
 
+use crate::environment::Environment;
+use crate::page::{json, write_report, Figure, Section};
+use crate::plot::{self, Series};
 use crate::{clump_sweep, table1};
 use clumpgen::ClumpParams;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
+use std::time::Instant;
 
 /// What to run and where.
 #[derive(Debug, Clone)]
@@ -15,31 +20,126 @@ pub struct ReportOptions {
     pub covers: Vec<f64>,
     /// Timing repeats per grain in the sweep.
     pub repeats: usize,
+    /// Quick mode (CI): 1 seed, short cut, coarse specimens.
+    pub quick: bool,
 }
 
-fn write(path: &Path, text: &str) -> Result<(), String> {
-    clumpgen::io::write_atomic(path, text.as_bytes())
-        .map_err(|e| format!("{}: {e}", path.display()))
-}
-
-fn json<T: serde::Serialize>(v: &T) -> String {
-    serde_json::to_string_pretty(v).expect("report data serialises") + "\n"
-}
-
-/// Runs Table 1 and the clump sweep; returns the Markdown index.
-pub fn run(o: &ReportOptions) -> Result<String, String> {
-    let base = ClumpParams::default();
+/// Table 1 of Ye & Xu (2010).
+fn table1_section(o: &ReportOptions) -> Result<Section, String> {
     let t1 = table1::table1(
         &o.data.join("outlines/table1-grain.csv"),
         &o.data.join("reference/ye_xu_2010_table1.json"),
-        &base,
+        &ClumpParams::default(),
     )?;
-    write(&o.out.join("table1.md"), &t1.markdown())?;
-    write(&o.out.join("table1.json"), &json(&t1))?;
-    let sw = clump_sweep::sweep(&o.data.join("outlines"), &o.covers, &base, o.repeats)?;
-    write(&o.out.join("clump_sweep.md"), &sw.markdown())?;
-    write(&o.out.join("clump_sweep.json"), &json(&sw))?;
-    let index = format!("{}\n{}", t1.markdown(), sw.markdown());
-    write(&o.out.join("index.md"), &index)?;
-    Ok(index)
+    Ok(Section {
+        title: "Table 1 (Ye & Xu 2010): one grain by method".into(),
+        markdown: strip_h1(&t1.markdown()),
+        figures: vec![],
+        data: vec![("table1.json".into(), json(&t1))],
+    })
+}
+
+/// The clump-generation sweep: cover, discs and time per grain against the cover target.
+fn sweep_section(o: &ReportOptions) -> Result<Section, String> {
+    let sw = clump_sweep::sweep(
+        &o.data.join("outlines"),
+        &o.covers,
+        &ClumpParams::default(),
+        o.repeats,
+    )?;
+    let cover_discs = plot::lines(
+        "Clump generation: cover against discs per grain",
+        "median discs per grain",
+        "median area cover",
+        &[Series {
+            name: "median over grains".into(),
+            points: sw
+                .rows
+                .iter()
+                .map(|r| (r.median_discs, r.median_cover))
+                .collect(),
+        }],
+        false,
+        false,
+    )?;
+    let time = plot::lines(
+        "Clump generation: boundary error against time per grain",
+        "median time per grain (ms, one thread)",
+        "median Hausdorff distance / R_eq",
+        &[Series {
+            name: "one point per cover target".into(),
+            points: sw
+                .rows
+                .iter()
+                .map(|r| (r.median_ms_per_grain, r.median_hausdorff_over_req))
+                .collect(),
+        }],
+        false,
+        true,
+    )?;
+    Ok(Section {
+        title: "Clump generation: error against run time".into(),
+        markdown: strip_h1(&sw.markdown()),
+        figures: vec![
+            Figure {
+                file: "clump_cover_vs_discs.svg".into(),
+                caption: "Area cover against the number of discs per grain (median over the outlines in data/outlines), one point per cover target".into(),
+                svg: cover_discs,
+            },
+            Figure {
+                file: "clump_error_vs_time.svg".into(),
+                caption: "Boundary deviation against generation time per grain, one point per cover target".into(),
+                svg: time,
+            },
+        ],
+        data: vec![("clump_sweep.json".into(), json(&sw))],
+    })
+}
+
+/// Drops a leading `# ...` title line (sections get their own `##` title).
+fn strip_h1(md: &str) -> String {
+    match md.strip_prefix("# ") {
+        Some(rest) => rest
+            .split_once('\n')
+            .map_or("", |x| x.1)
+            .trim_start()
+            .to_string(),
+        None => md.to_string(),
+    }
+}
+
+/// Runs every section, printing progress on stderr; writes the report; returns the Markdown.
+pub fn run(o: &ReportOptions) -> Result<String, String> {
+    let t0 = Instant::now();
+    let mode = if o.quick { "quick" } else { "full" };
+    let mut env = Environment::capture(mode);
+    let mut sections = Vec::new();
+    type Builder = fn(&ReportOptions) -> Result<Section, String>;
+    let steps: [(&str, Builder); 2] = [("Table 1", table1_section), ("clump sweep", sweep_section)];
+    for (i, (name, f)) in steps.iter().enumerate() {
+        eprintln!("[{}/{}] {name} ...", i + 1, steps.len());
+        let ts = Instant::now();
+        sections.push(f(o)?);
+        eprintln!(
+            "[{}/{}] {name}: {:.1} s",
+            i + 1,
+            steps.len(),
+            ts.elapsed().as_secs_f64()
+        );
+    }
+    env.total_wall_time_s = t0.elapsed().as_secs_f64();
+    sections.insert(
+        0,
+        Section {
+            title: "Environment".into(),
+            markdown: env.markdown(),
+            figures: vec![],
+            data: vec![("environment.json".into(), json(&env))],
+        },
+    );
+    write_report(
+        &o.out,
+        "Reproducibility report: DEM of brittle-material cutting",
+        &sections,
+    )
 }

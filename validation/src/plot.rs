@@ -1,0 +1,214 @@
+//! SVG plots of the report (plotters, SVG backend, no fonts needed: text is SVG `<text>`).
+//! Each function returns the SVG text; the report writes it to a file and inlines it in
+//! `index.html`.
+
+use plotters::prelude::*;
+
+/// One line of a line chart.
+#[derive(Debug, Clone)]
+pub struct Series {
+    pub name: String,
+    pub points: Vec<(f64, f64)>,
+}
+
+const COLORS: [RGBColor; 6] = [
+    RGBColor(31, 119, 180),
+    RGBColor(255, 127, 14),
+    RGBColor(44, 160, 44),
+    RGBColor(214, 39, 40),
+    RGBColor(148, 103, 189),
+    RGBColor(140, 86, 75),
+];
+
+fn range(v: impl Iterator<Item = f64>, log: bool) -> (f64, f64) {
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for x in v.filter(|x| x.is_finite() && (!log || *x > 0.0)) {
+        lo = lo.min(x);
+        hi = hi.max(x);
+    }
+    if !lo.is_finite() {
+        return if log { (0.1, 1.0) } else { (0.0, 1.0) };
+    }
+    if log {
+        (lo / 1.2, hi * 1.2)
+    } else {
+        let pad = 0.05 * (hi - lo).max(hi.abs() * 1e-3).max(1e-300);
+        (lo - pad, hi + pad)
+    }
+}
+
+fn err<E: std::fmt::Display>(e: E) -> String {
+    format!("plot: {e}")
+}
+
+/// Line chart with markers; `log_x`, `log_y` for logarithmic axes.
+pub fn lines(
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    series: &[Series],
+    log_x: bool,
+    log_y: bool,
+) -> Result<String, String> {
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, (720, 440)).into_drawing_area();
+        root.fill(&WHITE).map_err(err)?;
+        let (x0, x1) = range(
+            series.iter().flat_map(|s| s.points.iter().map(|p| p.0)),
+            log_x,
+        );
+        let (y0, y1) = range(
+            series.iter().flat_map(|s| s.points.iter().map(|p| p.1)),
+            log_y,
+        );
+        let mut b = ChartBuilder::on(&root);
+        b.caption(title, ("sans-serif", 18))
+            .margin(12)
+            .x_label_area_size(40)
+            .y_label_area_size(70);
+        macro_rules! draw {
+            ($chart:expr) => {{
+                let mut chart = $chart;
+                chart
+                    .configure_mesh()
+                    .x_desc(x_label)
+                    .y_desc(y_label)
+                    .draw()
+                    .map_err(err)?;
+                for (k, s) in series.iter().enumerate() {
+                    let c = COLORS[k % COLORS.len()];
+                    let pts: Vec<(f64, f64)> = s
+                        .points
+                        .iter()
+                        .copied()
+                        .filter(|p| p.0.is_finite() && p.1.is_finite())
+                        .collect();
+                    chart
+                        .draw_series(LineSeries::new(pts.clone(), c.stroke_width(2)))
+                        .map_err(err)?
+                        .label(s.name.clone())
+                        .legend(move |(x, y)| {
+                            PathElement::new(vec![(x, y), (x + 18, y)], c.stroke_width(2))
+                        });
+                    if pts.len() <= 40 {
+                        chart
+                            .draw_series(pts.iter().map(|p| Circle::new(*p, 3, c.filled())))
+                            .map_err(err)?;
+                    }
+                }
+                chart
+                    .configure_series_labels()
+                    .background_style(WHITE.mix(0.8))
+                    .border_style(BLACK)
+                    .draw()
+                    .map_err(err)?;
+            }};
+        }
+        match (log_x, log_y) {
+            (false, false) => draw!(b.build_cartesian_2d(x0..x1, y0..y1).map_err(err)?),
+            (true, false) => draw!(b
+                .build_cartesian_2d((x0..x1).log_scale(), y0..y1)
+                .map_err(err)?),
+            (false, true) => draw!(b
+                .build_cartesian_2d(x0..x1, (y0..y1).log_scale())
+                .map_err(err)?),
+            (true, true) => draw!(b
+                .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())
+                .map_err(err)?),
+        }
+        root.present().map_err(err)?;
+    }
+    Ok(svg)
+}
+
+/// Grouped bar chart: one group per category, one bar per series (values ≥ 0).
+pub fn bars(
+    title: &str,
+    y_label: &str,
+    categories: &[String],
+    series: &[(String, Vec<f64>)],
+) -> Result<String, String> {
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, (860, 440)).into_drawing_area();
+        root.fill(&WHITE).map_err(err)?;
+        let ymax = series
+            .iter()
+            .flat_map(|s| s.1.iter().copied())
+            .filter(|v| v.is_finite())
+            .fold(0.0f64, f64::max)
+            * 1.15;
+        let n = categories.len().max(1) as f64;
+        let mut chart = ChartBuilder::on(&root)
+            .caption(title, ("sans-serif", 18))
+            .margin(12)
+            .x_label_area_size(60)
+            .y_label_area_size(60)
+            .build_cartesian_2d(0.0..n, 0.0..ymax.max(1e-300))
+            .map_err(err)?;
+        let cats = categories.to_vec();
+        chart
+            .configure_mesh()
+            .disable_x_mesh()
+            .x_labels(categories.len() * 2 + 1)
+            .x_label_formatter(&move |x| {
+                let i = x.floor() as usize;
+                if (x - x.floor() - 0.5).abs() < 0.26 && i < cats.len() {
+                    cats[i].clone()
+                } else {
+                    String::new()
+                }
+            })
+            .y_desc(y_label)
+            .draw()
+            .map_err(err)?;
+        let k = series.len().max(1) as f64;
+        let w = 0.8 / k;
+        for (s, (name, vals)) in series.iter().enumerate() {
+            let c = COLORS[s % COLORS.len()];
+            chart
+                .draw_series(vals.iter().enumerate().filter(|(_, v)| v.is_finite()).map(
+                    |(i, v)| {
+                        let x0 = i as f64 + 0.1 + s as f64 * w;
+                        Rectangle::new([(x0, 0.0), (x0 + w * 0.9, *v)], c.filled())
+                    },
+                ))
+                .map_err(err)?
+                .label(name.clone())
+                .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 12, y + 5)], c.filled()));
+        }
+        chart
+            .configure_series_labels()
+            .background_style(WHITE.mix(0.8))
+            .border_style(BLACK)
+            .draw()
+            .map_err(err)?;
+        root.present().map_err(err)?;
+    }
+    Ok(svg)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn line_and_bar_charts_are_svg() {
+        let s = vec![Series {
+            name: "a".into(),
+            points: vec![(1.0, 2.0), (10.0, 3.0), (100.0, f64::NAN)],
+        }];
+        let svg = lines("t", "x", "y", &s, true, false).unwrap();
+        assert!(svg.starts_with("<svg") && (svg.contains("<polyline") || svg.contains("<path")));
+        let b = bars(
+            "t",
+            "kN",
+            &["c1".into(), "c2".into()],
+            &[("ours".into(), vec![1.0, 2.0])],
+        )
+        .unwrap();
+        assert!(b.contains("<rect"));
+        assert!(b.contains("c1"));
+    }
+}
