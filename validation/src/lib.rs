@@ -7,5 +7,6 @@ pub mod environment;
 pub mod page;
 pub mod plot;
 pub mod report;
+pub mod stability;
 pub mod table1;
 pub mod table2;
