@@ -7,9 +7,9 @@
 use crate::specimen::{parse_length, read_material};
 use crate::test::{progress_bar, LabArgs};
 use clap::Args;
-use dem_core::specimen::io;
 use dem_core::lab::cutting::{self, CuttingResult, CuttingTest};
 use dem_core::lab::LabModel;
+use dem_core::specimen::io;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
 use std::path::PathBuf;

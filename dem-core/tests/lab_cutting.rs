@@ -106,11 +106,20 @@ fn short_cut_of_a_small_specimen() {
     let scene = dem_core::scene::load(&out.join(cutting::SCENE_FILE)).unwrap();
     let world = dem_core::scene::build(&scene).unwrap();
     assert_eq!(world.state.walls.len(), 5);
-    for w in world.state.walls.iter().filter(|w| w.name.starts_with("slot")) {
+    for w in world
+        .state
+        .walls
+        .iter()
+        .filter(|w| w.name.starts_with("slot"))
+    {
         for t in &g.tool {
             let dx = g.travel_end - g.travel_start;
             let quad = [t.a, t.b, [t.b[0] + dx, t.b[1]], [t.a[0] + dx, t.a[1]]];
-            assert!(segment_polygon_distance(w.a, w.b, &quad) > 0.0, "{}", w.name);
+            assert!(
+                segment_polygon_distance(w.a, w.b, &quad) > 0.0,
+                "{}",
+                w.name
+            );
         }
     }
 
@@ -123,7 +132,14 @@ fn short_cut_of_a_small_specimen() {
         assert!(j["main_force"][k].is_number(), "main_force.{k}");
         assert!(j["vertical_force"][k].is_number(), "vertical_force.{k}");
     }
-    for k in ["chips", "broken_bonds", "surface", "residual_cracks", "window", "run"] {
+    for k in [
+        "chips",
+        "broken_bonds",
+        "surface",
+        "residual_cracks",
+        "window",
+        "run",
+    ] {
         assert!(!j[k].is_null(), "{k}");
     }
     assert!(j["chips"]["chips"]["count"].as_u64().unwrap() > 0);
@@ -182,7 +198,12 @@ fn tool_force_on_a_single_disc() {
     let k = test.tool_stiffness * model.contact_kn();
     let g = CutGeometry::new(&test, info.extent).unwrap();
     let rake = w.state.walls.iter().position(|w| w.name == "rake").unwrap();
-    let clear = w.state.walls.iter().position(|w| w.name == "clearance").unwrap();
+    let clear = w
+        .state
+        .walls
+        .iter()
+        .position(|w| w.name == "clearance")
+        .unwrap();
     let mut rows = vec![];
     let mut contacts = 0;
     while w.state.time < g.duration {
@@ -236,12 +257,20 @@ fn bad_input_is_an_error() {
         clearance_angle: 0.0,
         ..Default::default()
     };
-    assert!(t.validate().unwrap_err().to_string().contains("clearance_angle"));
+    assert!(t
+        .validate()
+        .unwrap_err()
+        .to_string()
+        .contains("clearance_angle"));
     let t = CuttingTest {
         window_start: 20.0,
         ..Default::default()
     };
-    assert!(t.validate().unwrap_err().to_string().contains("window_start"));
+    assert!(t
+        .validate()
+        .unwrap_err()
+        .to_string()
+        .contains("window_start"));
     let dir = tmp("bad");
     let f = dir.join("not.json");
     std::fs::write(&f, "{\"schema\": \"dem.specimen/1\", \"discs\": []}").unwrap();

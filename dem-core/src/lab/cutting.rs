@@ -153,7 +153,7 @@ impl CuttingTest {
             }
         }
         let deg = |r: f64| r.to_degrees();
-        if !(self.rake_angle.abs() < 45f64.to_radians()) {
+        if self.rake_angle.is_nan() || self.rake_angle.abs() >= 45f64.to_radians() {
             return bad(
                 "rake_angle",
                 format!("{}° must lie in (−45°, 45°)", deg(self.rake_angle)),
@@ -379,12 +379,10 @@ pub fn scene(
     s["run"] = json!({"duration": g.duration, "dt_factor": test.dt_factor,
                       "max_energy_growth": test.max_energy_growth});
     let every = history_every.max(1);
-    let vtk = if test.snapshots > 0 {
-        // Roughly `snapshots` over the run: history rows × every = total steps.
-        (test.history_rows * every / test.snapshots).max(1)
-    } else {
-        0
-    };
+    // Roughly `snapshots` over the run: history rows × every = total steps; 0 = none.
+    let vtk = (test.history_rows * every)
+        .checked_div(test.snapshots)
+        .map_or(0, |n| n.max(1));
     s["outputs"] = json!({"dir": ".", "history_every": every, "vtk_every": vtk});
     Ok(s)
 }
