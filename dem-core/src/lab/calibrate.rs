@@ -531,6 +531,189 @@ pub fn calibrate(
     })
 }
 
+/// One row of a calibration table: a property in display units (GPa, MPa, MPa·m^½).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Row {
+    pub property: String,
+    pub unit: String,
+    /// The material's measured value (or the file's assumed one, see `basis`).
+    pub measured: Option<f64>,
+    /// "measured", "assumed" or "" (no value).
+    pub basis: String,
+    /// Whether the calibration fitted it ("target") or only reports it ("reported").
+    pub role: String,
+    /// The source paper's calibrated model, when it has one.
+    pub paper_model: Option<f64>,
+    pub ours: Option<f64>,
+    /// ours/measured − 1.
+    pub rel_err: Option<f64>,
+}
+
+/// The calibration table (`{"material": ..., "rows": [...]}`) with the calibrated model.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Table {
+    pub material: String,
+    pub source: String,
+    pub method: String,
+    pub rows: Vec<Row>,
+    pub notes: Vec<String>,
+    pub model: LabModel,
+}
+
+/// Target vs achieved for a material file and a calibration.
+pub fn table(mat: &MaterialFile, method: &str, c: &Calibration) -> Table {
+    let (m, a) = (&mat.measured, &mat.assumed);
+    let p = mat.paper_model.clone().unwrap_or_default();
+    let t = &c.targets;
+    let ach = &c.achieved;
+    let tensile_target = if t.flexural.is_some() {
+        "flexural"
+    } else {
+        "brazilian"
+    };
+    let mut rows = Vec::new();
+    let mut row = |name: &str,
+                   unit: &str,
+                   scale: f64,
+                   meas: Option<f64>,
+                   ass: Option<f64>,
+                   paper: Option<f64>,
+                   ours: Option<f64>,
+                   target: bool| {
+        let measured = meas.or(ass);
+        rows.push(Row {
+            property: name.into(),
+            unit: unit.into(),
+            measured,
+            basis: if meas.is_some() {
+                "measured"
+            } else if ass.is_some() {
+                "assumed"
+            } else {
+                ""
+            }
+            .into(),
+            role: if target { "target" } else { "reported" }.into(),
+            paper_model: paper,
+            ours: ours.map(|v| v / scale),
+            rel_err: match (measured, ours) {
+                (Some(x), Some(o)) if x != 0.0 => Some(o / scale / x - 1.0),
+                _ => None,
+            },
+        });
+    };
+    row(
+        "E",
+        "GPa",
+        1e9,
+        m.e_gpa,
+        a.e_gpa,
+        p.e_gpa,
+        Some(ach.young),
+        true,
+    );
+    row(
+        "ν",
+        "",
+        1.0,
+        m.poisson,
+        a.poisson,
+        p.poisson,
+        Some(ach.poisson),
+        t.poisson.is_some(),
+    );
+    row(
+        "UCS",
+        "MPa",
+        1e6,
+        m.ucs_mpa,
+        a.ucs_mpa,
+        p.ucs_mpa,
+        Some(ach.ucs),
+        t.ucs.is_some(),
+    );
+    row(
+        "flexural strength",
+        "MPa",
+        1e6,
+        m.flexural_mpa,
+        a.flexural_mpa,
+        p.flexural_mpa,
+        ach.flexural,
+        tensile_target == "flexural" && t.flexural.is_some(),
+    );
+    row(
+        "K_IC",
+        "MPa·m^½",
+        1e6,
+        m.kic_mpa_sqrt_m,
+        a.kic_mpa_sqrt_m,
+        p.kic_mpa_sqrt_m,
+        Some(ach.kic),
+        false,
+    );
+    row(
+        "Brazilian tensile strength",
+        "MPa",
+        1e6,
+        m.brazilian_mpa,
+        a.brazilian_mpa,
+        p.brazilian_mpa,
+        ach.brazilian,
+        t.flexural.is_none() && t.brazilian.is_some(),
+    );
+    Table {
+        material: mat.material.clone(),
+        source: mat.source.clone(),
+        method: method.into(),
+        rows,
+        notes: c.notes.clone(),
+        model: c.model.clone(),
+    }
+}
+
+impl Table {
+    /// Markdown: property, unit, measured, paper model, ours, error, role.
+    pub fn markdown(&self) -> String {
+        let f = |v: Option<f64>| v.map_or("–".to_string(), |x| format!("{x:.4}"));
+        let mut s = format!(
+            "### {} ({} specimen)\n\n| property | unit | measured | paper's model | ours | ours vs measured | role |\n|---|---|---|---|---|---|---|\n",
+            self.material, self.method
+        );
+        for r in &self.rows {
+            s += &format!(
+                "| {} | {} | {}{} | {} | {} | {} | {} |\n",
+                r.property,
+                r.unit,
+                f(r.measured),
+                if r.basis == "assumed" {
+                    " (assumed)"
+                } else {
+                    ""
+                },
+                f(r.paper_model),
+                f(r.ours),
+                r.rel_err
+                    .map_or("–".into(), |e| format!("{:+.1} %", 100.0 * e)),
+                r.role
+            );
+        }
+        let m = &self.model.micro;
+        s += &format!(
+            "\nCalibrated micro-parameters: E_c = Ē_c = {:.4e} Pa, k_n/k_s = k̄_n/k̄_s = {:.3}, μ = {}, \
+             σ̄_c = {:.4e} Pa, c̄ = {:.4e} Pa (grain boundary), intra-grain {:.4e} / {:.4e} Pa, λ̄ = {}, \
+             t = {} m, ρ = {} kg/m³, r̄ = {:.4e} m.\n",
+            m.contact_modulus, m.stiffness_ratio, m.friction, m.boundary_tensile, m.boundary_cohesion,
+            m.intra_tensile, m.intra_cohesion, m.bond_radius_multiplier, self.model.thickness,
+            self.model.density, self.model.r_mean
+        );
+        for n in &self.notes {
+            s += &format!("\n- {n}");
+        }
+        s + "\n"
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -629,6 +812,37 @@ mod tests {
         );
         // The tensile target is still met.
         assert!((c.achieved.flexural.unwrap() / 100e6 - 1.0).abs() < 0.026);
+    }
+
+    #[test]
+    fn sic_table_has_measured_paper_and_ours() {
+        let mat: MaterialFile =
+            serde_json::from_str(include_str!("../../../data/materials/sic.json")).unwrap();
+        let t = mat.targets().unwrap();
+        assert_eq!(t.young, 430e9);
+        assert_eq!(t.brazilian, Some(214e6));
+        let mut lab = Synthetic { runs: 0 };
+        let c = calibrate(&mut lab, &start(), &t, &Options::default(), &mut |_| {}).unwrap();
+        let tab = table(&mat, "traditional", &c);
+        let e = &tab.rows[0];
+        assert_eq!((e.measured, e.paper_model), (Some(430.0), Some(429.0)));
+        assert!((e.ours.unwrap() / 430.0 - 1.0).abs() < 0.03);
+        let bz = tab
+            .rows
+            .iter()
+            .find(|r| r.property.starts_with("Brazilian"))
+            .unwrap();
+        assert_eq!(bz.role, "reported");
+        assert_eq!(bz.paper_model, Some(387.0));
+        let md = tab.markdown();
+        assert!(md.contains("| E | GPa | 430.0000 | 429.0000 |"), "{md}");
+        // Granite: E and ν are assumptions of the file, marked so.
+        let g: MaterialFile =
+            serde_json::from_str(include_str!("../../../data/materials/granite-g603.json"))
+                .unwrap();
+        let tg = table(&g, "orc", &c);
+        assert_eq!(tg.rows[0].basis, "assumed");
+        assert!(tg.markdown().contains("(assumed)"));
     }
 
     #[test]

@@ -382,7 +382,7 @@ pub fn scene(
     s["run"] = json!({"duration": g.duration, "dt_factor": test.dt_factor,
                       "max_energy_growth": test.max_energy_growth});
     let every = history_every.max(1);
-    // Roughly `snapshots` over the run: history rows × every = total steps.
+    // Roughly `snapshots` over the run: history rows × every = total steps; 0 = none.
     let vtk = (test.history_rows * every)
         .checked_div(test.snapshots)
         .map_or(0, |n| n.max(1));
