@@ -3,6 +3,7 @@
 //! and JSON.
 
 pub mod clump_sweep;
+pub mod cutting_runs;
 pub mod environment;
 pub mod page;
 pub mod plot;

@@ -6,13 +6,33 @@
 //! run       write the test's scene file (plain, editable, `dem run` runs it), run it, read history
 //! history   history.csv back as named columns
 //! analysis  the standard formulas: E, ν, UCS; σ_t = 2F/(πDt); σ_f = 3FL/(2bh²); K_IC; force stats
+//! specimens test specimens (the user's parameters, the test's shape; Brazilian disc carved),
+//!           saved beside the scene and reused when their key file matches
+//! common    quasi-static loading rule and run settings shared by the tests, result files
+//! ucs       uniaxial compression: E, ν (10–50 % pre-peak band), UCS
+//! brazilian Brazilian disc: σ_t
+//! bending   three-point bending: σ_f, elastic stiffness (vs Timoshenko)
+//! cutting   the cutting test (tool.rs geometry, chips.rs fragments, surface.rs roughness)
+//! calibrate micro-parameters from target properties (Potyondy & Cundall 2004 procedure)
 //! ```
+//!
+//! Docs: `docs/lab-tests.md`.
 
 pub mod analysis;
+pub mod bending;
+pub mod brazilian;
 pub mod calibrate;
+pub mod chips;
+pub mod common;
+pub mod cutting;
 pub mod history;
 pub mod model;
 pub mod run;
+pub mod specimens;
+pub mod surface;
+pub mod tool;
+pub mod ucs;
+pub mod virtual_lab;
 
 pub use model::LabModel;
 

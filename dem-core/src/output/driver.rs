@@ -17,7 +17,7 @@ use crate::bond::BondStatus;
 use crate::checkpoint::{self, CheckpointError};
 use crate::guard::GuardError;
 use crate::pipeline::World;
-use crate::scene::model::{Scene, Stop};
+use crate::scene::model::{Scene, Stop, StopAfterPeak};
 use crate::scene::SceneError;
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
@@ -58,6 +58,8 @@ pub enum Ending {
     Completed,
     /// Stopped at the step cap before the end.
     MaxSteps,
+    /// Stopped by `run.stop_after_peak`: the load fell below the set fraction of its peak.
+    Failure,
 }
 
 /// A scene being run: the world plus the output state.
@@ -76,6 +78,10 @@ pub struct Simulation {
     dt_range: [f64; 2],
     last_flush: Instant,
     output_time: Duration,
+    /// Per gauge: membership by disc id (fixed when the scene is built).
+    gauges: Vec<Vec<bool>>,
+    /// Largest load so far (`run.stop_after_peak`), N.
+    peak_load: f64,
 }
 
 /// Whether `name` is a file the driver writes.
@@ -127,6 +133,22 @@ impl Simulation {
                 None,
             ),
         };
+        let gauges = {
+            let g = &scene.outputs.gauges;
+            if g.is_empty() {
+                Vec::new()
+            } else if opts.restart.is_none() {
+                gauge_members(&scene, &world)?
+            } else {
+                // Same discs as the fresh run: membership from the built (initial) world.
+                gauge_members(&scene, &crate::scene::build(&scene)?)?
+            }
+        };
+        let peak_load = scene
+            .run
+            .stop_after_peak
+            .as_ref()
+            .map_or(0.0, |s| peak_of_rows(&rows, s));
         let group_names = world
             .bonds
             .as_ref()
@@ -136,7 +158,8 @@ impl Simulation {
         let history = (o.history_every > 0).then(|| {
             let walls: Vec<&str> = world.state.walls.iter().map(|w| w.name.as_str()).collect();
             let groups: Vec<&str> = group_names.iter().map(String::as_str).collect();
-            let mut h = History::new(&out.join("history.csv"), &walls, &groups);
+            let gauges: Vec<&str> = o.gauges.iter().map(|g| g.name.as_str()).collect();
+            let mut h = History::with_gauges(&out.join("history.csv"), &walls, &gauges, &groups);
             h.set_rows(rows);
             h
         });
@@ -161,6 +184,8 @@ impl Simulation {
             dt_range: [dt, dt],
             last_flush: Instant::now(),
             output_time: Duration::ZERO,
+            gauges,
+            peak_load,
         })
     }
 
@@ -251,8 +276,10 @@ impl Simulation {
             if h || v || c || every(o.guard_every, s) {
                 let ts = Instant::now();
                 self.guard(t0)?;
+                let mut failed = false;
                 if h {
                     self.history_row()?;
+                    failed = self.failed();
                 }
                 if v {
                     self.snapshot()?;
@@ -267,6 +294,9 @@ impl Simulation {
                     total = self.total_steps().max(s - self.start_step);
                 }
                 progress(s - self.start_step, total);
+                if failed {
+                    break Ending::Failure;
+                }
             }
         };
         self.guard(t0)?;
@@ -276,6 +306,7 @@ impl Simulation {
         let status = match ending {
             Ending::Completed => "completed",
             Ending::MaxSteps => "max_steps",
+            Ending::Failure => "failure",
         };
         let summary = self.summary(t0, status, None)?;
         Ok((summary, ending))
@@ -335,14 +366,27 @@ impl Simulation {
             .map(|b| b.broken_counts().to_vec())
             .unwrap_or_default();
         let st = &self.world.state;
+        let gauges = gauge_positions(st, &self.gauges);
         h.push(
             st.time,
             st.step,
             self.world.dt(),
             &st.walls,
+            &gauges,
             &self.world.energy(),
             &broken,
         )
+    }
+
+    /// `run.stop_after_peak`: updates the peak load and tells whether the load has fallen below
+    /// the set fraction of it (once the peak has reached the arming load).
+    fn failed(&mut self) -> bool {
+        let Some(s) = &self.scene.run.stop_after_peak else {
+            return false;
+        };
+        let load = wall_load(&self.world.state.walls, s);
+        self.peak_load = self.peak_load.max(load);
+        self.peak_load > 0.0 && self.peak_load >= s.min_load && load < s.below * self.peak_load
     }
 
     fn snapshot(&mut self) -> Result<(), OutputError> {
@@ -476,6 +520,86 @@ impl Simulation {
         }
         Ok(s)
     }
+}
+
+/// |Σ force component `axis` of the walls of `s`| (N).
+fn wall_load(walls: &[crate::state::Wall], s: &StopAfterPeak) -> f64 {
+    s.walls
+        .iter()
+        .map(|&i| walls[i].force[s.axis])
+        .sum::<f64>()
+        .abs()
+}
+
+/// Largest load of the history rows a restart continues (wall `i`'s force components are
+/// columns 3 + 3i and 4 + 3i, see [`History::new`]).
+fn peak_of_rows(rows: &str, s: &StopAfterPeak) -> f64 {
+    rows.lines()
+        .map(|l| {
+            let v: Vec<&str> = l.split(',').collect();
+            s.walls
+                .iter()
+                .map(|&i| {
+                    v.get(3 + 3 * i + s.axis)
+                        .and_then(|x| x.parse::<f64>().ok())
+                        .unwrap_or(0.0)
+                })
+                .sum::<f64>()
+                .abs()
+        })
+        .fold(0.0, f64::max)
+}
+
+/// Membership (by disc id) of each gauge of the scene: the discs of `world` (as built from the
+/// scene) whose centre lies in the region. A gauge holding no disc is an error.
+fn gauge_members(scene: &Scene, world: &World) -> Result<Vec<Vec<bool>>, SceneError> {
+    let d = &world.state.discs;
+    let n = d.id.iter().map(|&i| i as usize + 1).max().unwrap_or(0);
+    scene
+        .outputs
+        .gauges
+        .iter()
+        .enumerate()
+        .map(|(k, g)| {
+            let [x0, y0, x1, y1] = g.region;
+            let mut mask = vec![false; n];
+            let mut count = 0;
+            for i in 0..d.len() {
+                if d.x[i] >= x0 && d.x[i] <= x1 && d.y[i] >= y0 && d.y[i] <= y1 {
+                    mask[d.id[i] as usize] = true;
+                    count += 1;
+                }
+            }
+            if count == 0 {
+                return Err(SceneError::Field {
+                    file: scene.file.display().to_string(),
+                    field: format!("outputs.gauges[{k}].region"),
+                    reason: "holds no disc centre when the scene is built".into(),
+                });
+            }
+            Ok(mask)
+        })
+        .collect()
+}
+
+/// Mean centre of each gauge's discs (m).
+fn gauge_positions(st: &crate::state::State, gauges: &[Vec<bool>]) -> Vec<[f64; 2]> {
+    let d = &st.discs;
+    gauges
+        .iter()
+        .map(|mask| {
+            let (mut sx, mut sy, mut n) = (0.0, 0.0, 0usize);
+            for i in 0..d.len() {
+                if mask.get(d.id[i] as usize).copied().unwrap_or(false) {
+                    sx += d.x[i];
+                    sy += d.y[i];
+                    n += 1;
+                }
+            }
+            let n = n.max(1) as f64;
+            [sx / n, sy / n]
+        })
+        .collect()
 }
 
 #[cfg(test)]

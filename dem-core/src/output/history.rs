@@ -71,6 +71,7 @@ pub struct History {
     header: String,
     rows: String,
     walls: usize,
+    gauges: usize,
     groups: usize,
 }
 
@@ -78,10 +79,24 @@ impl History {
     /// Columns: `time,step,dt`, `<wall>_fx,<wall>_fy,<wall>_moment` per wall, the energy terms,
     /// `broken_<group>_tension,broken_<group>_shear` per bond group.
     pub fn new(path: &Path, walls: &[&str], bond_groups: &[&str]) -> History {
+        History::with_gauges(path, walls, &[], bond_groups)
+    }
+
+    /// As [`History::new`], with `<gauge>_x,<gauge>_y` per position gauge after the walls.
+    pub fn with_gauges(
+        path: &Path,
+        walls: &[&str],
+        gauges: &[&str],
+        bond_groups: &[&str],
+    ) -> History {
         let mut h = String::from("time,step,dt");
         for w in walls {
             let w = column_name(w);
             h.push_str(&format!(",{w}_fx,{w}_fy,{w}_moment"));
+        }
+        for g in gauges {
+            let g = column_name(g);
+            h.push_str(&format!(",{g}_x,{g}_y"));
         }
         for e in ENERGY_COLUMNS {
             h.push(',');
@@ -97,6 +112,7 @@ impl History {
             header: h,
             rows: String::new(),
             walls: walls.len(),
+            gauges: gauges.len(),
             groups: bond_groups.len(),
         }
     }
@@ -105,17 +121,21 @@ impl History {
         &self.path
     }
 
-    /// Appends a row (not yet written); refuses non-finite values.
+    /// Appends a row (not yet written); refuses non-finite values. `gauges`: the mean position
+    /// of each gauge's discs, in the order given to [`History::with_gauges`].
+    #[allow(clippy::too_many_arguments)]
     pub fn push(
         &mut self,
         time: f64,
         step: u64,
         dt: f64,
         walls: &[Wall],
+        gauges: &[[f64; 2]],
         e: &EnergyReport,
         broken: &[[u64; 2]],
     ) -> Result<(), OutputError> {
         debug_assert_eq!(walls.len(), self.walls);
+        debug_assert_eq!(gauges.len(), self.gauges);
         debug_assert_eq!(broken.len(), self.groups);
         let p = &self.path;
         let mut row = String::with_capacity(256);
@@ -131,6 +151,15 @@ impl History {
                 push_num(
                     &mut row,
                     finite(p, || format!("wall {} {k} at step {step}", w.name), v)?,
+                );
+            }
+        }
+        for (k, g) in gauges.iter().enumerate() {
+            for (c, v) in ["x", "y"].into_iter().zip(g) {
+                row.push(',');
+                push_num(
+                    &mut row,
+                    finite(p, || format!("gauge {k} {c} at step {step}"), *v)?,
                 );
             }
         }
@@ -187,9 +216,9 @@ mod tests {
             kinetic_translation: 1.5,
             ..EnergyReport::default()
         };
-        h.push(0.001, 10, 1e-4, &w, &e, &[[3, 1]]).unwrap();
+        h.push(0.001, 10, 1e-4, &w, &[], &e, &[[3, 1]]).unwrap();
         w[1].moment = f64::NAN;
-        let err = h.push(0.002, 20, 1e-4, &w, &e, &[[3, 1]]).unwrap_err();
+        let err = h.push(0.002, 20, 1e-4, &w, &[], &e, &[[3, 1]]).unwrap_err();
         assert!(
             err.to_string().contains("left wall moment at step 20"),
             "{err}"

@@ -164,7 +164,7 @@ pub struct Damping {
 }
 
 /// Run control.
-#[derive(Debug, Clone, Copy, Default, Serialize)]
+#[derive(Debug, Clone, Default, Serialize)]
 pub struct Run {
     /// Stop when time ≥ duration (s), or after `steps`.
     #[serde(skip)]
@@ -177,6 +177,25 @@ pub struct Run {
     pub skin: Option<f64>,
     pub max_overlap_fraction: Option<f64>,
     pub max_energy_growth: Option<f64>,
+    /// Stop at failure (run control, not physics: a restart may change it).
+    #[serde(skip)]
+    pub stop_after_peak: Option<StopAfterPeak>,
+}
+
+/// `run.stop_after_peak`, resolved: wall indices, axis (0 = x, 1 = y), fraction, arming load (N).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct StopAfterPeak {
+    pub walls: Vec<usize>,
+    pub axis: usize,
+    pub below: f64,
+    pub min_load: f64,
+}
+
+/// A position gauge: name and region [x0, y0, x1, y1] (m).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Gauge {
+    pub name: String,
+    pub region: [f64; 4],
 }
 
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -200,6 +219,7 @@ pub struct Outputs {
     pub checkpoint_every: u64,
     pub guard_every: u64,
     pub summary: bool,
+    pub gauges: Vec<Gauge>,
 }
 
 impl Scene {

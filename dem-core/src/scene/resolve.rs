@@ -182,8 +182,8 @@ impl Resolver {
             local: ck.range("damping.local", raw.damping.local, 0.0, 1.0, false)?,
             viscous: ck.range("damping.viscous", raw.damping.viscous, 0.0, 1.0, false)?,
         };
-        let run = controls::run(&ck, &raw.run, u)?;
-        let outputs = controls::outputs(&ck, &self.scene_path, &raw.outputs)?;
+        let run = controls::run(&ck, &raw.run, u, &walls, &raw.outputs)?;
+        let outputs = controls::outputs(&ck, &self.scene_path, &raw.outputs, u)?;
         if self.discs.is_empty() && self.clumps.is_empty() {
             return Err(ck.err("bodies", "the scene has no discs"));
         }

@@ -465,6 +465,40 @@ pub struct RunSpec {
     /// Guard: kinetic energy may not exceed this multiple of the energy supplied (default 2).
     #[serde(default)]
     pub max_energy_growth: Option<f64>,
+    /// Stop at failure: end the run once the load on some walls has fallen below a fraction
+    /// of its peak (checked at history rows).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stop_after_peak: Option<StopAfterPeakSpec>,
+}
+
+/// `run.stop_after_peak`: the load is |Σ force component `axis` of `walls`|; the run ends
+/// (status `failure`) at the first history row where the load is below `below` × its peak so
+/// far, once that peak has reached `min_load` (N).
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StopAfterPeakSpec {
+    pub walls: Vec<String>,
+    pub axis: AxisName,
+    pub below: f64,
+    #[serde(default)]
+    pub min_load: f64,
+}
+
+/// A coordinate axis.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum AxisName {
+    X,
+    Y,
+}
+
+/// `outputs.gauges[]`: the discs whose centre lies in `region` ([x0, y0, x1, y1], length
+/// unit) when the scene is built; the history gets their mean position `<name>_x,<name>_y`.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GaugeSpec {
+    pub name: String,
+    pub region: [f64; 4],
 }
 
 /// What to write and how often (every N steps; 0 = never).
@@ -485,6 +519,9 @@ pub struct OutputSpec {
     pub guard_every: u64,
     #[serde(default = "yes")]
     pub summary: bool,
+    /// Position gauges (mean position of the discs in a region).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub gauges: Vec<GaugeSpec>,
 }
 
 fn default_history() -> u64 {
@@ -508,6 +545,7 @@ impl Default for OutputSpec {
             checkpoint_every: 0,
             guard_every: default_guard(),
             summary: true,
+            gauges: Vec::new(),
         }
     }
 }

@@ -1,0 +1,375 @@
+//! Three-point bending test (S4, Tan et al.; S0, Ye & Xu granite beams; ASTM C1161): a beam of
+//! length ℓ, height h and width b = t (the disc thickness) on two supports at span L, loaded at
+//! mid-span by a third roller moving down at constant speed v; local damping. S4 loads with a
+//! circular wall; walls here are straight segments, so each roller is a circular arc of radius
+//! R (`roller_radius`) drawn as a polyline of `roller_segments` segments over ±`roller_angle`
+//! about its apex, and a roller's force is the sum of its segments' (a disc touching two
+//! segments at a vertex feels both: the polyline is slightly stiffer there than the circle,
+//! and the measured load is still what the beam feels).
+//!
+//! Measured: the load F on the loading roller (N), the flexural strength
+//! σ_f = 3FL/(2bh²) from its peak ([`super::analysis::flexural_strength`]), and the elastic
+//! stiffness k = dF/dδ over the 10–50 % pre-peak band, δ the mid-span deflection of the beam's
+//! bottom fibre relative to the supports (position gauges at the bottom at mid-span and above
+//! each support, so roller indentation and the initial settling are excluded). Compare k with
+//! [`timoshenko_stiffness`].
+//!
+//! Quasi-static rule: the roller travels the deflection at which the extreme fibre reaches the
+//! estimated failure strain, δ_f = ε_f L²/(6h) (Euler-Bernoulli, σ = 6Ehδ/L²), in
+//! `quasi_static_factor` (default 10) fundamental periods of the simply supported beam,
+//! T₁ = 2π/ω₁ with ω₁ = (π/L)² √(EI/(ρA)) = (π/L)² h √(E/(12ρ)) (Euler-Bernoulli), E = E_c.
+
+use super::common::{self, positive, Loading, RunFacts};
+use super::history::Table;
+use super::run::run_scene;
+use super::specimens::{Shape, TestSpecimen};
+use super::{analysis, LabError, LabModel};
+use crate::output::driver::RunOptions;
+use serde::{Deserialize, Serialize};
+use serde_json::{json, Value};
+use std::f64::consts::PI;
+
+const TEST: &str = "bending";
+
+/// A three-point bending test (SI).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct BendingTest {
+    /// Scene `<name>.json`, outputs `<name>.out/`, result `<name>.result.json` (default
+    /// "bending").
+    pub name: String,
+    /// Beam length ℓ and height h (m); default 20 × 5 mm.
+    pub length: f64,
+    pub height: f64,
+    /// Support span L (m), default 16 mm; below the beam length.
+    pub span: f64,
+    /// Roller radius R (m); default `None`: h/2.
+    pub roller_radius: Option<f64>,
+    /// Segments per roller (default 8) and half-angle of the arc (rad, default 0.7).
+    pub roller_segments: usize,
+    pub roller_angle: f64,
+    /// Pre-peak band of the stiffness fit (default [0.1, 0.5]).
+    pub band: [f64; 2],
+    /// Width of the deflection gauges in mean radii (default 2).
+    pub gauge_width: f64,
+    pub loading: Loading,
+}
+
+impl Default for BendingTest {
+    fn default() -> BendingTest {
+        BendingTest {
+            name: TEST.into(),
+            length: 20e-3,
+            height: 5e-3,
+            span: 16e-3,
+            roller_radius: None,
+            roller_segments: 8,
+            roller_angle: 0.7,
+            band: [0.1, 0.5],
+            gauge_width: 2.0,
+            loading: Loading {
+                quasi_static_factor: 10.0,
+                ..Loading::default()
+            },
+        }
+    }
+}
+
+/// What the test measured.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct BendingReport {
+    /// σ_f = 3FL/(2bh²) (Pa) from the peak load F (N); b = t, h the beam's extent height (m).
+    pub flexural_strength: f64,
+    pub peak_load: f64,
+    pub span: f64,
+    pub height: f64,
+    /// Elastic stiffness dF/dδ (N/m) over the band, and the rows in it.
+    pub stiffness: f64,
+    pub band_rows: usize,
+    /// Mid-span deflection at the peak (m).
+    pub deflection_at_peak: f64,
+    /// Roller speed (m/s), time to the peak (s), and its ratio to the beam's fundamental
+    /// period T₁ with E_c.
+    pub roller_speed: f64,
+    pub time_to_peak: f64,
+    pub quasi_static_ratio: f64,
+}
+
+/// The result file `<name>.result.json`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct BendingOutcome {
+    pub test: BendingTest,
+    pub model: LabModel,
+    pub specimen: TestSpecimen,
+    pub result: BendingReport,
+    pub run: RunFacts,
+}
+
+/// Mid-span stiffness F/δ of a simply supported beam of span L under a central load,
+/// Timoshenko: δ = FL³/(48EI) + FL/(4κGA), I = bh³/12, A = bh, G = E/(2(1+ν)), κ = 5/6
+/// (rectangular section; Timoshenko & Gere, Mechanics of Materials). `shear = false` gives
+/// Euler-Bernoulli (bending term only).
+pub fn timoshenko_stiffness(e: f64, nu: f64, span: f64, b: f64, h: f64, shear: bool) -> f64 {
+    let i = b * h * h * h / 12.0;
+    let g = e / (2.0 * (1.0 + nu));
+    let bend = span.powi(3) / (48.0 * e * i);
+    let sh = if shear {
+        span / (4.0 * (5.0 / 6.0) * g * b * h)
+    } else {
+        0.0
+    };
+    1.0 / (bend + sh)
+}
+
+impl BendingTest {
+    /// Checks every value; errors name the field (`bending.<field>`).
+    pub fn validate(&self) -> Result<(), LabError> {
+        positive(TEST, "length", self.length)?;
+        positive(TEST, "height", self.height)?;
+        positive(TEST, "span", self.span)?;
+        if self.span >= self.length {
+            return Err(LabError::Param {
+                field: "bending.span".into(),
+                reason: format!(
+                    "{} m must be below the beam length {} m",
+                    self.span, self.length
+                ),
+            });
+        }
+        if let Some(r) = self.roller_radius {
+            positive(TEST, "roller_radius", r)?;
+        }
+        if self.roller_segments == 0 || self.roller_segments > 64 {
+            return Err(LabError::Param {
+                field: "bending.roller_segments".into(),
+                reason: "must lie in 1..=64".into(),
+            });
+        }
+        if !(self.roller_angle > 0.0 && self.roller_angle < 0.5 * PI) {
+            return Err(LabError::Param {
+                field: "bending.roller_angle".into(),
+                reason: "must lie in (0, π/2) rad".into(),
+            });
+        }
+        positive(TEST, "gauge_width", self.gauge_width)?;
+        let [lo, hi] = self.band;
+        if !(lo >= 0.0 && lo < hi && hi < 1.0) {
+            return Err(LabError::Param {
+                field: "bending.band".into(),
+                reason: format!("needs 0 ≤ lo < hi < 1 (got [{lo}, {hi}])"),
+            });
+        }
+        if self.name.is_empty() || self.name.contains(['/', '\\']) {
+            return Err(LabError::Param {
+                field: "bending.name".into(),
+                reason: "must be a plain file stem".into(),
+            });
+        }
+        self.loading.validate(TEST)
+    }
+
+    pub fn shape(&self) -> Shape {
+        Shape::Rectangle {
+            width: self.length,
+            height: self.height,
+        }
+    }
+
+    /// Loading-roller speed (m/s): the given one, else the quasi-static rule.
+    pub fn roller_speed(&self, model: &LabModel, spec: &TestSpecimen) -> f64 {
+        let h = spec.size()[1];
+        self.loading
+            .speed_for(self.failure_deflection(model, h), self.period(model, h))
+    }
+
+    /// δ_f = ε_f L²/(6h).
+    fn failure_deflection(&self, model: &LabModel, h: f64) -> f64 {
+        common::failure_strain_estimate(model) * self.span * self.span / (6.0 * h)
+    }
+
+    /// T₁ = 2π/ω₁, ω₁ = (π/L)² h √(E_c/(12ρ)).
+    fn period(&self, model: &LabModel, h: f64) -> f64 {
+        let c = (model.micro.contact_modulus / (12.0 * model.density)).sqrt();
+        2.0 * PI / ((PI / self.span).powi(2) * h * c)
+    }
+}
+
+/// A roller: polyline walls `<name>_<k>` on the arc of radius `r` about `centre`, apex
+/// direction `up` (+1: apex on top, a support; −1: apex below, the loader).
+fn roller(
+    name: &str,
+    centre: [f64; 2],
+    r: f64,
+    up: f64,
+    test: &BendingTest,
+    velocity: [f64; 2],
+) -> Vec<Value> {
+    let n = test.roller_segments;
+    let apex = up * 0.5 * PI;
+    let p = |k: usize| {
+        let a = apex - test.roller_angle + 2.0 * test.roller_angle * k as f64 / n as f64;
+        [centre[0] + r * a.cos(), centre[1] + r * a.sin()]
+    };
+    (0..n)
+        .map(|k| {
+            json!({"name": format!("{name}_{k}"), "a": p(k), "b": p(k + 1),
+                   "material": super::model::WALL_MATERIAL, "velocity": velocity})
+        })
+        .collect()
+}
+
+/// The test's scene: the beam, two supports and the loading roller (polylines), gauges
+/// `mid` (bottom, mid-span), `sup_left`, `sup_right` (bottom, above the supports).
+pub fn scene(test: &BendingTest, model: &LabModel, spec: &TestSpecimen) -> Result<Value, LabError> {
+    test.validate()?;
+    let [x0, y0, x1, y1] = spec.extent;
+    let (l, h) = (x1 - x0, y1 - y0);
+    if test.span >= l {
+        return Err(LabError::Param {
+            field: "bending.span".into(),
+            reason: format!("{} m must be below the specimen's length {l} m", test.span),
+        });
+    }
+    let xc = 0.5 * (x0 + x1);
+    let r = test.roller_radius.unwrap_or(0.5 * h);
+    let v = test.roller_speed(model, spec);
+    let (xl, xr) = (xc - 0.5 * test.span, xc + 0.5 * test.span);
+    let mut walls = roller("support_left", [xl, y0 - r], r, 1.0, test, [0.0, 0.0]);
+    walls.extend(roller(
+        "support_right",
+        [xr, y0 - r],
+        r,
+        1.0,
+        test,
+        [0.0, 0.0],
+    ));
+    walls.extend(roller("load", [xc, y1 + r], r, -1.0, test, [0.0, -v]));
+    let load_walls: Vec<String> = (0..test.roller_segments)
+        .map(|k| format!("load_{k}"))
+        .collect();
+    let mut s = model.scene_base(&test.name, &spec.file_name(), [0.0, 0.0]);
+    s["description"] = json!(format!(
+        "Three-point bending (dem test bending): beam {:.3} x {:.3} mm, span {:.3} mm, roller R {:.3} mm at {v:.4e} m/s",
+        l * 1e3,
+        h * 1e3,
+        test.span * 1e3,
+        r * 1e3
+    ));
+    s["walls"] = Value::Array(walls);
+    let g = test.gauge_width * spec.r_mean;
+    let band = |x: f64| json!([x - g, y0 - g, x + g, y0 + g]);
+    let gauges = json!([
+        {"name": "mid", "region": band(xc)},
+        {"name": "sup_left", "region": band(xl)},
+        {"name": "sup_right", "region": band(xr)},
+    ]);
+    let m = &model.micro;
+    // F at σ_f = σ̄_c would be 2σ̄_c t h²/(3L); arm the stop at 2 % of it.
+    let min_load =
+        0.02 * 2.0 * m.boundary_tensile.min(m.boundary_cohesion) * model.thickness * h * h
+            / (3.0 * test.span);
+    test.loading.scene_fields(
+        &mut s,
+        v,
+        test.failure_deflection(model, h),
+        &load_walls,
+        "y",
+        min_load,
+        gauges,
+    );
+    Ok(s)
+}
+
+/// σ_f and the elastic stiffness from the history of [`scene`].
+pub fn analyze(
+    t: &Table,
+    test: &BendingTest,
+    model: &LabModel,
+    spec: &TestSpecimen,
+) -> Result<BendingReport, LabError> {
+    let time = common::column(t, "time", TEST)?;
+    let mut load = vec![0.0; time.len()];
+    for k in 0..test.roller_segments {
+        for (f, v) in load
+            .iter_mut()
+            .zip(common::column(t, &format!("load_{k}_fy"), TEST)?)
+        {
+            *f += v;
+        }
+    }
+    let mid = common::column(t, "mid_y", TEST)?;
+    let sl = common::column(t, "sup_left_y", TEST)?;
+    let sr = common::column(t, "sup_right_y", TEST)?;
+    let defl: Vec<f64> = (0..time.len())
+        .map(|i| {
+            let d = |k: usize| 0.5 * (sl[k] + sr[k]) - mid[k];
+            d(i) - d(0)
+        })
+        .collect();
+    let (ip, f) = analysis::peak(&load).ok_or_else(|| common::analysis_error(TEST, "no load"))?;
+    let last = *load.last().unwrap_or(&0.0);
+    if f <= 0.0 || last > 0.95 * f {
+        return Err(common::analysis_error(
+            TEST,
+            format!(
+                "no failure: the load was still {:.3} of its peak at the end; raise loading.max_travel_factor",
+                last / f
+            ),
+        ));
+    }
+    let [lo, hi] = test.band;
+    let band = analysis::prepeak_band(&load, lo, hi);
+    if band.len() < 5 {
+        return Err(common::analysis_error(
+            TEST,
+            format!(
+                "{} history rows in the pre-peak band: lower loading.history_every or the speed",
+                band.len()
+            ),
+        ));
+    }
+    let bx: Vec<f64> = band.iter().map(|&i| defl[i]).collect();
+    let by: Vec<f64> = band.iter().map(|&i| load[i]).collect();
+    let (k, _) = analysis::linear_fit(&bx, &by)
+        .ok_or_else(|| common::analysis_error(TEST, "cannot fit the pre-peak band"))?;
+    let h = spec.size()[1];
+    Ok(BendingReport {
+        flexural_strength: analysis::flexural_strength(f, test.span, model.thickness, h),
+        peak_load: f,
+        span: test.span,
+        height: h,
+        stiffness: k,
+        band_rows: band.len(),
+        deflection_at_peak: defl[ip],
+        roller_speed: test.roller_speed(model, spec),
+        time_to_peak: time[ip],
+        quasi_static_ratio: time[ip] / test.period(model, h),
+    })
+}
+
+/// Scene beside the specimen file, run, analysis, `<name>.result.json` (atomic).
+pub fn run(
+    test: &BendingTest,
+    model: &LabModel,
+    spec: &TestSpecimen,
+    progress: &mut dyn FnMut(u64, u64),
+) -> Result<BendingOutcome, LabError> {
+    let s = scene(test, model, spec)?;
+    let dir = spec.file.parent().unwrap_or(std::path::Path::new("."));
+    let r = run_scene(
+        &s,
+        &dir.join(format!("{}.json", test.name)),
+        &RunOptions::default(),
+        progress,
+    )?;
+    let result = analyze(&r.history, test, model, spec)?;
+    let out = BendingOutcome {
+        test: test.clone(),
+        model: model.clone(),
+        specimen: spec.clone(),
+        result,
+        run: RunFacts::of(&r),
+    };
+    common::write_result(&dir.join(format!("{}.result.json", test.name)), &out)?;
+    Ok(out)
+}

@@ -1,0 +1,386 @@
+//! Specimens of the lab tests: generated with the user's [`SpecimenParams`] (method, radii,
+//! grain size, seed, micro-parameters) but the test's own shape, saved as `dem.specimen/1`
+//! files beside the test scene, and reused when a key file beside them records the same
+//! parameters. Generation takes tens of seconds for 1000 discs; a calibration generates each
+//! test's specimen once and runs its scene with many [`super::LabModel`]s.
+//!
+//! The Brazilian disc is carved from a D × D square specimen: discs whose centre lies outside
+//! the circle of diameter D are dropped, with the bonds touching them; a rigid ORC grain goes
+//! whole if any member goes, and so do the members of an improved-ORC grain (same grain id).
+
+use super::LabError;
+use crate::scene::schema::{LengthUnit, SpecimenFile};
+use crate::specimen::{self, io, Method, Progress, SpecimenParams, DEFAULT_MATERIAL};
+use serde::{Deserialize, Serialize};
+use std::collections::HashSet;
+use std::path::{Path, PathBuf};
+
+/// Shape of a test specimen (m).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "shape", rename_all = "snake_case")]
+pub enum Shape {
+    Rectangle {
+        width: f64,
+        height: f64,
+    },
+    /// Carved from a `diameter` × `diameter` square.
+    Disc {
+        diameter: f64,
+    },
+}
+
+/// A specimen file ready for a lab scene.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TestSpecimen {
+    pub file: PathBuf,
+    /// Bounding box of the discs (discs' edges) in the file's coordinates (m): [x0, y0, x1, y1].
+    pub extent: [f64; 4],
+    pub discs: usize,
+    pub bonds: usize,
+    /// Mean disc radius (m).
+    pub r_mean: f64,
+    /// Whether an existing file was reused instead of generated.
+    pub reused: bool,
+}
+
+/// What the key file beside a specimen records.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+struct Key {
+    schema: String,
+    shape: Shape,
+    params: SpecimenParams,
+}
+
+const KEY_SCHEMA: &str = "dem.lab-specimen-key/1";
+
+/// `x.json` → `x.key.json`.
+pub fn key_path(file: &Path) -> PathBuf {
+    let name = file
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let stem = name.strip_suffix(".json").unwrap_or(&name);
+    file.with_file_name(format!("{stem}.key.json"))
+}
+
+/// The generation parameters of a test specimen: `base` with the shape's width and height
+/// (the disc is generated as its bounding square).
+pub fn shape_params(base: &SpecimenParams, shape: Shape) -> SpecimenParams {
+    let mut p = base.clone();
+    match shape {
+        Shape::Rectangle { width, height } => {
+            p.width = width;
+            p.height = height;
+        }
+        Shape::Disc { diameter } => {
+            p.width = diameter;
+            p.height = diameter;
+        }
+    }
+    p
+}
+
+/// The specimen of `shape` at `file` (with its key file and the generator's summary beside
+/// it): reused if the key file records the same parameters and shape, else generated (which
+/// reports `progress`) and saved. The discs are made of [`DEFAULT_MATERIAL`] (the lab model's
+/// disc material).
+pub fn prepare(
+    base: &SpecimenParams,
+    shape: Shape,
+    file: &Path,
+    progress: &mut dyn FnMut(Progress),
+) -> Result<TestSpecimen, LabError> {
+    let p = shape_params(base, shape);
+    p.validate()?;
+    let key = Key {
+        schema: KEY_SCHEMA.into(),
+        shape,
+        params: p.clone(),
+    };
+    let kp = key_path(file);
+    if file.exists() {
+        if let Ok(text) = std::fs::read_to_string(&kp) {
+            if serde_json::from_str::<Key>(&text).is_ok_and(|k| k == key) {
+                let mut t = TestSpecimen::read(file)?;
+                t.reused = true;
+                return Ok(t);
+            }
+        }
+    }
+    if let Some(dir) = file.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).map_err(|source| LabError::Io {
+            file: dir.display().to_string(),
+            source,
+        })?;
+    }
+    let spec = specimen::generate(&p, progress)?;
+    let mut sf = io::to_file(&spec, DEFAULT_MATERIAL);
+    if let Shape::Disc { diameter } = shape {
+        sf = carve_disc(&sf, diameter, p.method);
+    }
+    let ser = |e: serde_json::Error| LabError::Io {
+        file: file.display().to_string(),
+        source: std::io::Error::other(e),
+    };
+    io::write_atomic(file, &serde_json::to_string(&sf).map_err(ser)?)?;
+    io::write_atomic(
+        &io::summary_path(file),
+        &serde_json::to_string_pretty(&spec.summary).map_err(ser)?,
+    )?;
+    io::write_atomic(&kp, &serde_json::to_string_pretty(&key).map_err(ser)?)?;
+    TestSpecimen::read(file)
+}
+
+impl TestSpecimen {
+    /// Reads a specimen file's geometry (any `dem.specimen/1` file).
+    pub fn read(file: &Path) -> Result<TestSpecimen, LabError> {
+        let name = file.display().to_string();
+        let text = std::fs::read_to_string(file).map_err(|source| LabError::Io {
+            file: name.clone(),
+            source,
+        })?;
+        let sf: SpecimenFile = serde_json::from_str(&text).map_err(|e| LabError::Io {
+            file: name.clone(),
+            source: std::io::Error::other(e),
+        })?;
+        let u = match sf.units {
+            LengthUnit::M => 1.0,
+            LengthUnit::Mm => 1e-3,
+        };
+        let mut ext = [f64::INFINITY, f64::INFINITY, -f64::INFINITY, -f64::INFINITY];
+        let (mut n, mut rsum) = (0usize, 0.0);
+        for set in &sf.discs {
+            for &[x, y, r] in &set.discs {
+                ext[0] = ext[0].min((x - r) * u);
+                ext[1] = ext[1].min((y - r) * u);
+                ext[2] = ext[2].max((x + r) * u);
+                ext[3] = ext[3].max((y + r) * u);
+                n += 1;
+                rsum += r * u;
+            }
+        }
+        if n == 0 || !sf.clumps.is_empty() {
+            return Err(LabError::Param {
+                field: name,
+                reason: "a lab specimen needs discs (and no template clumps)".into(),
+            });
+        }
+        Ok(TestSpecimen {
+            file: file.to_path_buf(),
+            extent: ext,
+            discs: n,
+            bonds: sf.bonds.iter().map(|b| b.pairs.len()).sum(),
+            r_mean: rsum / n as f64,
+            reused: false,
+        })
+    }
+
+    /// Width and height of the extent (m).
+    pub fn size(&self) -> [f64; 2] {
+        [
+            self.extent[2] - self.extent[0],
+            self.extent[3] - self.extent[1],
+        ]
+    }
+
+    /// The file name, as a scene beside the specimen refers to it.
+    pub fn file_name(&self) -> String {
+        self.file
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default()
+    }
+}
+
+/// The disc of diameter `d` carved from a square specimen file (one disc set, as
+/// [`io::to_file`] writes): centred on the discs' bounding box; discs whose centre is farther
+/// than d/2 from the centre are dropped, with whole ORC rigid grains and whole improved-ORC
+/// grains (same grain id) when one member is dropped; bonds touching a dropped disc go too.
+/// The result is shifted so its bounding box starts at the origin.
+pub fn carve_disc(sf: &SpecimenFile, d: f64, method: Method) -> SpecimenFile {
+    let mut out = sf.clone();
+    let Some(set) = sf.discs.first() else {
+        return out;
+    };
+    let u = match sf.units {
+        LengthUnit::M => 1.0,
+        LengthUnit::Mm => 1e-3,
+    };
+    let n = set.discs.len();
+    let (mut x0, mut y0, mut x1, mut y1) =
+        (f64::INFINITY, f64::INFINITY, -f64::INFINITY, -f64::INFINITY);
+    for &[x, y, r] in &set.discs {
+        x0 = x0.min(x - r);
+        y0 = y0.min(y - r);
+        x1 = x1.max(x + r);
+        y1 = y1.max(y + r);
+    }
+    let (cx, cy, rc) = (0.5 * (x0 + x1), 0.5 * (y0 + y1), 0.5 * d / u);
+    let mut keep: Vec<bool> = set
+        .discs
+        .iter()
+        .map(|&[x, y, _]| (x - cx).hypot(y - cy) <= rc)
+        .collect();
+    match method {
+        Method::Orc => {
+            for members in &sf.rigid_clumps {
+                if members.iter().any(|&i| !keep[i as usize]) {
+                    for &i in members {
+                        keep[i as usize] = false;
+                    }
+                }
+            }
+        }
+        Method::Improved => {
+            if let Some(g) = &set.groups {
+                let dropped: HashSet<u32> = (0..n).filter(|&i| !keep[i]).map(|i| g[i]).collect();
+                for i in 0..n {
+                    if dropped.contains(&g[i]) {
+                        keep[i] = false;
+                    }
+                }
+            }
+        }
+        Method::Traditional => {}
+    }
+    let mut new_index = vec![u32::MAX; n];
+    let mut k = 0u32;
+    for i in 0..n {
+        if keep[i] {
+            new_index[i] = k;
+            k += 1;
+        }
+    }
+    let kept = |v: &[f64; 3]| *v;
+    let discs: Vec<[f64; 3]> = (0..n)
+        .filter(|&i| keep[i])
+        .map(|i| kept(&set.discs[i]))
+        .collect();
+    let (mut nx0, mut ny0) = (f64::INFINITY, f64::INFINITY);
+    for &[x, y, r] in &discs {
+        nx0 = nx0.min(x - r);
+        ny0 = ny0.min(y - r);
+    }
+    let o = &mut out.discs[0];
+    o.discs = discs
+        .iter()
+        .map(|&[x, y, r]| [x - nx0, y - ny0, r])
+        .collect();
+    o.groups = set
+        .groups
+        .as_ref()
+        .map(|g| (0..n).filter(|&i| keep[i]).map(|i| g[i]).collect());
+    o.mass_factors = set
+        .mass_factors
+        .as_ref()
+        .map(|m| (0..n).filter(|&i| keep[i]).map(|i| m[i]).collect());
+    out.rigid_clumps = sf
+        .rigid_clumps
+        .iter()
+        .filter(|m| m.iter().all(|&i| keep[i as usize]))
+        .map(|m| m.iter().map(|&i| new_index[i as usize]).collect())
+        .collect();
+    out.bonds = sf
+        .bonds
+        .iter()
+        .map(|b| {
+            let idx: Vec<usize> = (0..b.pairs.len())
+                .filter(|&q| b.pairs[q].iter().all(|&i| keep[i as usize]))
+                .collect();
+            let mut nb = b.clone();
+            nb.pairs = idx
+                .iter()
+                .map(|&q| b.pairs[q].map(|i| new_index[i as usize]))
+                .collect();
+            nb.contact_offsets = b
+                .contact_offsets
+                .as_ref()
+                .map(|o| idx.iter().map(|&q| o[q]).collect());
+            nb
+        })
+        .filter(|b| !b.pairs.is_empty())
+        .collect();
+    out.description = format!("{} (disc of diameter {} m carved out)", sf.description, d);
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::schema::{BondListSpec, DiscSetSpec};
+
+    fn square() -> SpecimenFile {
+        // 5 × 5 grid of discs r = 0.5 at unit spacing over [0, 5]²; grain id = row.
+        let mut discs = vec![];
+        let mut groups = vec![];
+        for j in 0..5 {
+            for i in 0..5 {
+                discs.push([0.5 + i as f64, 0.5 + j as f64, 0.5]);
+                groups.push(j as u32);
+            }
+        }
+        let pairs: Vec<[u32; 2]> = (0..24).map(|k| [k as u32, k as u32 + 1]).collect();
+        SpecimenFile {
+            schema: crate::scene::schema::SPECIMEN_SCHEMA.into(),
+            description: String::new(),
+            units: LengthUnit::M,
+            discs: vec![DiscSetSpec {
+                material: "specimen".into(),
+                group: 0,
+                velocity: [0.0; 2],
+                omega: 0.0,
+                random_speed: 0.0,
+                fixed: false,
+                discs,
+                groups: Some(groups),
+                mass_factors: None,
+            }],
+            clumps: vec![],
+            rigid_clumps: vec![vec![0, 1], vec![12, 13]],
+            bonds: vec![BondListSpec {
+                bond_group: "grain_boundary".into(),
+                pairs,
+                contact_offsets: Some((0..24).map(|k| -(k as f64)).collect()),
+            }],
+        }
+    }
+
+    #[test]
+    fn carving_keeps_centres_inside_and_consistent_links() {
+        let sf = square();
+        // Circle of diameter 5 about (2.5, 2.5): the four corner discs (distance 2.83) go.
+        let t = carve_disc(&sf, 5.0, Method::Traditional);
+        assert_eq!(t.discs[0].discs.len(), 21);
+        assert_eq!(t.rigid_clumps.len(), 1, "clump {{0, 1}} loses disc 0");
+        assert_eq!(t.rigid_clumps[0], vec![10, 11], "discs 12, 13 renumbered");
+        let b = &t.bonds[0];
+        assert_eq!(b.pairs.len(), b.contact_offsets.as_ref().unwrap().len());
+        // Bonds touching discs 0, 4, 20, 24 go: (0,1), (3,4), (4,5), (19,20), (20,21), (23,24).
+        assert_eq!(b.pairs.len(), 24 - 6);
+        assert!(b.pairs.iter().flatten().all(|&i| i < 21));
+        // ORC: clump {0, 1} goes whole.
+        let o = carve_disc(&sf, 5.0, Method::Orc);
+        assert_eq!(o.discs[0].discs.len(), 20);
+        // Improved: rows 0 and 4 (grains holding a corner) go whole.
+        let m = carve_disc(&sf, 5.0, Method::Improved);
+        assert_eq!(m.discs[0].discs.len(), 15);
+        assert!(m.discs[0]
+            .groups
+            .as_ref()
+            .unwrap()
+            .iter()
+            .all(|&g| (1..=3).contains(&g)));
+        // Shifted to the origin.
+        let minx = m.discs[0]
+            .discs
+            .iter()
+            .map(|d| d[0] - d[2])
+            .fold(f64::INFINITY, f64::min);
+        let miny = m.discs[0]
+            .discs
+            .iter()
+            .map(|d| d[1] - d[2])
+            .fold(f64::INFINITY, f64::min);
+        assert_eq!((minx, miny), (0.0, 0.0));
+    }
+}

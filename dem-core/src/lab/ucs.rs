@@ -1,0 +1,264 @@
+//! Uniaxial compression test (S4, Tan et al.; Potyondy & Cundall 2004 §3): a w × h specimen
+//! between two frictionless platen walls, longer than the specimen, moving toward each other at
+//! constant speed v each, with local damping. Measured:
+//!
+//! - axial stress σ_a = F / (w t), F the mean of the two platen forces (N);
+//! - axial strain ε_a = 2 v t_sim / h₀ from the platen gap (the platens start touching the
+//!   specimen's extreme discs);
+//! - lateral strain ε_l = Δs / s₀ from two position gauges (`outputs.gauges`), bands of
+//!   `gauge_width` mean radii at the left and right sides, s their mean-centre spacing;
+//! - E = dσ_a/dε_a and ν = dε_l/dε_a, least-squares over the pre-peak band where
+//!   σ_a ∈ [10 %, 50 %] of the peak (`band`); UCS = peak σ_a.
+//!
+//! Quasi-static rule: the platens travel the estimated failure displacement ε_f h/2 (ε_f from
+//! [`super::common::failure_strain_estimate`], a lower estimate) in 20 P-wave transit times
+//! h √(ρ/E_c); the result reports the achieved ratio of the time to peak over h √(ρ/E) with the
+//! measured E.
+
+use super::common::{self, positive, Loading, RunFacts};
+use super::history::Table;
+use super::run::run_scene;
+use super::specimens::{Shape, TestSpecimen};
+use super::{analysis, LabError, LabModel};
+use crate::output::driver::RunOptions;
+use serde::{Deserialize, Serialize};
+use serde_json::{json, Value};
+
+const TEST: &str = "ucs";
+
+/// A uniaxial compression test (SI).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct UcsTest {
+    /// Scene `<name>.json`, outputs `<name>.out/`, result `<name>.result.json` (default "ucs").
+    pub name: String,
+    /// Specimen width w and height h (m); default 10 × 20 mm (2:1 tall).
+    pub width: f64,
+    pub height: f64,
+    /// Platens overhang the specimen by this fraction of w on each side (default 0.25).
+    pub platen_overhang: f64,
+    /// Pre-peak band of the fits, fractions of the peak stress (default [0.1, 0.5]).
+    pub band: [f64; 2],
+    /// Width of the lateral gauges in mean radii (default 2).
+    pub gauge_width: f64,
+    pub loading: Loading,
+}
+
+impl Default for UcsTest {
+    fn default() -> UcsTest {
+        UcsTest {
+            name: TEST.into(),
+            width: 10e-3,
+            height: 20e-3,
+            platen_overhang: 0.25,
+            band: [0.1, 0.5],
+            gauge_width: 2.0,
+            loading: Loading::default(),
+        }
+    }
+}
+
+/// What the test measured.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct UcsReport {
+    /// Young's modulus E (Pa), Poisson's ratio ν, uniaxial compressive strength (Pa).
+    pub young: f64,
+    pub poisson: f64,
+    pub ucs: f64,
+    /// The band of the fits (fractions of the peak) and the rows in it.
+    pub band: [f64; 2],
+    pub band_rows: usize,
+    /// Axial strain at the peak.
+    pub peak_strain: f64,
+    /// Platen speed (each, m/s) and axial strain rate 2v/h (1/s).
+    pub platen_speed: f64,
+    pub strain_rate: f64,
+    /// Time to the peak (s), P-wave transit time h √(ρ/E) with the measured E (s), and their
+    /// ratio (quasi-static when ≫ 1; the rule aims at ≥ 20).
+    pub time_to_peak: f64,
+    pub transit_time: f64,
+    pub quasi_static_ratio: f64,
+}
+
+/// The result file `<name>.result.json`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct UcsOutcome {
+    pub test: UcsTest,
+    pub model: LabModel,
+    pub specimen: TestSpecimen,
+    pub result: UcsReport,
+    pub run: RunFacts,
+}
+
+impl UcsTest {
+    /// Checks every value; errors name the field (`ucs.<field>`).
+    pub fn validate(&self) -> Result<(), LabError> {
+        positive(TEST, "width", self.width)?;
+        positive(TEST, "height", self.height)?;
+        positive(TEST, "platen_overhang", self.platen_overhang)?;
+        positive(TEST, "gauge_width", self.gauge_width)?;
+        let [lo, hi] = self.band;
+        if !(lo >= 0.0 && lo < hi && hi < 1.0) {
+            return Err(LabError::Param {
+                field: "ucs.band".into(),
+                reason: format!("needs 0 ≤ lo < hi < 1 (got [{lo}, {hi}])"),
+            });
+        }
+        if self.name.is_empty() || self.name.contains(['/', '\\']) {
+            return Err(LabError::Param {
+                field: "ucs.name".into(),
+                reason: "must be a plain file stem".into(),
+            });
+        }
+        self.loading.validate(TEST)
+    }
+
+    /// The specimen shape.
+    pub fn shape(&self) -> Shape {
+        Shape::Rectangle {
+            width: self.width,
+            height: self.height,
+        }
+    }
+
+    /// Platen speed (each platen, m/s): the given one, else the quasi-static rule.
+    pub fn platen_speed(&self, model: &LabModel, spec: &TestSpecimen) -> f64 {
+        let h = spec.size()[1];
+        let u_fail = 0.5 * h * common::failure_strain_estimate(model);
+        self.loading
+            .speed_for(u_fail, common::transit_time(model, h))
+    }
+}
+
+/// The test's scene (`dem.scene/1`): the specimen file (by its file name: the scene is written
+/// beside it), two platens, left/right gauges, local damping, stop after the peak.
+pub fn scene(test: &UcsTest, model: &LabModel, spec: &TestSpecimen) -> Result<Value, LabError> {
+    test.validate()?;
+    let [x0, y0, x1, y1] = spec.extent;
+    let (w, h) = (x1 - x0, y1 - y0);
+    let v = test.platen_speed(model, spec);
+    let ov = test.platen_overhang * w;
+    let mut s = model.scene_base(&test.name, &spec.file_name(), [0.0, 0.0]);
+    s["description"] = json!(format!(
+        "Uniaxial compression (dem test ucs): platens at {v:.4e} m/s each; specimen {:.3} x {:.3} mm",
+        w * 1e3,
+        h * 1e3
+    ));
+    s["walls"] = json!([
+        {"name": "bottom", "a": [x0 - ov, y0], "b": [x1 + ov, y0],
+         "material": super::model::WALL_MATERIAL, "velocity": [0.0, v]},
+        {"name": "top", "a": [x0 - ov, y1], "b": [x1 + ov, y1],
+         "material": super::model::WALL_MATERIAL, "velocity": [0.0, -v]},
+    ]);
+    let g = test.gauge_width * spec.r_mean;
+    let gauges = json!([
+        {"name": "left", "region": [x0 - g, y0 - g, x0 + g, y1 + g]},
+        {"name": "right", "region": [x1 - g, y0 - g, x1 + g, y1 + g]},
+    ]);
+    let m = &model.micro;
+    let min_load = 0.05 * m.boundary_tensile.min(m.boundary_cohesion) * w * model.thickness;
+    let u_fail = 0.5 * h * common::failure_strain_estimate(model);
+    test.loading
+        .scene_fields(&mut s, v, u_fail, &["top".into()], "y", min_load, gauges);
+    Ok(s)
+}
+
+/// E, ν and UCS from the history of [`scene`].
+pub fn analyze(
+    t: &Table,
+    test: &UcsTest,
+    model: &LabModel,
+    spec: &TestSpecimen,
+) -> Result<UcsReport, LabError> {
+    let time = common::column(t, "time", TEST)?;
+    let top = common::column(t, "top_fy", TEST)?;
+    let bottom = common::column(t, "bottom_fy", TEST)?;
+    let left = common::column(t, "left_x", TEST)?;
+    let right = common::column(t, "right_x", TEST)?;
+    if time.len() < 10 {
+        return Err(common::analysis_error(
+            TEST,
+            format!("{} history rows: too few", time.len()),
+        ));
+    }
+    let [w, h] = spec.size();
+    let v = test.platen_speed(model, spec);
+    let area = w * model.thickness;
+    // Discs push the top platen up (+y) and the bottom one down.
+    let stress: Vec<f64> = top
+        .iter()
+        .zip(&bottom)
+        .map(|(a, b)| 0.5 * (a - b) / area)
+        .collect();
+    let axial: Vec<f64> = time.iter().map(|t| 2.0 * v * t / h).collect();
+    let s0 = right[0] - left[0];
+    let lateral: Vec<f64> = left
+        .iter()
+        .zip(&right)
+        .map(|(l, r)| (r - l - s0) / s0)
+        .collect();
+    let (ip, peak) =
+        analysis::peak(&stress).ok_or_else(|| common::analysis_error(TEST, "no stress"))?;
+    let last = *stress.last().unwrap_or(&0.0);
+    if peak <= 0.0 || last > 0.95 * peak {
+        return Err(common::analysis_error(
+            TEST,
+            format!(
+                "no failure: the load was still {:.3} of its peak at the end; raise loading.max_travel_factor",
+                last / peak
+            ),
+        ));
+    }
+    let [lo, hi] = test.band;
+    let rows = analysis::prepeak_band(&stress, lo, hi).len();
+    if rows < 5 {
+        return Err(common::analysis_error(
+            TEST,
+            format!("{rows} history rows in the {lo}-{hi} pre-peak band: lower loading.history_every or the speed"),
+        ));
+    }
+    let r = analysis::uniaxial_compression(&axial, &lateral, &stress, lo, hi)
+        .ok_or_else(|| common::analysis_error(TEST, "cannot fit the pre-peak band"))?;
+    let transit = h * (model.density / r.young).sqrt();
+    Ok(UcsReport {
+        young: r.young,
+        poisson: r.poisson,
+        ucs: r.ucs,
+        band: test.band,
+        band_rows: rows,
+        peak_strain: axial[ip],
+        platen_speed: v,
+        strain_rate: 2.0 * v / h,
+        time_to_peak: time[ip],
+        transit_time: transit,
+        quasi_static_ratio: time[ip] / transit,
+    })
+}
+
+/// Writes the scene `<name>.json` beside the specimen file, runs it (outputs `<name>.out/`),
+/// analyses it and writes `<name>.result.json` there (atomically).
+pub fn run(
+    test: &UcsTest,
+    model: &LabModel,
+    spec: &TestSpecimen,
+    progress: &mut dyn FnMut(u64, u64),
+) -> Result<UcsOutcome, LabError> {
+    let s = scene(test, model, spec)?;
+    let dir = spec.file.parent().unwrap_or(std::path::Path::new("."));
+    let r = run_scene(
+        &s,
+        &dir.join(format!("{}.json", test.name)),
+        &RunOptions::default(),
+        progress,
+    )?;
+    let result = analyze(&r.history, test, model, spec)?;
+    let out = UcsOutcome {
+        test: test.clone(),
+        model: model.clone(),
+        specimen: spec.clone(),
+        result,
+        run: RunFacts::of(&r),
+    };
+    common::write_result(&dir.join(format!("{}.result.json", test.name)), &out)?;
+    Ok(out)
+}
