@@ -165,7 +165,7 @@ impl BendingTest {
                 reason: "must be a plain file stem".into(),
             });
         }
-        self.loading.validate(TEST)
+        self.loading.validate(&format!("{TEST}.loading"))
     }
 
     pub fn shape(&self) -> Shape {

@@ -79,7 +79,7 @@ impl BrazilianTest {
                 reason: "must be a plain file stem".into(),
             });
         }
-        self.loading.validate(TEST)
+        self.loading.validate(&format!("{TEST}.loading"))
     }
 
     pub fn shape(&self) -> Shape {

@@ -110,7 +110,7 @@ impl UcsTest {
                 reason: "must be a plain file stem".into(),
             });
         }
-        self.loading.validate(TEST)
+        self.loading.validate(&format!("{TEST}.loading"))
     }
 
     /// The specimen shape.
