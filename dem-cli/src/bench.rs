@@ -27,6 +27,23 @@ pub struct SolverBench {
     /// Worker threads; results are bit-identical for any count.
     #[arg(long, default_value_t = 1)]
     threads: usize,
+    /// Lattice size `NX,NY` in hex cells of two discs (bonded only; default the full
+    /// 200,115 = 46,000 discs). E.g. 30,25 = 1,500 discs, the size of a cutting specimen.
+    #[arg(long, value_parser = parse_cells)]
+    cells: Option<[usize; 2]>,
+}
+
+fn parse_cells(s: &str) -> Result<[usize; 2], String> {
+    let (a, b) = s
+        .split_once(',')
+        .ok_or_else(|| format!("expected NX,NY, got `{s}`"))?;
+    let p = |t: &str| -> Result<usize, String> {
+        match t.trim().parse::<usize>() {
+            Ok(v) if v >= 3 => Ok(v),
+            _ => Err(format!("lattice cells must be integers >= 3, got `{t}`")),
+        }
+    };
+    Ok([p(a)?, p(b)?])
 }
 
 /// Builds the scene in memory, runs it, prints the stage times; the last line is the figure.
@@ -35,7 +52,7 @@ fn solver(name: &str, b: SolverBench, world: dem_core::World) -> Result<ExitCode
         return Err("--steps and --threads must be at least 1".into());
     }
     let mut w = world;
-    let rate = dem_core::bench::run_bench_on(&mut w, b.steps, b.threads);
+    let rate = dem_core::bench::run_bench_timed(&mut w, b.steps, b.threads);
     w.check()
         .map_err(|e| format!("{name} benchmark stopped by the guard: {e}"))?;
     let bonds = w.bonds.as_ref().map_or(0, |x| x.n_intact());
@@ -47,8 +64,37 @@ fn solver(name: &str, b: SolverBench, world: dem_core::World) -> Result<ExitCode
         b.threads
     );
     print!("{}", w.counters.report());
-    println!("particle-steps/s: {rate:.4e}");
+    println!("state digest: {:016x}", digest(&w));
+    if let Some(c) = rate.cpu {
+        println!("particle-steps per CPU-second (all threads): {c:.4e}");
+    }
+    println!("particle-steps/s: {:.4e}", rate.wall);
     Ok(ExitCode::SUCCESS)
+}
+
+/// A 64-bit FNV-1a digest of the bits of the disc state and the bond forces: equal digests
+/// across thread counts and builds show bit-identical runs.
+fn digest(w: &dem_core::World) -> u64 {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    let mut eat = |v: u64| {
+        for b in v.to_le_bytes() {
+            h = (h ^ b as u64).wrapping_mul(0x100_0000_01b3);
+        }
+    };
+    let d = &w.state.discs;
+    for a in [
+        &d.x, &d.y, &d.theta, &d.vx, &d.vy, &d.omega, &d.fx, &d.fy, &d.torque,
+    ] {
+        a.iter().for_each(|v| eat(v.to_bits()));
+    }
+    if let Some(b) = &w.bonds {
+        for v in b.iter() {
+            eat(v.fn_.to_bits());
+            eat(v.fs.to_bits());
+            eat(v.m.to_bits());
+        }
+    }
+    h
 }
 
 #[derive(Args)]
@@ -155,7 +201,18 @@ fn clump(b: ClumpBench) -> Result<ExitCode, String> {
 pub fn run(k: BenchKind) -> Result<ExitCode, String> {
     match k {
         BenchKind::Clump(b) => clump(b),
-        BenchKind::Dense(b) => solver("dense", b, dem_core::bench::dense_lattice_scene()),
-        BenchKind::Bonded(b) => solver("bonded", b, dem_core::bond::bench::bonded_lattice_scene()),
+        BenchKind::Dense(b) => {
+            if b.cells.is_some() {
+                return Err("--cells applies to `dem bench bonded` only".into());
+            }
+            solver("dense", b, dem_core::bench::dense_lattice_scene())
+        }
+        BenchKind::Bonded(b) => {
+            let w = match b.cells {
+                None => dem_core::bond::bench::bonded_lattice_scene(),
+                Some(c) => dem_core::bond::bench::bonded_lattice_world(c),
+            };
+            solver("bonded", b, w)
+        }
     }
 }

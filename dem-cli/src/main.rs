@@ -9,6 +9,7 @@ mod clump;
 mod run;
 mod specimen;
 mod test;
+mod test_cutting;
 
 #[derive(Parser)]
 #[command(name = "dem", version, about = "2D DEM of brittle-material machining")]

@@ -27,6 +27,9 @@ pub enum TestKind {
     Brazilian(BrazilianArgs),
     /// Three-point bending of a beam: σ_f = 3FL/(2bh²) and the elastic stiffness.
     Bending(BendingArgs),
+    /// Orthogonal cutting: peak and mean main and vertical force, chips, broken bonds,
+    /// machined surface (docs/cutting.md).
+    Cutting(crate::test_cutting::CuttingArgs),
 }
 
 /// Specimen, material model and output flags shared by every test (the specimen flags are
@@ -245,6 +248,7 @@ pub fn run(kind: TestKind) -> Result<ExitCode, String> {
         TestKind::Ucs(a) => ucs(a),
         TestKind::Brazilian(a) => brazilian(a),
         TestKind::Bending(a) => bending(a),
+        TestKind::Cutting(a) => crate::test_cutting::run(a),
     }
 }
 

@@ -70,13 +70,46 @@ pub fn run_bench(mut world: World, steps: u64, threads: usize) -> f64 {
 
 /// As [`run_bench`], leaving the world (and its stage counters) to the caller.
 pub fn run_bench_on(world: &mut World, steps: u64, threads: usize) -> f64 {
+    run_bench_timed(world, steps, threads).wall
+}
+
+/// Particle-steps per second of a benchmark run, by wall time and by CPU time.
+#[derive(Clone, Copy, Debug)]
+pub struct BenchRate {
+    /// discs × steps / wall time.
+    pub wall: f64,
+    /// discs × steps / CPU time of all threads of the process (Linux only; `None` elsewhere).
+    /// On a machine shared with other jobs this varies less than the wall figure.
+    pub cpu: Option<f64>,
+}
+
+/// CPU time (s) used so far by all threads of this process, from
+/// `/proc/self/task/*/schedstat` (nanoseconds on CPU); `None` when unavailable.
+pub fn process_cpu_seconds() -> Option<f64> {
+    let mut ns: u64 = 0;
+    for e in std::fs::read_dir("/proc/self/task").ok()? {
+        let p = e.ok()?.path().join("schedstat");
+        let s = std::fs::read_to_string(p).ok()?;
+        ns += s.split_whitespace().next()?.parse::<u64>().ok()?;
+    }
+    Some(ns as f64 * 1e-9)
+}
+
+/// As [`run_bench_on`], reporting the CPU-time rate as well.
+pub fn run_bench_timed(world: &mut World, steps: u64, threads: usize) -> BenchRate {
     let mut go = || {
         world.step();
         world.counters.reset();
+        let c0 = process_cpu_seconds();
         let t = Instant::now();
         world.run(steps);
         let s = t.elapsed().as_secs_f64();
-        world.state.discs.len() as f64 * steps as f64 / s
+        let c1 = process_cpu_seconds();
+        let work = world.state.discs.len() as f64 * steps as f64;
+        BenchRate {
+            wall: work / s,
+            cpu: c0.zip(c1).map(|(a, b)| work / (b - a).max(1e-9)),
+        }
     };
     match rayon::ThreadPoolBuilder::new()
         .num_threads(threads.max(1))

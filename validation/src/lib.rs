@@ -3,9 +3,11 @@
 //! and JSON.
 
 pub mod clump_sweep;
+pub mod cutting_runs;
 pub mod environment;
 pub mod page;
 pub mod plot;
 pub mod report;
+pub mod stability;
 pub mod table1;
 pub mod table2;

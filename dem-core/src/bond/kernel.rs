@@ -71,6 +71,20 @@ pub(super) struct DiscView<'a> {
 }
 
 impl DiscView<'_> {
+    /// Whether all disc arrays have the length of `x`.
+    fn lengths_agree(&self) -> bool {
+        let n = self.x.len();
+        [
+            self.y.len(),
+            self.vx.len(),
+            self.vy.len(),
+            self.omega.len(),
+            self.r.len(),
+        ]
+        .iter()
+        .all(|&l| l == n)
+    }
+
     /// (n̂, gap, a_i, a_j) of the pair (i, j), as the kernel computes them.
     pub fn geometry(&self, i: usize, j: usize) -> (f64, f64, f64, f64, f64) {
         let dx = min_image(self.x[j] - self.x[i], self.per[0]);
@@ -128,6 +142,8 @@ pub(super) fn run(
     let nd = out.fx.len();
     let (fx, fy, tq) = (&mut out.fx[..nd], &mut out.fy[..nd], &mut out.tq[..nd]);
     let parallel = nb >= PAR_MIN_BONDS && rayon::current_num_threads() > 1;
+    // Whether every disc index is in range (then the gather and scatter skip the checks).
+    let valid = c.v.x.len() == nd && c.v.lengths_agree() && indices_below(b.i, b.j, nd);
     if !parallel {
         let mut o = [[0.0f64; 4]; BLOCK];
         let mut w = Work::new();
@@ -135,7 +151,14 @@ pub(super) fn run(
         for k in (0..nb).step_by(BLOCK) {
             let e = (k + BLOCK).min(nb);
             let mut s = sub(&mut m, k..e);
-            broke += block_best(c, b, k, &mut s, &mut o[..e - k], &mut w, avx2);
+            let (nbrk, all_intact) =
+                block_best(c, b, k, &mut s, &mut o[..e - k], &mut w, avx2, valid);
+            broke += nbrk;
+            if valid && all_intact && nbrk == 0 {
+                // SAFETY: `valid`: all indices < nd = fx.len() = fy.len() = tq.len().
+                unsafe { scatter_unchecked(fx, fy, tq, &b.i[k..e], &b.j[k..e], &o[..e - k]) };
+                continue;
+            }
             for q in k..e {
                 if m.status[q] == INTACT {
                     scatter(fx, fy, tq, b.i[q] as usize, b.j[q] as usize, &o[q - k]);
@@ -169,7 +192,7 @@ pub(super) fn run(
             for k in (0..len).step_by(BLOCK) {
                 let e = (k + BLOCK).min(len);
                 let mut s = sub(&mut chunk, k..e);
-                broke += block_best(c, b, base + k, &mut s, &mut o[k..e], &mut w, avx2);
+                broke += block_best(c, b, base + k, &mut s, &mut o[k..e], &mut w, avx2, valid).0;
             }
             broke
         })
@@ -205,6 +228,41 @@ fn scatter(fx: &mut [f64], fy: &mut [f64], tq: &mut [f64], i: usize, j: usize, o
     tq[j] += o[3];
 }
 
+/// Whether every index in `i` and `j` is below `n` (branch-free reduction).
+fn indices_below(i: &[u32], j: &[u32], n: usize) -> bool {
+    let m = i.iter().chain(j).fold(0u32, |m, &k| m.max(k));
+    i.is_empty() || (m as usize) < n
+}
+
+/// [`scatter`] for a block of intact bonds, without bounds checks.
+///
+/// # Safety
+/// Every index in `i` and `j` must be below the common length of `fx`, `fy` and `tq`, and
+/// `i`, `j`, `o` must have one length.
+#[inline(always)]
+unsafe fn scatter_unchecked(
+    fx: &mut [f64],
+    fy: &mut [f64],
+    tq: &mut [f64],
+    i: &[u32],
+    j: &[u32],
+    o: &[[f64; 4]],
+) {
+    for k in 0..o.len() {
+        let (i, j, o) = (
+            *i.get_unchecked(k) as usize,
+            *j.get_unchecked(k) as usize,
+            o.get_unchecked(k),
+        );
+        *fx.get_unchecked_mut(i) -= o[0];
+        *fy.get_unchecked_mut(i) -= o[1];
+        *tq.get_unchecked_mut(i) += o[2];
+        *fx.get_unchecked_mut(j) += o[0];
+        *fy.get_unchecked_mut(j) += o[1];
+        *tq.get_unchecked_mut(j) += o[3];
+    }
+}
+
 /// [`block`] compiled for AVX2 (4 lanes). Only selects, +, −, ×, ÷ and √ are used, all
 /// correctly rounded in IEEE 754, and Rust never contracts to FMA, so the results are the
 /// same bits as the baseline build (the approach of `contact::disc_disc`).
@@ -220,12 +278,18 @@ unsafe fn block_avx2(
     m: &mut BondsMut,
     out: &mut [[f64; 4]],
     w: &mut Work,
-) -> usize {
-    block(c, b, base, m, out, w)
+    valid: bool,
+) -> (usize, bool) {
+    if valid {
+        block::<true>(c, b, base, m, out, w)
+    } else {
+        block::<false>(c, b, base, m, out, w)
+    }
 }
 
 /// [`block`] with the best instruction set available.
 #[inline(always)]
+#[allow(clippy::too_many_arguments)]
 fn block_best(
     c: &Ctx,
     b: &BondsIn,
@@ -234,14 +298,19 @@ fn block_best(
     out: &mut [[f64; 4]],
     w: &mut Work,
     avx2: bool,
-) -> usize {
+    valid: bool,
+) -> (usize, bool) {
     #[cfg(target_arch = "x86_64")]
     if avx2 {
         // SAFETY: `avx2` is true only when the CPU reports AVX2 (see `has_avx2`).
-        return unsafe { block_avx2(c, b, base, m, out, w) };
+        return unsafe { block_avx2(c, b, base, m, out, w, valid) };
     }
     let _ = avx2;
-    block(c, b, base, m, out, w)
+    if valid {
+        block::<true>(c, b, base, m, out, w)
+    } else {
+        block::<false>(c, b, base, m, out, w)
+    }
 }
 
 /// Does the CPU support AVX2?
@@ -289,16 +358,17 @@ impl Work {
 /// Update the block of bonds `base..base + m.status.len()`: new forces and status, and for each
 /// bond still intact the force on disc j and the torques on i and j (`[fx, fy, ti, tj]`) in
 /// `out` (entries of bonds that are not intact are not to be scattered). Returns the number of
-/// bonds broken now.
+/// bonds broken now and whether all bonds of the block were intact before. `VALID`: every
+/// disc index of the bonds is known to be in range (checked by the caller).
 #[inline(always)]
-fn block(
+fn block<const VALID: bool>(
     c: &Ctx,
     b: &BondsIn,
     base: usize,
     m: &mut BondsMut,
     out: &mut [[f64; 4]],
     w: &mut Work,
-) -> usize {
+) -> (usize, bool) {
     let n = m.status.len();
     let r = base..base + n;
     let (i_, j_, grp) = (&b.i[r.clone()], &b.j[r.clone()], &b.group[r.clone()]);
@@ -323,7 +393,23 @@ fn block(
         wjs,
         geo,
     } = w;
-    for k in 0..n {
+    if VALID {
+        for k in 0..n {
+            // SAFETY: VALID: the caller checked i, j < nd for every bond; k < n = len of all.
+            unsafe {
+                let (i, j) = (*i_.get_unchecked(k) as usize, *j_.get_unchecked(k) as usize);
+                dxs[k] = x.get_unchecked(j) - x.get_unchecked(i);
+                dys[k] = y.get_unchecked(j) - y.get_unchecked(i);
+                ris[k] = *rad.get_unchecked(i);
+                rjs[k] = *rad.get_unchecked(j);
+                dvx[k] = vx.get_unchecked(j) - vx.get_unchecked(i);
+                dvy[k] = vy.get_unchecked(j) - vy.get_unchecked(i);
+                wis[k] = *omega.get_unchecked(i);
+                wjs[k] = *omega.get_unchecked(j);
+            }
+        }
+    }
+    for k in 0..if VALID { 0 } else { n } {
         let (i, j) = (i_[k] as usize, j_[k] as usize);
         if i >= nd || j >= nd {
             // Cannot happen (indices are checked when bonds are added or remapped).
@@ -401,14 +487,15 @@ fn block(
                 tensile, cohesion, ..
             },
         ) if n == BLOCK
-            && grp.iter().all(|&g| g as usize == g_first)
-            && status.iter().all(|&s| s == INTACT) =>
+            && grp.iter().fold(0, |a, &g| a | (g ^ g_first as u16)) == 0
+            && status.iter().fold(INTACT, |a, &s| a | s) == INTACT =>
         {
             Some((*p, tensile, cohesion, c.compiled[g_first].tan_phi))
         }
         _ => None,
     };
     let mut codes = [0u8; BLOCK];
+    let all_intact = fast.is_some();
     if let Some((p, tensile, cohesion, tan_phi)) = fast {
         // Pass 2, fast: straight-line code over the block (intact parallel bonds, stress
         // criterion, one group).
@@ -459,13 +546,15 @@ fn block(
         }
     }
     let mut broke = 0;
-    for k in 0..n {
-        if codes[k] != 0 {
-            status[k] = NEW + codes[k] - 1;
-            broke += 1;
+    if codes.iter().fold(0, |a, &c| a | c) != 0 {
+        for k in 0..n {
+            if codes[k] != 0 {
+                status[k] = NEW + codes[k] - 1;
+                broke += 1;
+            }
         }
     }
-    broke
+    (broke, all_intact)
 }
 
 #[cfg(test)]

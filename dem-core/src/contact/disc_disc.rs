@@ -1,22 +1,24 @@
 //! Disc–disc force pass over the neighbour list.
 //!
 //! Pairs are computed in blocks ([`super::kernel`]): gather, branch-free evaluation of the law
-//! (vectorised), then a scatter loop adds the forces to the discs in pair order. Discs are
-//! grouped in fixed chunks of [`CHUNK`] discs (independent of the thread count). One thread:
-//! forces are scattered pair by pair in list order. Several threads: chunks run in parallel
-//! and write per-pair slots, then every disc gathers its partner-side slots (increasing pair
-//! order) and adds its own pairs' sum — the same sequence of floating-point additions as the
-//! serial scatter, so results are bit-identical for any thread count. Energies are summed in
-//! pair order within a chunk and the chunk sums added in chunk order.
+//! (vectorised), then a scatter loop adds the forces to the discs in pair order. One thread:
+//! forces are scattered pair by pair in list order. Several threads: each owns a contiguous
+//! range of discs and scatters directly into it; the few discs at range boundaries get their
+//! forces in a short second pass in the same order ([`super::owned`]) — the same sequence of
+//! floating-point additions as the one-thread scatter, so results are bit-identical for any
+//! thread count. Energies are summed in pair order within fixed chunks of [`CHUNK`] discs and
+//! the chunk sums added in chunk order.
 
-use super::kernel::{at, block, has_avx2, Ctx, LinearGamma, LinearRatio, PairLaw, Scratch, BLOCK};
+use super::kernel::{Ctx, LinearGamma, LinearRatio, PairLaw, Scratch};
+use super::owned::{self, ListRef, Outs, Plan};
 use super::{ContactLaws, ContactModel, NormalDamping};
 use crate::neighbors::{MinImage, Neighbors};
 use crate::state::Discs;
-use rayon::prelude::*;
 
-/// Discs per work chunk (fixed so that reductions do not depend on the thread count).
+/// Discs per energy chunk (fixed so that reductions do not depend on the thread count).
 pub const CHUNK: usize = 512;
+/// Split the pass between threads from this many listed pairs on.
+pub const PAR_MIN_PAIRS: usize = 2048;
 
 /// Energies of one force pass: strain (stored, at this step), dissipated by friction during
 /// this step, and (walls only) the part F_d · v_wall Δt of the wall dashpots' dissipation; the
@@ -58,23 +60,26 @@ impl Dashpot {
     }
 }
 
-/// Per-pair force slots for the parallel pass (fx, fy on j; torques on i and j).
+/// Work arrays of the pass (see [`super::owned`]): partner-side force slots of pairs whose
+/// partner is a shared disc (fx, fy on j, torque on j), own-pair sums of shared discs.
 #[derive(Clone, Debug, Default)]
 pub struct Slots {
     /// Per-disc dashpot sums of this step (energy tracking only).
     pub dashpot: Dashpot,
-    /// Per-pair dashpot slots of the parallel pass (energy tracking only).
+    /// Partner-side dashpot slots (energy tracking only).
     pub dfx: Vec<f64>,
     pub dfy: Vec<f64>,
-    pub dti: Vec<f64>,
     pub dtj: Vec<f64>,
-    /// Block scratch of the serial pass (allocated once).
+    /// Block scratch of the one-thread pass (allocated once).
     pub scratch: Box<Scratch>,
     pub fx: Vec<f64>,
     pub fy: Vec<f64>,
-    pub ti: Vec<f64>,
     pub tj: Vec<f64>,
+    /// Own-pair sums of shared discs: fx, fy, torque, and the dashpot parts.
+    pub own: [Vec<f64>; 6],
     pub chunk_energy: Vec<PassEnergy>,
+    /// The split of the discs between threads.
+    pub plan: Plan,
 }
 
 /// Whether the list is consistent with `n` discs (checked before unchecked indexing).
@@ -150,28 +155,12 @@ type Args<'a> = (
 
 fn run<L: PairLaw>(a: Args, law: &L) -> PassEnergy {
     let (d, nb, minv, img, dt, track, slots) = a;
-    let parallel = rayon::current_num_threads() > 1 && d.len() > 2 * CHUNK;
-    match (track, parallel) {
-        (true, false) => serial::<true, L>(d, nb, minv, law, img, dt, slots),
-        (false, false) => serial::<false, L>(d, nb, minv, law, img, dt, slots),
-        (true, true) => parallel_pass::<true, L>(d, nb, minv, law, img, dt, slots),
-        (false, true) => parallel_pass::<false, L>(d, nb, minv, law, img, dt, slots),
-    }
-}
-
-fn serial<const E: bool, L: PairLaw>(
-    d: &mut Discs,
-    nb: &mut Neighbors,
-    minv: &[f64],
-    law: &L,
-    img: MinImage,
-    dt: f64,
-    slots: &mut Slots,
-) -> PassEnergy {
-    let n = d.len();
-    let Slots {
-        scratch, dashpot, ..
-    } = slots;
+    let threads = rayon::current_num_threads();
+    let ranges = if threads > 1 && nb.nbr.len() >= PAR_MIN_PAIRS {
+        threads
+    } else {
+        1
+    };
     let Discs {
         x,
         y,
@@ -202,261 +191,26 @@ fn serial<const E: bool, L: PairLaw>(
         dt,
     };
     let (us, mr) = (&mut nb.us, &mut nb.mr);
-    let sc = &mut *scratch;
-    let avx2 = has_avx2();
-    let mut total = PassEnergy::default();
-    let mut lo = 0;
-    while lo < n {
-        let hi = (lo + CHUNK).min(n);
-        let mut e = PassEnergy::default();
-        let (mut i, mut ax, mut ay, mut at) = (lo, 0.0, 0.0, 0.0);
-        let (mut bx, mut by, mut bt) = (0.0, 0.0, 0.0);
-        let mut gi = lo;
-        let (mut p, pend) = (c.start[lo] as usize, c.start[hi] as usize);
-        while p < pend {
-            let q = BLOCK.min(pend - p);
-            let (u, m) = (&mut us[p..p + q], &mut mr[p..p + q]);
-            block::<E, L>(&c, p, &mut gi, u, m, sc, &mut e, avx2);
-            for k in 0..q {
-                let pp = p + k;
-                while at!(c.start, i + 1) as usize <= pp {
-                    fx[i] += ax;
-                    fy[i] += ay;
-                    torque[i] += at;
-                    (ax, ay, at) = (0.0, 0.0, 0.0);
-                    if E {
-                        dashpot.fx[i] += bx;
-                        dashpot.fy[i] += by;
-                        dashpot.t[i] += bt;
-                        (bx, by, bt) = (0.0, 0.0, 0.0);
-                    }
-                    i += 1;
-                }
-                // Pairs not in contact add zeros, exactly as the parallel gather does.
-                let (f0, f1, f2, f3) = (sc.fx[k], sc.fy[k], sc.ti[k], sc.tj[k]);
-                ax -= f0;
-                ay -= f1;
-                at += f2;
-                let j = at!(c.nbr, pp) as usize;
-                // SAFETY: j < n and pp < np (see `valid`).
-                unsafe {
-                    *fx.get_unchecked_mut(j) += f0;
-                    *fy.get_unchecked_mut(j) += f1;
-                    *torque.get_unchecked_mut(j) += f3;
-                    *us.get_unchecked_mut(pp) = sc.us[k];
-                }
-                if E {
-                    bx -= sc.dfx[k];
-                    by -= sc.dfy[k];
-                    bt += sc.dti[k];
-                    dashpot.fx[j] += sc.dfx[k];
-                    dashpot.fy[j] += sc.dfy[k];
-                    dashpot.t[j] += sc.dtj[k];
-                }
-            }
-            p += q;
-        }
-        while i < hi {
-            fx[i] += ax;
-            fy[i] += ay;
-            torque[i] += at;
-            (ax, ay, at) = (0.0, 0.0, 0.0);
-            if E {
-                dashpot.fx[i] += bx;
-                dashpot.fy[i] += by;
-                dashpot.t[i] += bt;
-                (bx, by, bt) = (0.0, 0.0, 0.0);
-            }
-            i += 1;
-        }
-        total.add(&e);
-        lo = hi;
-    }
-    total
-}
-
-thread_local! {
-    /// One block scratch per worker thread of the parallel pass, allocated once.
-    static SCRATCH: std::cell::RefCell<Box<Scratch>> = std::cell::RefCell::new(Box::default());
-}
-
-/// Run `f` with this thread's block scratch.
-fn with_scratch<R>(f: impl FnOnce(&mut Scratch) -> R) -> R {
-    SCRATCH.with(|s| f(&mut s.borrow_mut()))
-}
-
-/// Raw pointer that may be shared across threads; each chunk touches a disjoint range.
-#[derive(Clone, Copy)]
-struct SyncPtr(*mut f64);
-unsafe impl Send for SyncPtr {}
-unsafe impl Sync for SyncPtr {}
-
-impl SyncPtr {
-    /// # Safety
-    /// `[a, a + len)` must be in bounds and not aliased by any other live reference.
-    unsafe fn slice<'a>(self, a: usize, len: usize) -> &'a mut [f64] {
-        std::slice::from_raw_parts_mut(self.0.add(a), len)
-    }
-}
-
-fn parallel_pass<const E: bool, L: PairLaw>(
-    d: &mut Discs,
-    nb: &mut Neighbors,
-    minv: &[f64],
-    law: &L,
-    img: MinImage,
-    dt: f64,
-    s: &mut Slots,
-) -> PassEnergy {
-    let n = d.len();
-    let np = nb.nbr.len();
-    for v in [&mut s.fx, &mut s.fy, &mut s.ti, &mut s.tj] {
-        v.resize(np, 0.0);
-    }
-    if E {
-        for v in [&mut s.dfx, &mut s.dfy, &mut s.dti, &mut s.dtj] {
-            v.resize(np, 0.0);
-        }
-    }
-    let nchunks = n.div_ceil(CHUNK);
-    {
-        let c = Ctx {
-            x: &d.x,
-            y: &d.y,
-            vx: &d.vx,
-            vy: &d.vy,
-            w: &d.omega,
-            r: &d.r,
-            mat: &d.material,
-            minv,
-            start: &nb.start,
-            nbr: &nb.nbr,
-            g0: &nb.g0,
-            law,
-            img,
-            dt,
-        };
-        let ptr = [
-            SyncPtr(nb.us.as_mut_ptr()),
-            SyncPtr(nb.mr.as_mut_ptr()),
-            SyncPtr(s.fx.as_mut_ptr()),
-            SyncPtr(s.fy.as_mut_ptr()),
-            SyncPtr(s.ti.as_mut_ptr()),
-            SyncPtr(s.tj.as_mut_ptr()),
-        ];
-        // Only dereferenced when E (then the four arrays have length np).
-        let dptr = [
-            SyncPtr(s.dfx.as_mut_ptr()),
-            SyncPtr(s.dfy.as_mut_ptr()),
-            SyncPtr(s.dti.as_mut_ptr()),
-            SyncPtr(s.dtj.as_mut_ptr()),
-        ];
-        let avx2 = has_avx2();
-        (0..nchunks)
-            .into_par_iter()
-            .map(|ch| {
-                let (lo, hi) = (ch * CHUNK, ((ch + 1) * CHUNK).min(n));
-                let mut e = PassEnergy::default();
-                with_scratch(|sc| {
-                    let mut gi = lo;
-                    let (mut p, pend) = (c.start[lo] as usize, c.start[hi] as usize);
-                    while p < pend {
-                        let q = BLOCK.min(pend - p);
-                        // SAFETY: pairs [p, p + q) belong to this chunk only (chunks cover
-                        // disjoint pair ranges) and all six arrays have length np ≥ p + q.
-                        let (u, m, fx, fy, ti, tj) = unsafe {
-                            (
-                                ptr[0].slice(p, q),
-                                ptr[1].slice(p, q),
-                                ptr[2].slice(p, q),
-                                ptr[3].slice(p, q),
-                                ptr[4].slice(p, q),
-                                ptr[5].slice(p, q),
-                            )
-                        };
-                        block::<E, L>(&c, p, &mut gi, u, m, sc, &mut e, avx2);
-                        u.copy_from_slice(&sc.us[..q]);
-                        fx.copy_from_slice(&sc.fx[..q]);
-                        fy.copy_from_slice(&sc.fy[..q]);
-                        ti.copy_from_slice(&sc.ti[..q]);
-                        tj.copy_from_slice(&sc.tj[..q]);
-                        if E {
-                            // SAFETY: as above; the dashpot slots have length np when E.
-                            unsafe {
-                                dptr[0].slice(p, q).copy_from_slice(&sc.dfx[..q]);
-                                dptr[1].slice(p, q).copy_from_slice(&sc.dfy[..q]);
-                                dptr[2].slice(p, q).copy_from_slice(&sc.dti[..q]);
-                                dptr[3].slice(p, q).copy_from_slice(&sc.dtj[..q]);
-                            }
-                        }
-                        p += q;
-                    }
-                    e
-                })
-            })
-            .collect_into_vec(&mut s.chunk_energy);
-    }
-    gather(
-        nb,
-        [&s.fx, &s.fy, &s.ti, &s.tj],
-        [&mut d.fx, &mut d.fy, &mut d.torque],
-    );
-    if E {
-        let dp = &mut s.dashpot;
-        gather(
-            nb,
-            [&s.dfx, &s.dfy, &s.dti, &s.dtj],
-            [&mut dp.fx, &mut dp.fy, &mut dp.t],
-        );
-    }
-    let mut total = PassEnergy::default();
-    for e in &s.chunk_energy {
-        total.add(e);
-    }
-    total
-}
-
-/// Per-disc sums of per-pair slots (force on j, torques on i and j): each disc adds its
-/// partner-side slots in pair order, then the sum of its own pairs, the order of the serial
-/// scatter (bit-identical results). The output arrays have length n.
-fn gather(nb: &Neighbors, slots: [&Vec<f64>; 4], outs: [&mut Vec<f64>; 3]) {
-    let n = nb.start.len() - 1;
-    let nchunks = n.div_ceil(CHUNK);
-    let (start, rstart, rpair) = (&nb.start, &nb.rstart, &nb.rpair);
-    let [sfx, sfy, sti, stj] = slots;
-    let [o0, o1, o2] = outs;
-    let out = [
-        SyncPtr(o0.as_mut_ptr()),
-        SyncPtr(o1.as_mut_ptr()),
-        SyncPtr(o2.as_mut_ptr()),
-    ];
-    (0..nchunks).into_par_iter().for_each(|ch| {
-        let (lo, hi) = (ch * CHUNK, ((ch + 1) * CHUNK).min(n));
-        // SAFETY: discs [lo, hi) belong to this chunk only; arrays have length n ≥ hi.
-        let (fxs, fys, ts) = unsafe {
-            (
-                out[0].slice(lo, hi - lo),
-                out[1].slice(lo, hi - lo),
-                out[2].slice(lo, hi - lo),
-            )
-        };
-        for k in lo..hi {
-            let (fxk, fyk, tk) = (&mut fxs[k - lo], &mut fys[k - lo], &mut ts[k - lo]);
-            for &p in &rpair[rstart[k] as usize..rstart[k + 1] as usize] {
-                let p = p as usize;
-                *fxk += sfx[p];
-                *fyk += sfy[p];
-                *tk += stj[p];
-            }
-            let (mut ax, mut ay, mut at) = (0.0, 0.0, 0.0);
-            for p in start[k] as usize..start[k + 1] as usize {
-                ax -= sfx[p];
-                ay -= sfy[p];
-                at += sti[p];
-            }
-            *fxk += ax;
-            *fyk += ay;
-            *tk += at;
-        }
-    });
+    let list = ListRef {
+        builds: nb.builds,
+        start: &nb.start,
+        nbr: &nb.nbr,
+        rstart: &nb.rstart,
+        rpair: &nb.rpair,
+    };
+    // The dashpot sums are lent to the pass (moved out and back: no copy).
+    let mut dash = std::mem::take(&mut slots.dashpot);
+    let outs = Outs {
+        fx,
+        fy,
+        tq: torque,
+        dash: [&mut dash.fx, &mut dash.fy, &mut dash.t],
+    };
+    let e = if track {
+        owned::pass::<true, L>(&c, us, mr, &list, outs, slots, ranges)
+    } else {
+        owned::pass::<false, L>(&c, us, mr, &list, outs, slots, ranges)
+    };
+    slots.dashpot = dash;
+    e
 }

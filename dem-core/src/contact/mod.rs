@@ -26,6 +26,7 @@ pub mod disc_segment;
 pub mod hertz_mindlin;
 pub mod kernel;
 pub mod linear_spring_dashpot;
+pub mod owned;
 pub mod rolling;
 
 pub use hertz_mindlin::HertzMindlin;

@@ -12,6 +12,8 @@
 //! ucs       uniaxial compression: E, ν (10–50 % pre-peak band), UCS
 //! brazilian Brazilian disc: σ_t
 //! bending   three-point bending: σ_f, elastic stiffness (vs Timoshenko)
+//! cutting   the cutting test (tool.rs geometry, chips.rs fragments, surface.rs roughness)
+//! calibrate micro-parameters from target properties (Potyondy & Cundall 2004 procedure)
 //! ```
 //!
 //! Docs: `docs/lab-tests.md`.
@@ -20,11 +22,15 @@ pub mod analysis;
 pub mod bending;
 pub mod brazilian;
 pub mod calibrate;
+pub mod chips;
 pub mod common;
+pub mod cutting;
 pub mod history;
 pub mod model;
 pub mod run;
 pub mod specimens;
+pub mod surface;
+pub mod tool;
 pub mod ucs;
 
 pub use model::LabModel;

@@ -1,0 +1,367 @@
+//! `dem test cutting`: orthogonal cutting of a specimen (`docs/cutting.md`). The specimen is a
+//! file written by `dem specimen` (its summary and scene beside it give the micro-parameters),
+//! the scene is written to the output folder as a plain file (`dem run` re-runs it), run, and
+//! analysed: peak and mean main and vertical force over the steady window, chips, broken
+//! bonds, machined surface, residual cracks.
+
+use crate::specimen::{parse_length, read_material};
+use crate::test::{progress_bar, LabArgs};
+use clap::Args;
+use dem_core::lab::cutting::{self, CuttingResult, CuttingTest};
+use dem_core::lab::LabModel;
+use dem_core::specimen::io;
+use indicatif::{ProgressBar, ProgressStyle};
+use std::io::IsTerminal;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+/// `dem test cutting` flags. Lengths take a unit suffix (`1mm`, `10mm`, `0.5um`, `1e-3m`);
+/// the speed is in m/s (`1`, `2`, or `1m/s`); angles in degrees.
+#[derive(Args, Clone, Debug)]
+pub struct CuttingArgs {
+    /// Specimen file written by `dem specimen` (<stem>.summary.json and <stem>.scene.json
+    /// beside it give the model unless --model is given). Without it a specimen is generated
+    /// from the specimen flags below into <out>/specimen.json.
+    #[arg(long)]
+    pub specimen: Option<PathBuf>,
+    /// Generation (without --specimen): traditional | orc | improved.
+    #[arg(long, default_value = "traditional")]
+    pub method: String,
+    /// Generation: specimen width with unit.
+    #[arg(long, default_value = "20mm")]
+    pub width: String,
+    /// Generation: specimen height with unit.
+    #[arg(long, default_value = "10mm")]
+    pub height: String,
+    /// Generation: smallest disc radius with unit (required without --specimen).
+    #[arg(long)]
+    pub r_min: Option<String>,
+    /// Generation: largest disc radius with unit (required without --specimen).
+    #[arg(long)]
+    pub r_max: Option<String>,
+    /// Generation: mean grain diameter with unit (orc, improved).
+    #[arg(long)]
+    pub grain_size: Option<String>,
+    /// Generation: smallest template disc radius with unit (improved).
+    #[arg(long)]
+    pub template_r_min: Option<String>,
+    /// Generation: material file (data/materials/*.json).
+    #[arg(long)]
+    pub material: Option<PathBuf>,
+    /// Generation: Young's modulus with unit, overriding the material file.
+    #[arg(long)]
+    pub youngs: Option<String>,
+    /// Generation: tensile strength with unit, overriding the material file.
+    #[arg(long)]
+    pub tensile: Option<String>,
+    /// Generation: density (kg/m³), overriding the material file.
+    #[arg(long)]
+    pub density: Option<f64>,
+    /// Generation: random seed.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// A CuttingTest JSON (all fields optional, SI units, see docs/cutting.md); the flags
+    /// below override it.
+    #[arg(long)]
+    pub params: Option<PathBuf>,
+    /// Depth of cut a_p with unit (default 1mm).
+    #[arg(long)]
+    pub depth: Option<String>,
+    /// Cutting speed in m/s (default 1).
+    #[arg(long)]
+    pub speed: Option<String>,
+    /// Cut length L with unit (default 10mm).
+    #[arg(long)]
+    pub length: Option<String>,
+    /// Rake angle in degrees (default 0; positive leans the rake face back).
+    #[arg(long, allow_hyphen_values = true)]
+    pub rake_angle: Option<f64>,
+    /// Clearance angle in degrees (default 7).
+    #[arg(long)]
+    pub clearance_angle: Option<f64>,
+    /// Tool stiffness as a multiple of the disc contact k_n (default 10).
+    #[arg(long)]
+    pub tool_stiffness: Option<f64>,
+    /// Tool-disc friction coefficient (default 0).
+    #[arg(long)]
+    pub tool_friction: Option<f64>,
+    /// Safety factor of the automatic time step (default 0.3).
+    #[arg(long)]
+    pub dt_factor: Option<f64>,
+    /// Target number of history rows (default 4000).
+    #[arg(long)]
+    pub history_rows: Option<u64>,
+    /// VTK snapshots over the run (default 0).
+    #[arg(long)]
+    pub snapshots: Option<u64>,
+    /// A LabModel JSON (density, thickness, r_mean, micro; `dem calibrate` writes one) to run
+    /// with instead of the specimen's own micro-parameters.
+    #[arg(long)]
+    pub model: Option<PathBuf>,
+    /// Output folder: cutting.scene.json, the run's outputs, cutting.forces.csv,
+    /// cutting.result.json.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Worker threads (default: all cores); results do not depend on it.
+    #[arg(long)]
+    pub threads: Option<usize>,
+}
+
+/// `1`, `2.5`, `1m/s`, `1 m/s` → m/s.
+fn parse_speed(s: &str) -> Result<f64, String> {
+    let t = s.trim();
+    let num = t.strip_suffix("m/s").unwrap_or(t).trim();
+    let v: f64 = num
+        .parse()
+        .map_err(|_| format!("--speed: cannot read {s:?} (m/s, e.g. `1` or `1m/s`)"))?;
+    if !(v > 0.0 && v.is_finite()) {
+        return Err(format!("--speed: {s:?} must be positive"));
+    }
+    Ok(v)
+}
+
+impl CuttingArgs {
+    /// The test: `--params` file (or the defaults), then the flags.
+    pub fn test(&self) -> Result<CuttingTest, String> {
+        let mut t = match &self.params {
+            Some(p) => {
+                let text =
+                    std::fs::read_to_string(p).map_err(|e| format!("{}: {e}", p.display()))?;
+                serde_json::from_str(&text).map_err(|e| format!("{}: {e}", p.display()))?
+            }
+            None => CuttingTest::default(),
+        };
+        if let Some(s) = &self.depth {
+            t.depth = parse_length(s, "--depth")?;
+        }
+        if let Some(s) = &self.speed {
+            t.speed = parse_speed(s)?;
+        }
+        if let Some(s) = &self.length {
+            t.length = parse_length(s, "--length")?;
+        }
+        if let Some(a) = self.rake_angle {
+            t.rake_angle = a.to_radians();
+        }
+        if let Some(a) = self.clearance_angle {
+            t.clearance_angle = a.to_radians();
+        }
+        if let Some(v) = self.tool_stiffness {
+            t.tool_stiffness = v;
+        }
+        if let Some(v) = self.tool_friction {
+            t.tool_friction = v;
+        }
+        if let Some(v) = self.dt_factor {
+            t.dt_factor = v;
+        }
+        if let Some(v) = self.history_rows {
+            t.history_rows = v;
+        }
+        if let Some(v) = self.snapshots {
+            t.snapshots = v;
+        }
+        t.validate().map_err(|e| e.to_string())?;
+        Ok(t)
+    }
+
+    /// The model: `--model`, else the specimen's own.
+    pub fn model(&self, specimen: &std::path::Path) -> Result<LabModel, String> {
+        match &self.model {
+            Some(p) => {
+                let text =
+                    std::fs::read_to_string(p).map_err(|e| format!("{}: {e}", p.display()))?;
+                serde_json::from_str(&text).map_err(|e| format!("--model {}: {e}", p.display()))
+            }
+            None => cutting::model_from_specimen(specimen).map_err(|e| e.to_string()),
+        }
+    }
+
+    /// The specimen file: `--specimen`, else one generated from the specimen flags (the shared
+    /// lab-test flags, `crate::test::LabArgs`) into `<out>/specimen.json`, with its summary and
+    /// scene beside it as `dem specimen` writes them.
+    fn specimen_file(&self) -> Result<PathBuf, String> {
+        if let Some(p) = &self.specimen {
+            return Ok(p.clone());
+        }
+        let need = |v: &Option<String>, f: &str| {
+            v.clone()
+                .ok_or_else(|| format!("give --specimen, or {f} (and the other specimen flags)"))
+        };
+        let lab = LabArgs {
+            method: self.method.clone(),
+            r_min: need(&self.r_min, "--r-min")?,
+            r_max: need(&self.r_max, "--r-max")?,
+            dist: "normal".into(),
+            seed: self.seed,
+            material: self.material.clone(),
+            density: self.density,
+            youngs: self.youngs.clone(),
+            tensile: self.tensile.clone(),
+            iso_stress: None,
+            porosity: 0.16,
+            grain_size: self.grain_size.clone(),
+            template_r_min: self.template_r_min.clone(),
+            max_discs: 9,
+            model: self.model.clone(),
+            out: self.out.clone(),
+            threads: self.threads,
+            dt_factor: self.dt_factor,
+        };
+        let w = parse_length(&self.width, "--width")?;
+        let h = parse_length(&self.height, "--height")?;
+        let p = lab.specimen_params(w, h)?;
+        let name = match &self.material {
+            Some(m) => read_material(m)?.0,
+            None => dem_core::specimen::DEFAULT_MATERIAL.to_string(),
+        };
+        std::fs::create_dir_all(&self.out).map_err(|e| format!("{}: {e}", self.out.display()))?;
+        let path = self.out.join("specimen.json");
+        println!(
+            "generating a {} specimen {} x {} mm into {}",
+            p.method.name(),
+            p.width * 1e3,
+            p.height * 1e3,
+            path.display()
+        );
+        let bar = progress_bar();
+        let s = lab.pool()?.install(|| {
+            dem_core::specimen::generate(&p, &mut |pr| {
+                bar.set_prefix(pr.stage);
+                bar.set_position((pr.fraction.clamp(0.0, 1.0) * 1000.0) as u64);
+            })
+        });
+        bar.finish_and_clear();
+        let s = s.map_err(|e| e.to_string())?;
+        io::save(&s, &name, &path).map_err(|e| e.to_string())?;
+        let scene = io::example_scene(&s, &name, "specimen.json", 1000);
+        let text = serde_json::to_string_pretty(&scene).map_err(|e| e.to_string())?;
+        io::write_atomic(&self.out.join("specimen.scene.json"), &text)
+            .map_err(|e| e.to_string())?;
+        Ok(path)
+    }
+}
+
+pub fn run(a: CuttingArgs) -> Result<ExitCode, String> {
+    let test = a.test()?;
+    let specimen = a.specimen_file()?;
+    let model = a.model(&specimen)?;
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(a.threads.unwrap_or(0))
+        .build()
+        .map_err(|e| e.to_string())?;
+    println!(
+        "cutting {}: a_p {} mm, v {} m/s, L {} mm, rake {}°, clearance {}°, tool {}× k_n, dt factor {}",
+        specimen.display(),
+        test.depth * 1e3,
+        test.speed,
+        test.length * 1e3,
+        test.rake_angle.to_degrees(),
+        test.clearance_angle.to_degrees(),
+        test.tool_stiffness,
+        test.dt_factor
+    );
+    let bar = if std::io::stderr().is_terminal() {
+        let b = ProgressBar::new(1);
+        if let Ok(s) = ProgressStyle::with_template(
+            "{elapsed:>5} cutting {bar:30} {pos}/{len} steps, eta {eta} {msg}",
+        ) {
+            b.set_style(s);
+        }
+        b
+    } else {
+        ProgressBar::hidden()
+    };
+    let r = pool.install(|| {
+        cutting::run(&test, &model, &specimen, &a.out, &mut |done, total| {
+            bar.set_length(total.max(1));
+            bar.set_position(done);
+        })
+    });
+    bar.finish_and_clear();
+    let r = r.map_err(|e| e.to_string())?;
+    print!("{}", report(&r));
+    Ok(ExitCode::SUCCESS)
+}
+
+/// The printed summary of a cut.
+pub fn report(r: &CuttingResult) -> String {
+    use std::fmt::Write as _;
+    let mut s = String::new();
+    let kn = 1e-3;
+    let (m, v) = (&r.main_force, &r.vertical_force);
+    let _ = writeln!(
+        s,
+        "  discs {}, thickness {} m (forces for this thickness)",
+        r.discs, r.thickness
+    );
+    let _ = writeln!(
+        s,
+        "  steady window      travel {:.3}-{:.3} mm ({} rows)",
+        r.window[0] * 1e3,
+        r.window[1] * 1e3,
+        m.samples
+    );
+    let _ = writeln!(
+        s,
+        "  main force (kN)    peak {:.4}  mean {:.4}  sd {:.4}",
+        m.peak * kn,
+        m.mean * kn,
+        m.sd * kn
+    );
+    let _ = writeln!(
+        s,
+        "  vertical force (kN) peak {:.4}  mean {:.4}  sd {:.4}",
+        v.peak * kn,
+        v.mean * kn,
+        v.sd * kn
+    );
+    let c = &r.chips;
+    let _ = writeln!(
+        s,
+        "  chips              {} ({} discs, {:.4e} kg; largest {} discs); loose below surface {} ({} discs)",
+        c.chips.count,
+        c.chips.discs,
+        c.chips.mass,
+        c.chips.largest_discs,
+        c.loose_below_surface.count,
+        c.loose_below_surface.discs
+    );
+    for b in &r.broken_bonds {
+        let _ = writeln!(
+            s,
+            "  broken {:<12} {} tension, {} shear (of {})",
+            b.group, b.tension, b.shear, b.total
+        );
+    }
+    if let Some(f) = &r.surface {
+        let _ = writeln!(
+            s,
+            "  surface            Ra {:.4} µm, Rz {:.4} µm, mean deviation {:+.4} µm ({} bins of {:.4} mm)",
+            f.ra * 1e6,
+            f.rz * 1e6,
+            f.mean_deviation * 1e6,
+            f.profile.len(),
+            f.bin_width * 1e3
+        );
+    }
+    let k = &r.residual_cracks;
+    let _ = writeln!(
+        s,
+        "  residual cracks    {} below the surface ({} within the cut), deepest {:.4} mm",
+        k.count,
+        k.within_cut,
+        k.deepest * 1e3
+    );
+    let u = &r.run;
+    let _ = writeln!(
+        s,
+        "  run                {} steps, dt {:.4e} s ({:.4e}-{:.4e}), {:.1} s wall, {} threads, energy balance {:.2e} (max in window {:.2e})",
+        u.steps, u.dt, u.dt_min, u.dt_max, u.wall_time_s, u.threads, u.balance_error_final,
+        u.balance_error_max_abs
+    );
+    for f in &r.files {
+        let _ = writeln!(s, "  file {f}");
+    }
+    s
+}

@@ -1,0 +1,280 @@
+//! The cutting test: a short cut of a small traditional specimen (forces, chips, broken bonds,
+//! result file, tool path clear of the slot), and the tool force on a single disc against the
+//! linear contact law's closed form.
+
+use dem_core::lab::cutting::{self, CuttingTest, ForceHistory, SpecimenInfo};
+use dem_core::lab::history::Table;
+use dem_core::lab::tool::{segment_polygon_distance, CutGeometry};
+use dem_core::lab::LabModel;
+use dem_core::specimen::{generate, io, Method, SpecimenParams};
+use std::path::PathBuf;
+
+fn tmp(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("dem-cut-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// Si3N4-like traditional specimen, 5 × 2.5 mm, radii 0.10-0.16 mm (about 200 discs).
+fn small_specimen(dir: &std::path::Path) -> (PathBuf, LabModel) {
+    let p = SpecimenParams::new(
+        Method::Traditional,
+        5e-3,
+        2.5e-3,
+        0.10e-3,
+        0.16e-3,
+        3200.0,
+        310e9,
+        800e6,
+        3,
+    );
+    let s = generate(&p, &mut |_| {}).unwrap_or_else(|e| panic!("{e}"));
+    let path = dir.join("small.json");
+    io::save(&s, "Si3N4", &path).unwrap();
+    (path, LabModel::from_params(&p))
+}
+
+/// a_p = 0.6 mm (about 2.3 mean disc diameters), L = 1.5 mm, v = 10 m/s (a short run: 1e5
+/// steps), steady window from 1 a_p.
+fn short_test() -> CuttingTest {
+    CuttingTest {
+        history_rows: 400,
+        window_start: 1.0,
+        ..CuttingTest::new(0.6e-3, 10.0, 1.5e-3)
+    }
+}
+
+#[test]
+fn short_cut_of_a_small_specimen() {
+    let dir = tmp("short");
+    let (spec, model) = small_specimen(&dir);
+    let out = dir.join("cut");
+    let test = short_test();
+    let mut calls = 0;
+    let r = cutting::run(&test, &model, &spec, &out, &mut |_, _| calls += 1).unwrap();
+    assert!(calls > 0);
+    assert!(r.discs > 150 && r.discs < 400, "{} discs", r.discs);
+
+    // Forces: finite, positive in the cutting direction over the steady window, zero before
+    // the tool reaches the specimen, first contact at the specimen's edge.
+    let (m, v) = (&r.main_force, &r.vertical_force);
+    for x in [m.peak, m.mean, m.sd, v.peak, v.mean, v.sd] {
+        assert!(x.is_finite());
+    }
+    assert!(m.mean > 0.0 && m.peak >= m.mean, "{m:?}");
+    assert!(m.samples > 100, "{} samples", m.samples);
+    assert_eq!(r.main_force_before_entry, 0.0);
+    let s0 = r.contact_travel.expect("the tool touched the specimen");
+    assert!(s0 > -1e-6 && s0 < 0.3e-3, "first contact at travel {s0} m");
+    // The cut needs force of the order of the material's strength times the cut area:
+    // σ_t a_p t = 800 MPa · 0.6 mm · 1 m = 0.48 MN; the mean lies within a decade of it.
+    eprintln!("OUT {}", out.display());
+    let scale = 800e6 * test.depth * r.thickness;
+    assert!(
+        m.mean > 0.1 * scale && m.mean < 10.0 * scale,
+        "mean {} N",
+        m.mean
+    );
+
+    // Bonds break, chips form above the nominal surface, the workpiece keeps most discs.
+    assert!(r.broken_total > 0);
+    let gb = &r.broken_bonds[0];
+    assert_eq!(gb.group, "grain_boundary");
+    assert_eq!(gb.tension + gb.shear, r.broken_total);
+    assert!(r.chips.chips.count > 0 && r.chips.chips.discs > 0);
+    assert!(r.chips.chips.mass > 0.0);
+    assert!(r.chips.workpiece_discs > r.discs / 2);
+    assert_eq!(
+        r.chips.workpiece_discs + r.chips.chips.discs + r.chips.loose_below_surface.discs,
+        r.discs
+    );
+    let surf = r.surface.as_ref().expect("surface measured");
+    assert!(surf.ra >= 0.0 && surf.rz >= 0.0 && surf.ra.is_finite());
+    assert!(!surf.profile.is_empty());
+    // The cut removed material: the profile lies well below the uncut top (a_p above y_n).
+    assert!(surf.mean_deviation < 0.5 * test.depth, "{surf:?}");
+
+    // The run was stable: the guard let it finish and the energy balance holds.
+    assert!(r.run.steps > 1000);
+    assert!(r.run.balance_error_max_abs < 0.05, "{:?}", r.run);
+
+    // The tool never overlaps a slot wall: the swept region clears them, and the final tool
+    // walls are where the geometry says.
+    let g = &r.geometry;
+    assert!(g.slot_clearance() > 0.1 * test.depth);
+    let scene = dem_core::scene::load(&out.join(cutting::SCENE_FILE)).unwrap();
+    let world = dem_core::scene::build(&scene).unwrap();
+    assert_eq!(world.state.walls.len(), 5);
+    for w in world
+        .state
+        .walls
+        .iter()
+        .filter(|w| w.name.starts_with("slot"))
+    {
+        for t in &g.tool {
+            let dx = g.travel_end - g.travel_start;
+            let quad = [t.a, t.b, [t.b[0] + dx, t.b[1]], [t.a[0] + dx, t.a[1]]];
+            assert!(
+                segment_polygon_distance(w.a, w.b, &quad) > 0.0,
+                "{}",
+                w.name
+            );
+        }
+    }
+
+    // Files: the result JSON has the documented structure; the force CSV one row per
+    // history row.
+    let text = std::fs::read_to_string(out.join(cutting::RESULT_FILE)).unwrap();
+    let j: serde_json::Value = serde_json::from_str(&text).unwrap();
+    assert_eq!(j["schema"], cutting::RESULT_SCHEMA);
+    for k in ["peak", "mean", "sd", "samples"] {
+        assert!(j["main_force"][k].is_number(), "main_force.{k}");
+        assert!(j["vertical_force"][k].is_number(), "vertical_force.{k}");
+    }
+    for k in [
+        "chips",
+        "broken_bonds",
+        "surface",
+        "residual_cracks",
+        "window",
+        "run",
+    ] {
+        assert!(!j[k].is_null(), "{k}");
+    }
+    assert!(j["chips"]["chips"]["count"].as_u64().unwrap() > 0);
+    assert!(j["residual_cracks"]["count"].is_u64());
+    let csv = std::fs::read_to_string(out.join(cutting::FORCES_FILE)).unwrap();
+    let mut lines = csv.lines();
+    assert_eq!(lines.next(), Some("travel_m,time_s,main_N,vertical_N"));
+    assert_eq!(lines.count(), r.run.history_rows);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// One disc of radius r pushed by the tool's rake face (slot walls removed from the scene):
+/// in every step of contact the force on the tool is minus the force on the disc and equals the
+/// linear law k_tool·δ (δ = r − distance from the disc centre to the rake face), along −x; the
+/// main force read from the wall columns is +k_tool·δ.
+#[test]
+fn tool_force_on_a_single_disc() {
+    let dir = tmp("single");
+    let r = 0.1e-3;
+    let spec_path = dir.join("one.json");
+    let spec = serde_json::json!({"schema": "dem.specimen/1", "units": "m",
+        "discs": [{"material": "Si3N4", "discs": [[r, r, r]]}]});
+    std::fs::write(&spec_path, spec.to_string()).unwrap();
+    let p = SpecimenParams::new(
+        Method::Traditional,
+        4e-3,
+        2e-3,
+        r,
+        r,
+        3200.0,
+        310e9,
+        800e6,
+        1,
+    );
+    let model = LabModel::from_params(&p);
+    // a_p = 1.2 r: the edge is 0.2 r below the disc centre, so the disc touches the rake
+    // face (not the edge) and the clearance face stays clear for overlaps below 0.02 r.
+    let test = CuttingTest {
+        window_start: 0.0,
+        ..CuttingTest::new(1.2 * r, 1.0, 0.5 * r)
+    };
+    let info = SpecimenInfo::read(&spec_path).unwrap();
+    assert_eq!(info.extent, [0.0, 2.0 * r, 0.0, 2.0 * r]);
+    let mut scene = cutting::scene(&test, &model, &info, 1).unwrap();
+    let walls: Vec<serde_json::Value> = scene["walls"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|w| !w["name"].as_str().unwrap().starts_with("slot"))
+        .cloned()
+        .collect();
+    scene["walls"] = serde_json::Value::Array(walls);
+    let file = dir.join("one.scene.json");
+    std::fs::write(&file, scene.to_string()).unwrap();
+    let mut w = dem_core::scene::build(&dem_core::scene::load(&file).unwrap()).unwrap();
+    let k = test.tool_stiffness * model.contact_kn();
+    let g = CutGeometry::new(&test, info.extent).unwrap();
+    let rake = w.state.walls.iter().position(|w| w.name == "rake").unwrap();
+    let clear = w
+        .state
+        .walls
+        .iter()
+        .position(|w| w.name == "clearance")
+        .unwrap();
+    let mut rows = vec![];
+    let mut contacts = 0;
+    while w.state.time < g.duration {
+        let (xd, yd, xw) = (
+            w.state.discs.x[0],
+            w.state.discs.y[0],
+            w.state.walls[rake].a[0],
+        );
+        w.step();
+        let d = &w.state.discs;
+        let delta = r - (xd - xw);
+        let (fw, fc) = (w.state.walls[rake].force, w.state.walls[clear].force);
+        assert_eq!(fc, [0.0, 0.0], "the clearance face stays clear");
+        if delta > 0.0 {
+            contacts += 1;
+            let f = k * delta;
+            assert!((d.fx[0] - f).abs() <= 1e-9 * f, "disc {} vs {f}", d.fx[0]);
+            assert!((fw[0] + f).abs() <= 1e-9 * f, "tool {} vs {}", fw[0], -f);
+            assert_eq!(fw[0], -d.fx[0]);
+            assert!(fw[1].abs() <= 1e-12 * f && d.fy[0].abs() <= 1e-12 * f);
+            assert!((yd - r).abs() < 1e-12);
+        } else {
+            assert_eq!(fw, [0.0, 0.0]);
+        }
+        rows.push(vec![w.state.time, fw[0], fw[1], fc[0], fc[1]]);
+    }
+    // An elastic impact on a free disc: contact lasts half a period π√(m/k), about π/0.3
+    // steps at dt = 0.3√(m/k); the disc leaves at 2v and is not touched again.
+    assert!(contacts >= 5, "{contacts} steps in contact");
+    eprintln!("VX {}", w.state.discs.vx[0]);
+    // The force history the analysis reads: main = −(F_rake + F_clearance)·x̂ = +k·δ.
+    let table = Table {
+        names: ["time", "rake_fx", "rake_fy", "clearance_fx", "clearance_fy"]
+            .map(String::from)
+            .to_vec(),
+        rows,
+    };
+    let fh = ForceHistory::from_table(&table, &g, "test").unwrap();
+    let peak = fh.main.iter().copied().fold(0.0, f64::max);
+    assert!(peak > 0.0);
+    assert!(fh.main.iter().all(|&m| m >= 0.0));
+    assert!(fh.vertical.iter().all(|&v| v == 0.0));
+    assert_eq!(fh.main[0], 0.0);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A bad test or specimen is an error naming the field, not a panic.
+#[test]
+fn bad_input_is_an_error() {
+    let t = CuttingTest {
+        clearance_angle: 0.0,
+        ..Default::default()
+    };
+    assert!(t
+        .validate()
+        .unwrap_err()
+        .to_string()
+        .contains("clearance_angle"));
+    let t = CuttingTest {
+        window_start: 20.0,
+        ..Default::default()
+    };
+    assert!(t
+        .validate()
+        .unwrap_err()
+        .to_string()
+        .contains("window_start"));
+    let dir = tmp("bad");
+    let f = dir.join("not.json");
+    std::fs::write(&f, "{\"schema\": \"dem.specimen/1\", \"discs\": []}").unwrap();
+    assert!(SpecimenInfo::read(&f).is_err());
+    assert!(SpecimenInfo::read(&dir.join("missing.json")).is_err());
+    let _ = std::fs::remove_dir_all(&dir);
+}
