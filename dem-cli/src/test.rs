@@ -304,7 +304,7 @@ where
         bar.set_prefix(test.to_string());
         bar.set_message(format!("{} discs", spec.discs));
         let r = body(&spec, &mut |done, total| {
-            bar.set_position(if total > 0 { done * 1000 / total } else { 0 });
+            bar.set_position((done * 1000).checked_div(total).unwrap_or(0));
         })?;
         Ok((spec, r))
     });
