@@ -28,6 +28,10 @@ pub struct Plan {
     pub length: f64,
     /// Safety factor of the automatic time step (None: the cutting test's default).
     pub dt_factor: Option<f64>,
+    /// Start of the steady window (× a_p) and tool stiffness (× disc k_n); None: the cutting
+    /// test's defaults.
+    pub window_start: Option<f64>,
+    pub tool_stiffness: Option<f64>,
 }
 
 /// Generates (or reuses) the specimen of `p` in `dir`; returns its file.
@@ -113,6 +117,12 @@ pub fn run_plan(
             let mut test = CuttingTest::new(d * 1e-3, *v, plan.length);
             if let Some(df) = plan.dt_factor {
                 test.dt_factor = df;
+            }
+            if let Some(w) = plan.window_start {
+                test.window_start = w;
+            }
+            if let Some(k) = plan.tool_stiffness {
+                test.tool_stiffness = k;
             }
             let dir = work.join(format!("{}-d{d}-v{v}-s{s}", m.name()));
             let t0 = Instant::now();
