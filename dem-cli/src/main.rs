@@ -5,6 +5,7 @@ use clap::{Parser, Subcommand};
 use std::process::ExitCode;
 
 mod bench;
+mod calibrate;
 mod clump;
 mod run;
 mod specimen;
@@ -30,6 +31,9 @@ enum Command {
     /// specimen: scene file, run, analysis, `<test>.result.json`.
     #[command(subcommand)]
     Test(test::TestKind),
+    /// Calibrate micro-parameters against a material's measured properties (UCS, bending and
+    /// Brazilian tests): writes model.json (for `dem test --model`) and the calibration table.
+    Calibrate(calibrate::CalibrateArgs),
     /// Speed benchmarks; the last line printed is the figure.
     #[command(subcommand)]
     Bench(bench::BenchKind),
@@ -42,6 +46,7 @@ fn main() -> ExitCode {
         Command::Run(a) => run::run(a),
         Command::Specimen(a) => specimen::run(a),
         Command::Test(k) => test::run(k),
+        Command::Calibrate(a) => calibrate::run(a),
         Command::Bench(k) => bench::run(k),
     };
     match result {

@@ -131,9 +131,16 @@ pub fn compute(
     if track_energy {
         slots.dashpot.reset(d.len());
     }
-    let uniform = laws.n_materials() == 1 && !laws.any_rolling();
+    // One law for every listed pair when all discs share one material without rolling
+    // resistance (walls and tools have their own materials but are not in this pass): then
+    // the branch-free uniform path computes exactly what the table path would (same
+    // expressions, see `kernel::PairLaw`), without the per-pair lookups.
+    let m0 = d.material.first().copied().unwrap_or(0);
+    let uniform =
+        d.material.iter().fold(0u16, |a, &m| a | (m ^ m0)) == 0 && laws.rolling(m0, m0).is_none();
+    let model = *laws.model(m0, m0);
     let a = (d, nb, minv, img, dt, track_energy, slots);
-    match (uniform, laws.models()[0]) {
+    match (uniform, model) {
         (true, ContactModel::Linear(l)) => match l.damping {
             NormalDamping::Gamma(g) => run(a, &LinearGamma(l, g)),
             NormalDamping::Ratio(z) => run(a, &LinearRatio(l, z)),
@@ -213,4 +220,73 @@ fn run<L: PairLaw>(a: Args, law: &L) -> PassEnergy {
     };
     slots.dashpot = dash;
     e
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::bond::bench::hex_lattice_state;
+    use crate::contact::{HertzMindlin, LinearSpringDashpot, NormalDamping};
+    use crate::{ContactLaws, ContactModel, Params, World};
+
+    /// All discs of one material take the uniform (branch-free, no lookup) path even when the
+    /// table has other materials (walls, tools); it gives the bits of the table path, which
+    /// runs when one disc has another material with the same law.
+    #[test]
+    fn uniform_path_gives_the_table_bits() {
+        let mut st = hex_lattice_state([16, 8]);
+        let mut s = 11u64;
+        let mut r = || {
+            s = s
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (s >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        for k in 0..st.discs.len() {
+            st.discs.vx[k] = 0.02 * r();
+            st.discs.vy[k] = 0.02 * r();
+            st.discs.omega[k] = 20.0 * r();
+        }
+        let lin = |damping| LinearSpringDashpot {
+            kn: 1e5,
+            ks: 3e4,
+            damping,
+            shear_damping: 0.5,
+            mu: 0.3,
+        };
+        let models = [
+            ContactModel::Linear(lin(NormalDamping::Ratio(0.0))),
+            ContactModel::Linear(lin(NormalDamping::Ratio(0.2))),
+            ContactModel::Linear(lin(NormalDamping::Gamma(100.0))),
+            ContactModel::HertzMindlin(HertzMindlin::from_materials(
+                1e8, 0.25, 1e8, 0.25, 0.8, 0.3,
+            )),
+        ];
+        for model in models {
+            let run = |odd: bool| {
+                let mut st = st.clone();
+                if odd {
+                    st.discs.material[7] = 1;
+                }
+                // Three materials, one law (material 2 stands for a tool).
+                let laws = ContactLaws::new(3, model);
+                let params = Params {
+                    dt_fixed: Some(2e-7),
+                    skin: Some(1e-4),
+                    ..Params::default()
+                };
+                let mut w = World::new(st, params, laws);
+                w.run(30);
+                let d = &w.state.discs;
+                let bits: Vec<u64> = [&d.x, &d.y, &d.theta, &d.vx, &d.vy, &d.omega]
+                    .iter()
+                    .chain([&d.fx, &d.fy, &d.torque].iter())
+                    .flat_map(|v| v.iter().map(|x| x.to_bits()))
+                    .collect();
+                (bits, format!("{:?}", w.energy()))
+            };
+            let (a, b) = (run(false), run(true));
+            assert!(a.0 == b.0, "{model:?}: state differs");
+            assert_eq!(a.1, b.1, "{model:?}: energy");
+        }
+    }
 }

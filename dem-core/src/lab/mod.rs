@@ -32,6 +32,7 @@ pub mod specimens;
 pub mod surface;
 pub mod tool;
 pub mod ucs;
+pub mod virtual_lab;
 
 pub use model::LabModel;
 

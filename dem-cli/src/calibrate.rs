@@ -1,0 +1,149 @@
+//! `dem calibrate`: micro-parameters from a material's measured properties (the procedure of
+//! Potyondy & Cundall 2004 used by S4): UCS, three-point bending and Brazilian tests on
+//! specimens generated once with the specimen flags, run until E, ν and the strengths match
+//! (`dem_core::lab::calibrate`). Writes the calibrated model (`model.json`, usable with
+//! `dem test ... --model`), the calibration record and the table (target vs achieved).
+
+use crate::test::{progress_bar, LabArgs};
+use clap::Args;
+use dem_core::lab::bending::BendingTest;
+use dem_core::lab::brazilian::BrazilianTest;
+use dem_core::lab::calibrate::{self, MaterialFile, Options};
+use dem_core::lab::ucs::UcsTest;
+use dem_core::lab::virtual_lab::VirtualLab;
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::Instant;
+
+#[derive(Args)]
+pub struct CalibrateArgs {
+    #[command(flatten)]
+    pub lab: LabArgs,
+    /// Material file with the target properties (`measured`, else `assumed`: E_GPa, poisson,
+    /// ucs_MPa, flexural_MPa, brazilian_MPa, kic_MPa_sqrt_m); default: --material.
+    #[arg(long)]
+    pub targets: Option<PathBuf>,
+    /// Largest number of runs per search.
+    #[arg(long, default_value_t = 8)]
+    pub max_iter: usize,
+    /// Relative tolerance on E and the fitted strengths.
+    #[arg(long, default_value_t = 0.02)]
+    pub tol: f64,
+    /// β of K_IC = β σ̄c √(πR̄) (S4; not given there), for the reported toughness.
+    #[arg(long, default_value_t = 1.0)]
+    pub kic_beta: f64,
+    /// UCS specimen width and height, bending beam length, height and span, Brazilian disc
+    /// diameter, all with units (defaults: 10mm,20mm 20mm,5mm,16mm 10mm).
+    #[arg(long, default_value = "10mm,20mm")]
+    pub ucs_size: String,
+    #[arg(long, default_value = "20mm,5mm,16mm")]
+    pub beam: String,
+    #[arg(long, default_value = "10mm")]
+    pub disc: String,
+}
+
+fn lengths(s: &str, flag: &str, n: usize) -> Result<Vec<f64>, String> {
+    let v: Vec<f64> = s
+        .split(',')
+        .map(|x| crate::specimen::parse_length(x.trim(), flag))
+        .collect::<Result<_, _>>()?;
+    if v.len() != n {
+        return Err(format!(
+            "{flag} {s:?}: give {n} lengths separated by commas"
+        ));
+    }
+    Ok(v)
+}
+
+pub fn run(a: CalibrateArgs) -> Result<ExitCode, String> {
+    let t0 = Instant::now();
+    let targets_file = a
+        .targets
+        .clone()
+        .or_else(|| a.lab.material.clone())
+        .ok_or("give --targets or --material: a material file with measured properties")?;
+    let mat = MaterialFile::read(&targets_file).map_err(|e| e.to_string())?;
+    let targets = mat
+        .targets()
+        .map_err(|e| format!("{}: {e}", targets_file.display()))?;
+    let u = lengths(&a.ucs_size, "--ucs-size", 2)?;
+    let b = lengths(&a.beam, "--beam", 3)?;
+    let d = lengths(&a.disc, "--disc", 1)?[0];
+    let ucs = UcsTest {
+        width: u[0],
+        height: u[1],
+        ..UcsTest::default()
+    };
+    let bending = BendingTest {
+        length: b[0],
+        height: b[1],
+        span: b[2],
+        ..BendingTest::default()
+    };
+    let brazilian = BrazilianTest {
+        diameter: d,
+        ..BrazilianTest::default()
+    };
+    let p = a.lab.specimen_params(ucs.width, ucs.height)?;
+    let start = a.lab.lab_model(&p)?;
+    let opts = Options {
+        rel_tol: a.tol,
+        max_iter: a.max_iter,
+        kic_beta: a.kic_beta,
+        ..Options::default()
+    };
+    let out = a.lab.out.clone();
+    std::fs::create_dir_all(&out).map_err(|e| format!("{}: {e}", out.display()))?;
+    let bar = progress_bar();
+    bar.set_prefix("calibrate");
+    let pool = a.lab.pool()?;
+    let (cal, runs, lab_time) = pool.install(|| {
+        let mut log = |l: &str| {
+            bar.println(l);
+            bar.set_message(l.to_string());
+            if bar.is_hidden() {
+                eprintln!("{l}");
+            }
+        };
+        let mut lab = VirtualLab::prepare(&p, &out, ucs, bending, brazilian, &mut log)
+            .map_err(|e| e.to_string())?;
+        let c = calibrate::calibrate(&mut lab, &start, &targets, &opts, &mut log)
+            .map_err(|e| e.to_string())?;
+        Ok::<_, String>((c, lab.runs, lab.wall_time_s))
+    })?;
+    bar.finish_and_clear();
+    let table = calibrate::table(&mat, p.method.name(), &cal);
+    let write = |name: &str, text: String| -> Result<PathBuf, String> {
+        let f = out.join(name);
+        dem_core::output::write_atomic(&f, text.as_bytes()).map_err(|e| e.to_string())?;
+        Ok(f)
+    };
+    let files = [
+        write(
+            "model.json",
+            pretty(serde_json::to_string_pretty(&cal.model))?,
+        )?,
+        write(
+            "calibration.json",
+            pretty(serde_json::to_string_pretty(&cal))?,
+        )?,
+        write(
+            "calibration-table.json",
+            pretty(serde_json::to_string_pretty(&table))?,
+        )?,
+        write("calibration-table.md", table.markdown())?,
+    ];
+    println!("{}", table.markdown());
+    println!(
+        "{runs} test runs ({lab_time:.1} s of runs), {:.1} s in all",
+        t0.elapsed().as_secs_f64()
+    );
+    for f in files {
+        println!("wrote {}", f.display());
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+fn pretty(r: Result<String, serde_json::Error>) -> Result<String, String> {
+    r.map(|s| s + "\n").map_err(|e| e.to_string())
+}
