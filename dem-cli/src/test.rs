@@ -7,8 +7,12 @@
 
 use crate::specimen::{parse_length, parse_stress, read_material};
 use clap::{Args, Subcommand};
-use dem_core::lab::LabModel;
-use dem_core::specimen::{Method, RadiusDist, SpecimenParams};
+use dem_core::lab::bending::BendingTest;
+use dem_core::lab::brazilian::BrazilianTest;
+use dem_core::lab::specimens::{self, Shape, TestSpecimen};
+use dem_core::lab::ucs::UcsTest;
+use dem_core::lab::{self, LabError, LabModel};
+use dem_core::specimen::{Method, Progress, RadiusDist, SpecimenParams};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
 use std::path::PathBuf;
@@ -201,8 +205,8 @@ pub struct UcsArgs {
     /// Specimen height with unit (2:1 tall by default).
     #[arg(long, default_value = "20mm")]
     pub height: String,
-    /// Platen speed (each platen) with unit per second, e.g. `0.05m`; default from the
-    /// quasi-static rule (docs/lab-tests.md).
+    /// Platen speed (each platen) with unit, e.g. `0.05m/s`; default from the quasi-static
+    /// rule (docs/lab-tests.md).
     #[arg(long)]
     pub speed: Option<String>,
 }
@@ -215,7 +219,7 @@ pub struct BrazilianArgs {
     /// Disc diameter with unit.
     #[arg(long, default_value = "10mm")]
     pub diameter: String,
-    /// Platen speed with unit per second; default from the quasi-static rule.
+    /// Platen speed with unit (`0.05m/s`); default from the quasi-static rule.
     #[arg(long)]
     pub speed: Option<String>,
 }
@@ -234,7 +238,7 @@ pub struct BendingArgs {
     /// Support span with unit.
     #[arg(long, default_value = "16mm")]
     pub span: String,
-    /// Loading-roller speed with unit per second; default from the quasi-static rule.
+    /// Loading-roller speed with unit (`0.05m/s`); default from the quasi-static rule.
     #[arg(long)]
     pub speed: Option<String>,
 }
@@ -248,23 +252,180 @@ pub fn run(kind: TestKind) -> Result<ExitCode, String> {
     }
 }
 
+/// `0.05m/s`, `50mm/s` (or without `/s`) → m/s.
+pub fn parse_speed(s: &str, what: &str) -> Result<f64, String> {
+    parse_length(s.trim().strip_suffix("/s").unwrap_or(s.trim()), what)
+}
+
+/// The loading settings from the shared flags and a test's `--speed`.
+fn loading(
+    lab: &LabArgs,
+    speed: &Option<String>,
+    mut l: lab::common::Loading,
+) -> Result<lab::common::Loading, String> {
+    if let Some(v) = speed {
+        l.speed = Some(parse_speed(v, "--speed")?);
+    }
+    if let Some(f) = lab.dt_factor {
+        l.dt_factor = f;
+    }
+    Ok(l)
+}
+
+/// Generates (or reuses) the test's specimen `<out>/<test>.specimen.json` and runs `body` on it
+/// in the thread pool, with a progress bar for both.
+fn with_specimen<T>(
+    lab: &LabArgs,
+    p: &SpecimenParams,
+    shape: Shape,
+    test: &str,
+    body: impl FnOnce(&TestSpecimen, &mut dyn FnMut(u64, u64)) -> Result<T, LabError> + Send,
+) -> Result<(TestSpecimen, T), String>
+where
+    T: Send,
+{
+    let pool = lab.pool()?;
+    let file = lab.out.join(format!("{test}.specimen.json"));
+    println!(
+        "{test}: {} specimen, radii {:.4}-{:.4} mm, seed {} -> {}",
+        p.method.name(),
+        p.r_min * 1e3,
+        p.r_max * 1e3,
+        p.seed,
+        file.display()
+    );
+    let bar = progress_bar();
+    let out = pool.install(|| -> Result<(TestSpecimen, T), LabError> {
+        let spec = specimens::prepare(p, shape, &file, &mut |pr: Progress| {
+            bar.set_prefix(pr.stage);
+            bar.set_position((pr.fraction.clamp(0.0, 1.0) * 1000.0) as u64);
+            bar.set_message(pr.message);
+        })?;
+        bar.set_prefix(test.to_string());
+        bar.set_message(format!("{} discs", spec.discs));
+        let r = body(&spec, &mut |done, total| {
+            bar.set_position((done * 1000).checked_div(total).unwrap_or(0));
+        })?;
+        Ok((spec, r))
+    });
+    bar.finish_and_clear();
+    let (spec, r) = out.map_err(|e| e.to_string())?;
+    println!(
+        "specimen: {} discs, {} bonds{}",
+        spec.discs,
+        spec.bonds,
+        if spec.reused {
+            " (reused: same parameters)"
+        } else {
+            ""
+        }
+    );
+    Ok((spec, r))
+}
+
+fn print_run(run: &lab::common::RunFacts, result: &std::path::Path) {
+    println!(
+        "run: {} after {} steps (dt {:.3e} s), {} of {} bonds broken, {:.1} s",
+        run.status, run.steps, run.dt, run.bonds_broken, run.bonds, run.wall_time_s
+    );
+    println!("scene:   {} (dem run it again)", run.scene_file.display());
+    println!("outputs: {}", run.out_dir.display());
+    println!("result:  {}", result.display());
+}
+
 fn ucs(a: UcsArgs) -> Result<ExitCode, String> {
     let w = parse_length(&a.width, "--width")?;
     let h = parse_length(&a.height, "--height")?;
     let p = a.lab.specimen_params(w, h)?;
-    let _ = (a.lab.lab_model(&p)?, a.lab.pool()?, progress_bar(), a.speed);
-    Err("dem test ucs: the lab test library is being built on branch `lab`".into())
+    let model = a.lab.lab_model(&p)?;
+    let test = UcsTest {
+        width: w,
+        height: h,
+        loading: loading(&a.lab, &a.speed, UcsTest::default().loading)?,
+        ..UcsTest::default()
+    };
+    test.validate().map_err(|e| e.to_string())?;
+    let (_, o) = with_specimen(&a.lab, &p, test.shape(), "ucs", |spec, pr| {
+        lab::ucs::run(&test, &model, spec, pr)
+    })?;
+    let r = &o.result;
+    println!(
+        "E = {:.2} GPa, ν = {:.3} ({:.0}-{:.0} % pre-peak band, {} rows), UCS = {:.1} MPa at axial strain {:.3e}",
+        r.young * 1e-9,
+        r.poisson,
+        r.band[0] * 100.0,
+        r.band[1] * 100.0,
+        r.band_rows,
+        r.ucs * 1e-6,
+        r.peak_strain
+    );
+    println!(
+        "platens {:.4e} m/s each (strain rate {:.3e} 1/s); time to peak = {:.1} P-wave transit times",
+        r.platen_speed, r.strain_rate, r.quasi_static_ratio
+    );
+    print_run(&o.run, &a.lab.out.join("ucs.result.json"));
+    Ok(ExitCode::SUCCESS)
 }
 
 fn brazilian(a: BrazilianArgs) -> Result<ExitCode, String> {
     let d = parse_length(&a.diameter, "--diameter")?;
-    let _ = (a.lab.specimen_params(d, d)?, a.speed);
-    Err("dem test brazilian: the lab test library is being built on branch `lab`".into())
+    let p = a.lab.specimen_params(d, d)?;
+    let model = a.lab.lab_model(&p)?;
+    let test = BrazilianTest {
+        diameter: d,
+        loading: loading(&a.lab, &a.speed, BrazilianTest::default().loading)?,
+        ..BrazilianTest::default()
+    };
+    test.validate().map_err(|e| e.to_string())?;
+    let (_, o) = with_specimen(&a.lab, &p, test.shape(), "brazilian", |spec, pr| {
+        lab::brazilian::run(&test, &model, spec, pr)
+    })?;
+    let r = &o.result;
+    println!(
+        "σ_t = 2F/(πDt) = {:.1} MPa (peak load {:.4e} N, D = {:.3} mm, t = {} m)",
+        r.tensile_strength * 1e-6,
+        r.peak_load,
+        r.diameter * 1e3,
+        model.thickness
+    );
+    println!(
+        "platens {:.4e} m/s each; time to peak = {:.1} P-wave transit times",
+        r.platen_speed, r.quasi_static_ratio
+    );
+    print_run(&o.run, &a.lab.out.join("brazilian.result.json"));
+    Ok(ExitCode::SUCCESS)
 }
 
 fn bending(a: BendingArgs) -> Result<ExitCode, String> {
     let l = parse_length(&a.length, "--length")?;
     let h = parse_length(&a.height, "--height")?;
-    let _ = (a.lab.specimen_params(l, h)?, &a.span, a.speed);
-    Err("dem test bending: the lab test library is being built on branch `lab`".into())
+    let span = parse_length(&a.span, "--span")?;
+    let p = a.lab.specimen_params(l, h)?;
+    let model = a.lab.lab_model(&p)?;
+    let test = BendingTest {
+        length: l,
+        height: h,
+        span,
+        loading: loading(&a.lab, &a.speed, BendingTest::default().loading)?,
+        ..BendingTest::default()
+    };
+    test.validate().map_err(|e| e.to_string())?;
+    let (_, o) = with_specimen(&a.lab, &p, test.shape(), "bending", |spec, pr| {
+        lab::bending::run(&test, &model, spec, pr)
+    })?;
+    let r = &o.result;
+    println!(
+        "σ_f = 3FL/(2bh²) = {:.1} MPa (peak load {:.4e} N, L = {:.3} mm, h = {:.3} mm, b = t = {} m)",
+        r.flexural_strength * 1e-6,
+        r.peak_load,
+        r.span * 1e3,
+        r.height * 1e3,
+        model.thickness
+    );
+    println!(
+        "elastic stiffness dF/dδ = {:.4e} N/m; roller {:.4e} m/s; time to peak = {:.1} beam periods",
+        r.stiffness, r.roller_speed, r.quasi_static_ratio
+    );
+    print_run(&o.run, &a.lab.out.join("bending.result.json"));
+    Ok(ExitCode::SUCCESS)
 }

@@ -85,6 +85,9 @@ pub struct CuttingArgs {
     /// Tool-disc friction coefficient (default 0).
     #[arg(long)]
     pub tool_friction: Option<f64>,
+    /// PFC local damping α (default 0.7, PFC's default; 0 = undamped).
+    #[arg(long)]
+    pub local_damping: Option<f64>,
     /// Safety factor of the automatic time step (default 0.3).
     #[arg(long)]
     pub dt_factor: Option<f64>,
@@ -154,6 +157,9 @@ impl CuttingArgs {
         }
         if let Some(v) = self.dt_factor {
             t.dt_factor = v;
+        }
+        if let Some(v) = self.local_damping {
+            t.local_damping = v;
         }
         if let Some(v) = self.history_rows {
             t.history_rows = v;
@@ -245,13 +251,14 @@ impl CuttingArgs {
 pub fn run(a: CuttingArgs) -> Result<ExitCode, String> {
     let test = a.test()?;
     let specimen = a.specimen_file()?;
+    cutting::SpecimenInfo::read(&specimen).map_err(|e| e.to_string())?;
     let model = a.model(&specimen)?;
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(a.threads.unwrap_or(0))
         .build()
         .map_err(|e| e.to_string())?;
     println!(
-        "cutting {}: a_p {} mm, v {} m/s, L {} mm, rake {}°, clearance {}°, tool {}× k_n, dt factor {}",
+        "cutting {}: a_p {} mm, v {} m/s, L {} mm, rake {}°, clearance {}°, tool {}× k_n, local damping {}, dt factor {}",
         specimen.display(),
         test.depth * 1e3,
         test.speed,
@@ -259,6 +266,7 @@ pub fn run(a: CuttingArgs) -> Result<ExitCode, String> {
         test.rake_angle.to_degrees(),
         test.clearance_angle.to_degrees(),
         test.tool_stiffness,
+        test.local_damping,
         test.dt_factor
     );
     let bar = if std::io::stderr().is_terminal() {

@@ -96,6 +96,21 @@ fn sweep_section(o: &ReportOptions) -> Result<Section, String> {
     })
 }
 
+/// The stability suite: stiff and extreme scenes at the automatic time step, and one forced
+/// above the critical step that the guard must stop.
+fn stability_section(o: &ReportOptions) -> Result<Section, String> {
+    let st = crate::stability::run_suite(&o.out, o.quick, &mut |l| eprintln!("  {l}"))
+        .map_err(|e| e.to_string())?;
+    Ok(Section {
+        title: "Numerical stability on stiff and extreme cases".into(),
+        markdown: strip_h1(&st.to_markdown())
+            + "\nThe scenes are in `stability/` (each runs with `dem run`); details and the \
+               choice of bounds: `docs/stability.md`.\n",
+        figures: vec![],
+        data: vec![("stability.json".into(), json(&st))],
+    })
+}
+
 /// Drops a leading `# ...` title line (sections get their own `##` title).
 fn strip_h1(md: &str) -> String {
     match md.strip_prefix("# ") {
@@ -115,7 +130,11 @@ pub fn run(o: &ReportOptions) -> Result<String, String> {
     let mut env = Environment::capture(mode);
     let mut sections = Vec::new();
     type Builder = fn(&ReportOptions) -> Result<Section, String>;
-    let steps: [(&str, Builder); 2] = [("Table 1", table1_section), ("clump sweep", sweep_section)];
+    let steps: [(&str, Builder); 3] = [
+        ("Table 1", table1_section),
+        ("clump sweep", sweep_section),
+        ("stability suite", stability_section),
+    ];
     for (i, (name, f)) in steps.iter().enumerate() {
         eprintln!("[{}/{}] {name} ...", i + 1, steps.len());
         let ts = Instant::now();

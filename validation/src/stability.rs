@@ -152,6 +152,9 @@ pub struct SuiteReport {
     pub quick: bool,
     /// rayon threads the worlds ran on.
     pub threads: usize,
+    /// 1, 5 and 15 minute load averages when the suite started (`/proc/loadavg`; `None`
+    /// elsewhere): wall times on a busy machine are longer.
+    pub load_average: Option<[f64; 3]>,
     pub wall_time_s: f64,
     pub all_passed: bool,
     pub cases: Vec<CaseRecord>,
@@ -185,6 +188,7 @@ pub fn run_suite(
     progress: &mut dyn FnMut(&str),
 ) -> Result<SuiteReport, StabilityError> {
     let t0 = Instant::now();
+    let load_average = load_average();
     let specs = write_cases(out, quick)?;
     let dir = out.join("stability");
     let mut cases = Vec::with_capacity(specs.len());
@@ -209,11 +213,19 @@ pub fn run_suite(
     Ok(SuiteReport {
         quick,
         threads: rayon::current_num_threads(),
+        load_average,
         wall_time_s: t0.elapsed().as_secs_f64(),
         all_passed: cases.iter().all(|c| c.passed),
         cases,
         rule: RULE.to_string(),
     })
+}
+
+/// The load averages of `/proc/loadavg`, where there is one.
+fn load_average() -> Option<[f64; 3]> {
+    let text = std::fs::read_to_string("/proc/loadavg").ok()?;
+    let mut v = text.split_whitespace().map(|f| f.parse::<f64>().ok());
+    Some([v.next()??, v.next()??, v.next()??])
 }
 
 /// Path of a case's scene file.
@@ -225,9 +237,15 @@ impl SuiteReport {
     /// Markdown: the table and the forced run's guard message.
     pub fn to_markdown(&self) -> String {
         let mut s = format!(
-            "## Stability suite ({})\n\n{} threads, {:.1} s wall time. Rule: {}.\n\n",
+            "## Stability suite ({})\n\n{} threads{}, {:.1} s wall time. Rule: {}.\n\n",
             if self.quick { "quick" } else { "full" },
             self.threads,
+            self.load_average
+                .map(|l| format!(
+                    " (load average at start {:.1}, {:.1}, {:.1})",
+                    l[0], l[1], l[2]
+                ))
+                .unwrap_or_default(),
             self.wall_time_s,
             self.rule
         );
@@ -253,7 +271,7 @@ impl SuiteReport {
                 (v, _, _) => format!("{v:?} ✗ (FAILED)").to_lowercase(),
             };
             s.push_str(&format!(
-                "| {} | {} | {} | {} | {} | {:.2e} | {}/{} | {:.3e} | {:.2} | {:.1e} ({:.0e}) | {:.1e} | {:.3} | {} | {} |\n",
+                "| {} | {} | {} | {} | {} | {:.2e} | {}/{} | {:.3e} | {:.2} | {:.1e} ({:.0e}) | {:.1e} | {:.1e} | {} | {} |\n",
                 c.name,
                 c.stresses,
                 if c.rigid_clumps > 0 {

@@ -43,6 +43,10 @@ fn quick_suite_is_stable_and_the_forced_run_is_caught() {
                 );
                 assert!(c.max_overlap_fraction < 0.3, "{}", c.name);
                 assert!(c.dt_factor.is_some(), "{}: automatic step", c.name);
+                // The 2× probe ran (its outcome is reported, not asserted: it documents what
+                // notices a step that is too large).
+                let p = c.at_2x.as_ref().expect("2x probe");
+                assert!(p.steps > 0 && (p.dt_s / p.critical_dt_s - 2.0).abs() < 1e-9);
             }
             Expect::Caught => {
                 let msg = c.guard_message.as_deref().expect("the guard must catch it");

@@ -165,7 +165,7 @@ impl BendingTest {
                 reason: "must be a plain file stem".into(),
             });
         }
-        self.loading.validate(TEST)
+        self.loading.validate(&format!("{TEST}.loading"))
     }
 
     pub fn shape(&self) -> Shape {
@@ -194,6 +194,26 @@ impl BendingTest {
     }
 }
 
+/// The polyline vertices of a roller arc of radius `r` about `centre`, apex direction `up`
+/// (+1: apex on top).
+fn roller_points(centre: [f64; 2], r: f64, up: f64, test: &BendingTest) -> Vec<[f64; 2]> {
+    let n = test.roller_segments;
+    let apex = up * 0.5 * PI;
+    (0..=n)
+        .map(|k| {
+            let a = apex - test.roller_angle + 2.0 * test.roller_angle * k as f64 / n as f64;
+            [centre[0] + r * a.cos(), centre[1] + r * a.sin()]
+        })
+        .collect()
+}
+
+/// Distance from point `p` to segment `a`–`b`.
+fn seg_dist(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
+    let (sx, sy) = (b[0] - a[0], b[1] - a[1]);
+    let t = (((p[0] - a[0]) * sx + (p[1] - a[1]) * sy) / (sx * sx + sy * sy)).clamp(0.0, 1.0);
+    (p[0] - a[0] - t * sx).hypot(p[1] - a[1] - t * sy)
+}
+
 /// A roller: polyline walls `<name>_<k>` on the arc of radius `r` about `centre`, apex
 /// direction `up` (+1: apex on top, a support; −1: apex below, the loader).
 fn roller(
@@ -204,15 +224,10 @@ fn roller(
     test: &BendingTest,
     velocity: [f64; 2],
 ) -> Vec<Value> {
-    let n = test.roller_segments;
-    let apex = up * 0.5 * PI;
-    let p = |k: usize| {
-        let a = apex - test.roller_angle + 2.0 * test.roller_angle * k as f64 / n as f64;
-        [centre[0] + r * a.cos(), centre[1] + r * a.sin()]
-    };
-    (0..n)
+    let p = roller_points(centre, r, up, test);
+    (0..test.roller_segments)
         .map(|k| {
-            json!({"name": format!("{name}_{k}"), "a": p(k), "b": p(k + 1),
+            json!({"name": format!("{name}_{k}"), "a": p[k], "b": p[k + 1],
                    "material": super::model::WALL_MATERIAL, "velocity": velocity})
         })
         .collect()
@@ -234,16 +249,53 @@ pub fn scene(test: &BendingTest, model: &LabModel, spec: &TestSpecimen) -> Resul
     let r = test.roller_radius.unwrap_or(0.5 * h);
     let v = test.roller_speed(model, spec);
     let (xl, xr) = (xc - 0.5 * test.span, xc + 0.5 * test.span);
-    let mut walls = roller("support_left", [xl, y0 - r], r, 1.0, test, [0.0, 0.0]);
-    walls.extend(roller(
-        "support_right",
-        [xr, y0 - r],
-        r,
-        1.0,
-        test,
-        [0.0, 0.0],
-    ));
-    walls.extend(roller("load", [xc, y1 + r], r, -1.0, test, [0.0, -v]));
+    // Each roller just touches the beam (no gap to close first): the polyline's height is
+    // found by bisection between the circle's touching height and two sagittas beyond it.
+    let discs = spec.discs()?;
+    let sagitta = r * (1.0 - (test.roller_angle / test.roller_segments as f64).cos());
+    let place = |x: f64, side: f64| -> Result<f64, LabError> {
+        let near: Vec<[f64; 3]> = discs
+            .iter()
+            .filter(|d| (d[0] - x).abs() < r + d[2])
+            .copied()
+            .collect();
+        // side +1: roller above the beam (centre above the highest touching point).
+        let circle = near
+            .iter()
+            .map(|d| side * (d[1] + side * ((r + d[2]).powi(2) - (d[0] - x).powi(2)).sqrt()))
+            .fold(f64::NEG_INFINITY, f64::max)
+            * side;
+        if !circle.is_finite() {
+            return Err(LabError::Param {
+                field: "bending.span".into(),
+                reason: format!("no disc under the roller at x = {x} m"),
+            });
+        }
+        let gap = |yc: f64| {
+            let pts = roller_points([x, yc], r, -side, test);
+            near.iter()
+                .flat_map(|d| {
+                    pts.windows(2)
+                        .map(move |w| seg_dist([d[0], d[1]], w[0], w[1]) - d[2])
+                })
+                .fold(f64::INFINITY, f64::min)
+        };
+        // At the circle's height the gap is ≥ 0, two sagittas into the beam it is < 0.
+        let (mut out, mut inn) = (circle, circle - side * 2.0 * sagitta);
+        for _ in 0..60 {
+            let mid = 0.5 * (out + inn);
+            if gap(mid) > 0.0 {
+                out = mid;
+            } else {
+                inn = mid;
+            }
+        }
+        Ok(out)
+    };
+    let (yl, yr, yc) = (place(xl, -1.0)?, place(xr, -1.0)?, place(xc, 1.0)?);
+    let mut walls = roller("support_left", [xl, yl], r, 1.0, test, [0.0, 0.0]);
+    walls.extend(roller("support_right", [xr, yr], r, 1.0, test, [0.0, 0.0]));
+    walls.extend(roller("load", [xc, yc], r, -1.0, test, [0.0, -v]));
     let load_walls: Vec<String> = (0..test.roller_segments)
         .map(|k| format!("load_{k}"))
         .collect();
@@ -264,9 +316,10 @@ pub fn scene(test: &BendingTest, model: &LabModel, spec: &TestSpecimen) -> Resul
         {"name": "sup_right", "region": band(xr)},
     ]);
     let m = &model.micro;
-    // F at σ_f = σ̄_c would be 2σ̄_c t h²/(3L); arm the stop at 2 % of it.
+    // F at σ_f = σ̄_c would be 2σ̄_c t h²/(3L); arm the stop at 15 % of it (the start-up
+    // transient of the free beam hit by the roller is ~6 % of the peak).
     let min_load =
-        0.02 * 2.0 * m.boundary_tensile.min(m.boundary_cohesion) * model.thickness * h * h
+        0.15 * 2.0 * m.boundary_tensile.min(m.boundary_cohesion) * model.thickness * h * h
             / (3.0 * test.span);
     test.loading.scene_fields(
         &mut s,

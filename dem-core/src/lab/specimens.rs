@@ -132,47 +132,31 @@ pub fn prepare(
 }
 
 impl TestSpecimen {
-    /// Reads a specimen file's geometry (any `dem.specimen/1` file).
+    /// Reads a specimen file's geometry (any `dem.specimen/1` file of disc sets).
     pub fn read(file: &Path) -> Result<TestSpecimen, LabError> {
-        let name = file.display().to_string();
-        let text = std::fs::read_to_string(file).map_err(|source| LabError::Io {
-            file: name.clone(),
-            source,
-        })?;
-        let sf: SpecimenFile = serde_json::from_str(&text).map_err(|e| LabError::Io {
-            file: name.clone(),
-            source: std::io::Error::other(e),
-        })?;
-        let u = match sf.units {
-            LengthUnit::M => 1.0,
-            LengthUnit::Mm => 1e-3,
-        };
+        let (sf, discs) = read_file(file)?;
         let mut ext = [f64::INFINITY, f64::INFINITY, -f64::INFINITY, -f64::INFINITY];
-        let (mut n, mut rsum) = (0usize, 0.0);
-        for set in &sf.discs {
-            for &[x, y, r] in &set.discs {
-                ext[0] = ext[0].min((x - r) * u);
-                ext[1] = ext[1].min((y - r) * u);
-                ext[2] = ext[2].max((x + r) * u);
-                ext[3] = ext[3].max((y + r) * u);
-                n += 1;
-                rsum += r * u;
-            }
-        }
-        if n == 0 || !sf.clumps.is_empty() {
-            return Err(LabError::Param {
-                field: name,
-                reason: "a lab specimen needs discs (and no template clumps)".into(),
-            });
+        let mut rsum = 0.0;
+        for &[x, y, r] in &discs {
+            ext[0] = ext[0].min(x - r);
+            ext[1] = ext[1].min(y - r);
+            ext[2] = ext[2].max(x + r);
+            ext[3] = ext[3].max(y + r);
+            rsum += r;
         }
         Ok(TestSpecimen {
             file: file.to_path_buf(),
             extent: ext,
-            discs: n,
+            discs: discs.len(),
             bonds: sf.bonds.iter().map(|b| b.pairs.len()).sum(),
-            r_mean: rsum / n as f64,
+            r_mean: rsum / discs.len() as f64,
             reused: false,
         })
+    }
+
+    /// The discs `[x, y, r]` (m) of the specimen file, in file order.
+    pub fn discs(&self) -> Result<Vec<[f64; 3]>, LabError> {
+        Ok(read_file(&self.file)?.1)
     }
 
     /// Width and height of the extent (m).
@@ -190,6 +174,35 @@ impl TestSpecimen {
             .map(|n| n.to_string_lossy().into_owned())
             .unwrap_or_default()
     }
+}
+
+/// A specimen file and its discs in metres; it must hold discs and no template clumps.
+fn read_file(file: &Path) -> Result<(SpecimenFile, Vec<[f64; 3]>), LabError> {
+    let name = file.display().to_string();
+    let text = std::fs::read_to_string(file).map_err(|source| LabError::Io {
+        file: name.clone(),
+        source,
+    })?;
+    let sf: SpecimenFile = serde_json::from_str(&text).map_err(|e| LabError::Io {
+        file: name.clone(),
+        source: std::io::Error::other(e),
+    })?;
+    let u = match sf.units {
+        LengthUnit::M => 1.0,
+        LengthUnit::Mm => 1e-3,
+    };
+    let discs: Vec<[f64; 3]> = sf
+        .discs
+        .iter()
+        .flat_map(|s| s.discs.iter().map(|d| [d[0] * u, d[1] * u, d[2] * u]))
+        .collect();
+    if discs.is_empty() || !sf.clumps.is_empty() {
+        return Err(LabError::Param {
+            field: name,
+            reason: "a lab specimen needs discs (and no template clumps)".into(),
+        });
+    }
+    Ok((sf, discs))
 }
 
 /// The disc of diameter `d` carved from a square specimen file (one disc set, as

@@ -110,7 +110,7 @@ impl UcsTest {
                 reason: "must be a plain file stem".into(),
             });
         }
-        self.loading.validate(TEST)
+        self.loading.validate(&format!("{TEST}.loading"))
     }
 
     /// The specimen shape.
@@ -156,7 +156,9 @@ pub fn scene(test: &UcsTest, model: &LabModel, spec: &TestSpecimen) -> Result<Va
         {"name": "right", "region": [x1 - g, y0 - g, x1 + g, y1 + g]},
     ]);
     let m = &model.micro;
-    let min_load = 0.05 * m.boundary_tensile.min(m.boundary_cohesion) * w * model.thickness;
+    // Arm the stop at 10 % of σ̄_c w t (the start-up transient, stress ρcv = E ε_f/N, is
+    // ~2.5 % of σ̄_c).
+    let min_load = 0.1 * m.boundary_tensile.min(m.boundary_cohesion) * w * model.thickness;
     let u_fail = 0.5 * h * common::failure_strain_estimate(model);
     test.loading
         .scene_fields(&mut s, v, u_fail, &["top".into()], "y", min_load, gauges);

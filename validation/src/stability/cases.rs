@@ -215,7 +215,7 @@ pub fn sic_block(quick: bool) -> CaseSpec {
         "SiC E = 430 GPa, 5 µm discs, bonded, platen 0.1 m/s",
         s,
         steps,
-        200,
+        50,
     )
 }
 
@@ -267,7 +267,7 @@ pub fn tool_50(quick: bool) -> CaseSpec {
         "tool wall at 50 m/s into a bonded Si3N4 block in a slot",
         s,
         steps,
-        200,
+        50,
     )
 }
 
@@ -314,7 +314,7 @@ pub fn soft_pile(quick: bool) -> CaseSpec {
         "E = 1 MPa discs settling under gravity",
         s,
         steps,
-        200,
+        50,
     )
 }
 

@@ -30,7 +30,8 @@ fn spec(
         scene,
         files,
         steps,
-        sample_every: 200,
+        // Small scenes: sample often enough to see inside a collision (~50–100 steps).
+        sample_every: 10,
         bound: BALANCE_BOUND,
         expect: Expect::Stable,
     }

@@ -1,0 +1,146 @@
+//! `dem test cutting` end to end: a small specimen generated from the specimen flags, a short
+//! fast cut, the printed summary and the files; the scene it writes re-runs with `dem run`;
+//! bad arguments are messages with exit code 2.
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+fn tmp(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("dem-cutting-cli-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn dem(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_dem"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+fn text(o: &Output) -> String {
+    format!(
+        "{}\n{}",
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr)
+    )
+}
+
+fn material() -> String {
+    concat!(env!("CARGO_MANIFEST_DIR"), "/../data/materials/si3n4.json").to_string()
+}
+
+#[test]
+fn cutting_generates_cuts_and_reports() {
+    let dir = tmp("ok");
+    let out = dir.join("cut");
+    let o = dem(&[
+        "test",
+        "cutting",
+        "--width",
+        "3mm",
+        "--height",
+        "1.5mm",
+        "--r-min",
+        "0.1mm",
+        "--r-max",
+        "0.16mm",
+        "--material",
+        &material(),
+        "--seed",
+        "2",
+        "--depth",
+        "0.4mm",
+        "--speed",
+        "10m/s",
+        "--length",
+        "1mm",
+        "--history-rows",
+        "200",
+        "--threads",
+        "2",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let t = text(&o);
+    assert!(o.status.success(), "{t}");
+    for k in [
+        "main force (kN)",
+        "vertical force (kN)",
+        "chips",
+        "broken grain_boundary",
+        "surface",
+        "residual cracks",
+        "cutting.result.json",
+    ] {
+        assert!(t.contains(k), "missing {k:?} in\n{t}");
+    }
+    for f in [
+        "specimen.json",
+        "specimen.summary.json",
+        "specimen.scene.json",
+        "cutting.scene.json",
+        "history.csv",
+        "cutting.forces.csv",
+        "cutting.result.json",
+    ] {
+        assert!(out.join(f).exists(), "{f}");
+    }
+    let r: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("cutting.result.json")).unwrap())
+            .unwrap();
+    assert!(r["main_force"]["mean"].as_f64().unwrap() > 0.0);
+    assert_eq!(r["test"]["depth"].as_f64().unwrap(), 0.4e-3);
+    assert_eq!(r["test"]["speed"].as_f64().unwrap(), 10.0);
+    // The scene is plain: `dem run` loads and starts it (capped at 200 steps).
+    let o = dem(&[
+        "run",
+        out.join("cutting.scene.json").to_str().unwrap(),
+        "--max-steps",
+        "200",
+        "--out",
+        dir.join("rerun").to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn bad_arguments_are_messages() {
+    let dir = tmp("bad");
+    let out = dir.join("cut");
+    let o = dem(&[
+        "test",
+        "cutting",
+        "--out",
+        out.to_str().unwrap(),
+        "--depth",
+        "1mm",
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(text(&o).contains("--specimen"), "{}", text(&o));
+    let o = dem(&[
+        "test",
+        "cutting",
+        "--specimen",
+        dir.join("missing.json").to_str().unwrap(),
+        "--speed",
+        "fast",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(text(&o).contains("--speed"), "{}", text(&o));
+    let o = dem(&[
+        "test",
+        "cutting",
+        "--specimen",
+        dir.join("missing.json").to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(text(&o).contains("missing.json"), "{}", text(&o));
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -1,0 +1,156 @@
+//! `dem test` end to end: a small UCS test writes its specimen, scene, outputs and result; the
+//! scene re-runs with `dem run` to the same history; a second call reuses the specimen; bad
+//! arguments are messages naming the flag or field, exit code 2.
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+fn tmp(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("dem-test-cli-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn dem(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_dem"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+fn text(o: &Output) -> String {
+    format!(
+        "{}\n{}",
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr)
+    )
+}
+
+fn material() -> String {
+    concat!(env!("CARGO_MANIFEST_DIR"), "/../data/materials/si3n4.json").to_string()
+}
+
+fn ucs(out: &str, extra: &[&str]) -> Output {
+    let m = material();
+    let mut a = vec![
+        "test",
+        "ucs",
+        "--r-min",
+        "0.1mm",
+        "--r-max",
+        "0.16mm",
+        "--seed",
+        "1",
+        "--material",
+        &m,
+        "--width",
+        "2mm",
+        "--height",
+        "4mm",
+        "--threads",
+        "1",
+        "--out",
+        out,
+    ];
+    a.extend_from_slice(extra);
+    dem(&a)
+}
+
+#[test]
+fn ucs_writes_specimen_scene_result_and_the_scene_reruns() {
+    let dir = tmp("ucs");
+    let out = dir.to_str().unwrap();
+    let o = ucs(out, &[]);
+    assert!(o.status.success(), "{}", text(&o));
+    let t = text(&o);
+    assert!(
+        t.contains("E = ") && t.contains("UCS = ") && t.contains("ν = "),
+        "{t}"
+    );
+    for f in [
+        "ucs.specimen.json",
+        "ucs.specimen.key.json",
+        "ucs.specimen.summary.json",
+        "ucs.json",
+        "ucs.result.json",
+        "ucs.out/history.csv",
+        "ucs.out/summary.json",
+    ] {
+        assert!(dir.join(f).exists(), "{f}");
+    }
+    let r: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("ucs.result.json")).unwrap())
+            .unwrap();
+    let e = r["result"]["young"].as_f64().unwrap();
+    assert!(e > 100e9 && e < 1000e9, "{e}");
+    assert_eq!(r["run"]["status"], "failure");
+
+    // The scene file is a plain scene: dem run gives the same history.
+    let rerun = dir.join("rerun");
+    let o = dem(&[
+        "run",
+        dir.join("ucs.json").to_str().unwrap(),
+        "--out",
+        rerun.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert_eq!(
+        std::fs::read_to_string(rerun.join("history.csv")).unwrap(),
+        std::fs::read_to_string(dir.join("ucs.out/history.csv")).unwrap()
+    );
+
+    // Same specimen flags: the specimen is reused; a slower platen is used.
+    let o = ucs(out, &["--speed", "0.3m/s"]);
+    assert!(o.status.success(), "{}", text(&o));
+    let t = text(&o);
+    assert!(t.contains("reused") && t.contains("3.0000e-1 m/s"), "{t}");
+}
+
+#[test]
+fn bad_arguments_name_the_flag_or_field() {
+    let dir = tmp("bad");
+    let out = dir.to_str().unwrap();
+    let o = ucs(out, &["--speed=-1m/s"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(text(&o).contains("--speed"), "{}", text(&o));
+    let m = material();
+    let o = dem(&[
+        "test",
+        "bending",
+        "--r-min",
+        "0.1mm",
+        "--r-max",
+        "0.16mm",
+        "--material",
+        &m,
+        "--length",
+        "6mm",
+        "--height",
+        "1.5mm",
+        "--span",
+        "7mm",
+        "--out",
+        out,
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(text(&o).contains("bending.span"), "{}", text(&o));
+    let o = dem(&[
+        "test",
+        "brazilian",
+        "--r-min",
+        "0.1mm",
+        "--r-max",
+        "0.16mm",
+        "--material",
+        &m,
+        "--diameter",
+        "3mm",
+        "--method",
+        "nope",
+        "--out",
+        out,
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(text(&o).contains("--method"), "{}", text(&o));
+}
