@@ -128,6 +128,30 @@ fn stop_after_peak_ends_at_the_first_row_below_the_fraction() {
         "not the first row below"
     );
 
+    // A restart after the peak (step 1400, t = 0.14 s, load still above half the peak) takes the
+    // peak from the history rows it continues, and stops at the same row.
+    let stop = json!({"walls": ["floor", "far"], "axis": "y", "below": 0.5});
+    let d2 = tmp("stop-restart");
+    let (e, _) = run(
+        &bounce_scene(stop.clone()),
+        &d2,
+        RunOptions {
+            max_steps: Some(1400),
+            ..RunOptions::default()
+        },
+    );
+    assert_eq!(e, Ending::MaxSteps);
+    let (e, t2) = run(
+        &bounce_scene(stop),
+        &d2,
+        RunOptions {
+            restart: Some(d2.join("scene.out/ckpt-final.json")),
+            ..RunOptions::default()
+        },
+    );
+    assert_eq!(e, Ending::Failure);
+    assert_eq!(t2.rows, t.rows);
+
     // Armed only once the peak reaches min_load: above the peak, the run completes.
     let d = tmp("stop-unarmed");
     let (e, t) = run(

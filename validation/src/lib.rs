@@ -11,3 +11,4 @@ pub mod report;
 pub mod stability;
 pub mod table1;
 pub mod table2;
+pub mod table2_section;

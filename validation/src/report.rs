@@ -111,6 +111,11 @@ fn stability_section(o: &ReportOptions) -> Result<Section, String> {
     })
 }
 
+/// Table 2: the cutting runs, the table, its plots.
+fn table2_section(o: &ReportOptions) -> Result<Section, String> {
+    crate::table2_section::section(&o.data, &o.out, o.quick)
+}
+
 /// Drops a leading `# ...` title line (sections get their own `##` title).
 fn strip_h1(md: &str) -> String {
     match md.strip_prefix("# ") {
@@ -130,9 +135,10 @@ pub fn run(o: &ReportOptions) -> Result<String, String> {
     let mut env = Environment::capture(mode);
     let mut sections = Vec::new();
     type Builder = fn(&ReportOptions) -> Result<Section, String>;
-    let steps: [(&str, Builder); 3] = [
+    let steps: [(&str, Builder); 4] = [
         ("Table 1", table1_section),
         ("clump sweep", sweep_section),
+        ("Table 2", table2_section),
         ("stability suite", stability_section),
     ];
     for (i, (name, f)) in steps.iter().enumerate() {

@@ -10,6 +10,7 @@
 //! and the error names the step, the disc and the likely cause. No output ever holds a NaN.
 
 use super::history::History;
+use super::run_controls::{gauge_members, gauge_positions, peak_of_rows, wall_load};
 use super::summary::{RunSummary, SCHEMA as SUMMARY_SCHEMA};
 use super::vtk::{self, BondLine, Collection, Entry};
 use super::{write_atomic, OutputError};
@@ -17,7 +18,7 @@ use crate::bond::BondStatus;
 use crate::checkpoint::{self, CheckpointError};
 use crate::guard::GuardError;
 use crate::pipeline::World;
-use crate::scene::model::{Scene, Stop, StopAfterPeak};
+use crate::scene::model::{Scene, Stop};
 use crate::scene::SceneError;
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
@@ -520,86 +521,6 @@ impl Simulation {
         }
         Ok(s)
     }
-}
-
-/// |Σ force component `axis` of the walls of `s`| (N).
-fn wall_load(walls: &[crate::state::Wall], s: &StopAfterPeak) -> f64 {
-    s.walls
-        .iter()
-        .map(|&i| walls[i].force[s.axis])
-        .sum::<f64>()
-        .abs()
-}
-
-/// Largest load of the history rows a restart continues (wall `i`'s force components are
-/// columns 3 + 3i and 4 + 3i, see [`History::new`]).
-fn peak_of_rows(rows: &str, s: &StopAfterPeak) -> f64 {
-    rows.lines()
-        .map(|l| {
-            let v: Vec<&str> = l.split(',').collect();
-            s.walls
-                .iter()
-                .map(|&i| {
-                    v.get(3 + 3 * i + s.axis)
-                        .and_then(|x| x.parse::<f64>().ok())
-                        .unwrap_or(0.0)
-                })
-                .sum::<f64>()
-                .abs()
-        })
-        .fold(0.0, f64::max)
-}
-
-/// Membership (by disc id) of each gauge of the scene: the discs of `world` (as built from the
-/// scene) whose centre lies in the region. A gauge holding no disc is an error.
-fn gauge_members(scene: &Scene, world: &World) -> Result<Vec<Vec<bool>>, SceneError> {
-    let d = &world.state.discs;
-    let n = d.id.iter().map(|&i| i as usize + 1).max().unwrap_or(0);
-    scene
-        .outputs
-        .gauges
-        .iter()
-        .enumerate()
-        .map(|(k, g)| {
-            let [x0, y0, x1, y1] = g.region;
-            let mut mask = vec![false; n];
-            let mut count = 0;
-            for i in 0..d.len() {
-                if d.x[i] >= x0 && d.x[i] <= x1 && d.y[i] >= y0 && d.y[i] <= y1 {
-                    mask[d.id[i] as usize] = true;
-                    count += 1;
-                }
-            }
-            if count == 0 {
-                return Err(SceneError::Field {
-                    file: scene.file.display().to_string(),
-                    field: format!("outputs.gauges[{k}].region"),
-                    reason: "holds no disc centre when the scene is built".into(),
-                });
-            }
-            Ok(mask)
-        })
-        .collect()
-}
-
-/// Mean centre of each gauge's discs (m).
-fn gauge_positions(st: &crate::state::State, gauges: &[Vec<bool>]) -> Vec<[f64; 2]> {
-    let d = &st.discs;
-    gauges
-        .iter()
-        .map(|mask| {
-            let (mut sx, mut sy, mut n) = (0.0, 0.0, 0usize);
-            for i in 0..d.len() {
-                if mask.get(d.id[i] as usize).copied().unwrap_or(false) {
-                    sx += d.x[i];
-                    sy += d.y[i];
-                    n += 1;
-                }
-            }
-            let n = n.max(1) as f64;
-            [sx / n, sy / n]
-        })
-        .collect()
 }
 
 #[cfg(test)]

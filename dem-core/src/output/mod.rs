@@ -8,6 +8,7 @@
 
 pub mod driver;
 pub mod history;
+mod run_controls;
 pub mod summary;
 pub mod vtk;
 

@@ -1,0 +1,165 @@
+//! The Table 2 section of the report: the run plan (full: the paper's set-up, 5 seeds; quick:
+//! coarse specimens, 1 seed, a short cut), the runs ([`crate::cutting_runs`]), the table
+//! ([`crate::table2`]), a bar chart ours vs paper and the force histories of the three methods
+//! at a_p = 1 mm, v = 1 m/s.
+
+use crate::cutting_runs::{run_plan, Plan};
+use crate::page::{json, Figure, Section};
+use crate::plot::{self, Series};
+use crate::table2::{self, PaperTable2, METHODS};
+use dem_core::lab::LabModel;
+use dem_core::specimen::{Method, SpecimenParams};
+use std::path::Path;
+
+/// The calibrated Si3N4 model (`data/models/si3n4.model.json`, written by `dem calibrate`).
+pub fn si3n4_model(data: &Path) -> Result<LabModel, String> {
+    let p = data.join("models/si3n4.model.json");
+    let text = std::fs::read_to_string(&p).map_err(|e| format!("{}: {e}", p.display()))?;
+    serde_json::from_str(&text).map_err(|e| format!("{}: {e}", p.display()))
+}
+
+/// Full: 20 × 10 mm, radii 0.175–0.285 mm (989 discs in the paper, 993 ours), grains 0.86 mm,
+/// template discs from 0.08 mm, seeds 1–5, L = 10 mm, the cutting test's defaults. Quick (a
+/// smoke test, not comparable with the paper): radii 0.6–1.0 mm, grains 2.8 mm, template
+/// discs from 0.3 mm, seed 1, L = 2.5 mm, steady window from 0.5 a_p, tool 3× the disc k_n.
+/// Both use the calibrated micro-parameters
+/// with the bond stiffness of the plan's mean radius (k̄_n = Ē_c/(2r̄)).
+pub fn plan(data: &Path, quick: bool) -> Result<Plan, String> {
+    let mut model = si3n4_model(data)?;
+    let (r0, r1, grain, tmin, seeds, length) = if quick {
+        (0.6e-3, 1.0e-3, 2.8e-3, 0.3e-3, vec![1], 2.5e-3)
+    } else {
+        (
+            0.175e-3,
+            0.285e-3,
+            0.86e-3,
+            0.08e-3,
+            vec![1, 2, 3, 4, 5],
+            10e-3,
+        )
+    };
+    model.r_mean = 0.5 * (r0 + r1);
+    let mut sp = SpecimenParams::new(
+        Method::Traditional,
+        20e-3,
+        10e-3,
+        r0,
+        r1,
+        model.density,
+        model.micro.contact_modulus,
+        model.micro.boundary_tensile,
+        1,
+    );
+    sp.grain_size = grain;
+    sp.template_r_min = tmin;
+    sp.micro = model.micro.clone();
+    Ok(Plan {
+        specimen: sp,
+        model,
+        methods: vec![Method::Orc, Method::Improved, Method::Traditional],
+        depths_mm: vec![1.0, 2.0],
+        speeds_m_s: vec![1.0, 2.0],
+        seeds,
+        length,
+        dt_factor: None,
+        window_start: quick.then_some(0.5),
+        tool_stiffness: quick.then_some(3.0),
+    })
+}
+
+/// Reads `cutting.forces.csv` (travel, time, main, vertical) as (travel mm, main kN × scale).
+fn force_series(file: &Path, scale: f64) -> Option<Vec<(f64, f64)>> {
+    let t = dem_core::lab::history::Table::read(file).ok()?;
+    let x = t.column("travel_m", "").ok()?;
+    let f = t.column("main_N", "").ok()?;
+    Some(
+        x.iter()
+            .zip(&f)
+            .map(|(a, b)| (a * 1e3, b * scale))
+            .collect(),
+    )
+}
+
+/// Runs the plan into `out/table2-runs` and builds the section.
+pub fn section(data: &Path, out: &Path, quick: bool) -> Result<Section, String> {
+    let plan = plan(data, quick)?;
+    let paper = PaperTable2::read(&data.join("reference/ye_xu_2010_table2.json"))?;
+    let work = out.join("table2-runs");
+    let (runs, errors) = run_plan(&plan, &work, &|l| eprintln!("  {l}"));
+    let records: Vec<_> = runs.iter().map(|r| r.record.clone()).collect();
+    let t = table2::assemble(&records, &paper)?;
+    let scale = t.constant.value / t.constant.run_value / 1e3;
+    // Bars: mean force per case and method, ours and the paper's.
+    let mut cats = vec![];
+    let (mut ours, mut theirs) = (vec![], vec![]);
+    for c in &t.cells {
+        cats.push(format!("{} {}mm {}m/s", c.method, c.depth_mm, c.speed_m_s));
+        ours.push(c.mean_kN);
+        theirs.push(c.paper_mean_kN);
+    }
+    let bars = plot::bars(
+        "Table 2: mean main cutting force, ours vs Ye & Xu (2010)",
+        "kN",
+        &cats,
+        &[("ours (seed mean)".into(), ours), ("paper".into(), theirs)],
+    )?;
+    let mut series = vec![];
+    for m in METHODS {
+        let f = work
+            .join(format!("{m}-d1-v1-s{}", plan.seeds[0]))
+            .join(dem_core::lab::cutting::FORCES_FILE);
+        if let Some(points) = force_series(&f, scale) {
+            series.push(Series {
+                name: m.into(),
+                points,
+            });
+        }
+    }
+    let hist = plot::lines(
+        "Main cutting force, a_p = 1 mm, v = 1 m/s (first seed)",
+        "tool travel (mm)",
+        "main force (kN, fitted thickness)",
+        &series,
+        false,
+        false,
+    )?;
+    let total_time: f64 = records.iter().map(|r| r.wall_time_s).sum();
+    let mut md = format!(
+        "Plan ({}): specimens 20 × 10 mm, radii {:.3}–{:.3} mm, {} seed(s), L = {} mm, \
+         calibrated Si3N4 model (`data/models/si3n4.model.json`); {} runs, {:.0} s of run time.\n\n",
+        if quick { "quick: coarse specimens, short cut — not comparable with the paper" } else { "full" },
+        plan.specimen.r_min * 1e3,
+        plan.specimen.r_max * 1e3,
+        plan.seeds.len(),
+        plan.length * 1e3,
+        records.len(),
+        total_time
+    );
+    md += &t.markdown().replacen("## Table 2", "### Table 2", 1);
+    if !errors.is_empty() {
+        md += "\n**Failed runs** (left out of the table):\n\n";
+        for e in &errors {
+            md += &format!("- {e}\n");
+        }
+    }
+    Ok(Section {
+        title: "Table 2 (Ye & Xu 2010): cutting forces of Si3N4".into(),
+        markdown: md,
+        figures: vec![
+            Figure {
+                file: "table2_bars.svg".into(),
+                caption: "Mean main cutting force per case and method: ours (fitted thickness) and the paper's".into(),
+                svg: bars,
+            },
+            Figure {
+                file: "cutting_forces.svg".into(),
+                caption: "Main cutting force against tool travel for the three specimen types, a_p = 1 mm, v = 1 m/s".into(),
+                svg: hist,
+            },
+        ],
+        data: vec![
+            ("table2.json".into(), json(&t)),
+            ("table2_runs.json".into(), json(&runs)),
+        ],
+    })
+}
