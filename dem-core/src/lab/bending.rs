@@ -19,12 +19,10 @@
 //! `quasi_static_factor` (default 10) fundamental periods of the simply supported beam,
 //! T₁ = 2π/ω₁ with ω₁ = (π/L)² √(EI/(ρA)) = (π/L)² h √(E/(12ρ)) (Euler-Bernoulli), E = E_c.
 
-use super::common::{self, positive, Loading, RunFacts};
+use super::common::{self, positive, Loading};
 use super::history::Table;
-use super::run::run_scene;
 use super::specimens::{Shape, TestSpecimen};
 use super::{analysis, LabError, LabModel};
-use crate::output::driver::RunOptions;
 use serde::{Deserialize, Serialize};
 use serde_json::{json, Value};
 use std::f64::consts::PI;
@@ -96,14 +94,7 @@ pub struct BendingReport {
 }
 
 /// The result file `<name>.result.json`.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct BendingOutcome {
-    pub test: BendingTest,
-    pub model: LabModel,
-    pub specimen: TestSpecimen,
-    pub result: BendingReport,
-    pub run: RunFacts,
-}
+pub type BendingOutcome = common::Outcome<BendingTest, BendingReport>;
 
 /// Mid-span stiffness F/δ of a simply supported beam of span L under a central load,
 /// Timoshenko: δ = FL³/(48EI) + FL/(4κGA), I = bh³/12, A = bh, G = E/(2(1+ν)), κ = 5/6
@@ -408,21 +399,7 @@ pub fn run(
     progress: &mut dyn FnMut(u64, u64),
 ) -> Result<BendingOutcome, LabError> {
     let s = scene(test, model, spec)?;
-    let dir = spec.file.parent().unwrap_or(std::path::Path::new("."));
-    let r = run_scene(
-        &s,
-        &dir.join(format!("{}.json", test.name)),
-        &RunOptions::default(),
-        progress,
-    )?;
-    let result = analyze(&r.history, test, model, spec)?;
-    let out = BendingOutcome {
-        test: test.clone(),
-        model: model.clone(),
-        specimen: spec.clone(),
-        result,
-        run: RunFacts::of(&r),
-    };
-    common::write_result(&dir.join(format!("{}.result.json", test.name)), &out)?;
-    Ok(out)
+    common::run_test(&test.name, test, s, model, spec, progress, |h| {
+        analyze(h, test, model, spec)
+    })
 }

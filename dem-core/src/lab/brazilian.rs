@@ -6,12 +6,10 @@
 //! Quasi-static rule as the compression test ([`super::ucs`]): each platen travels the
 //! estimated failure displacement ε_f D/2 in 20 P-wave transit times D √(ρ/E_c).
 
-use super::common::{self, positive, Loading, RunFacts};
+use super::common::{self, positive, Loading};
 use super::history::Table;
-use super::run::run_scene;
 use super::specimens::{Shape, TestSpecimen};
 use super::{analysis, LabError, LabModel};
-use crate::output::driver::RunOptions;
 use serde::{Deserialize, Serialize};
 use serde_json::{json, Value};
 
@@ -59,14 +57,7 @@ pub struct BrazilianReport {
 }
 
 /// The result file `<name>.result.json`.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct BrazilianOutcome {
-    pub test: BrazilianTest,
-    pub model: LabModel,
-    pub specimen: TestSpecimen,
-    pub result: BrazilianReport,
-    pub run: RunFacts,
-}
+pub type BrazilianOutcome = common::Outcome<BrazilianTest, BrazilianReport>;
 
 impl BrazilianTest {
     /// Checks every value; errors name the field (`brazilian.<field>`).
@@ -181,21 +172,7 @@ pub fn run(
     progress: &mut dyn FnMut(u64, u64),
 ) -> Result<BrazilianOutcome, LabError> {
     let s = scene(test, model, spec)?;
-    let dir = spec.file.parent().unwrap_or(std::path::Path::new("."));
-    let r = run_scene(
-        &s,
-        &dir.join(format!("{}.json", test.name)),
-        &RunOptions::default(),
-        progress,
-    )?;
-    let result = analyze(&r.history, test, model, spec)?;
-    let out = BrazilianOutcome {
-        test: test.clone(),
-        model: model.clone(),
-        specimen: spec.clone(),
-        result,
-        run: RunFacts::of(&r),
-    };
-    common::write_result(&dir.join(format!("{}.result.json", test.name)), &out)?;
-    Ok(out)
+    common::run_test(&test.name, test, s, model, spec, progress, |h| {
+        analyze(h, test, model, spec)
+    })
 }

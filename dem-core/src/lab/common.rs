@@ -2,8 +2,11 @@
 //! run settings of a damped quasi-static scene, the facts of a finished run, and the atomic
 //! result file.
 
-use super::run::LabRun;
+use super::history::Table;
+use super::run::{run_scene, LabRun};
+use super::specimens::TestSpecimen;
 use super::{LabError, LabModel};
+use crate::output::driver::RunOptions;
 use crate::output::write_atomic;
 use serde::{Deserialize, Serialize};
 use serde_json::{json, Value};
@@ -169,6 +172,47 @@ impl RunFacts {
             wall_time_s: s.wall_time_s,
         }
     }
+}
+
+/// A test's result file `<name>.result.json`: the test, the model, the specimen, what the
+/// analysis measured and the facts of the run.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Outcome<T, R> {
+    pub test: T,
+    pub model: LabModel,
+    pub specimen: TestSpecimen,
+    pub result: R,
+    pub run: RunFacts,
+}
+
+/// What every quasi-static test's `run` does: writes `scene` as `<name>.json` beside the
+/// specimen file, runs it (outputs `<name>.out/`), analyses the history with `analyze` and
+/// writes `<name>.result.json` there (atomically).
+pub fn run_test<T: Clone + Serialize, R: Serialize>(
+    name: &str,
+    test: &T,
+    scene: Value,
+    model: &LabModel,
+    spec: &TestSpecimen,
+    progress: &mut dyn FnMut(u64, u64),
+    analyze: impl FnOnce(&Table) -> Result<R, LabError>,
+) -> Result<Outcome<T, R>, LabError> {
+    let dir = spec.file.parent().unwrap_or(Path::new("."));
+    let r = run_scene(
+        &scene,
+        &dir.join(format!("{name}.json")),
+        &RunOptions::default(),
+        progress,
+    )?;
+    let out = Outcome {
+        test: test.clone(),
+        model: model.clone(),
+        specimen: spec.clone(),
+        result: analyze(&r.history)?,
+        run: RunFacts::of(&r),
+    };
+    write_result(&dir.join(format!("{name}.result.json")), &out)?;
+    Ok(out)
 }
 
 /// Writes `value` as pretty JSON to `path` atomically.

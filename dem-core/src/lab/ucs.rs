@@ -15,12 +15,10 @@
 //! h √(ρ/E_c); the result reports the achieved ratio of the time to peak over h √(ρ/E) with the
 //! measured E.
 
-use super::common::{self, positive, Loading, RunFacts};
+use super::common::{self, positive, Loading};
 use super::history::Table;
-use super::run::run_scene;
 use super::specimens::{Shape, TestSpecimen};
 use super::{analysis, LabError, LabModel};
-use crate::output::driver::RunOptions;
 use serde::{Deserialize, Serialize};
 use serde_json::{json, Value};
 
@@ -81,14 +79,7 @@ pub struct UcsReport {
 }
 
 /// The result file `<name>.result.json`.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct UcsOutcome {
-    pub test: UcsTest,
-    pub model: LabModel,
-    pub specimen: TestSpecimen,
-    pub result: UcsReport,
-    pub run: RunFacts,
-}
+pub type UcsOutcome = common::Outcome<UcsTest, UcsReport>;
 
 impl UcsTest {
     /// Checks every value; errors name the field (`ucs.<field>`).
@@ -246,21 +237,7 @@ pub fn run(
     progress: &mut dyn FnMut(u64, u64),
 ) -> Result<UcsOutcome, LabError> {
     let s = scene(test, model, spec)?;
-    let dir = spec.file.parent().unwrap_or(std::path::Path::new("."));
-    let r = run_scene(
-        &s,
-        &dir.join(format!("{}.json", test.name)),
-        &RunOptions::default(),
-        progress,
-    )?;
-    let result = analyze(&r.history, test, model, spec)?;
-    let out = UcsOutcome {
-        test: test.clone(),
-        model: model.clone(),
-        specimen: spec.clone(),
-        result,
-        run: RunFacts::of(&r),
-    };
-    common::write_result(&dir.join(format!("{}.result.json", test.name)), &out)?;
-    Ok(out)
+    common::run_test(&test.name, test, s, model, spec, progress, |h| {
+        analyze(h, test, model, spec)
+    })
 }
