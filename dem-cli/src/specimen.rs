@@ -146,37 +146,57 @@ pub fn read_material(path: &PathBuf) -> Result<MaterialInfo, String> {
     Ok((name, density, e, tensile))
 }
 
-pub fn run(a: SpecimenArgs) -> Result<ExitCode, String> {
-    let method = Method::parse(&a.method)
-        .ok_or_else(|| format!("--method {:?}: use traditional, orc or improved", a.method))?;
-    let dist = match a.dist.as_str() {
+/// `--method` and `--dist`.
+pub fn method_and_dist(method: &str, dist: &str) -> Result<(Method, RadiusDist), String> {
+    let m = Method::parse(method)
+        .ok_or_else(|| format!("--method {method:?}: use traditional, orc or improved"))?;
+    let d = match dist {
         "normal" => RadiusDist::Normal,
         "uniform" => RadiusDist::Uniform,
         d => return Err(format!("--dist {d:?}: use normal or uniform")),
     };
-    let (mat_name, mat_rho, mat_e, mat_t) = match &a.material {
+    Ok((m, d))
+}
+
+/// Material name, density, E and tensile strength: the flags, else the `--material` file.
+pub fn material_values(
+    material: Option<&PathBuf>,
+    density: Option<f64>,
+    youngs: Option<&str>,
+    tensile: Option<&str>,
+) -> Result<(String, f64, f64, f64), String> {
+    let (name, mat_rho, mat_e, mat_t) = match material {
         Some(p) => read_material(p)?,
         None => ("specimen".to_string(), None, None, None),
     };
     let need = |v: Option<f64>, what: &str| {
         v.ok_or_else(|| format!("{what} is not set: give it or a --material file that has it"))
     };
-    let density = need(a.density.or(mat_rho), "--density")?;
+    let density = need(density.or(mat_rho), "--density")?;
     let e = need(
-        a.youngs
-            .as_deref()
+        youngs
             .map(|s| parse_stress(s, "--youngs"))
             .transpose()?
             .or(mat_e),
         "--youngs",
     )?;
     let tensile = need(
-        a.tensile
-            .as_deref()
+        tensile
             .map(|s| parse_stress(s, "--tensile"))
             .transpose()?
             .or(mat_t),
         "--tensile",
+    )?;
+    Ok((name, density, e, tensile))
+}
+
+pub fn run(a: SpecimenArgs) -> Result<ExitCode, String> {
+    let (method, dist) = method_and_dist(&a.method, &a.dist)?;
+    let (mat_name, density, e, tensile) = material_values(
+        a.material.as_ref(),
+        a.density,
+        a.youngs.as_deref(),
+        a.tensile.as_deref(),
     )?;
     let mut p = SpecimenParams::new(
         method,

@@ -5,14 +5,14 @@
 //! One clap variant per test; the specimen and model flags every test shares are
 //! [`LabArgs`] (`#[command(flatten)]`), so another test (cutting) adds only its own variant.
 
-use crate::specimen::{parse_length, parse_stress, read_material};
+use crate::specimen::{material_values, method_and_dist, parse_length, parse_stress};
 use clap::{Args, Subcommand};
 use dem_core::lab::bending::BendingTest;
 use dem_core::lab::brazilian::BrazilianTest;
 use dem_core::lab::specimens::{self, Shape, TestSpecimen};
 use dem_core::lab::ucs::UcsTest;
 use dem_core::lab::{self, LabError, LabModel};
-use dem_core::specimen::{Method, Progress, RadiusDist, SpecimenParams};
+use dem_core::specimen::{Progress, SpecimenParams};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
 use std::path::PathBuf;
@@ -99,40 +99,12 @@ pub struct LabArgs {
 impl LabArgs {
     /// Specimen parameters for a `width × height` (m) box from the flags.
     pub fn specimen_params(&self, width: f64, height: f64) -> Result<SpecimenParams, String> {
-        let method = Method::parse(&self.method).ok_or_else(|| {
-            format!(
-                "--method {:?}: use traditional, orc or improved",
-                self.method
-            )
-        })?;
-        let dist = match self.dist.as_str() {
-            "normal" => RadiusDist::Normal,
-            "uniform" => RadiusDist::Uniform,
-            d => return Err(format!("--dist {d:?}: use normal or uniform")),
-        };
-        let (_, mat_rho, mat_e, mat_t) = match &self.material {
-            Some(p) => read_material(p)?,
-            None => ("specimen".to_string(), None, None, None),
-        };
-        let need = |v: Option<f64>, what: &str| {
-            v.ok_or_else(|| format!("{what} is not set: give it or a --material file that has it"))
-        };
-        let density = need(self.density.or(mat_rho), "--density")?;
-        let e = need(
-            self.youngs
-                .as_deref()
-                .map(|s| parse_stress(s, "--youngs"))
-                .transpose()?
-                .or(mat_e),
-            "--youngs",
-        )?;
-        let tensile = need(
-            self.tensile
-                .as_deref()
-                .map(|s| parse_stress(s, "--tensile"))
-                .transpose()?
-                .or(mat_t),
-            "--tensile",
+        let (method, dist) = method_and_dist(&self.method, &self.dist)?;
+        let (_, density, e, tensile) = material_values(
+            self.material.as_ref(),
+            self.density,
+            self.youngs.as_deref(),
+            self.tensile.as_deref(),
         )?;
         let mut p = SpecimenParams::new(
             method,
