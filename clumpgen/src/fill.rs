@@ -417,6 +417,14 @@ impl<'a> Filler<'a> {
                 let clash = high
                     .iter()
                     .any(|o| (o.x - c[0]).hypot(o.y - c[1]) < o.r + r);
+                // Nor (nearly) concentric with any disc: fill discs sit on the same raster
+                // centres, and two members with one centre have no bond direction (a
+                // bonded clump rejects them).
+                let stacked = self
+                    .discs
+                    .iter()
+                    .any(|o| (o.x - c[0]).hypot(o.y - c[1]) < 0.5 * o.r.min(r));
+                let clash = clash || stacked;
                 if !clash && best.is_none_or(|(s, _)| score > s) {
                     best = Some((
                         score,
