@@ -225,6 +225,12 @@ impl World {
         self.dt_crit
     }
 
+    /// Every body's time-step bound of the last estimate, smallest first
+    /// ([`crate::timestep::bounds`]): which discs set the step, by mass or by inertia.
+    pub fn dt_bounds(&self) -> Vec<crate::timestep::DtBound> {
+        crate::timestep::bounds(&self.state, &self.cache, &self.index_of_id)
+    }
+
     /// Energies at the time of the last step (see [`crate::energy`]).
     pub fn energy(&self) -> EnergyReport {
         let wall_work: f64 = self.state.walls.iter().map(|w| w.work).sum();

@@ -140,3 +140,93 @@ pub fn clump_stiffness(st: &State, cache: &DiscCache, index_of_id: &[u32]) -> Ve
         })
         .collect()
 }
+
+/// One body's time-step bound, from the last estimate (see [`critical_dt`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DtBound {
+    /// Disc index (for a clump: its first member's index).
+    pub disc: usize,
+    /// Clump index when the bound is a rigid clump's.
+    pub clump: Option<usize>,
+    /// `true` for √(I/K_rot), `false` for √(m/K_trans).
+    pub rotational: bool,
+    /// Mass (kg) or moment of inertia (kg m²).
+    pub inertia: f64,
+    /// Stiffness sum (N/m or N m/rad).
+    pub stiffness: f64,
+    /// √(inertia / stiffness) (s).
+    pub dt: f64,
+}
+
+/// Every integrated body's translational and rotational bound, smallest first: which discs
+/// (or clumps) set the step, and whether by their mass or their inertia.
+pub fn bounds(st: &State, cache: &DiscCache, index_of_id: &[u32]) -> Vec<DtBound> {
+    let d = &st.discs;
+    let mut out = Vec::new();
+    let mut push = |disc, clump, rotational, m: f64, k: f64| {
+        if k > 0.0 && m > 0.0 {
+            out.push(DtBound {
+                disc,
+                clump,
+                rotational,
+                inertia: m,
+                stiffness: k,
+                dt: (m / k).sqrt(),
+            });
+        }
+    };
+    for i in 0..d.len() {
+        if cache.inv_m[i] > 0.0 {
+            push(i, None, false, d.m[i], cache.k_trans[i]);
+            push(i, None, true, d.inertia[i], cache.k_rot[i]);
+        }
+    }
+    let cl = &st.clumps;
+    let k = clump_stiffness(st, cache, index_of_id);
+    for (c, [kt, kr]) in k.into_iter().enumerate() {
+        let first = cl
+            .member_range(c)
+            .next()
+            .map_or(0, |q| index_of_id[cl.members[q] as usize] as usize);
+        push(first, Some(c), false, cl.m[c], kt);
+        push(first, Some(c), true, cl.inertia[c], kr);
+    }
+    out.sort_by(|a, b| a.dt.total_cmp(&b.dt));
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::contact::{LinearSpringDashpot, NormalDamping};
+    use crate::{ContactLaws, ContactModel, Params, State, World};
+
+    /// Two touching discs, one 4× lighter (half the radius): the lighter one sets the step,
+    /// its translational bound is √(m/k_n) with the one contact, and the smallest bound is the
+    /// world's critical step.
+    #[test]
+    fn bounds_name_the_lightest_disc_and_match_the_critical_step() {
+        let mut st = State::default();
+        st.discs.push_uniform(0.0, 0.0, 0.01, 2500.0, 1.0, 0);
+        st.discs.push_uniform(0.0149, 0.0, 0.005, 2500.0, 1.0, 0);
+        let kn = 1e6;
+        let law = LinearSpringDashpot {
+            kn,
+            ks: 0.0,
+            damping: NormalDamping::from_restitution(1.0),
+            shear_damping: 0.0,
+            mu: 0.0,
+        };
+        let mut w = World::new(
+            st,
+            Params::default(),
+            ContactLaws::uniform(ContactModel::Linear(law)),
+        );
+        w.refresh();
+        let b = w.dt_bounds();
+        assert!(b.windows(2).all(|p| p[0].dt <= p[1].dt), "sorted");
+        assert_eq!((b[0].disc, b[0].rotational, b[0].clump), (1, false, None));
+        let m = w.state.discs.m[1];
+        assert!((b[0].dt - (m / kn).sqrt()).abs() < 1e-12 * b[0].dt);
+        assert_eq!(b[0].dt, w.critical_dt());
+    }
+}
