@@ -1,10 +1,15 @@
-//! The cutting runs behind Table 2: specimens of the three types for every seed (generated once
-//! and cached by their parameters), then a cutting test per depth and speed
-//! ([`dem_core::lab::cutting::run`]), one run per worker thread at a time, each on a one-thread
-//! pool (small systems run best on one core; results do not depend on the thread count).
+//! The cutting runs behind Table 2 and the convergence study: specimens (generated once and
+//! cached by their parameters), then one cutting test ([`dem_core::lab::cutting::run`]) per
+//! [`Job`], one job per worker thread at a time, each on a one-thread pool (small systems run
+//! best on one core; results do not depend on the thread count).
+//!
+//! **Resuming**: a finished run leaves `run.key.json` (specimen parameters, model and test)
+//! beside its `cutting.result.json`; a later call with the same key reads the result instead of
+//! running again. A long report (the full Table 2 is ~60 runs) can therefore be stopped and
+//! continued, or built up over several sessions.
 
 use crate::table2::RunRecord;
-use dem_core::lab::cutting::{self, CuttingTest};
+use dem_core::lab::cutting::{self, CuttingResult, CuttingTest};
 use dem_core::lab::LabModel;
 use dem_core::specimen::{self, Method, SpecimenParams};
 use serde::{Deserialize, Serialize};
@@ -34,13 +39,79 @@ pub struct Plan {
     pub tool_stiffness: Option<f64>,
 }
 
-/// Generates (or reuses) the specimen of `p` in `dir`; returns its file.
+impl Plan {
+    /// The cutting test of one depth (mm) and speed (m/s) under this plan.
+    pub fn test(&self, depth_mm: f64, speed: f64) -> CuttingTest {
+        let mut test = CuttingTest::new(depth_mm * 1e-3, speed, self.length);
+        if let Some(df) = self.dt_factor {
+            test.dt_factor = df;
+        }
+        if let Some(w) = self.window_start {
+            test.window_start = w;
+        }
+        if let Some(k) = self.tool_stiffness {
+            test.tool_stiffness = k;
+        }
+        test
+    }
+
+    /// One job per method, seed, depth and speed, in that order (methods outermost).
+    pub fn jobs(&self) -> Vec<Job> {
+        let mut jobs = vec![];
+        for &m in &self.methods {
+            for &s in &self.seeds {
+                let mut sp = self.specimen.clone();
+                sp.method = m;
+                sp.seed = s;
+                sp.micro = self.model.micro.clone();
+                for &d in &self.depths_mm {
+                    for &v in &self.speeds_m_s {
+                        jobs.push(Job {
+                            name: format!("{}-d{d}-v{v}-s{s}", m.name()),
+                            specimen: sp.clone(),
+                            model: self.model.clone(),
+                            test: self.test(d, v),
+                        });
+                    }
+                }
+            }
+        }
+        jobs
+    }
+}
+
+/// One cutting run: a specimen (generated from its parameters), the material model and a test.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Job {
+    /// Run folder name under the work folder.
+    pub name: String,
+    pub specimen: SpecimenParams,
+    /// The model's `r_mean` sets the bond stiffness k̄_n = Ē_c/(2 r_mean): it follows the
+    /// specimen's radii.
+    pub model: LabModel,
+    pub test: CuttingTest,
+}
+
+/// FNV-1a of a string, for cache file names.
+fn fnv(s: &str) -> u64 {
+    s.bytes().fold(0xcbf2_9ce4_8422_2325, |h, b| {
+        (h ^ b as u64).wrapping_mul(0x0100_0000_01b3)
+    })
+}
+
+/// Generates (or reuses) the specimen of `p` in `dir`; returns its file. The file name carries
+/// the method, seed and a hash of all parameters, so different resolutions do not collide.
 pub fn specimen_file(p: &SpecimenParams, dir: &Path) -> Result<PathBuf, String> {
     std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
-    let stem = format!("{}-seed{}", p.method.name(), p.seed);
+    let key = serde_json::to_string_pretty(p).map_err(|e| e.to_string())?;
+    let stem = format!(
+        "{}-seed{}-{:08x}",
+        p.method.name(),
+        p.seed,
+        fnv(&key) as u32
+    );
     let file = dir.join(format!("{stem}.json"));
     let key_file = dir.join(format!("{stem}.params.json"));
-    let key = serde_json::to_string_pretty(p).map_err(|e| e.to_string())?;
     if file.exists() && std::fs::read_to_string(&key_file).ok().as_deref() == Some(key.as_str()) {
         return Ok(file);
     }
@@ -50,99 +121,133 @@ pub fn specimen_file(p: &SpecimenParams, dir: &Path) -> Result<PathBuf, String> 
     Ok(file)
 }
 
-/// One finished run: the Table 2 record and the full result.
+/// One finished run: the Table 2 record, the full result and where it is.
 #[derive(Clone, Debug, Serialize)]
 pub struct Finished {
+    pub name: String,
     pub record: RunRecord,
     pub result_file: String,
+    /// Read from an earlier run with the same key instead of run now.
+    pub resumed: bool,
+    #[serde(skip)]
+    pub result: CuttingResult,
+}
+
+/// Key file of a finished run.
+pub const KEY_FILE: &str = "run.key.json";
+
+/// The result of an earlier run in `dir` with this key, if any.
+fn earlier(dir: &Path, key: &str) -> Option<CuttingResult> {
+    if std::fs::read_to_string(dir.join(KEY_FILE)).ok()? != key {
+        return None;
+    }
+    let text = std::fs::read_to_string(dir.join(cutting::RESULT_FILE)).ok()?;
+    serde_json::from_str(&text).ok()
 }
 
 /// Runs the plan under `work` (specimens in `work/specimens`, runs in
-/// `work/<method>-d<a_p>-v<v>-s<seed>/`); `progress` gets one line per finished item. A failed
-/// run is reported and the others go on; the error list is returned beside the records.
+/// `work/<method>-d<a_p>-v<v>-s<seed>/`); see [`run_jobs`].
 pub fn run_plan(
     plan: &Plan,
     work: &Path,
     progress: &(dyn Fn(&str) + Sync),
 ) -> (Vec<Finished>, Vec<String>) {
+    run_jobs(&plan.jobs(), work, progress)
+}
+
+/// Runs `jobs` under `work`; `progress` gets one line per finished item. A failed
+/// run is reported and the others go on; the error list is returned beside the results (in
+/// job order).
+pub fn run_jobs(
+    jobs: &[Job],
+    work: &Path,
+    progress: &(dyn Fn(&str) + Sync),
+) -> (Vec<Finished>, Vec<String>) {
     let errors = Mutex::new(Vec::new());
-    // Specimens: one per method and seed, two at a time.
-    let specs: Vec<(Method, u64)> = plan
-        .methods
-        .iter()
-        .flat_map(|&m| plan.seeds.iter().map(move |&s| (m, s)))
-        .collect();
+    // Specimens: each distinct parameter set once, two at a time.
+    let mut specs: Vec<SpecimenParams> = vec![];
+    for j in jobs {
+        if !specs.contains(&j.specimen) {
+            specs.push(j.specimen.clone());
+        }
+    }
     let spec_dir = work.join("specimens");
-    let files: Vec<Option<PathBuf>> = parallel_map(&specs, |&(m, s)| {
-        let mut p = plan.specimen.clone();
-        p.method = m;
-        p.seed = s;
-        p.micro = plan.model.micro.clone();
+    let files: Vec<Option<PathBuf>> = parallel_map(&specs, |p| {
         let t0 = Instant::now();
-        let r = one_thread(|| specimen_file(&p, &spec_dir));
+        let r = one_thread(|| specimen_file(p, &spec_dir));
+        let what = format!(
+            "specimen {} seed {} (r {:.3}-{:.3} mm)",
+            p.method.name(),
+            p.seed,
+            p.r_min * 1e3,
+            p.r_max * 1e3
+        );
         match r {
             Ok(f) => {
-                progress(&format!(
-                    "specimen {} seed {s}: {:.1} s",
-                    m.name(),
-                    t0.elapsed().as_secs_f64()
-                ));
+                progress(&format!("{what}: {:.1} s", t0.elapsed().as_secs_f64()));
                 Some(f)
             }
             Err(e) => {
                 errors.lock().unwrap().push(e.clone());
-                progress(&format!("specimen {} seed {s}: FAILED: {e}", m.name()));
+                progress(&format!("{what}: FAILED: {e}"));
                 None
             }
         }
     });
-    // Runs.
-    let mut jobs = vec![];
-    for (k, &(m, s)) in specs.iter().enumerate() {
-        let Some(f) = &files[k] else { continue };
-        for &d in &plan.depths_mm {
-            for &v in &plan.speeds_m_s {
-                jobs.push((m, s, d, v, f.clone()));
-            }
-        }
-    }
-    let total = jobs.len();
+    let runnable: Vec<(&Job, PathBuf)> = jobs
+        .iter()
+        .filter_map(|j| {
+            let k = specs.iter().position(|p| *p == j.specimen)?;
+            files[k].clone().map(|f| (j, f))
+        })
+        .collect();
+    let total = runnable.len();
     let done = Mutex::new(0usize);
-    let out: Vec<Option<Finished>> = parallel_map(&jobs, |(m, s, d, v, f)| {
-        let mut test = CuttingTest::new(d * 1e-3, *v, plan.length);
-        if let Some(df) = plan.dt_factor {
-            test.dt_factor = df;
-        }
-        if let Some(w) = plan.window_start {
-            test.window_start = w;
-        }
-        if let Some(k) = plan.tool_stiffness {
-            test.tool_stiffness = k;
-        }
-        let dir = work.join(format!("{}-d{d}-v{v}-s{s}", m.name()));
+    let out: Vec<Option<Finished>> = parallel_map(&runnable, |(job, f)| {
+        let dir = work.join(&job.name);
+        let key = serde_json::to_string_pretty(&(&job.specimen, &job.model, &job.test))
+            .expect("job key serialises");
         let t0 = Instant::now();
-        let r = one_thread(|| {
-            cutting::run(&test, &plan.model, f, &dir, &mut |_, _| {}).map_err(|e| e.to_string())
-        });
+        let (r, resumed) = match earlier(&dir, &key) {
+            Some(res) => (Ok(res), true),
+            None => {
+                let r = one_thread(|| {
+                    cutting::run(&job.test, &job.model, f, &dir, &mut |_, _| {})
+                        .map_err(|e| e.to_string())
+                });
+                if r.is_ok() {
+                    if let Err(e) = crate::page::write(&dir, KEY_FILE, &key) {
+                        errors.lock().unwrap().push(e);
+                    }
+                }
+                (r, false)
+            }
+        };
         let mut n = done.lock().unwrap();
         *n += 1;
         match r {
             Ok(res) => {
                 progress(&format!(
-                        "[{}/{total}] {} a_p {d} mm v {v} m/s seed {s}: peak {:.4e} N, mean {:.4e} N, {} steps, {:.1} s",
-                        *n,
-                        m.name(),
-                        res.main_force.peak,
-                        res.main_force.mean,
-                        res.run.steps,
+                    "[{}/{total}] {}: peak {:.4e} N, mean {:.4e} N, {} steps, {:.1} s{}",
+                    *n,
+                    job.name,
+                    res.main_force.peak,
+                    res.main_force.mean,
+                    res.run.steps,
+                    if resumed {
+                        res.run.wall_time_s
+                    } else {
                         t0.elapsed().as_secs_f64()
-                    ));
+                    },
+                    if resumed { " (earlier run)" } else { "" }
+                ));
                 Some(Finished {
+                    name: job.name.clone(),
                     record: RunRecord {
-                        method: m.name().into(),
-                        depth_mm: *d,
-                        speed_m_s: *v,
-                        seed: *s,
+                        method: job.specimen.method.name().into(),
+                        depth_mm: (job.test.depth * 1e9).round() / 1e6,
+                        speed_m_s: job.test.speed,
+                        seed: job.specimen.seed,
                         peak_n: res.main_force.peak,
                         mean_n: res.main_force.mean,
                         thickness_m: res.thickness,
@@ -151,10 +256,12 @@ pub fn run_plan(
                         wall_time_s: res.run.wall_time_s,
                     },
                     result_file: dir.join(cutting::RESULT_FILE).display().to_string(),
+                    resumed,
+                    result: res,
                 })
             }
             Err(e) => {
-                let msg = format!("{} a_p {d} mm v {v} m/s seed {s}: {e}", m.name());
+                let msg = format!("{}: {e}", job.name);
                 progress(&format!("[{}/{total}] FAILED {msg}", *n));
                 errors.lock().unwrap().push(msg);
                 None

@@ -3,6 +3,7 @@
 //! and JSON.
 
 pub mod clump_sweep;
+pub mod convergence;
 pub mod cutting_runs;
 pub mod environment;
 pub mod page;

@@ -26,6 +26,11 @@ struct Args {
     /// Quick mode (CI): 1 seed, short cut, coarse specimens, a short clump sweep.
     #[arg(long)]
     quick: bool,
+    /// Run only these sections (comma-separated): table1, sweep, table2, convergence,
+    /// stability. Cutting runs already in the output folder with the same parameters are
+    /// read back, not run again.
+    #[arg(long, value_delimiter = ',')]
+    only: Vec<String>,
 }
 
 fn main() -> ExitCode {
@@ -36,6 +41,7 @@ fn main() -> ExitCode {
         covers: if a.quick { vec![0.9, 0.95] } else { a.covers },
         repeats: if a.quick { 1 } else { a.repeats },
         quick: a.quick,
+        only: a.only,
     };
     match validation::report::run(&o) {
         Ok(_) => {

@@ -22,10 +22,22 @@ pub struct ReportOptions {
     pub repeats: usize,
     /// Quick mode (CI): 1 seed, short cut, coarse specimens.
     pub quick: bool,
+    /// Run only these sections ([`SECTIONS`] names); empty: all.
+    pub only: Vec<String>,
+}
+
+/// Section names, in the order they run.
+pub const SECTIONS: [&str; 5] = ["table1", "sweep", "table2", "convergence", "stability"];
+
+/// What one section hands to the later ones.
+#[derive(Debug, Default)]
+pub struct Shared {
+    /// N at the run thickness → kN at the Table 2 fitted thickness.
+    pub force_scale: Option<f64>,
 }
 
 /// Table 1 of Ye & Xu (2010).
-fn table1_section(o: &ReportOptions) -> Result<Section, String> {
+fn table1_section(o: &ReportOptions, _: &mut Shared) -> Result<Section, String> {
     let t1 = table1::table1(
         &o.data.join("outlines/table1-grain.csv"),
         &o.data.join("reference/ye_xu_2010_table1.json"),
@@ -40,7 +52,7 @@ fn table1_section(o: &ReportOptions) -> Result<Section, String> {
 }
 
 /// The clump-generation sweep: cover, discs and time per grain against the cover target.
-fn sweep_section(o: &ReportOptions) -> Result<Section, String> {
+fn sweep_section(o: &ReportOptions, _: &mut Shared) -> Result<Section, String> {
     let sw = clump_sweep::sweep(
         &o.data.join("outlines"),
         &o.covers,
@@ -98,7 +110,7 @@ fn sweep_section(o: &ReportOptions) -> Result<Section, String> {
 
 /// The stability suite: stiff and extreme scenes at the automatic time step, and one forced
 /// above the critical step that the guard must stop.
-fn stability_section(o: &ReportOptions) -> Result<Section, String> {
+fn stability_section(o: &ReportOptions, _: &mut Shared) -> Result<Section, String> {
     let st = crate::stability::run_suite(&o.out, o.quick, &mut |l| eprintln!("  {l}"))
         .map_err(|e| e.to_string())?;
     Ok(Section {
@@ -112,8 +124,19 @@ fn stability_section(o: &ReportOptions) -> Result<Section, String> {
 }
 
 /// Table 2: the cutting runs, the table, its plots.
-fn table2_section(o: &ReportOptions) -> Result<Section, String> {
-    crate::table2_section::section(&o.data, &o.out, o.quick)
+fn table2_section(o: &ReportOptions, sh: &mut Shared) -> Result<Section, String> {
+    let (s, scale) = crate::table2_section::section(&o.data, &o.out, o.quick)?;
+    sh.force_scale = Some(scale);
+    Ok(s)
+}
+
+/// Error against run time of the cutting run ([`crate::convergence`]).
+fn convergence_section(o: &ReportOptions, sh: &mut Shared) -> Result<Section, String> {
+    let p = crate::convergence::plan(&o.data, o.quick)?;
+    let sw = crate::convergence::run(&p, &o.out.join("convergence-runs"), sh.force_scale, &|l| {
+        eprintln!("  {l}")
+    })?;
+    sw.section()
 }
 
 /// Drops a leading `# ...` title line (sections get their own `##` title).
@@ -134,17 +157,31 @@ pub fn run(o: &ReportOptions) -> Result<String, String> {
     let mode = if o.quick { "quick" } else { "full" };
     let mut env = Environment::capture(mode);
     let mut sections = Vec::new();
-    type Builder = fn(&ReportOptions) -> Result<Section, String>;
-    let steps: [(&str, Builder); 4] = [
-        ("Table 1", table1_section),
-        ("clump sweep", sweep_section),
-        ("Table 2", table2_section),
-        ("stability suite", stability_section),
+    type Builder = fn(&ReportOptions, &mut Shared) -> Result<Section, String>;
+    let all: [Builder; 5] = [
+        table1_section,
+        sweep_section,
+        table2_section,
+        convergence_section,
+        stability_section,
     ];
+    if let Some(bad) = o.only.iter().find(|n| !SECTIONS.contains(&n.as_str())) {
+        return Err(format!(
+            "unknown section `{bad}` (sections: {})",
+            SECTIONS.join(", ")
+        ));
+    }
+    let steps: Vec<(&str, Builder)> = SECTIONS
+        .iter()
+        .zip(all)
+        .filter(|(n, _)| o.only.is_empty() || o.only.iter().any(|m| m == *n))
+        .map(|(n, f)| (*n, f))
+        .collect();
+    let mut shared = Shared::default();
     for (i, (name, f)) in steps.iter().enumerate() {
         eprintln!("[{}/{}] {name} ...", i + 1, steps.len());
         let ts = Instant::now();
-        sections.push(f(o)?);
+        sections.push(f(o, &mut shared)?);
         eprintln!(
             "[{}/{}] {name}: {:.1} s",
             i + 1,

@@ -20,16 +20,29 @@ pub fn si3n4_model(data: &Path) -> Result<LabModel, String> {
 
 /// Full: 20 × 10 mm, radii 0.175–0.285 mm (989 discs in the paper, 993 ours), grains 0.86 mm,
 /// template discs from 0.08 mm, seeds 1–5, L = 10 mm, the cutting test's defaults. Quick (a
-/// smoke test, not comparable with the paper): radii 0.6–1.0 mm, grains 2.8 mm, template
-/// discs from 0.3 mm, seed 1, L = 2.5 mm, steady window from 0.5 a_p, tool 3× the disc k_n.
+/// smoke test, not comparable with the paper): a 10 × 5 mm specimen, radii 0.3–0.5 mm (a
+/// depth of 1 mm is 2.5 mean radii, so the tool cuts material rather than pushing single
+/// discs: with radii 0.6–1.0 mm the ORC mean force was 0), grains 1.4 mm, template discs from
+/// 0.15 mm, seed 1, L = 1.5 mm, steady window from 0.5 a_p, tool 3× the disc k_n.
 /// Both use the calibrated micro-parameters
 /// with the bond stiffness of the plan's mean radius (k̄_n = Ē_c/(2r̄)).
 pub fn plan(data: &Path, quick: bool) -> Result<Plan, String> {
     let mut model = si3n4_model(data)?;
-    let (r0, r1, grain, tmin, seeds, length) = if quick {
-        (0.6e-3, 1.0e-3, 2.8e-3, 0.3e-3, vec![1], 2.5e-3)
+    let (w, h, r0, r1, grain, tmin, seeds, length) = if quick {
+        (
+            10e-3,
+            5e-3,
+            0.3e-3,
+            0.5e-3,
+            1.4e-3,
+            0.15e-3,
+            vec![1],
+            1.5e-3,
+        )
     } else {
         (
+            20e-3,
+            10e-3,
             0.175e-3,
             0.285e-3,
             0.86e-3,
@@ -41,8 +54,8 @@ pub fn plan(data: &Path, quick: bool) -> Result<Plan, String> {
     model.r_mean = 0.5 * (r0 + r1);
     let mut sp = SpecimenParams::new(
         Method::Traditional,
-        20e-3,
-        10e-3,
+        w,
+        h,
         r0,
         r1,
         model.density,
@@ -80,8 +93,9 @@ fn force_series(file: &Path, scale: f64) -> Option<Vec<(f64, f64)>> {
     )
 }
 
-/// Runs the plan into `out/table2-runs` and builds the section.
-pub fn section(data: &Path, out: &Path, quick: bool) -> Result<Section, String> {
+/// Runs the plan into `out/table2-runs` and builds the section; also returns the factor that
+/// turns N at the run thickness into kN at the fitted thickness.
+pub fn section(data: &Path, out: &Path, quick: bool) -> Result<(Section, f64), String> {
     let plan = plan(data, quick)?;
     let paper = PaperTable2::read(&data.join("reference/ye_xu_2010_table2.json"))?;
     let work = out.join("table2-runs");
@@ -125,9 +139,11 @@ pub fn section(data: &Path, out: &Path, quick: bool) -> Result<Section, String> 
     )?;
     let total_time: f64 = records.iter().map(|r| r.wall_time_s).sum();
     let mut md = format!(
-        "Plan ({}): specimens 20 × 10 mm, radii {:.3}–{:.3} mm, {} seed(s), L = {} mm, \
+        "Plan ({}): specimens {} × {} mm, radii {:.3}–{:.3} mm, {} seed(s), L = {} mm, \
          calibrated Si3N4 model (`data/models/si3n4.model.json`); {} runs, {:.0} s of run time.\n\n",
         if quick { "quick: coarse specimens, short cut — not comparable with the paper" } else { "full" },
+        plan.specimen.width * 1e3,
+        plan.specimen.height * 1e3,
         plan.specimen.r_min * 1e3,
         plan.specimen.r_max * 1e3,
         plan.seeds.len(),
@@ -142,7 +158,7 @@ pub fn section(data: &Path, out: &Path, quick: bool) -> Result<Section, String> 
             md += &format!("- {e}\n");
         }
     }
-    Ok(Section {
+    let section = Section {
         title: "Table 2 (Ye & Xu 2010): cutting forces of Si3N4".into(),
         markdown: md,
         figures: vec![
@@ -161,5 +177,6 @@ pub fn section(data: &Path, out: &Path, quick: bool) -> Result<Section, String> 
             ("table2.json".into(), json(&t)),
             ("table2_runs.json".into(), json(&runs)),
         ],
-    })
+    };
+    Ok((section, scale))
 }

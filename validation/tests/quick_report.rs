@@ -1,0 +1,104 @@
+//! The quick report (`validation --quick`, issue 5): every section runs on the shipped data
+//! and its JSON is sane. Structure and sanity only, not agreement with the paper: the quick
+//! specimens are coarse and the cut is short.
+
+use serde_json::Value;
+use std::path::{Path, PathBuf};
+use validation::report::{run, ReportOptions};
+
+fn read(dir: &Path, name: &str) -> Value {
+    let p = dir.join(name);
+    let text = std::fs::read_to_string(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
+    serde_json::from_str(&text).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
+}
+
+fn num(v: &Value, field: &str) -> f64 {
+    v[field]
+        .as_f64()
+        .unwrap_or_else(|| panic!("`{field}` is not a number in {v}"))
+}
+
+#[test]
+fn quick_report_writes_sane_json_for_every_section() {
+    let out: PathBuf =
+        std::env::temp_dir().join(format!("dem-quick-report-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&out);
+    let o = ReportOptions {
+        data: Path::new(env!("CARGO_MANIFEST_DIR")).join("../data"),
+        out: out.clone(),
+        covers: vec![0.9, 0.95],
+        repeats: 1,
+        quick: true,
+        only: vec![],
+    };
+    let md = run(&o).expect("quick report runs");
+    for f in ["index.md", "index.html", "environment.json", "table1.json"] {
+        assert!(out.join(f).is_file(), "{f} missing");
+    }
+    assert!(md.contains("Table 2") && md.contains("error against run time"));
+
+    // Table 2: all three methods, every case of the plan, finite positive forces.
+    let t2 = read(&out, "table2.json");
+    let cells = t2["cells"].as_array().expect("cells list");
+    assert_eq!(cells.len(), 12, "3 methods × 2 depths × 2 speeds");
+    for m in ["traditional", "orc", "improved"] {
+        assert_eq!(
+            cells.iter().filter(|c| c["method"] == m).count(),
+            4,
+            "{m} cells"
+        );
+    }
+    for c in cells {
+        for f in ["peak_kN", "mean_kN", "paper_peak_kN", "paper_mean_kN"] {
+            let v = num(c, f);
+            assert!(v.is_finite() && v > 0.0, "{f} = {v} in {c}");
+        }
+        assert!(num(c, "peak_kN") >= num(c, "mean_kN"), "{c}");
+        assert_eq!(c["seeds"], 1);
+        assert!(num(c, "mean_rel_err").is_finite() && num(c, "peak_rel_err").is_finite());
+    }
+    // The fitted constant reproduces the fitting cell exactly.
+    let fit = cells
+        .iter()
+        .find(|c| c["method"] == "traditional" && c["depth_mm"] == 1.0 && c["speed_m_s"] == 1.0)
+        .expect("fitting cell");
+    assert!((num(fit, "mean_kN") - 7.5).abs() < 1e-9);
+    let k = &t2["constant"];
+    assert!(num(k, "value") > 0.0 && num(k, "run_value") > 0.0);
+    // The four orderings of the paper are computed (held or not), each with its comparisons.
+    let claims = t2["claims"].as_array().expect("claims");
+    assert_eq!(claims.len(), 4);
+    for c in claims {
+        assert!(c["holds"].is_boolean(), "{c}");
+        assert!(!c["details"].as_array().unwrap().is_empty(), "{c}");
+    }
+
+    // Error against run time: 2 resolutions × 2 dt factors, the finest is the reference.
+    let cv = read(&out, "cutting_convergence.json");
+    let pts = cv["points"].as_array().expect("points");
+    assert_eq!(pts.len(), 4, "{cv}");
+    for p in pts {
+        for f in ["peak_n", "mean_n", "wall_time_s", "dt_s"] {
+            let v = num(p, f);
+            assert!(v.is_finite() && v > 0.0, "{f} = {v} in {p}");
+        }
+        assert!(num(p, "mean_err_vs_finest").is_finite());
+        assert!(
+            num(p, "mean_err_vs_paper").is_finite(),
+            "Table 2 constant passed on"
+        );
+    }
+    assert_eq!(
+        pts.iter()
+            .filter(|p| num(p, "mean_err_vs_finest") == 0.0 && num(p, "peak_err_vs_finest") == 0.0)
+            .count(),
+        1,
+        "exactly the reference run has zero error"
+    );
+    assert!(out.join("cutting_error_vs_time.svg").is_file());
+
+    // Stability: every scene reported.
+    let st = read(&out, "stability.json");
+    assert!(st["cases"].as_array().is_some_and(|c| c.len() >= 10));
+    let _ = std::fs::remove_dir_all(&out);
+}
