@@ -31,10 +31,26 @@ struct Args {
     /// read back, not run again.
     #[arg(long, value_delimiter = ',')]
     only: Vec<String>,
+    /// Table 2: run only these specimen methods (traditional, orc, improved; default all).
+    #[arg(long, value_delimiter = ',')]
+    methods: Vec<String>,
+    /// Table 2: run only these seeds (default all of the plan's).
+    #[arg(long, value_delimiter = ',')]
+    seeds: Vec<u64>,
 }
 
 fn main() -> ExitCode {
     let a = Args::parse();
+    let mut methods = vec![];
+    for m in &a.methods {
+        match dem_core::specimen::Method::parse(m) {
+            Some(m) => methods.push(m),
+            None => {
+                eprintln!("error: --methods: unknown method `{m}` (traditional, orc, improved)");
+                return ExitCode::FAILURE;
+            }
+        }
+    }
     let o = validation::report::ReportOptions {
         data: a.data,
         out: a.out.clone(),
@@ -42,6 +58,10 @@ fn main() -> ExitCode {
         repeats: if a.quick { 1 } else { a.repeats },
         quick: a.quick,
         only: a.only,
+        table2: validation::table2_section::Subset {
+            methods,
+            seeds: a.seeds,
+        },
     };
     match validation::report::run(&o) {
         Ok(_) => {

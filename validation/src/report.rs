@@ -24,6 +24,8 @@ pub struct ReportOptions {
     pub quick: bool,
     /// Run only these sections ([`SECTIONS`] names); empty: all.
     pub only: Vec<String>,
+    /// Part of the Table 2 plan to run (default: all of it).
+    pub table2: crate::table2_section::Subset,
 }
 
 /// Section names, in the order they run.
@@ -125,7 +127,7 @@ fn stability_section(o: &ReportOptions, _: &mut Shared) -> Result<Section, Strin
 
 /// Table 2: the cutting runs, the table, its plots.
 fn table2_section(o: &ReportOptions, sh: &mut Shared) -> Result<Section, String> {
-    let (s, scale) = crate::table2_section::section(&o.data, &o.out, o.quick)?;
+    let (s, scale) = crate::table2_section::section(&o.data, &o.out, o.quick, &o.table2)?;
     sh.force_scale = Some(scale);
     Ok(s)
 }

@@ -93,10 +93,34 @@ fn force_series(file: &Path, scale: f64) -> Option<Vec<(f64, f64)>> {
     )
 }
 
-/// Runs the plan into `out/table2-runs` and builds the section; also returns the factor that
-/// turns N at the run thickness into kN at the fitted thickness.
-pub fn section(data: &Path, out: &Path, quick: bool) -> Result<(Section, f64), String> {
-    let plan = plan(data, quick)?;
+/// Which part of the plan to run: all of it by default; a subset of the methods or seeds lets
+/// the full table be built up piece by piece (finished runs are read back, see
+/// [`crate::cutting_runs`]).
+#[derive(Clone, Debug, Default)]
+pub struct Subset {
+    pub methods: Vec<Method>,
+    pub seeds: Vec<u64>,
+}
+
+/// Runs the plan (or its `subset`) into `out/table2-runs` and builds the section; also returns
+/// the factor that turns N at the run thickness into kN at the fitted thickness.
+pub fn section(
+    data: &Path,
+    out: &Path,
+    quick: bool,
+    subset: &Subset,
+) -> Result<(Section, f64), String> {
+    let mut plan = plan(data, quick)?;
+    if !subset.methods.is_empty() {
+        plan.methods.retain(|m| subset.methods.contains(m));
+    }
+    if !subset.seeds.is_empty() {
+        plan.seeds.retain(|s| subset.seeds.contains(s));
+    }
+    if plan.methods.is_empty() || plan.seeds.is_empty() {
+        return Err("the Table 2 subset selects no method or no seed of the plan".into());
+    }
+    let partial = !subset.methods.is_empty() || !subset.seeds.is_empty();
     let paper = PaperTable2::read(&data.join("reference/ye_xu_2010_table2.json"))?;
     let work = out.join("table2-runs");
     let (runs, errors) = run_plan(&plan, &work, &|l| eprintln!("  {l}"));
@@ -139,14 +163,19 @@ pub fn section(data: &Path, out: &Path, quick: bool) -> Result<(Section, f64), S
     )?;
     let total_time: f64 = records.iter().map(|r| r.wall_time_s).sum();
     let mut md = format!(
-        "Plan ({}): specimens {} × {} mm, radii {:.3}–{:.3} mm, {} seed(s), L = {} mm, \
+        "Plan ({}): specimens {} × {} mm, radii {:.3}–{:.3} mm, methods {}, seeds {:?}, L = {} mm, \
          calibrated Si3N4 model (`data/models/si3n4.model.json`); {} runs, {:.0} s of run time.\n\n",
-        if quick { "quick: coarse specimens, short cut — not comparable with the paper" } else { "full" },
+        match (quick, partial) {
+            (true, _) => "quick: coarse specimens, short cut — not comparable with the paper",
+            (false, true) => "full set-up, **part of the runs** (methods and seeds below)",
+            (false, false) => "full",
+        },
         plan.specimen.width * 1e3,
         plan.specimen.height * 1e3,
         plan.specimen.r_min * 1e3,
         plan.specimen.r_max * 1e3,
-        plan.seeds.len(),
+        plan.methods.iter().map(|m| m.name()).collect::<Vec<_>>().join(", "),
+        plan.seeds,
         plan.length * 1e3,
         records.len(),
         total_time
