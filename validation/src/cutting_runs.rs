@@ -164,10 +164,18 @@ pub fn run_jobs(
     progress: &(dyn Fn(&str) + Sync),
 ) -> (Vec<Finished>, Vec<String>) {
     let errors = Mutex::new(Vec::new());
-    // Specimens: each distinct parameter set once, two at a time.
+    let key_of = |j: &Job| {
+        serde_json::to_string_pretty(&(&j.specimen, &j.model, &j.test)).expect("job key serialises")
+    };
+    // Runs finished earlier with the same key need no specimen.
+    let before: Vec<Option<CuttingResult>> = jobs
+        .iter()
+        .map(|j| earlier(&work.join(&j.name), &key_of(j)))
+        .collect();
+    // Specimens: each distinct parameter set still to run once, two at a time.
     let mut specs: Vec<SpecimenParams> = vec![];
-    for j in jobs {
-        if !specs.contains(&j.specimen) {
+    for (j, b) in jobs.iter().zip(&before) {
+        if b.is_none() && !specs.contains(&j.specimen) {
             specs.push(j.specimen.clone());
         }
     }
@@ -194,23 +202,27 @@ pub fn run_jobs(
             }
         }
     });
-    let runnable: Vec<(&Job, PathBuf)> = jobs
+    // (job, specimen file to run on | result of the earlier run)
+    let runnable: Vec<(&Job, Result<PathBuf, CuttingResult>)> = jobs
         .iter()
-        .filter_map(|j| {
-            let k = specs.iter().position(|p| *p == j.specimen)?;
-            files[k].clone().map(|f| (j, f))
+        .zip(before)
+        .filter_map(|(j, b)| match b {
+            Some(res) => Some((j, Err(res))),
+            None => {
+                let k = specs.iter().position(|p| *p == j.specimen)?;
+                files[k].clone().map(|f| (j, Ok(f)))
+            }
         })
         .collect();
     let total = runnable.len();
     let done = Mutex::new(0usize);
-    let out: Vec<Option<Finished>> = parallel_map(&runnable, |(job, f)| {
+    let out: Vec<Option<Finished>> = parallel_map(&runnable, |(job, what)| {
         let dir = work.join(&job.name);
-        let key = serde_json::to_string_pretty(&(&job.specimen, &job.model, &job.test))
-            .expect("job key serialises");
+        let key = key_of(job);
         let t0 = Instant::now();
-        let (r, resumed) = match earlier(&dir, &key) {
-            Some(res) => (Ok(res), true),
-            None => {
+        let (r, resumed) = match what {
+            Err(res) => (Ok(res.clone()), true),
+            Ok(f) => {
                 let r = one_thread(|| {
                     cutting::run(&job.test, &job.model, f, &dir, &mut |_, _| {})
                         .map_err(|e| e.to_string())
