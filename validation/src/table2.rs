@@ -405,11 +405,12 @@ impl Table2 {
         );
         s += "### The paper's claims\n\n";
         for c in &self.claims {
-            s += &format!(
-                "- **{}**: {}\n",
-                c.claim,
-                if c.holds { "holds" } else { "does not hold" }
-            );
+            let verdict = match (c.details.is_empty(), c.holds) {
+                (true, _) => "not checked: the table lacks the runs it compares",
+                (false, true) => "holds",
+                (false, false) => "does not hold",
+            };
+            s += &format!("- **{}**: {verdict}\n", c.claim);
             for d in &c.details {
                 s += &format!("  - {d}\n");
             }
@@ -500,5 +501,23 @@ mod tests {
         assert!(assemble(&runs, &paper())
             .unwrap_err()
             .contains("traditional"));
+    }
+
+    /// A table of traditional runs alone: the claims that compare methods are not checked
+    /// (and say so), the depth and speed claims are.
+    #[test]
+    fn a_partial_table_marks_what_it_cannot_check() {
+        let runs: Vec<RunRecord> = runs_like_paper(1)
+            .into_iter()
+            .filter(|r| r.method == "traditional")
+            .collect();
+        let t = assemble(&runs, &paper()).unwrap();
+        assert_eq!(t.cells.len(), 4);
+        assert_eq!(t.numbers, 8);
+        assert!(t.claims[0].details.is_empty() && !t.claims[0].holds);
+        assert!(t.claims[1].details.is_empty());
+        assert!(t.claims[2].holds && t.claims[3].holds);
+        let md = t.markdown();
+        assert_eq!(md.matches("not checked").count(), 2);
     }
 }
