@@ -8,7 +8,7 @@
 //! The cut is shorter than Table 2's (L is part of the sweep's plan and stated in the report):
 //! the 4× run at L = 10 mm alone would take hours of one core on the development machine.
 
-use crate::cutting_runs::{run_jobs, Job};
+use crate::cutting_runs::{run_jobs, Job, Missing};
 use crate::page::{json, Figure, Section};
 use crate::plot::{self, Series};
 use dem_core::lab::cutting::CuttingTest;
@@ -110,10 +110,18 @@ pub fn run(
     p: &SweepPlan,
     work: &Path,
     force_scale: Option<f64>,
+    missing: Missing,
     progress: &(dyn Fn(&str) + Sync),
 ) -> Result<Sweep, String> {
     let jobs = jobs(p);
-    let (done, failed) = run_jobs(&jobs, work, progress);
+    let outcome = run_jobs(&jobs, work, missing, progress);
+    let (done, failed) = (outcome.finished, outcome.errors);
+    if !outcome.missing.is_empty() {
+        return Err(format!(
+            "not run yet: {} (a call without --finished-only runs them)",
+            outcome.missing.join(", ")
+        ));
+    }
     let mut points: Vec<Point> = vec![];
     for f in &done {
         let j = jobs

@@ -145,24 +145,47 @@ fn earlier(dir: &Path, key: &str) -> Option<CuttingResult> {
     serde_json::from_str(&text).ok()
 }
 
+/// Whether jobs with no finished run are run now or only listed.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Missing {
+    /// Generate their specimens and run them (the default).
+    #[default]
+    Run,
+    /// Leave them out and list them in [`Outcome::missing`]: a report of the runs finished so
+    /// far (the full Table 2 is built up over several sessions).
+    List,
+}
+
+/// What [`run_jobs`] did: finished runs (run now or read back), errors and the jobs left out.
+#[derive(Debug, Default)]
+pub struct Outcome {
+    /// In job order.
+    pub finished: Vec<Finished>,
+    /// One message per failed specimen or run; the others went on.
+    pub errors: Vec<String>,
+    /// Names of the jobs neither finished earlier nor run now ([`Missing::List`]).
+    pub missing: Vec<String>,
+}
+
 /// Runs the plan under `work` (specimens in `work/specimens`, runs in
 /// `work/<method>-d<a_p>-v<v>-s<seed>/`); see [`run_jobs`].
 pub fn run_plan(
     plan: &Plan,
     work: &Path,
+    missing: Missing,
     progress: &(dyn Fn(&str) + Sync),
-) -> (Vec<Finished>, Vec<String>) {
-    run_jobs(&plan.jobs(), work, progress)
+) -> Outcome {
+    run_jobs(&plan.jobs(), work, missing, progress)
 }
 
-/// Runs `jobs` under `work`; `progress` gets one line per finished item. A failed
-/// run is reported and the others go on; the error list is returned beside the results (in
-/// job order).
+/// Runs `jobs` under `work` (or, with [`Missing::List`], only reads back the finished ones);
+/// `progress` gets one line per finished item. A failed run is reported and the others go on.
 pub fn run_jobs(
     jobs: &[Job],
     work: &Path,
+    missing: Missing,
     progress: &(dyn Fn(&str) + Sync),
-) -> (Vec<Finished>, Vec<String>) {
+) -> Outcome {
     let errors = Mutex::new(Vec::new());
     let key_of = |j: &Job| {
         serde_json::to_string_pretty(&(&j.specimen, &j.model, &j.test)).expect("job key serialises")
@@ -172,6 +195,20 @@ pub fn run_jobs(
         .iter()
         .map(|j| earlier(&work.join(&j.name), &key_of(j)))
         .collect();
+    let mut not_run = vec![];
+    let (jobs, before): (Vec<&Job>, Vec<Option<CuttingResult>>) = match missing {
+        Missing::Run => (jobs.iter().collect(), before),
+        Missing::List => jobs
+            .iter()
+            .zip(before)
+            .filter(|(j, b)| {
+                if b.is_none() {
+                    not_run.push(j.name.clone());
+                }
+                b.is_some()
+            })
+            .unzip(),
+    };
     // Specimens: each distinct parameter set still to run once, two at a time.
     let mut specs: Vec<SpecimenParams> = vec![];
     for (j, b) in jobs.iter().zip(&before) {
@@ -204,7 +241,7 @@ pub fn run_jobs(
     });
     // (job, specimen file to run on | result of the earlier run)
     let runnable: Vec<(&Job, Result<PathBuf, CuttingResult>)> = jobs
-        .iter()
+        .into_iter()
         .zip(before)
         .filter_map(|(j, b)| match b {
             Some(res) => Some((j, Err(res))),
@@ -280,10 +317,11 @@ pub fn run_jobs(
             }
         }
     });
-    (
-        out.into_iter().flatten().collect(),
-        errors.into_inner().unwrap(),
-    )
+    Outcome {
+        finished: out.into_iter().flatten().collect(),
+        errors: errors.into_inner().unwrap(),
+        missing: not_run,
+    }
 }
 
 /// Runs `f` on a one-thread rayon pool (the engine's inner parallel loops then run serially).

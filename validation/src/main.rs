@@ -37,6 +37,10 @@ struct Args {
     /// Table 2: run only these seeds (default all of the plan's).
     #[arg(long, value_delimiter = ',')]
     seeds: Vec<u64>,
+    /// Table 2 and the convergence study use only the cutting runs already finished in the
+    /// output folder and list the others as not run (a report of the runs done so far).
+    #[arg(long)]
+    finished_only: bool,
 }
 
 fn main() -> ExitCode {
@@ -61,6 +65,11 @@ fn main() -> ExitCode {
         table2: validation::table2_section::Subset {
             methods,
             seeds: a.seeds,
+        },
+        missing: if a.finished_only {
+            validation::cutting_runs::Missing::List
+        } else {
+            validation::cutting_runs::Missing::Run
         },
     };
     match validation::report::run(&o) {

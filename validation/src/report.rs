@@ -26,6 +26,9 @@ pub struct ReportOptions {
     pub only: Vec<String>,
     /// Part of the Table 2 plan to run (default: all of it).
     pub table2: crate::table2_section::Subset,
+    /// Cutting runs (Table 2, convergence) not finished in `out` yet: run them, or only list
+    /// them (a report of what is done so far).
+    pub missing: crate::cutting_runs::Missing,
 }
 
 /// Section names, in the order they run.
@@ -127,7 +130,8 @@ fn stability_section(o: &ReportOptions, _: &mut Shared) -> Result<Section, Strin
 
 /// Table 2: the cutting runs, the table, its plots.
 fn table2_section(o: &ReportOptions, sh: &mut Shared) -> Result<Section, String> {
-    let (s, scale) = crate::table2_section::section(&o.data, &o.out, o.quick, &o.table2)?;
+    let (s, scale) =
+        crate::table2_section::section(&o.data, &o.out, o.quick, &o.table2, o.missing)?;
     sh.force_scale = Some(scale);
     Ok(s)
 }
@@ -135,9 +139,13 @@ fn table2_section(o: &ReportOptions, sh: &mut Shared) -> Result<Section, String>
 /// Error against run time of the cutting run ([`crate::convergence`]).
 fn convergence_section(o: &ReportOptions, sh: &mut Shared) -> Result<Section, String> {
     let p = crate::convergence::plan(&o.data, o.quick)?;
-    let sw = crate::convergence::run(&p, &o.out.join("convergence-runs"), sh.force_scale, &|l| {
-        eprintln!("  {l}")
-    })?;
+    let sw = crate::convergence::run(
+        &p,
+        &o.out.join("convergence-runs"),
+        sh.force_scale,
+        o.missing,
+        &|l| eprintln!("  {l}"),
+    )?;
     sw.section()
 }
 
@@ -180,10 +188,25 @@ pub fn run(o: &ReportOptions) -> Result<String, String> {
         .map(|(n, f)| (*n, f))
         .collect();
     let mut shared = Shared::default();
+    let mut failed = vec![];
     for (i, (name, f)) in steps.iter().enumerate() {
         eprintln!("[{}/{}] {name} ...", i + 1, steps.len());
         let ts = Instant::now();
-        sections.push(f(o, &mut shared)?);
+        // A failed section is written as such and the others go on; the call fails at the end.
+        match f(o, &mut shared) {
+            Ok(s) => sections.push(s),
+            Err(e) => {
+                eprintln!("[{}/{}] {name}: FAILED: {e}", i + 1, steps.len());
+                sections.push(Section {
+                    title: format!("{name}: not available"),
+                    markdown: format!("This section could not be built: {e}\n"),
+                    figures: vec![],
+                    data: vec![],
+                });
+                failed.push(format!("{name}: {e}"));
+                continue;
+            }
+        }
         eprintln!(
             "[{}/{}] {name}: {:.1} s",
             i + 1,
@@ -201,9 +224,19 @@ pub fn run(o: &ReportOptions) -> Result<String, String> {
             data: vec![("environment.json".into(), json(&env))],
         },
     );
-    write_report(
+    let md = write_report(
         &o.out,
         "Reproducibility report: DEM of brittle-material cutting",
         &sections,
-    )
+    )?;
+    if failed.is_empty() {
+        Ok(md)
+    } else {
+        Err(format!(
+            "report written to {} without {} section(s): {}",
+            o.out.display(),
+            failed.len(),
+            failed.join("; ")
+        ))
+    }
 }

@@ -3,7 +3,7 @@
 //! ([`crate::table2`]), a bar chart ours vs paper and the force histories of the three methods
 //! at a_p = 1 mm, v = 1 m/s.
 
-use crate::cutting_runs::{run_plan, Plan};
+use crate::cutting_runs::{run_plan, Missing, Plan};
 use crate::page::{json, Figure, Section};
 use crate::plot::{self, Series};
 use crate::table2::{self, PaperTable2, METHODS};
@@ -109,6 +109,7 @@ pub fn section(
     out: &Path,
     quick: bool,
     subset: &Subset,
+    missing: Missing,
 ) -> Result<(Section, f64), String> {
     let mut plan = plan(data, quick)?;
     if !subset.methods.is_empty() {
@@ -120,10 +121,11 @@ pub fn section(
     if plan.methods.is_empty() || plan.seeds.is_empty() {
         return Err("the Table 2 subset selects no method or no seed of the plan".into());
     }
-    let partial = !subset.methods.is_empty() || !subset.seeds.is_empty();
     let paper = PaperTable2::read(&data.join("reference/ye_xu_2010_table2.json"))?;
     let work = out.join("table2-runs");
-    let (runs, errors) = run_plan(&plan, &work, &|l| eprintln!("  {l}"));
+    let outcome = run_plan(&plan, &work, missing, &|l| eprintln!("  {l}"));
+    let (runs, errors, not_run) = (outcome.finished, outcome.errors, outcome.missing);
+    let partial = !subset.methods.is_empty() || !subset.seeds.is_empty() || !not_run.is_empty();
     let records: Vec<_> = runs.iter().map(|r| r.record.clone()).collect();
     let t = table2::assemble(&records, &paper)?;
     let scale = t.constant.value / t.constant.run_value / 1e3;
@@ -181,6 +183,15 @@ pub fn section(
         total_time
     );
     md += &t.markdown().replacen("## Table 2", "### Table 2", 1);
+    if !not_run.is_empty() {
+        md += &format!(
+            "\n**Not run yet** ({} of the plan's {} runs; a later call without \
+             `--finished-only` runs them, reading back the finished ones): {}\n",
+            not_run.len(),
+            plan.jobs().len(),
+            not_run.join(", ")
+        );
+    }
     if !errors.is_empty() {
         md += "\n**Failed runs** (left out of the table):\n\n";
         for e in &errors {
@@ -205,6 +216,7 @@ pub fn section(
         data: vec![
             ("table2.json".into(), json(&t)),
             ("table2_runs.json".into(), json(&runs)),
+            ("table2_not_run.json".into(), json(&not_run)),
         ],
     };
     Ok((section, scale))

@@ -3,7 +3,7 @@
 
 use std::path::Path;
 use std::sync::Mutex;
-use validation::cutting_runs::run_plan;
+use validation::cutting_runs::{run_plan, Missing, Outcome};
 use validation::table2_section::plan;
 
 #[test]
@@ -19,7 +19,11 @@ fn finished_runs_are_read_back_and_changed_ones_rerun() {
     let lines = Mutex::new(Vec::<String>::new());
     let log = |l: &str| lines.lock().unwrap().push(l.to_string());
 
-    let (first, e1) = run_plan(&p, &work, &log);
+    let Outcome {
+        finished: first,
+        errors: e1,
+        ..
+    } = run_plan(&p, &work, Missing::Run, &log);
     assert!(e1.is_empty(), "{e1:?}");
     assert_eq!(first.len(), 1);
     assert!(!first[0].resumed);
@@ -30,7 +34,11 @@ fn finished_runs_are_read_back_and_changed_ones_rerun() {
         .any(|l| l.starts_with("specimen")));
 
     lines.lock().unwrap().clear();
-    let (second, e2) = run_plan(&p, &work, &log);
+    let Outcome {
+        finished: second,
+        errors: e2,
+        ..
+    } = run_plan(&p, &work, Missing::Run, &log);
     assert!(e2.is_empty(), "{e2:?}");
     assert!(second[0].resumed);
     assert_eq!(second[0].record, first[0].record);
@@ -45,8 +53,25 @@ fn finished_runs_are_read_back_and_changed_ones_rerun() {
 
     // Another cut length is another run.
     p.length = 1.1e-3;
-    let (third, e3) = run_plan(&p, &work, &log);
+    let Outcome {
+        finished: third,
+        errors: e3,
+        ..
+    } = run_plan(&p, &work, Missing::Run, &log);
     assert!(e3.is_empty(), "{e3:?}");
     assert!(!third[0].resumed);
+
+    // Listing instead of running: a finished run is read back, a new one is only named.
+    p.length = 1.2e-3;
+    let listed = run_plan(&p, &work, Missing::List, &log);
+    assert!(listed.finished.is_empty() && listed.errors.is_empty());
+    assert_eq!(listed.missing, vec!["traditional-d1-v2-s1".to_string()]);
+    // ... and nothing was written for it: the 1.1 mm run is still the one read back.
+    p.length = 1.1e-3;
+    let back = run_plan(&p, &work, Missing::List, &log);
+    assert!(back.missing.is_empty());
+    assert_eq!(back.finished.len(), 1);
+    assert!(back.finished[0].resumed);
+    assert_eq!(back.finished[0].record, third[0].record);
     let _ = std::fs::remove_dir_all(&work);
 }
