@@ -43,6 +43,9 @@ pub struct Point {
     pub dt_s: f64,
     pub steps: u64,
     pub wall_time_s: f64,
+    /// CPU time of the run (s), where recorded (see [`crate::cutting_runs::TIME_FILE`]).
+    #[serde(default)]
+    pub cpu_time_s: Option<f64>,
     /// Forces at the run thickness (N).
     pub peak_n: f64,
     pub mean_n: f64,
@@ -136,6 +139,7 @@ pub fn run(
             dt_s: f.result.run.dt_min,
             steps: f.record.steps,
             wall_time_s: f.record.wall_time_s,
+            cpu_time_s: f.record.cpu_time_s,
             peak_n: f.record.peak_n,
             mean_n: f.record.mean_n,
             peak_err_vs_finest: 0.0,
@@ -204,17 +208,18 @@ impl Sweep {
             }
             None => md += " No Table 2 constant in this report, so no comparison with the paper.",
         }
-        md += "\n\n| s | dt factor | discs | dt (s) | steps | wall time (s) | peak (N) | mean (N) | peak err vs finest | mean err vs finest | peak err vs paper | mean err vs paper |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+        md += "\n\n| s | dt factor | discs | dt (s) | steps | wall time (s) | CPU time (s) | peak (N) | mean (N) | peak err vs finest | mean err vs finest | peak err vs paper | mean err vs paper |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
         let pct = |x: Option<f64>| x.map_or("—".to_string(), |v| format!("{:+.1} %", 100.0 * v));
         for q in &self.points {
             md += &format!(
-                "| {:.3} | {} | {} | {:.3e} | {} | {:.1} | {:.4e} | {:.4e} | {} | {} | {} | {} |\n",
+                "| {:.3} | {} | {} | {:.3e} | {} | {:.1} | {} | {:.4e} | {:.4e} | {} | {} | {} | {} |\n",
                 q.radius_scale,
                 q.dt_factor,
                 q.discs,
                 q.dt_s,
                 q.steps,
                 q.wall_time_s,
+                q.cpu_time_s.map_or("—".into(), |c| format!("{c:.1}")),
                 q.peak_n,
                 q.mean_n,
                 pct(Some(q.peak_err_vs_finest)),
@@ -235,6 +240,15 @@ impl Sweep {
     /// Error of the mean force against wall time, one line per dt factor (the finest run, at
     /// zero error, is left off the log axis and named in the caption).
     pub fn plot(&self) -> Result<String, String> {
+        // CPU time when every run recorded it (wall time overstates it on a shared machine).
+        let cpu = self.points.iter().all(|q| q.cpu_time_s.is_some());
+        let time = |q: &Point| {
+            if cpu {
+                q.cpu_time_s.unwrap_or(0.0)
+            } else {
+                q.wall_time_s
+            }
+        };
         let mut dts: Vec<f64> = self.points.iter().map(|q| q.dt_factor).collect();
         dts.sort_by(f64::total_cmp);
         dts.dedup();
@@ -251,7 +265,7 @@ impl Sweep {
                     .points
                     .iter()
                     .filter(|q| q.dt_factor == f && pick(q) != 0.0)
-                    .map(|q| (q.wall_time_s, pick(q).abs()))
+                    .map(|q| (time(q), pick(q).abs()))
                     .collect();
                 pts.sort_by(|a, b| a.0.total_cmp(&b.0));
                 series.push(Series {
@@ -262,7 +276,11 @@ impl Sweep {
         }
         plot::lines(
             "Cutting force: error against run time",
-            "wall time of the run (s, one thread)",
+            if cpu {
+                "CPU time of the run (s, one thread)"
+            } else {
+                "wall time of the run (s, one thread)"
+            },
             "|relative difference from the finest run|",
             &series,
             true,

@@ -136,6 +136,24 @@ pub struct Finished {
 /// Key file of a finished run.
 pub const KEY_FILE: &str = "run.key.json";
 
+/// Run-time file of a finished run: `{"wall_time_s", "cpu_time_s"}` (CPU time of the thread
+/// that stepped it; on a shared machine the wall time overstates the cost).
+pub const TIME_FILE: &str = "run.time.json";
+
+/// CPU time of the calling thread (s): Linux `/proc/thread-self/schedstat`, first field (ns
+/// on the CPU); None where that file does not exist.
+pub fn thread_cpu_s() -> Option<f64> {
+    let text = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
+    let ns: f64 = text.split_whitespace().next()?.parse().ok()?;
+    Some(ns * 1e-9)
+}
+
+/// CPU time recorded beside an earlier run, if any.
+fn earlier_cpu(dir: &Path) -> Option<f64> {
+    let text = std::fs::read_to_string(dir.join(TIME_FILE)).ok()?;
+    serde_json::from_str::<serde_json::Value>(&text).ok()?["cpu_time_s"].as_f64()
+}
+
 /// The result of an earlier run in `dir` with this key, if any.
 fn earlier(dir: &Path, key: &str) -> Option<CuttingResult> {
     if std::fs::read_to_string(dir.join(KEY_FILE)).ok()? != key {
@@ -257,19 +275,34 @@ pub fn run_jobs(
         let dir = work.join(&job.name);
         let key = key_of(job);
         let t0 = Instant::now();
-        let (r, resumed) = match what {
-            Err(res) => (Ok(res.clone()), true),
+        let (r, resumed, cpu) = match what {
+            Err(res) => (Ok(res.clone()), true, earlier_cpu(&dir)),
             Ok(f) => {
-                let r = one_thread(|| {
-                    cutting::run(&job.test, &job.model, f, &dir, &mut |_, _| {})
-                        .map_err(|e| e.to_string())
+                // The run steps on the one-thread pool's worker: its CPU time is the run's.
+                let (r, cpu) = one_thread(|| {
+                    let c0 = thread_cpu_s();
+                    let r = cutting::run(&job.test, &job.model, f, &dir, &mut |_, _| {})
+                        .map_err(|e| e.to_string());
+                    (r, thread_cpu_s().zip(c0).map(|(c1, c0)| c1 - c0))
                 });
-                if r.is_ok() {
-                    if let Err(e) = crate::page::write(&dir, KEY_FILE, &key) {
-                        errors.lock().unwrap().push(e);
+                if let Ok(res) = &r {
+                    let time = serde_json::json!({
+                        "wall_time_s": res.run.wall_time_s,
+                        "cpu_time_s": cpu,
+                    });
+                    for (file, text) in [
+                        (
+                            TIME_FILE,
+                            serde_json::to_string_pretty(&time).unwrap_or_default(),
+                        ),
+                        (KEY_FILE, key.clone()),
+                    ] {
+                        if let Err(e) = crate::page::write(&dir, file, &text) {
+                            errors.lock().unwrap().push(e);
+                        }
                     }
                 }
-                (r, false)
+                (r, false, cpu)
             }
         };
         let mut n = done.lock().unwrap();
@@ -303,6 +336,7 @@ pub fn run_jobs(
                         discs: res.discs,
                         steps: res.run.steps,
                         wall_time_s: res.run.wall_time_s,
+                        cpu_time_s: cpu,
                     },
                     result_file: dir.join(cutting::RESULT_FILE).display().to_string(),
                     resumed,

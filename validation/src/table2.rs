@@ -68,6 +68,9 @@ pub struct RunRecord {
     pub discs: usize,
     pub steps: u64,
     pub wall_time_s: f64,
+    /// CPU time of the run (s), where it was recorded ([`crate::cutting_runs::TIME_FILE`]).
+    #[serde(default)]
+    pub cpu_time_s: Option<f64>,
 }
 
 /// One cell of our table (the issue's `table2.json` record).
@@ -448,6 +451,7 @@ mod tests {
                         discs: 1000,
                         steps: 1,
                         wall_time_s: 1.0,
+                        cpu_time_s: None,
                     });
                 }
             }

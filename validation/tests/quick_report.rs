@@ -85,6 +85,13 @@ fn quick_report_writes_sane_json_for_every_section() {
             assert!(v.is_finite() && v > 0.0, "{f} = {v} in {p}");
         }
         assert!(num(p, "mean_err_vs_finest").is_finite());
+        if Path::new("/proc/thread-self/schedstat").exists() {
+            let cpu = num(p, "cpu_time_s");
+            assert!(
+                cpu > 0.0 && cpu <= 1.05 * num(p, "wall_time_s") + 0.1,
+                "{p}"
+            );
+        }
         assert!(
             num(p, "mean_err_vs_paper").is_finite(),
             "Table 2 constant passed on"
