@@ -53,6 +53,18 @@ fn cell_template(
     cell: &[[f64; 2]],
     p: &SpecimenParams,
 ) -> Result<(Template, bool), SpecimenError> {
+    cell_template_with(gi, cell, p, MASS_FLOOR)
+}
+
+/// [`cell_template`] with another lower bound of the solved masses (a fraction of the
+/// uniform-disc prior), for studies of the time step (`examples/template_dt.rs`). Returns the
+/// template and whether r_min had to be reduced.
+pub fn cell_template_with(
+    gi: usize,
+    cell: &[[f64; 2]],
+    p: &SpecimenParams,
+    mass_floor: f64,
+) -> Result<(Template, bool), SpecimenError> {
     let size = cell
         .iter()
         .map(|q| q[0].abs().max(q[1].abs()))
@@ -91,7 +103,7 @@ fn cell_template(
             r_max: Length::Metres(p.template_r_max),
             max_discs: p.template_max_discs,
             raster: 64,
-            mass_floor: MASS_FLOOR,
+            mass_floor,
             tolerance: 1e-10,
             max_repairs: 8,
         };
