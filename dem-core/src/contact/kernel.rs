@@ -219,9 +219,10 @@ impl Default for Scratch {
 
 /// Gather pairs p0..p0+q (q ≤ BLOCK) into the scratch arrays, disc by disc (`gi` is the
 /// disc owning pair p0 or an earlier disc; it is advanced). The history is read from `us`,
-/// `mr`, the slots of these q pairs (indexed from 0).
+/// `mr`, the slots of these q pairs (indexed from 0). `PER`: apply the minimum image (else
+/// the box is not periodic and [`MinImage::delta`] would be the identity).
 #[inline(always)]
-fn gather<L: PairLaw, const G0: bool>(
+fn gather<L: PairLaw, const G0: bool, const PER: bool>(
     c: &Ctx<L>,
     p0: usize,
     q: usize,
@@ -245,7 +246,12 @@ fn gather<L: PairLaw, const G0: bool>(
         let mati = if L::MATERIAL { at!(c.mat, i) } else { 0 };
         while p < b {
             let j = at!(c.nbr, p) as usize;
-            let (ddx, ddy) = c.img.delta(at!(c.x, j) - xi, at!(c.y, j) - yi);
+            let (ddx, ddy) = (at!(c.x, j) - xi, at!(c.y, j) - yi);
+            let (ddx, ddy) = if PER {
+                c.img.delta(ddx, ddy)
+            } else {
+                (ddx, ddy)
+            };
             s.dx[k] = ddx;
             s.dy[k] = ddy;
             let rj = at!(c.r, j);
@@ -391,10 +397,11 @@ pub(crate) fn block<const E: bool, L: PairLaw>(
     avx2: bool,
 ) {
     let q = us.len();
-    if c.g0.is_empty() {
-        gather::<L, false>(c, p0, q, gi, us, mr, s);
-    } else {
-        gather::<L, true>(c, p0, q, gi, us, mr, s);
+    match (c.g0.is_empty(), c.img.is_periodic()) {
+        (true, false) => gather::<L, false, false>(c, p0, q, gi, us, mr, s),
+        (true, true) => gather::<L, false, true>(c, p0, q, gi, us, mr, s),
+        (false, false) => gather::<L, true, false>(c, p0, q, gi, us, mr, s),
+        (false, true) => gather::<L, true, true>(c, p0, q, gi, us, mr, s),
     }
     eval_best::<E, L>(c.law, c.dt, s, avx2);
     if L::ROLLING {
