@@ -151,7 +151,7 @@ pub fn step_clumps(
             fx += d.fx[i];
             fy += d.fy[i];
             t += d.torque[i] + rx * d.fy[i] - ry * d.fx[i];
-            if k.track {
+            if k.track && k.dash {
                 let (a, b) = (dash.fx[i], dash.fy[i]);
                 dfx += a;
                 dfy += b;
@@ -188,7 +188,9 @@ pub fn step_clumps(
             o.ke_trans += 0.5 * m * (ax * ax + ay * ay);
             o.ke_rot += 0.5 * cl.inertia[c] * aw * aw;
             o.damp -= ((fx - fx0) * ax + (fy - fy0) * ay + (t - t0) * aw) * k.kick;
-            o.damp_contact -= (dfx * ax + dfy * ay + dt * aw) * k.kick;
+            if k.dash {
+                o.damp_contact -= (dfx * ax + dfy * ay + dt * aw) * k.kick;
+            }
             o.grav_pot -= m * (gx * cl.x[c] + gy * cl.y[c]);
         }
         cl.x[c] += cl.vx[c] * k.drift;

@@ -81,6 +81,9 @@ pub struct Kick {
     pub alpha: f64,
     pub gravity: [f64; 2],
     pub track: bool,
+    /// Book the dashpot dissipation (with `track`, when some contact law has a dashpot: the
+    /// dashpot sums are filled only then, see [`crate::contact::disc_disc::Dashpot`]).
+    pub dash: bool,
     /// Squared displacement (since the last neighbour build) that calls for a rebuild.
     pub disp2_limit: f64,
 }
@@ -98,7 +101,7 @@ struct Ro<'a> {
     fy: &'a [f64],
     torque: &'a [f64],
     fixed: &'a [bool],
-    /// Dashpot sums (length n when energy is tracked).
+    /// Dashpot sums (length n when energy is tracked and `Kick::dash`).
     dash: &'a Dashpot,
 }
 
@@ -116,7 +119,7 @@ type Terms = [[f64; SUB]; 6];
 /// Returns whether some disc moved beyond the rebuild limit.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-fn sub_block<const E: bool, const DAMP: bool, const VISC: bool>(
+fn sub_block<const E: bool, const D: bool, const DAMP: bool, const VISC: bool>(
     x: &mut [f64],
     y: &mut [f64],
     th: &mut [f64],
@@ -190,11 +193,13 @@ fn sub_block<const E: bool, const DAMP: bool, const VISC: bool>(
             t_kt[i] = if free { kt } else { -0.0 };
             t_kr[i] = if free { kr } else { -0.0 };
             t_dmp[i] = if free { dmp } else { 0.0 };
-            let (ex, ey, et) = (dfx[i], dfy[i], dtq[i]);
-            let dc_free = (ex * mx + ey * my + et * mw) * k.kick;
-            let dc_fixed = (ex * ux + ey * uy + et * uw) * k.kick;
-            let dc_other = if fix { dc_fixed } else { 0.0 };
-            t_dc[i] = if free { dc_free } else { dc_other };
+            if D {
+                let (ex, ey, et) = (dfx[i], dfy[i], dtq[i]);
+                let dc_free = (ex * mx + ey * my + et * mw) * k.kick;
+                let dc_fixed = (ex * ux + ey * uy + et * uw) * k.kick;
+                let dc_other = if fix { dc_fixed } else { 0.0 };
+                t_dc[i] = if free { dc_free } else { dc_other };
+            }
             t_gp[i] = if free { gp } else { 0.0 };
             t_bw[i] = if fix { bw } else { 0.0 };
         }
@@ -204,7 +209,9 @@ fn sub_block<const E: bool, const DAMP: bool, const VISC: bool>(
 
 /// One chunk [lo, hi) of the disc pass. Every disc gets the same branch-free update (1/m = 0
 /// leaves fixed discs and clump members at their velocity; members are then placed by the
-/// clump pass), so the loop vectorises; energies are summed only when `E`.
+/// clump pass), so the loop vectorises; energies are summed only when `E`, the dashpot
+/// dissipation only when `D` as well (else it is exactly +0, see
+/// [`crate::contact::disc_disc::Dashpot`]).
 ///
 /// Energy terms: each disc's kinetic energy, damping work, dashpot work, gravity potential and
 /// (fixed discs) boundary work are computed in the vectorised loop into per-disc arrays, with
@@ -218,7 +225,7 @@ fn sub_block<const E: bool, const DAMP: bool, const VISC: bool>(
 /// touches indices in [lo, hi).
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-unsafe fn chunk<const E: bool, const DAMP: bool, const VISC: bool>(
+unsafe fn chunk<const E: bool, const D: bool, const DAMP: bool, const VISC: bool>(
     p: &[Ptr; 6],
     d: &Ro,
     c: &DiscCache,
@@ -242,7 +249,7 @@ unsafe fn chunk<const E: bool, const DAMP: bool, const VISC: bool>(
         } else {
             (im, im)
         };
-        let (dfx, dfy, dtq) = if E {
+        let (dfx, dfy, dtq) = if D {
             (
                 &d.dash.fx[r.clone()],
                 &d.dash.fy[r.clone()],
@@ -267,7 +274,7 @@ unsafe fn chunk<const E: bool, const DAMP: bool, const VISC: bool>(
             dfy,
             dtq,
         ];
-        exceeded |= sub_block::<E, DAMP, VISC>(
+        exceeded |= sub_block::<E, D, DAMP, VISC>(
             std::slice::from_raw_parts_mut(p[0].0.add(b0), n),
             std::slice::from_raw_parts_mut(p[1].0.add(b0), n),
             std::slice::from_raw_parts_mut(p[2].0.add(b0), n),
@@ -285,7 +292,9 @@ unsafe fn chunk<const E: bool, const DAMP: bool, const VISC: bool>(
                 o.ke_trans += t_kt[i];
                 o.ke_rot += t_kr[i];
                 o.damp -= t_dmp[i];
-                o.damp_contact -= t_dc[i];
+                if D {
+                    o.damp_contact -= t_dc[i];
+                }
                 o.grav_pot -= t_gp[i];
                 o.boundary_work -= t_bw[i];
             }
@@ -299,7 +308,7 @@ unsafe fn chunk<const E: bool, const DAMP: bool, const VISC: bool>(
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 #[allow(clippy::too_many_arguments)]
-unsafe fn chunk_avx2<const E: bool, const DAMP: bool, const VISC: bool>(
+unsafe fn chunk_avx2<const E: bool, const D: bool, const DAMP: bool, const VISC: bool>(
     p: &[Ptr; 6],
     d: &Ro,
     c: &DiscCache,
@@ -309,12 +318,12 @@ unsafe fn chunk_avx2<const E: bool, const DAMP: bool, const VISC: bool>(
     lo: usize,
     hi: usize,
 ) -> Moved {
-    chunk::<E, DAMP, VISC>(p, d, c, x0, y0, k, lo, hi)
+    chunk::<E, D, DAMP, VISC>(p, d, c, x0, y0, k, lo, hi)
 }
 
 /// Dispatch on the instruction set (same bits either way: no FMA contraction).
 #[allow(clippy::too_many_arguments)]
-unsafe fn chunk_best<const E: bool, const DAMP: bool, const VISC: bool>(
+unsafe fn chunk_best<const E: bool, const D: bool, const DAMP: bool, const VISC: bool>(
     p: &[Ptr; 6],
     d: &Ro,
     c: &DiscCache,
@@ -326,9 +335,9 @@ unsafe fn chunk_best<const E: bool, const DAMP: bool, const VISC: bool>(
 ) -> Moved {
     #[cfg(target_arch = "x86_64")]
     if std::is_x86_feature_detected!("avx2") {
-        return chunk_avx2::<E, DAMP, VISC>(p, d, c, x0, y0, k, lo, hi);
+        return chunk_avx2::<E, D, DAMP, VISC>(p, d, c, x0, y0, k, lo, hi);
     }
-    chunk::<E, DAMP, VISC>(p, d, c, x0, y0, k, lo, hi)
+    chunk::<E, D, DAMP, VISC>(p, d, c, x0, y0, k, lo, hi)
 }
 
 /// Integrate all free and fixed discs; chunked like the force pass so that the reported sums
@@ -382,29 +391,43 @@ pub fn integrate_discs(
         // SAFETY: chunks are disjoint index ranges of the six arrays (length n) behind `p`,
         // which `dr` does not borrow.
         unsafe {
-            match (k.track, k.alpha > 0.0, !c.visc_t.is_empty()) {
-                (false, false, false) => {
-                    chunk_best::<false, false, false>(&p, dr, c, x0, y0, k, lo, hi)
+            match (k.track, k.dash, k.alpha > 0.0, !c.visc_t.is_empty()) {
+                (false, _, false, false) => {
+                    chunk_best::<false, false, false, false>(&p, dr, c, x0, y0, k, lo, hi)
                 }
-                (false, false, true) => {
-                    chunk_best::<false, false, true>(&p, dr, c, x0, y0, k, lo, hi)
+                (false, _, false, true) => {
+                    chunk_best::<false, false, false, true>(&p, dr, c, x0, y0, k, lo, hi)
                 }
-                (false, true, false) => {
-                    chunk_best::<false, true, false>(&p, dr, c, x0, y0, k, lo, hi)
+                (false, _, true, false) => {
+                    chunk_best::<false, false, true, false>(&p, dr, c, x0, y0, k, lo, hi)
                 }
-                (false, true, true) => {
-                    chunk_best::<false, true, true>(&p, dr, c, x0, y0, k, lo, hi)
+                (false, _, true, true) => {
+                    chunk_best::<false, false, true, true>(&p, dr, c, x0, y0, k, lo, hi)
                 }
-                (true, false, false) => {
-                    chunk_best::<true, false, false>(&p, dr, c, x0, y0, k, lo, hi)
+                (true, false, false, false) => {
+                    chunk_best::<true, false, false, false>(&p, dr, c, x0, y0, k, lo, hi)
                 }
-                (true, false, true) => {
-                    chunk_best::<true, false, true>(&p, dr, c, x0, y0, k, lo, hi)
+                (true, false, false, true) => {
+                    chunk_best::<true, false, false, true>(&p, dr, c, x0, y0, k, lo, hi)
                 }
-                (true, true, false) => {
-                    chunk_best::<true, true, false>(&p, dr, c, x0, y0, k, lo, hi)
+                (true, false, true, false) => {
+                    chunk_best::<true, false, true, false>(&p, dr, c, x0, y0, k, lo, hi)
                 }
-                (true, true, true) => chunk_best::<true, true, true>(&p, dr, c, x0, y0, k, lo, hi),
+                (true, false, true, true) => {
+                    chunk_best::<true, false, true, true>(&p, dr, c, x0, y0, k, lo, hi)
+                }
+                (true, true, false, false) => {
+                    chunk_best::<true, true, false, false>(&p, dr, c, x0, y0, k, lo, hi)
+                }
+                (true, true, false, true) => {
+                    chunk_best::<true, true, false, true>(&p, dr, c, x0, y0, k, lo, hi)
+                }
+                (true, true, true, false) => {
+                    chunk_best::<true, true, true, false>(&p, dr, c, x0, y0, k, lo, hi)
+                }
+                (true, true, true, true) => {
+                    chunk_best::<true, true, true, true>(&p, dr, c, x0, y0, k, lo, hi)
+                }
             }
         }
     };

@@ -118,6 +118,9 @@ impl World {
         }
         let t1 = Counters::lap(&mut self.counters.neighbours, t0);
         let track = self.params.track_energy;
+        // Dashpot sums only when some law has a dashpot (else their dissipation is exactly +0,
+        // see `contact::disc_disc::Dashpot`).
+        let dash = track && self.laws.has_dashpots();
         let dt = self.dt;
         let img = MinImage::new(&self.state.periodic);
         self.state.discs.clear_forces();
@@ -129,6 +132,7 @@ impl World {
             img,
             dt,
             track,
+            dash,
             &mut self.slots,
         );
         self.apply_loads();
@@ -143,6 +147,7 @@ impl World {
                 img,
                 dt,
                 track,
+                dash,
                 &mut self.slots.dashpot,
             );
             e.add(&ew);
@@ -158,6 +163,7 @@ impl World {
             alpha: self.params.local_damping,
             gravity: self.params.gravity.unwrap_or([0.0; 2]),
             track,
+            dash,
             disp2_limit: 0.25 * self.nb.skin * self.nb.skin,
         };
         let w_before = if track && !self.loads.is_empty() {
