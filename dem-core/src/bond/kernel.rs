@@ -129,7 +129,8 @@ pub(super) struct DiscOut<'a> {
 /// Run the bond stage over all bonds: update forces and status, add the forces of intact
 /// bonds to the discs. `scratch` is used by the parallel path (resized as needed). Returns the
 /// number of bonds broken now (marked [`NEW`] + mode). `avx2`: use the AVX2 build of the
-/// block loop (pass [`has_avx2`]; same results either way).
+/// block loop (pass [`has_avx2`]; same results either way). `index_bound`: [`index_bound`] of
+/// `b.i`, `b.j` (cached by the store).
 pub(super) fn run(
     c: &Ctx,
     b: &BondsIn,
@@ -137,13 +138,14 @@ pub(super) fn run(
     out: DiscOut,
     scratch: &mut Vec<[f64; 4]>,
     avx2: bool,
+    index_bound: usize,
 ) -> usize {
     let nb = b.i.len();
     let nd = out.fx.len();
     let (fx, fy, tq) = (&mut out.fx[..nd], &mut out.fy[..nd], &mut out.tq[..nd]);
     let parallel = nb >= PAR_MIN_BONDS && rayon::current_num_threads() > 1;
     // Whether every disc index is in range (then the gather and scatter skip the checks).
-    let valid = c.v.x.len() == nd && c.v.lengths_agree() && indices_below(b.i, b.j, nd);
+    let valid = c.v.x.len() == nd && c.v.lengths_agree() && index_bound <= nd;
     if !parallel {
         let mut o = [[0.0f64; 4]; BLOCK];
         let mut w = Work::new();
@@ -228,10 +230,15 @@ fn scatter(fx: &mut [f64], fy: &mut [f64], tq: &mut [f64], i: usize, j: usize, o
     tq[j] += o[3];
 }
 
-/// Whether every index in `i` and `j` is below `n` (branch-free reduction).
-fn indices_below(i: &[u32], j: &[u32], n: usize) -> bool {
+/// 1 + the largest index in `i` and `j` (0 when empty): every index is below `n` exactly when
+/// this is at most `n` (branch-free reduction).
+pub(super) fn index_bound(i: &[u32], j: &[u32]) -> usize {
     let m = i.iter().chain(j).fold(0u32, |m, &k| m.max(k));
-    i.is_empty() || (m as usize) < n
+    if i.is_empty() {
+        0
+    } else {
+        m as usize + 1
+    }
 }
 
 /// [`scatter`] for a block of intact bonds, without bounds checks.
