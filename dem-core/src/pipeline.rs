@@ -59,6 +59,9 @@ pub struct World {
     pub(crate) slots: Slots,
     #[serde(skip)]
     pub(crate) parts: Vec<Moved>,
+    /// The clumps' last `sin_cos` (derived data, rebuilt on demand).
+    #[serde(skip)]
+    pub(crate) clump_trig: clump::TrigCache,
     #[serde(skip)]
     pub(crate) last_good: Option<Box<State>>,
 }
@@ -97,6 +100,7 @@ impl World {
             rebuild_requested: true,
             slots: Slots::default(),
             parts: Vec::new(),
+            clump_trig: Vec::new(),
             last_good: None,
         };
         w.rebuild_index();
@@ -194,6 +198,7 @@ impl World {
                 &self.nb.x0,
                 &self.nb.y0,
                 &kick,
+                &mut self.clump_trig,
             );
             moved.add(&mc);
         }
