@@ -9,7 +9,7 @@
 //! all produce identical bits.
 
 use super::criteria::{stress_flags, BreakMode, Compiled, Criterion, Loads};
-use super::potyondy2004::Kinematics;
+use super::potyondy2004::{Kinematics, ParallelBondParams};
 use super::{contact_bond, potyondy2004, BondGroup, BondModel};
 use crate::state::Periodic;
 use rayon::prelude::*;
@@ -130,13 +130,16 @@ pub(super) struct DiscOut<'a> {
 /// bonds to the discs. `scratch` is used by the parallel path (resized as needed). Returns the
 /// number of bonds broken now (marked [`NEW`] + mode). `avx2`: use the AVX2 build of the
 /// block loop (pass [`has_avx2`]; same results either way). `index_bound`: [`index_bound`] of
-/// `b.i`, `b.j` (cached by the store).
+/// `b.i`, `b.j` (cached by the store). `serial`: the work arrays of the one-thread path (kept
+/// by the store, so they are not re-zeroed every step).
+#[allow(clippy::too_many_arguments)]
 pub(super) fn run(
     c: &Ctx,
     b: &BondsIn,
     mut m: BondsMut,
     out: DiscOut,
     scratch: &mut Vec<[f64; 4]>,
+    serial: &mut SerialWork,
     avx2: bool,
     index_bound: usize,
 ) -> usize {
@@ -147,14 +150,12 @@ pub(super) fn run(
     // Whether every disc index is in range (then the gather and scatter skip the checks).
     let valid = c.v.x.len() == nd && c.v.lengths_agree() && index_bound <= nd;
     if !parallel {
-        let mut o = [[0.0f64; 4]; BLOCK];
-        let mut w = Work::new();
+        let SerialWork { w, o } = serial;
         let mut broke = 0;
         for k in (0..nb).step_by(BLOCK) {
             let e = (k + BLOCK).min(nb);
             let mut s = sub(&mut m, k..e);
-            let (nbrk, all_intact) =
-                block_best(c, b, k, &mut s, &mut o[..e - k], &mut w, avx2, valid);
+            let (nbrk, all_intact) = block_best(c, b, k, &mut s, &mut o[..e - k], w, avx2, valid);
             broke += nbrk;
             if valid && all_intact && nbrk == 0 {
                 // SAFETY: `valid`: all indices < nd = fx.len() = fy.len() = tq.len().
@@ -332,7 +333,24 @@ pub(super) fn has_avx2() -> bool {
     }
 }
 
+/// Work arrays of the one-thread path: [`Work`] and the block's outputs.
+#[derive(Clone, Debug)]
+pub(super) struct SerialWork {
+    w: Work,
+    o: [[f64; 4]; BLOCK],
+}
+
+impl Default for SerialWork {
+    fn default() -> SerialWork {
+        SerialWork {
+            w: Work::new(),
+            o: [[0.0; 4]; BLOCK],
+        }
+    }
+}
+
 /// Per-block work arrays, reused from block to block (not re-zeroed).
+#[derive(Clone, Debug)]
 struct Work {
     dxs: [f64; BLOCK],
     dys: [f64; BLOCK],
@@ -344,6 +362,9 @@ struct Work {
     wjs: [f64; BLOCK],
     /// n̂x, n̂y, gap, a_i, a_j, v_t, Δω.
     geo: [[f64; BLOCK]; 7],
+    /// Per-bond parameters of a block of parallel bonds with the stress criterion in several
+    /// groups: k̄n, k̄s, λ̄, β̄, σ̄c, c̄, tan φ̄.
+    par: [[f64; BLOCK]; 7],
 }
 
 impl Work {
@@ -358,8 +379,37 @@ impl Work {
             wis: [0.0; BLOCK],
             wjs: [0.0; BLOCK],
             geo: [[0.0; BLOCK]; 7],
+            par: [[0.0; BLOCK]; 7],
         }
     }
+}
+
+/// When every bond of `grp` (one block) belongs to a parallel-bond group with the stress
+/// criterion, write each bond's group parameters to `par` (k̄n, k̄s, λ̄, β̄, σ̄c, c̄, tan φ̄) and
+/// return true; else false.
+#[inline(always)]
+fn gather_stress_params(c: &Ctx, grp: &[u16], par: &mut [[f64; BLOCK]; 7]) -> bool {
+    for (k, &g) in grp.iter().enumerate().take(BLOCK) {
+        let g = g as usize;
+        match (&c.groups[g].model, c.compiled[g].criterion) {
+            (
+                BondModel::Parallel(p),
+                Criterion::Stress {
+                    tensile, cohesion, ..
+                },
+            ) => {
+                par[0][k] = p.kn;
+                par[1][k] = p.ks;
+                par[2][k] = p.lambda;
+                par[3][k] = p.beta;
+                par[4][k] = tensile;
+                par[5][k] = cohesion;
+                par[6][k] = c.compiled[g].tan_phi;
+            }
+            _ => return false,
+        }
+    }
+    true
 }
 
 /// Update the block of bonds `base..base + m.status.len()`: new forces and status, and for each
@@ -399,6 +449,7 @@ fn block<const VALID: bool>(
         wis,
         wjs,
         geo,
+        par,
     } = w;
     if VALID {
         for k in 0..n {
@@ -502,8 +553,50 @@ fn block<const VALID: bool>(
         _ => None,
     };
     let mut codes = [0u8; BLOCK];
-    let all_intact = fast.is_some();
-    if let Some((p, tensile, cohesion, tan_phi)) = fast {
+    // Several groups, all parallel bonds with the stress criterion (improved ORC: intra-grain
+    // and grain-boundary bonds interleave in store order): their parameters are gathered per
+    // bond and the straight-line loop below evaluates the same expressions as the general
+    // path, with the same values: same bits.
+    let mixed =
+        if fast.is_none() && n == BLOCK && status.iter().fold(INTACT, |a, &s| a | s) == INTACT {
+            gather_stress_params(c, grp, par)
+        } else {
+            false
+        };
+    let all_intact = fast.is_some() || mixed;
+    if mixed {
+        let [kn, ks, lambda, beta, tensile, cohesion, tan_phi] = &*par;
+        for k in 0..BLOCK {
+            let p = ParallelBondParams {
+                kn: kn[k],
+                ks: ks[k],
+                lambda: lambda[k],
+                beta: beta[k],
+            };
+            let (f, l) = potyondy2004::update(
+                &p,
+                rbar_[k],
+                c.t,
+                g0_[k],
+                length(k),
+                &kin(k),
+                [f_n[k], f_s[k], f_m[k]],
+            );
+            f_n[k] = f[0];
+            f_s[k] = f[1];
+            f_m[k] = f[2];
+            let (o, code) = finish(
+                gnx[k],
+                gny[k],
+                gai[k],
+                gaj[k],
+                f,
+                stress_flags(&l, tensile[k], cohesion[k], tan_phi[k]),
+            );
+            out[k] = o;
+            codes[k] = code;
+        }
+    } else if let Some((p, tensile, cohesion, tan_phi)) = fast {
         // Pass 2, fast: straight-line code over the block (intact parallel bonds, stress
         // criterion, one group).
         for k in 0..BLOCK {

@@ -16,6 +16,8 @@ struct Cache {
     compiled: Vec<Compiled>,
     /// Per-bond force on disc j (x, y) and torques on i and j, for the parallel scatter.
     scratch: Vec<[f64; 4]>,
+    /// Work arrays of the one-thread kernel (allocated once).
+    serial: Box<kernel::SerialWork>,
     /// 1 + the largest disc index of the bonds (0 without bonds), once computed; reset
     /// whenever `i` or `j` change (`add`, `remap`), so the kernel's index check is not redone
     /// every step.
@@ -387,6 +389,7 @@ impl Bonds {
             state,
             out,
             &mut self.cache.scratch,
+            &mut self.cache.serial,
             avx2,
             bound,
         );
