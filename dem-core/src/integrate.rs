@@ -114,6 +114,12 @@ const SUB: usize = 64;
 /// dashpot work, gravity potential, boundary work.
 type Terms = [[f64; SUB]; 6];
 
+thread_local! {
+    /// One [`Terms`] per worker thread, allocated once (not zeroed every step: the pass
+    /// writes every term it reads).
+    static TERMS: std::cell::RefCell<Box<Terms>> = std::cell::RefCell::new(Box::new([[0.0; SUB]; 6]));
+}
+
 /// The update of one sub-block (all slices of one length n ≤ [`SUB`]). Every argument is a
 /// separate reference, so the compiler knows that they do not alias and vectorises the loop.
 /// Returns whether some disc moved beyond the rebuild limit.
@@ -234,10 +240,10 @@ unsafe fn chunk<const E: bool, const D: bool, const DAMP: bool, const VISC: bool
     k: &Kick,
     lo: usize,
     hi: usize,
+    terms: &mut Terms,
 ) -> Moved {
     let mut o = Moved::default();
     let mut exceeded = false;
-    let mut terms: Terms = [[0.0; SUB]; 6];
     let mut b0 = lo;
     while b0 < hi {
         let b1 = (b0 + SUB).min(hi);
@@ -284,10 +290,10 @@ unsafe fn chunk<const E: bool, const D: bool, const DAMP: bool, const VISC: bool
             ro,
             &d.fixed[r],
             k,
-            &mut terms,
+            terms,
         );
         if E {
-            let [t_kt, t_kr, t_dmp, t_dc, t_gp, t_bw] = &terms;
+            let [t_kt, t_kr, t_dmp, t_dc, t_gp, t_bw] = &*terms;
             for i in 0..n {
                 o.ke_trans += t_kt[i];
                 o.ke_rot += t_kr[i];
@@ -317,8 +323,9 @@ unsafe fn chunk_avx2<const E: bool, const D: bool, const DAMP: bool, const VISC:
     k: &Kick,
     lo: usize,
     hi: usize,
+    terms: &mut Terms,
 ) -> Moved {
-    chunk::<E, D, DAMP, VISC>(p, d, c, x0, y0, k, lo, hi)
+    chunk::<E, D, DAMP, VISC>(p, d, c, x0, y0, k, lo, hi, terms)
 }
 
 /// Dispatch on the instruction set (same bits either way: no FMA contraction).
@@ -332,12 +339,13 @@ unsafe fn chunk_best<const E: bool, const D: bool, const DAMP: bool, const VISC:
     k: &Kick,
     lo: usize,
     hi: usize,
+    terms: &mut Terms,
 ) -> Moved {
     #[cfg(target_arch = "x86_64")]
     if std::is_x86_feature_detected!("avx2") {
-        return chunk_avx2::<E, D, DAMP, VISC>(p, d, c, x0, y0, k, lo, hi);
+        return chunk_avx2::<E, D, DAMP, VISC>(p, d, c, x0, y0, k, lo, hi, terms);
     }
-    chunk::<E, D, DAMP, VISC>(p, d, c, x0, y0, k, lo, hi)
+    chunk::<E, D, DAMP, VISC>(p, d, c, x0, y0, k, lo, hi, terms)
 }
 
 /// Integrate all free and fixed discs; chunked like the force pass so that the reported sums
@@ -390,46 +398,47 @@ pub fn integrate_discs(
         let (lo, hi) = (ch * CHUNK, ((ch + 1) * CHUNK).min(n));
         // SAFETY: chunks are disjoint index ranges of the six arrays (length n) behind `p`,
         // which `dr` does not borrow.
-        unsafe {
+        TERMS.with(|t| unsafe {
+            let t = &mut **t.borrow_mut();
             match (k.track, k.dash, k.alpha > 0.0, !c.visc_t.is_empty()) {
                 (false, _, false, false) => {
-                    chunk_best::<false, false, false, false>(&p, dr, c, x0, y0, k, lo, hi)
+                    chunk_best::<false, false, false, false>(&p, dr, c, x0, y0, k, lo, hi, t)
                 }
                 (false, _, false, true) => {
-                    chunk_best::<false, false, false, true>(&p, dr, c, x0, y0, k, lo, hi)
+                    chunk_best::<false, false, false, true>(&p, dr, c, x0, y0, k, lo, hi, t)
                 }
                 (false, _, true, false) => {
-                    chunk_best::<false, false, true, false>(&p, dr, c, x0, y0, k, lo, hi)
+                    chunk_best::<false, false, true, false>(&p, dr, c, x0, y0, k, lo, hi, t)
                 }
                 (false, _, true, true) => {
-                    chunk_best::<false, false, true, true>(&p, dr, c, x0, y0, k, lo, hi)
+                    chunk_best::<false, false, true, true>(&p, dr, c, x0, y0, k, lo, hi, t)
                 }
                 (true, false, false, false) => {
-                    chunk_best::<true, false, false, false>(&p, dr, c, x0, y0, k, lo, hi)
+                    chunk_best::<true, false, false, false>(&p, dr, c, x0, y0, k, lo, hi, t)
                 }
                 (true, false, false, true) => {
-                    chunk_best::<true, false, false, true>(&p, dr, c, x0, y0, k, lo, hi)
+                    chunk_best::<true, false, false, true>(&p, dr, c, x0, y0, k, lo, hi, t)
                 }
                 (true, false, true, false) => {
-                    chunk_best::<true, false, true, false>(&p, dr, c, x0, y0, k, lo, hi)
+                    chunk_best::<true, false, true, false>(&p, dr, c, x0, y0, k, lo, hi, t)
                 }
                 (true, false, true, true) => {
-                    chunk_best::<true, false, true, true>(&p, dr, c, x0, y0, k, lo, hi)
+                    chunk_best::<true, false, true, true>(&p, dr, c, x0, y0, k, lo, hi, t)
                 }
                 (true, true, false, false) => {
-                    chunk_best::<true, true, false, false>(&p, dr, c, x0, y0, k, lo, hi)
+                    chunk_best::<true, true, false, false>(&p, dr, c, x0, y0, k, lo, hi, t)
                 }
                 (true, true, false, true) => {
-                    chunk_best::<true, true, false, true>(&p, dr, c, x0, y0, k, lo, hi)
+                    chunk_best::<true, true, false, true>(&p, dr, c, x0, y0, k, lo, hi, t)
                 }
                 (true, true, true, false) => {
-                    chunk_best::<true, true, true, false>(&p, dr, c, x0, y0, k, lo, hi)
+                    chunk_best::<true, true, true, false>(&p, dr, c, x0, y0, k, lo, hi, t)
                 }
                 (true, true, true, true) => {
-                    chunk_best::<true, true, true, true>(&p, dr, c, x0, y0, k, lo, hi)
+                    chunk_best::<true, true, true, true>(&p, dr, c, x0, y0, k, lo, hi, t)
                 }
             }
-        }
+        })
     };
     let mut total = Moved::default();
     if rayon::current_num_threads() > 1 && n > 2 * CHUNK {
