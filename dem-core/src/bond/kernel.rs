@@ -659,7 +659,8 @@ fn block<const VALID: bool>(
 
 #[cfg(test)]
 mod tests {
-    use super::super::bench::bonded_lattice_state;
+    use super::super::bench::{bonded_lattice_state, lattice_bond_group, RADIUS};
+    use super::super::Bonds;
     use super::*;
 
     /// The AVX2 and baseline builds of the block loop give the same bits (on CPUs with AVX2;
@@ -695,5 +696,81 @@ mod tests {
         let b = go(has_avx2());
         assert!(a.0.discs.fx.iter().any(|&f| f != 0.0));
         assert_eq!(a, b);
+    }
+
+    /// Blocks of intact parallel bonds in two stress-criterion groups (the improved-ORC case)
+    /// take the straight-line path with per-bond parameters; it gives the bits of the general
+    /// per-bond path, which every block of a store with fewer than BLOCK bonds takes.
+    #[test]
+    fn mixed_group_blocks_give_the_general_path_bits() {
+        let (mut st, _) = bonded_lattice_state([12, 8]);
+        let mut s = 7u64;
+        for k in 0..st.discs.len() {
+            let mut r = || {
+                s = s
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
+                ((s >> 11) as f64 / (1u64 << 53) as f64) - 0.5
+            };
+            st.discs.x[k] += 2e-6 * r();
+            st.discs.y[k] += 2e-6 * r();
+            st.discs.vx[k] = 0.1 * r();
+            st.discs.vy[k] = 0.1 * r();
+            st.discs.omega[k] = 50.0 * r();
+        }
+        let g0 = lattice_bond_group(st.thickness);
+        let mut g1 = g0.clone();
+        g1.name = "other".into();
+        if let BondModel::Parallel(p) = &mut g1.model {
+            p.kn *= 1.7;
+            p.ks *= 0.6;
+            p.beta = 0.5;
+        }
+        g1.criterion = Criterion::Stress {
+            tensile: 2e8,
+            cohesion: 3e8,
+            friction_angle: 0.3,
+        };
+        let groups = vec![g0, g1];
+        let mut all = Bonds::new(groups.clone()).unwrap();
+        all.install_within_gap(&st, 0.1 * RADIUS, |i, j| Some(((i + j) % 2) as u16))
+            .unwrap();
+        let views: Vec<_> = all.iter().collect();
+        assert!(views.len() >= 4 * BLOCK);
+        assert!(views[..BLOCK].iter().any(|v| v.group != views[0].group));
+        // The same bonds in stores of fewer than BLOCK bonds: the general path.
+        let mut parts: Vec<Bonds> = views
+            .chunks(BLOCK - 1)
+            .map(|c| {
+                let mut b = Bonds::new(groups.clone()).unwrap();
+                b.install_pairs(&st, c.iter().map(|v| (v.i as usize, v.j as usize, v.group)))
+                    .unwrap();
+                b
+            })
+            .collect();
+        let avx2 = has_avx2();
+        for _ in 0..3 {
+            let mut a = st.clone();
+            a.discs.clear_forces();
+            all.compute_with(&mut a, 1e-7, avx2);
+            for b in parts.iter_mut() {
+                let mut a = st.clone();
+                a.discs.clear_forces();
+                b.compute_with(&mut a, 1e-7, avx2);
+            }
+        }
+        let bits = |v: super::super::BondView| {
+            (
+                v.i,
+                v.j,
+                v.group,
+                v.status,
+                [v.fn_, v.fs, v.m].map(f64::to_bits),
+            )
+        };
+        let whole: Vec<_> = all.iter().map(bits).collect();
+        let split: Vec<_> = parts.iter().flat_map(|b| b.iter()).map(bits).collect();
+        assert!(all.iter().any(|v| v.fs != 0.0));
+        assert_eq!(whole, split);
     }
 }
