@@ -123,9 +123,17 @@ pub fn add_rigid_clump_props(
 /// Energies and displacement reported by the clump pass (see [`crate::integrate::Moved`]).
 pub use crate::integrate::Moved;
 
+/// `(θ, sin θ, cos θ)` of each clump's angle after the last clump pass, so that the next pass
+/// does not evaluate `sin_cos` of the same angle again (it is a pure function: the cached
+/// values are the bits a new call would return). An entry is used only when the clump's angle
+/// has exactly the cached bits; `None` or a stale entry is recomputed.
+pub type TrigCache = Vec<Option<[f64; 3]>>;
+
 /// Gather member forces to the clumps, integrate the clumps and place their members.
 /// `index_of_id` maps disc ids to current indices; `visc` are the clumps' viscous
-/// coefficients (translation, rotation) or empty.
+/// coefficients (translation, rotation) or empty; `trig` is the clumps' [`TrigCache`]
+/// (resized as needed).
+#[allow(clippy::too_many_arguments)]
 pub fn step_clumps(
     st: &mut State,
     index_of_id: &[u32],
@@ -134,12 +142,17 @@ pub fn step_clumps(
     x0: &[f64],
     y0: &[f64],
     k: &Kick,
+    trig: &mut TrigCache,
 ) -> Moved {
     let mut o = Moved::default();
     let [gx, gy] = k.gravity;
     let (cl, d) = (&mut st.clumps, &mut st.discs);
-    for c in 0..cl.len() {
-        let (s, co) = cl.theta[c].sin_cos();
+    trig.resize(cl.len(), None);
+    for (c, tc) in trig.iter_mut().enumerate() {
+        let (s, co) = match *tc {
+            Some([th, s, co]) if th.to_bits() == cl.theta[c].to_bits() => (s, co),
+            _ => cl.theta[c].sin_cos(),
+        };
         let (mut fx, mut fy, mut t) = (0.0, 0.0, 0.0);
         let (mut dfx, mut dfy, mut dt) = (0.0, 0.0, 0.0);
         for q in cl.member_range(c) {
@@ -151,7 +164,7 @@ pub fn step_clumps(
             fx += d.fx[i];
             fy += d.fy[i];
             t += d.torque[i] + rx * d.fy[i] - ry * d.fx[i];
-            if k.track {
+            if k.track && k.dash {
                 let (a, b) = (dash.fx[i], dash.fy[i]);
                 dfx += a;
                 dfy += b;
@@ -188,13 +201,16 @@ pub fn step_clumps(
             o.ke_trans += 0.5 * m * (ax * ax + ay * ay);
             o.ke_rot += 0.5 * cl.inertia[c] * aw * aw;
             o.damp -= ((fx - fx0) * ax + (fy - fy0) * ay + (t - t0) * aw) * k.kick;
-            o.damp_contact -= (dfx * ax + dfy * ay + dt * aw) * k.kick;
+            if k.dash {
+                o.damp_contact -= (dfx * ax + dfy * ay + dt * aw) * k.kick;
+            }
             o.grav_pot -= m * (gx * cl.x[c] + gy * cl.y[c]);
         }
         cl.x[c] += cl.vx[c] * k.drift;
         cl.y[c] += cl.vy[c] * k.drift;
         cl.theta[c] += cl.omega[c] * k.drift;
         let (s, co) = cl.theta[c].sin_cos();
+        *tc = Some([cl.theta[c], s, co]);
         let w = cl.omega[c];
         for q in cl.member_range(c) {
             let i = index_of_id[cl.members[q] as usize] as usize;

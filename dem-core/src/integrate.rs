@@ -81,6 +81,9 @@ pub struct Kick {
     pub alpha: f64,
     pub gravity: [f64; 2],
     pub track: bool,
+    /// Book the dashpot dissipation (with `track`, when some contact law has a dashpot: the
+    /// dashpot sums are filled only then, see [`crate::contact::disc_disc::Dashpot`]).
+    pub dash: bool,
     /// Squared displacement (since the last neighbour build) that calls for a rebuild.
     pub disp2_limit: f64,
 }
@@ -98,48 +101,59 @@ struct Ro<'a> {
     fy: &'a [f64],
     torque: &'a [f64],
     fixed: &'a [bool],
-    /// Dashpot sums (length n when energy is tracked).
+    /// Dashpot sums (length n when energy is tracked and `Kick::dash`).
     dash: &'a Dashpot,
 }
 
-/// One chunk [lo, hi) of the disc pass. Every disc gets the same branch-free update (1/m = 0
-/// leaves fixed discs and clump members at their velocity; members are then placed by the
-/// clump pass), so the loop vectorises; energies are summed only when `E`.
-///
-/// # Safety
-/// `p` points to the x, y, theta, vx, vy, omega arrays of length ≥ hi, and no other thread
-/// touches indices in [lo, hi).
+/// Discs per sub-block of [`chunk`]: the state update and the per-disc energy terms are
+/// computed over a sub-block in one branch-free loop (vectorised), then the terms are summed
+/// serially in disc order.
+const SUB: usize = 64;
+
+/// Per-disc energy terms of one sub-block: kinetic (translation, rotation), damping work,
+/// dashpot work, gravity potential, boundary work.
+type Terms = [[f64; SUB]; 6];
+
+thread_local! {
+    /// One [`Terms`] per worker thread, allocated once (not zeroed every step: the pass
+    /// writes every term it reads).
+    static TERMS: std::cell::RefCell<Box<Terms>> = std::cell::RefCell::new(Box::new([[0.0; SUB]; 6]));
+}
+
+/// The update of one sub-block (all slices of one length n ≤ [`SUB`]). Every argument is a
+/// separate reference, so the compiler knows that they do not alias and vectorises the loop.
+/// Returns whether some disc moved beyond the rebuild limit.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-unsafe fn chunk<const E: bool, const DAMP: bool, const VISC: bool>(
-    p: &[Ptr; 6],
-    d: &Ro,
-    c: &DiscCache,
-    x0: &[f64],
-    y0: &[f64],
+fn sub_block<const E: bool, const D: bool, const DAMP: bool, const VISC: bool>(
+    x: &mut [f64],
+    y: &mut [f64],
+    th: &mut [f64],
+    vx: &mut [f64],
+    vy: &mut [f64],
+    w: &mut [f64],
+    ro: [&[f64]; 14],
+    fixed: &[bool],
     k: &Kick,
-    lo: usize,
-    hi: usize,
-) -> Moved {
-    let mut o = Moved::default();
+    t: &mut Terms,
+) -> bool {
+    let n = x.len();
+    let [m, inertia, fx, fy, tq, im, ii, x0, y0, cvt, cvr, dfx, dfy, dtq] = ro;
+    let (y, th, vx, vy, w) = (
+        &mut y[..n],
+        &mut th[..n],
+        &mut vx[..n],
+        &mut vy[..n],
+        &mut w[..n],
+    );
+    let (m, inertia, fx, fy, tq) = (&m[..n], &inertia[..n], &fx[..n], &fy[..n], &tq[..n]);
+    let (im, ii, x0, y0) = (&im[..n], &ii[..n], &x0[..n], &y0[..n]);
+    let (cvt, cvr, dfx, dfy, dtq) = (&cvt[..n], &cvr[..n], &dfx[..n], &dfy[..n], &dtq[..n]);
+    let fixed = &fixed[..n];
+    let [t_kt, t_kr, t_dmp, t_dc, t_gp, t_bw] = t;
+    let (t_kt, t_kr, t_dmp) = (&mut t_kt[..n], &mut t_kr[..n], &mut t_dmp[..n]);
+    let (t_dc, t_gp, t_bw) = (&mut t_dc[..n], &mut t_gp[..n], &mut t_bw[..n]);
     let [gx, gy] = k.gravity;
-    let n = hi - lo;
-    let x = std::slice::from_raw_parts_mut(p[0].0.add(lo), n);
-    let y = std::slice::from_raw_parts_mut(p[1].0.add(lo), n);
-    let th = std::slice::from_raw_parts_mut(p[2].0.add(lo), n);
-    let vx = std::slice::from_raw_parts_mut(p[3].0.add(lo), n);
-    let vy = std::slice::from_raw_parts_mut(p[4].0.add(lo), n);
-    let w = std::slice::from_raw_parts_mut(p[5].0.add(lo), n);
-    let (m, inertia) = (&d.m[lo..hi], &d.inertia[lo..hi]);
-    let (fx, fy, tq) = (&d.fx[lo..hi], &d.fy[lo..hi], &d.torque[lo..hi]);
-    let (im, ii) = (&c.inv_m[lo..hi], &c.inv_i[lo..hi]);
-    let (x0, y0) = (&x0[lo..hi], &y0[lo..hi]);
-    let (cvt, cvr) = if VISC {
-        (&c.visc_t[lo..hi], &c.visc_r[lo..hi])
-    } else {
-        (&c.inv_m[lo..hi], &c.inv_m[lo..hi])
-    };
-    let fixed = &d.fixed[lo..hi];
     let mut exceeded = false;
     for i in 0..n {
         let (mut ax, mut ay, mut at) = (fx[i] + m[i] * gx, fy[i] + m[i] * gy, tq[i]);
@@ -164,26 +178,134 @@ unsafe fn chunk<const E: bool, const DAMP: bool, const VISC: bool>(
         vy[i] = nvy;
         w[i] = nw;
         let (xo, yo) = (x[i], y[i]);
-        x[i] = xo + nvx * k.drift;
-        y[i] = yo + nvy * k.drift;
+        let (xn, yn) = (xo + nvx * k.drift, yo + nvy * k.drift);
+        x[i] = xn;
+        y[i] = yn;
         th[i] += nw * k.drift;
-        let (dx, dy) = (x[i] - x0[i], y[i] - y0[i]);
+        let (dx, dy) = (xn - x0[i], yn - y0[i]);
         exceeded |= dx * dx + dy * dy > k.disp2_limit;
         if E {
-            if im[i] > 0.0 {
-                let (mx, my, mw) = (0.5 * (ux + nvx), 0.5 * (uy + nvy), 0.5 * (uw + nw));
-                o.ke_trans += 0.5 * m[i] * (mx * mx + my * my);
-                o.ke_rot += 0.5 * inertia[i] * mw * mw;
-                o.damp -= ((ax - f0x) * mx + (ay - f0y) * my + (at - t0) * mw) * k.kick;
-                let (dx, dy, dt) = (d.dash.fx[lo + i], d.dash.fy[lo + i], d.dash.t[lo + i]);
-                o.damp_contact -= (dx * mx + dy * my + dt * mw) * k.kick;
-                o.grav_pot -= m[i] * (gx * xo + gy * yo);
-            } else if fixed[i] {
-                o.boundary_work -= (fx[i] * ux + fy[i] * uy + tq[i] * uw) * k.drift;
-                let (dx, dy, dt) = (d.dash.fx[lo + i], d.dash.fy[lo + i], d.dash.t[lo + i]);
-                o.damp_contact -= (dx * ux + dy * uy + dt * uw) * k.kick;
+            // Free discs: kinetic energy and damping work with the mean velocity; fixed
+            // discs: boundary work and dashpot work with their prescribed velocity.
+            let free = im[i] > 0.0;
+            // (Written with the load first: the loop then vectorises.)
+            let fix = fixed[i] && !free;
+            let (mx, my, mw) = (0.5 * (ux + nvx), 0.5 * (uy + nvy), 0.5 * (uw + nw));
+            let kt = 0.5 * m[i] * (mx * mx + my * my);
+            let kr = 0.5 * inertia[i] * mw * mw;
+            let dmp = ((ax - f0x) * mx + (ay - f0y) * my + (at - t0) * mw) * k.kick;
+            let gp = m[i] * (gx * xo + gy * yo);
+            let bw = (fx[i] * ux + fy[i] * uy + tq[i] * uw) * k.drift;
+            t_kt[i] = if free { kt } else { -0.0 };
+            t_kr[i] = if free { kr } else { -0.0 };
+            t_dmp[i] = if free { dmp } else { 0.0 };
+            if D {
+                let (ex, ey, et) = (dfx[i], dfy[i], dtq[i]);
+                let dc_free = (ex * mx + ey * my + et * mw) * k.kick;
+                let dc_fixed = (ex * ux + ey * uy + et * uw) * k.kick;
+                let dc_other = if fix { dc_fixed } else { 0.0 };
+                t_dc[i] = if free { dc_free } else { dc_other };
+            }
+            t_gp[i] = if free { gp } else { 0.0 };
+            t_bw[i] = if fix { bw } else { 0.0 };
+        }
+    }
+    exceeded
+}
+
+/// One chunk [lo, hi) of the disc pass. Every disc gets the same branch-free update (1/m = 0
+/// leaves fixed discs and clump members at their velocity; members are then placed by the
+/// clump pass), so the loop vectorises; energies are summed only when `E`, the dashpot
+/// dissipation only when `D` as well (else it is exactly +0, see
+/// [`crate::contact::disc_disc::Dashpot`]).
+///
+/// Energy terms: each disc's kinetic energy, damping work, dashpot work, gravity potential and
+/// (fixed discs) boundary work are computed in the vectorised loop into per-disc arrays, with
+/// a neutral term for discs that do not contribute (−0.0 for the sums that add, +0.0 for those
+/// that subtract: x + (−0) and x − (+0) are x bit for bit, for every x), then summed one disc
+/// after the other: each sum sees the same sequence of operations as when the terms were added
+/// inside the update loop, so the results are the same bits.
+///
+/// # Safety
+/// `p` points to the x, y, theta, vx, vy, omega arrays of length ≥ hi, and no other thread
+/// touches indices in [lo, hi).
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+unsafe fn chunk<const E: bool, const D: bool, const DAMP: bool, const VISC: bool>(
+    p: &[Ptr; 6],
+    d: &Ro,
+    c: &DiscCache,
+    x0: &[f64],
+    y0: &[f64],
+    k: &Kick,
+    lo: usize,
+    hi: usize,
+    terms: &mut Terms,
+) -> Moved {
+    let mut o = Moved::default();
+    let mut exceeded = false;
+    let mut b0 = lo;
+    while b0 < hi {
+        let b1 = (b0 + SUB).min(hi);
+        let n = b1 - b0;
+        let r = b0..b1;
+        let im = &c.inv_m[r.clone()];
+        let (cvt, cvr) = if VISC {
+            (&c.visc_t[r.clone()], &c.visc_r[r.clone()])
+        } else {
+            (im, im)
+        };
+        let (dfx, dfy, dtq) = if D {
+            (
+                &d.dash.fx[r.clone()],
+                &d.dash.fy[r.clone()],
+                &d.dash.t[r.clone()],
+            )
+        } else {
+            (im, im, im)
+        };
+        let ro = [
+            &d.m[r.clone()],
+            &d.inertia[r.clone()],
+            &d.fx[r.clone()],
+            &d.fy[r.clone()],
+            &d.torque[r.clone()],
+            im,
+            &c.inv_i[r.clone()],
+            &x0[r.clone()],
+            &y0[r.clone()],
+            cvt,
+            cvr,
+            dfx,
+            dfy,
+            dtq,
+        ];
+        exceeded |= sub_block::<E, D, DAMP, VISC>(
+            std::slice::from_raw_parts_mut(p[0].0.add(b0), n),
+            std::slice::from_raw_parts_mut(p[1].0.add(b0), n),
+            std::slice::from_raw_parts_mut(p[2].0.add(b0), n),
+            std::slice::from_raw_parts_mut(p[3].0.add(b0), n),
+            std::slice::from_raw_parts_mut(p[4].0.add(b0), n),
+            std::slice::from_raw_parts_mut(p[5].0.add(b0), n),
+            ro,
+            &d.fixed[r],
+            k,
+            terms,
+        );
+        if E {
+            let [t_kt, t_kr, t_dmp, t_dc, t_gp, t_bw] = &*terms;
+            for i in 0..n {
+                o.ke_trans += t_kt[i];
+                o.ke_rot += t_kr[i];
+                o.damp -= t_dmp[i];
+                if D {
+                    o.damp_contact -= t_dc[i];
+                }
+                o.grav_pot -= t_gp[i];
+                o.boundary_work -= t_bw[i];
             }
         }
+        b0 = b1;
     }
     o.exceeded = exceeded;
     o
@@ -192,7 +314,7 @@ unsafe fn chunk<const E: bool, const DAMP: bool, const VISC: bool>(
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 #[allow(clippy::too_many_arguments)]
-unsafe fn chunk_avx2<const E: bool, const DAMP: bool, const VISC: bool>(
+unsafe fn chunk_avx2<const E: bool, const D: bool, const DAMP: bool, const VISC: bool>(
     p: &[Ptr; 6],
     d: &Ro,
     c: &DiscCache,
@@ -201,13 +323,14 @@ unsafe fn chunk_avx2<const E: bool, const DAMP: bool, const VISC: bool>(
     k: &Kick,
     lo: usize,
     hi: usize,
+    terms: &mut Terms,
 ) -> Moved {
-    chunk::<E, DAMP, VISC>(p, d, c, x0, y0, k, lo, hi)
+    chunk::<E, D, DAMP, VISC>(p, d, c, x0, y0, k, lo, hi, terms)
 }
 
 /// Dispatch on the instruction set (same bits either way: no FMA contraction).
 #[allow(clippy::too_many_arguments)]
-unsafe fn chunk_best<const E: bool, const DAMP: bool, const VISC: bool>(
+unsafe fn chunk_best<const E: bool, const D: bool, const DAMP: bool, const VISC: bool>(
     p: &[Ptr; 6],
     d: &Ro,
     c: &DiscCache,
@@ -216,12 +339,13 @@ unsafe fn chunk_best<const E: bool, const DAMP: bool, const VISC: bool>(
     k: &Kick,
     lo: usize,
     hi: usize,
+    terms: &mut Terms,
 ) -> Moved {
     #[cfg(target_arch = "x86_64")]
     if std::is_x86_feature_detected!("avx2") {
-        return chunk_avx2::<E, DAMP, VISC>(p, d, c, x0, y0, k, lo, hi);
+        return chunk_avx2::<E, D, DAMP, VISC>(p, d, c, x0, y0, k, lo, hi, terms);
     }
-    chunk::<E, DAMP, VISC>(p, d, c, x0, y0, k, lo, hi)
+    chunk::<E, D, DAMP, VISC>(p, d, c, x0, y0, k, lo, hi, terms)
 }
 
 /// Integrate all free and fixed discs; chunked like the force pass so that the reported sums
@@ -274,32 +398,47 @@ pub fn integrate_discs(
         let (lo, hi) = (ch * CHUNK, ((ch + 1) * CHUNK).min(n));
         // SAFETY: chunks are disjoint index ranges of the six arrays (length n) behind `p`,
         // which `dr` does not borrow.
-        unsafe {
-            match (k.track, k.alpha > 0.0, !c.visc_t.is_empty()) {
-                (false, false, false) => {
-                    chunk_best::<false, false, false>(&p, dr, c, x0, y0, k, lo, hi)
+        TERMS.with(|t| unsafe {
+            let t = &mut **t.borrow_mut();
+            match (k.track, k.dash, k.alpha > 0.0, !c.visc_t.is_empty()) {
+                (false, _, false, false) => {
+                    chunk_best::<false, false, false, false>(&p, dr, c, x0, y0, k, lo, hi, t)
                 }
-                (false, true, false) => {
-                    chunk_best::<false, true, false>(&p, dr, c, x0, y0, k, lo, hi)
+                (false, _, false, true) => {
+                    chunk_best::<false, false, false, true>(&p, dr, c, x0, y0, k, lo, hi, t)
                 }
-                (false, false, true) => {
-                    chunk_best::<false, false, true>(&p, dr, c, x0, y0, k, lo, hi)
+                (false, _, true, false) => {
+                    chunk_best::<false, false, true, false>(&p, dr, c, x0, y0, k, lo, hi, t)
                 }
-                (false, true, true) => {
-                    chunk_best::<false, true, true>(&p, dr, c, x0, y0, k, lo, hi)
+                (false, _, true, true) => {
+                    chunk_best::<false, false, true, true>(&p, dr, c, x0, y0, k, lo, hi, t)
                 }
-                (true, false, false) => {
-                    chunk_best::<true, false, false>(&p, dr, c, x0, y0, k, lo, hi)
+                (true, false, false, false) => {
+                    chunk_best::<true, false, false, false>(&p, dr, c, x0, y0, k, lo, hi, t)
                 }
-                (true, true, false) => {
-                    chunk_best::<true, true, false>(&p, dr, c, x0, y0, k, lo, hi)
+                (true, false, false, true) => {
+                    chunk_best::<true, false, false, true>(&p, dr, c, x0, y0, k, lo, hi, t)
                 }
-                (true, false, true) => {
-                    chunk_best::<true, false, true>(&p, dr, c, x0, y0, k, lo, hi)
+                (true, false, true, false) => {
+                    chunk_best::<true, false, true, false>(&p, dr, c, x0, y0, k, lo, hi, t)
                 }
-                (true, true, true) => chunk_best::<true, true, true>(&p, dr, c, x0, y0, k, lo, hi),
+                (true, false, true, true) => {
+                    chunk_best::<true, false, true, true>(&p, dr, c, x0, y0, k, lo, hi, t)
+                }
+                (true, true, false, false) => {
+                    chunk_best::<true, true, false, false>(&p, dr, c, x0, y0, k, lo, hi, t)
+                }
+                (true, true, false, true) => {
+                    chunk_best::<true, true, false, true>(&p, dr, c, x0, y0, k, lo, hi, t)
+                }
+                (true, true, true, false) => {
+                    chunk_best::<true, true, true, false>(&p, dr, c, x0, y0, k, lo, hi, t)
+                }
+                (true, true, true, true) => {
+                    chunk_best::<true, true, true, true>(&p, dr, c, x0, y0, k, lo, hi, t)
+                }
             }
-        }
+        })
     };
     let mut total = Moved::default();
     if rayon::current_num_threads() > 1 && n > 2 * CHUNK {

@@ -59,6 +59,9 @@ pub struct World {
     pub(crate) slots: Slots,
     #[serde(skip)]
     pub(crate) parts: Vec<Moved>,
+    /// The clumps' last `sin_cos` (derived data, rebuilt on demand).
+    #[serde(skip)]
+    pub(crate) clump_trig: clump::TrigCache,
     #[serde(skip)]
     pub(crate) last_good: Option<Box<State>>,
 }
@@ -97,6 +100,7 @@ impl World {
             rebuild_requested: true,
             slots: Slots::default(),
             parts: Vec::new(),
+            clump_trig: Vec::new(),
             last_good: None,
         };
         w.rebuild_index();
@@ -118,6 +122,9 @@ impl World {
         }
         let t1 = Counters::lap(&mut self.counters.neighbours, t0);
         let track = self.params.track_energy;
+        // Dashpot sums only when some law has a dashpot (else their dissipation is exactly +0,
+        // see `contact::disc_disc::Dashpot`).
+        let dash = track && self.laws.has_dashpots();
         let dt = self.dt;
         let img = MinImage::new(&self.state.periodic);
         self.state.discs.clear_forces();
@@ -129,6 +136,7 @@ impl World {
             img,
             dt,
             track,
+            dash,
             &mut self.slots,
         );
         self.apply_loads();
@@ -143,6 +151,7 @@ impl World {
                 img,
                 dt,
                 track,
+                dash,
                 &mut self.slots.dashpot,
             );
             e.add(&ew);
@@ -158,6 +167,7 @@ impl World {
             alpha: self.params.local_damping,
             gravity: self.params.gravity.unwrap_or([0.0; 2]),
             track,
+            dash,
             disp2_limit: 0.25 * self.nb.skin * self.nb.skin,
         };
         let w_before = if track && !self.loads.is_empty() {
@@ -188,6 +198,7 @@ impl World {
                 &self.nb.x0,
                 &self.nb.y0,
                 &kick,
+                &mut self.clump_trig,
             );
             moved.add(&mc);
         }

@@ -9,7 +9,7 @@
 //! all produce identical bits.
 
 use super::criteria::{stress_flags, BreakMode, Compiled, Criterion, Loads};
-use super::potyondy2004::Kinematics;
+use super::potyondy2004::{Kinematics, ParallelBondParams};
 use super::{contact_bond, potyondy2004, BondGroup, BondModel};
 use crate::state::Periodic;
 use rayon::prelude::*;
@@ -129,30 +129,33 @@ pub(super) struct DiscOut<'a> {
 /// Run the bond stage over all bonds: update forces and status, add the forces of intact
 /// bonds to the discs. `scratch` is used by the parallel path (resized as needed). Returns the
 /// number of bonds broken now (marked [`NEW`] + mode). `avx2`: use the AVX2 build of the
-/// block loop (pass [`has_avx2`]; same results either way).
+/// block loop (pass [`has_avx2`]; same results either way). `index_bound`: [`index_bound`] of
+/// `b.i`, `b.j` (cached by the store). `serial`: the work arrays of the one-thread path (kept
+/// by the store, so they are not re-zeroed every step).
+#[allow(clippy::too_many_arguments)]
 pub(super) fn run(
     c: &Ctx,
     b: &BondsIn,
     mut m: BondsMut,
     out: DiscOut,
     scratch: &mut Vec<[f64; 4]>,
+    serial: &mut SerialWork,
     avx2: bool,
+    index_bound: usize,
 ) -> usize {
     let nb = b.i.len();
     let nd = out.fx.len();
     let (fx, fy, tq) = (&mut out.fx[..nd], &mut out.fy[..nd], &mut out.tq[..nd]);
     let parallel = nb >= PAR_MIN_BONDS && rayon::current_num_threads() > 1;
     // Whether every disc index is in range (then the gather and scatter skip the checks).
-    let valid = c.v.x.len() == nd && c.v.lengths_agree() && indices_below(b.i, b.j, nd);
+    let valid = c.v.x.len() == nd && c.v.lengths_agree() && index_bound <= nd;
     if !parallel {
-        let mut o = [[0.0f64; 4]; BLOCK];
-        let mut w = Work::new();
+        let SerialWork { w, o } = serial;
         let mut broke = 0;
         for k in (0..nb).step_by(BLOCK) {
             let e = (k + BLOCK).min(nb);
             let mut s = sub(&mut m, k..e);
-            let (nbrk, all_intact) =
-                block_best(c, b, k, &mut s, &mut o[..e - k], &mut w, avx2, valid);
+            let (nbrk, all_intact) = block_best(c, b, k, &mut s, &mut o[..e - k], w, avx2, valid);
             broke += nbrk;
             if valid && all_intact && nbrk == 0 {
                 // SAFETY: `valid`: all indices < nd = fx.len() = fy.len() = tq.len().
@@ -228,10 +231,15 @@ fn scatter(fx: &mut [f64], fy: &mut [f64], tq: &mut [f64], i: usize, j: usize, o
     tq[j] += o[3];
 }
 
-/// Whether every index in `i` and `j` is below `n` (branch-free reduction).
-fn indices_below(i: &[u32], j: &[u32], n: usize) -> bool {
+/// 1 + the largest index in `i` and `j` (0 when empty): every index is below `n` exactly when
+/// this is at most `n` (branch-free reduction).
+pub(super) fn index_bound(i: &[u32], j: &[u32]) -> usize {
     let m = i.iter().chain(j).fold(0u32, |m, &k| m.max(k));
-    i.is_empty() || (m as usize) < n
+    if i.is_empty() {
+        0
+    } else {
+        m as usize + 1
+    }
 }
 
 /// [`scatter`] for a block of intact bonds, without bounds checks.
@@ -325,7 +333,24 @@ pub(super) fn has_avx2() -> bool {
     }
 }
 
+/// Work arrays of the one-thread path: [`Work`] and the block's outputs.
+#[derive(Clone, Debug)]
+pub(super) struct SerialWork {
+    w: Work,
+    o: [[f64; 4]; BLOCK],
+}
+
+impl Default for SerialWork {
+    fn default() -> SerialWork {
+        SerialWork {
+            w: Work::new(),
+            o: [[0.0; 4]; BLOCK],
+        }
+    }
+}
+
 /// Per-block work arrays, reused from block to block (not re-zeroed).
+#[derive(Clone, Debug)]
 struct Work {
     dxs: [f64; BLOCK],
     dys: [f64; BLOCK],
@@ -337,6 +362,9 @@ struct Work {
     wjs: [f64; BLOCK],
     /// n̂x, n̂y, gap, a_i, a_j, v_t, Δω.
     geo: [[f64; BLOCK]; 7],
+    /// Per-bond parameters of a block of parallel bonds with the stress criterion in several
+    /// groups: k̄n, k̄s, λ̄, β̄, σ̄c, c̄, tan φ̄.
+    par: [[f64; BLOCK]; 7],
 }
 
 impl Work {
@@ -351,8 +379,37 @@ impl Work {
             wis: [0.0; BLOCK],
             wjs: [0.0; BLOCK],
             geo: [[0.0; BLOCK]; 7],
+            par: [[0.0; BLOCK]; 7],
         }
     }
+}
+
+/// When every bond of `grp` (one block) belongs to a parallel-bond group with the stress
+/// criterion, write each bond's group parameters to `par` (k̄n, k̄s, λ̄, β̄, σ̄c, c̄, tan φ̄) and
+/// return true; else false.
+#[inline(always)]
+fn gather_stress_params(c: &Ctx, grp: &[u16], par: &mut [[f64; BLOCK]; 7]) -> bool {
+    for (k, &g) in grp.iter().enumerate().take(BLOCK) {
+        let g = g as usize;
+        match (&c.groups[g].model, c.compiled[g].criterion) {
+            (
+                BondModel::Parallel(p),
+                Criterion::Stress {
+                    tensile, cohesion, ..
+                },
+            ) => {
+                par[0][k] = p.kn;
+                par[1][k] = p.ks;
+                par[2][k] = p.lambda;
+                par[3][k] = p.beta;
+                par[4][k] = tensile;
+                par[5][k] = cohesion;
+                par[6][k] = c.compiled[g].tan_phi;
+            }
+            _ => return false,
+        }
+    }
+    true
 }
 
 /// Update the block of bonds `base..base + m.status.len()`: new forces and status, and for each
@@ -392,6 +449,7 @@ fn block<const VALID: bool>(
         wis,
         wjs,
         geo,
+        par,
     } = w;
     if VALID {
         for k in 0..n {
@@ -495,8 +553,50 @@ fn block<const VALID: bool>(
         _ => None,
     };
     let mut codes = [0u8; BLOCK];
-    let all_intact = fast.is_some();
-    if let Some((p, tensile, cohesion, tan_phi)) = fast {
+    // Several groups, all parallel bonds with the stress criterion (improved ORC: intra-grain
+    // and grain-boundary bonds interleave in store order): their parameters are gathered per
+    // bond and the straight-line loop below evaluates the same expressions as the general
+    // path, with the same values: same bits.
+    let mixed =
+        if fast.is_none() && n == BLOCK && status.iter().fold(INTACT, |a, &s| a | s) == INTACT {
+            gather_stress_params(c, grp, par)
+        } else {
+            false
+        };
+    let all_intact = fast.is_some() || mixed;
+    if mixed {
+        let [kn, ks, lambda, beta, tensile, cohesion, tan_phi] = &*par;
+        for k in 0..BLOCK {
+            let p = ParallelBondParams {
+                kn: kn[k],
+                ks: ks[k],
+                lambda: lambda[k],
+                beta: beta[k],
+            };
+            let (f, l) = potyondy2004::update(
+                &p,
+                rbar_[k],
+                c.t,
+                g0_[k],
+                length(k),
+                &kin(k),
+                [f_n[k], f_s[k], f_m[k]],
+            );
+            f_n[k] = f[0];
+            f_s[k] = f[1];
+            f_m[k] = f[2];
+            let (o, code) = finish(
+                gnx[k],
+                gny[k],
+                gai[k],
+                gaj[k],
+                f,
+                stress_flags(&l, tensile[k], cohesion[k], tan_phi[k]),
+            );
+            out[k] = o;
+            codes[k] = code;
+        }
+    } else if let Some((p, tensile, cohesion, tan_phi)) = fast {
         // Pass 2, fast: straight-line code over the block (intact parallel bonds, stress
         // criterion, one group).
         for k in 0..BLOCK {
@@ -559,7 +659,8 @@ fn block<const VALID: bool>(
 
 #[cfg(test)]
 mod tests {
-    use super::super::bench::bonded_lattice_state;
+    use super::super::bench::{bonded_lattice_state, lattice_bond_group, RADIUS};
+    use super::super::Bonds;
     use super::*;
 
     /// The AVX2 and baseline builds of the block loop give the same bits (on CPUs with AVX2;
@@ -595,5 +696,81 @@ mod tests {
         let b = go(has_avx2());
         assert!(a.0.discs.fx.iter().any(|&f| f != 0.0));
         assert_eq!(a, b);
+    }
+
+    /// Blocks of intact parallel bonds in two stress-criterion groups (the improved-ORC case)
+    /// take the straight-line path with per-bond parameters; it gives the bits of the general
+    /// per-bond path, which every block of a store with fewer than BLOCK bonds takes.
+    #[test]
+    fn mixed_group_blocks_give_the_general_path_bits() {
+        let (mut st, _) = bonded_lattice_state([12, 8]);
+        let mut s = 7u64;
+        for k in 0..st.discs.len() {
+            let mut r = || {
+                s = s
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
+                ((s >> 11) as f64 / (1u64 << 53) as f64) - 0.5
+            };
+            st.discs.x[k] += 2e-6 * r();
+            st.discs.y[k] += 2e-6 * r();
+            st.discs.vx[k] = 0.1 * r();
+            st.discs.vy[k] = 0.1 * r();
+            st.discs.omega[k] = 50.0 * r();
+        }
+        let g0 = lattice_bond_group(st.thickness);
+        let mut g1 = g0.clone();
+        g1.name = "other".into();
+        if let BondModel::Parallel(p) = &mut g1.model {
+            p.kn *= 1.7;
+            p.ks *= 0.6;
+            p.beta = 0.5;
+        }
+        g1.criterion = Criterion::Stress {
+            tensile: 2e8,
+            cohesion: 3e8,
+            friction_angle: 0.3,
+        };
+        let groups = vec![g0, g1];
+        let mut all = Bonds::new(groups.clone()).unwrap();
+        all.install_within_gap(&st, 0.1 * RADIUS, |i, j| Some(((i + j) % 2) as u16))
+            .unwrap();
+        let views: Vec<_> = all.iter().collect();
+        assert!(views.len() >= 4 * BLOCK);
+        assert!(views[..BLOCK].iter().any(|v| v.group != views[0].group));
+        // The same bonds in stores of fewer than BLOCK bonds: the general path.
+        let mut parts: Vec<Bonds> = views
+            .chunks(BLOCK - 1)
+            .map(|c| {
+                let mut b = Bonds::new(groups.clone()).unwrap();
+                b.install_pairs(&st, c.iter().map(|v| (v.i as usize, v.j as usize, v.group)))
+                    .unwrap();
+                b
+            })
+            .collect();
+        let avx2 = has_avx2();
+        for _ in 0..3 {
+            let mut a = st.clone();
+            a.discs.clear_forces();
+            all.compute_with(&mut a, 1e-7, avx2);
+            for b in parts.iter_mut() {
+                let mut a = st.clone();
+                a.discs.clear_forces();
+                b.compute_with(&mut a, 1e-7, avx2);
+            }
+        }
+        let bits = |v: super::super::BondView| {
+            (
+                v.i,
+                v.j,
+                v.group,
+                v.status,
+                [v.fn_, v.fs, v.m].map(f64::to_bits),
+            )
+        };
+        let whole: Vec<_> = all.iter().map(bits).collect();
+        let split: Vec<_> = parts.iter().flat_map(|b| b.iter()).map(bits).collect();
+        assert!(all.iter().any(|v| v.fs != 0.0));
+        assert_eq!(whole, split);
     }
 }

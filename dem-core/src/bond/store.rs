@@ -16,6 +16,12 @@ struct Cache {
     compiled: Vec<Compiled>,
     /// Per-bond force on disc j (x, y) and torques on i and j, for the parallel scatter.
     scratch: Vec<[f64; 4]>,
+    /// Work arrays of the one-thread kernel (allocated once).
+    serial: Box<kernel::SerialWork>,
+    /// 1 + the largest disc index of the bonds (0 without bonds), once computed; reset
+    /// whenever `i` or `j` change (`add`, `remap`), so the kernel's index check is not redone
+    /// every step.
+    index_bound: Option<usize>,
 }
 
 impl PartialEq for Cache {
@@ -248,6 +254,7 @@ impl Bonds {
         self.next_id += 1;
         self.i.push(i as u32);
         self.j.push(j as u32);
+        self.cache.index_bound = None;
         self.group.push(group);
         self.g0.push(install::gap(st, i, j));
         self.rbar.push(rbar);
@@ -372,7 +379,20 @@ impl Bonds {
             fy: &mut d.fy,
             tq: &mut d.torque,
         };
-        let new_breaks = kernel::run(&ctx, &input, state, out, &mut self.cache.scratch, avx2);
+        let bound = *self
+            .cache
+            .index_bound
+            .get_or_insert_with(|| kernel::index_bound(&self.i, &self.j));
+        let new_breaks = kernel::run(
+            &ctx,
+            &input,
+            state,
+            out,
+            &mut self.cache.scratch,
+            &mut self.cache.serial,
+            avx2,
+            bound,
+        );
         if new_breaks > 0 {
             self.log_breaks(st);
         }
@@ -459,6 +479,7 @@ impl Bonds {
     /// Follow a reordering of the discs (`new_index_of_old[old] = new`), then sort the bonds by
     /// their smaller disc index so the kernel walks the discs in memory order.
     pub fn remap(&mut self, new_index_of_old: &[u32]) {
+        self.cache.index_bound = None;
         for k in self.i.iter_mut().chain(self.j.iter_mut()) {
             *k = new_index_of_old[*k as usize];
         }

@@ -39,10 +39,17 @@ impl PassEnergy {
 }
 
 /// Per-disc sums of the contact dashpot forces and torques of this step (filled only when
-/// energy is tracked). The integration pass books their dissipation as
-/// −(F_d · v̄ + T_d ω̄) Δt with v̄ the mean of the half-step velocities around t, the velocity
-/// the kinetic energy uses: for central differences ½m(v₊² − v₋²) = F · v̄ Δt exactly, so the
-/// balance closes to O(Δt²); F_d · v(t − Δt/2) Δt (the former bookkeeping) is off by O(Δt).
+/// energy is tracked and some law has a dashpot). The integration pass books their dissipation
+/// as −(F_d · v̄ + T_d ω̄) Δt with v̄ the mean of the half-step velocities around t, the
+/// velocity the kinetic energy uses: for central differences ½m(v₊² − v₋²) = F · v̄ Δt
+/// exactly, so the balance closes to O(Δt²); F_d · v(t − Δt/2) Δt (the former bookkeeping) is
+/// off by O(Δt).
+///
+/// Without dashpots (every law undamped, [`ContactLaws::has_dashpots`]) each dashpot force is
+/// c·v = 0·v = ±0 for a finite state, so every dissipation term built from these sums is ±0
+/// and the accumulated dashpot dissipation (which starts at +0 and only has ±0 subtracted or
+/// added as +0 + (±0)) stays exactly +0: skipping the sums gives the same bits. (A non-finite
+/// state would make the terms NaN; the guard stops such a run before any output row.)
 #[derive(Clone, Debug, Default)]
 pub struct Dashpot {
     pub fx: Vec<f64>,
@@ -64,9 +71,9 @@ impl Dashpot {
 /// partner is a shared disc (fx, fy on j, torque on j), own-pair sums of shared discs.
 #[derive(Clone, Debug, Default)]
 pub struct Slots {
-    /// Per-disc dashpot sums of this step (energy tracking only).
+    /// Per-disc dashpot sums of this step (energy tracking with dashpots only).
     pub dashpot: Dashpot,
-    /// Partner-side dashpot slots (energy tracking only).
+    /// Partner-side dashpot slots (energy tracking with dashpots only).
     pub dfx: Vec<f64>,
     pub dfy: Vec<f64>,
     pub dtj: Vec<f64>,
@@ -114,7 +121,10 @@ fn valid(d: &Discs, nb: &Neighbors, minv: &[f64]) -> bool {
 }
 
 /// Compute disc–disc contact forces, adding them to `d.fx, d.fy, d.torque` (which the caller
-/// has cleared). Returns the pass energies (zero unless `track_energy`).
+/// has cleared). Returns the pass energies (zero unless `track_energy`). `dashpots` (only with
+/// `track_energy`): sum the dashpot forces per disc into `slots.dashpot` for the integration
+/// pass; the caller passes `false` when no law has a dashpot
+/// ([`ContactLaws::has_dashpots`]), and the sums are then neither reset nor filled.
 #[allow(clippy::too_many_arguments)]
 pub fn compute(
     d: &mut Discs,
@@ -124,11 +134,13 @@ pub fn compute(
     img: MinImage,
     dt: f64,
     track_energy: bool,
+    dashpots: bool,
     slots: &mut Slots,
 ) -> PassEnergy {
     assert!(valid(d, nb, minv), "neighbour list out of date");
     nb.verified = true;
-    if track_energy {
+    let dashpots = track_energy && dashpots;
+    if dashpots {
         slots.dashpot.reset(d.len());
     }
     // One law for every listed pair when all discs share one material without rolling
@@ -139,7 +151,7 @@ pub fn compute(
     let uniform =
         d.material.iter().fold(0u16, |a, &m| a | (m ^ m0)) == 0 && laws.rolling(m0, m0).is_none();
     let model = *laws.model(m0, m0);
-    let a = (d, nb, minv, img, dt, track_energy, slots);
+    let a = (d, nb, minv, img, dt, (track_energy, dashpots), slots);
     match (uniform, model) {
         (true, ContactModel::Linear(l)) => match l.damping {
             NormalDamping::Gamma(g) => run(a, &LinearGamma(l, g)),
@@ -156,7 +168,7 @@ type Args<'a> = (
     &'a [f64],
     MinImage,
     f64,
-    bool,
+    (bool, bool),
     &'a mut Slots,
 );
 
@@ -213,10 +225,10 @@ fn run<L: PairLaw>(a: Args, law: &L) -> PassEnergy {
         tq: torque,
         dash: [&mut dash.fx, &mut dash.fy, &mut dash.t],
     };
-    let e = if track {
-        owned::pass::<true, L>(&c, us, mr, &list, outs, slots, ranges)
-    } else {
-        owned::pass::<false, L>(&c, us, mr, &list, outs, slots, ranges)
+    let e = match track {
+        (true, true) => owned::pass::<true, true, L>(&c, us, mr, &list, outs, slots, ranges),
+        (true, false) => owned::pass::<true, false, L>(&c, us, mr, &list, outs, slots, ranges),
+        (false, _) => owned::pass::<false, false, L>(&c, us, mr, &list, outs, slots, ranges),
     };
     slots.dashpot = dash;
     e
@@ -288,5 +300,59 @@ mod tests {
             assert!(a.0 == b.0, "{model:?}: state differs");
             assert_eq!(a.1, b.1, "{model:?}: energy");
         }
+    }
+
+    /// Without dashpots the per-disc dashpot sums are skipped; that gives the bits (state and
+    /// energies) of the pass with the sums, which a damped law of an unused material turns on.
+    #[test]
+    fn undamped_laws_skip_the_dashpot_sums_with_the_same_bits() {
+        let mut st = hex_lattice_state([16, 8]);
+        let mut s = 3u64;
+        let mut r = || {
+            s = s
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (s >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        for k in 0..st.discs.len() {
+            st.discs.vx[k] = 0.02 * r();
+            st.discs.vy[k] = 0.02 * r();
+            st.discs.omega[k] = 20.0 * r();
+        }
+        let law = LinearSpringDashpot {
+            kn: 1e5,
+            ks: 3e4,
+            damping: NormalDamping::Ratio(0.0),
+            shear_damping: 0.5,
+            mu: 0.3,
+        };
+        let run = |damped_other: bool| {
+            let mut laws = ContactLaws::new(2, ContactModel::Linear(law));
+            if damped_other {
+                let damped = LinearSpringDashpot {
+                    damping: NormalDamping::Ratio(0.3),
+                    ..law
+                };
+                laws.set(1, 1, ContactModel::Linear(damped));
+            }
+            assert_eq!(laws.has_dashpots(), damped_other);
+            let params = Params {
+                dt_fixed: Some(2e-7),
+                skin: Some(1e-4),
+                local_damping: 0.7,
+                ..Params::default()
+            };
+            let mut w = World::new(st.clone(), params, laws);
+            w.run(30);
+            let d = &w.state.discs;
+            let bits: Vec<u64> = [&d.x, &d.y, &d.theta, &d.vx, &d.vy, &d.omega]
+                .iter()
+                .flat_map(|v| v.iter().map(|x| x.to_bits()))
+                .collect();
+            (bits, format!("{:?}", w.energy()))
+        };
+        let (a, b) = (run(false), run(true));
+        assert!(a.0 == b.0, "state differs");
+        assert_eq!(a.1, b.1, "energy");
     }
 }

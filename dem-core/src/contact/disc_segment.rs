@@ -13,10 +13,11 @@ use crate::neighbors::{closest_on_segment, MinImage, WallPairs};
 use crate::state::{Discs, Wall};
 
 /// Add disc–wall forces to discs and record wall reactions (serial: walls are few and the
-/// list is ordered by wall then disc, so sums are deterministic). When `track_energy`, the
-/// dashpot forces on the discs are added to `dash` (zeroed by the disc–disc pass) and the
-/// dissipation's wall part F_d · v_w Δt to the returned energy (the disc part −F_d · v̄ Δt is
-/// booked by the integration pass: together −F_d · (v̄ − v_w) Δt).
+/// list is ordered by wall then disc, so sums are deterministic). When `track_energy` and
+/// `dashpots` (some law has a dashpot, see [`super::disc_disc::Dashpot`]), the dashpot forces
+/// on the discs are added to `dash` (zeroed by the disc–disc pass) and the dissipation's wall
+/// part F_d · v_w Δt to the returned energy (the disc part −F_d · v̄ Δt is booked by the
+/// integration pass: together −F_d · (v̄ − v_w) Δt).
 #[allow(clippy::too_many_arguments)]
 pub fn compute(
     d: &mut Discs,
@@ -27,8 +28,10 @@ pub fn compute(
     img: MinImage,
     dt: f64,
     track_energy: bool,
+    dashpots: bool,
     dash: &mut Dashpot,
 ) -> PassEnergy {
+    let dashpots = track_energy && dashpots;
     let mut e = PassEnergy::default();
     for w in walls.iter_mut() {
         w.force = [0.0; 2];
@@ -107,11 +110,13 @@ pub fn compute(
         w.work += -(fx * vwx + fy * vwy) * dt;
         if track_energy {
             e.strain += o.e_strain;
-            let (dwx, dwy) = (o.d_n * nx - o.d_t * ny, o.d_n * ny + o.d_t * nx);
-            dash.fx[k] -= dwx;
-            dash.fy[k] -= dwy;
-            dash.t[k] += -r * o.d_t;
-            e.damp -= (dwx * vwx + dwy * vwy) * dt;
+            if dashpots {
+                let (dwx, dwy) = (o.d_n * nx - o.d_t * ny, o.d_n * ny + o.d_t * nx);
+                dash.fx[k] -= dwx;
+                dash.fy[k] -= dwy;
+                dash.t[k] += -r * o.d_t;
+                e.damp -= (dwx * vwx + dwy * vwy) * dt;
+            }
             e.fric += o.e_fric;
         }
     }

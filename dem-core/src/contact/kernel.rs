@@ -219,9 +219,10 @@ impl Default for Scratch {
 
 /// Gather pairs p0..p0+q (q ≤ BLOCK) into the scratch arrays, disc by disc (`gi` is the
 /// disc owning pair p0 or an earlier disc; it is advanced). The history is read from `us`,
-/// `mr`, the slots of these q pairs (indexed from 0).
+/// `mr`, the slots of these q pairs (indexed from 0). `PER`: apply the minimum image (else
+/// the box is not periodic and [`MinImage::delta`] would be the identity).
 #[inline(always)]
-fn gather<L: PairLaw, const G0: bool>(
+fn gather<L: PairLaw, const G0: bool, const PER: bool>(
     c: &Ctx<L>,
     p0: usize,
     q: usize,
@@ -245,7 +246,12 @@ fn gather<L: PairLaw, const G0: bool>(
         let mati = if L::MATERIAL { at!(c.mat, i) } else { 0 };
         while p < b {
             let j = at!(c.nbr, p) as usize;
-            let (ddx, ddy) = c.img.delta(at!(c.x, j) - xi, at!(c.y, j) - yi);
+            let (ddx, ddy) = (at!(c.x, j) - xi, at!(c.y, j) - yi);
+            let (ddx, ddy) = if PER {
+                c.img.delta(ddx, ddy)
+            } else {
+                (ddx, ddy)
+            };
             s.dx[k] = ddx;
             s.dy[k] = ddy;
             let rj = at!(c.r, j);
@@ -275,8 +281,9 @@ fn gather<L: PairLaw, const G0: bool>(
 }
 
 /// Evaluate the law for all BLOCK entries (branch-free, fixed trip count: vectorisable).
+/// `E`: energies; `D` (only with `E`): the dashpot parts of the forces (for their per-disc sums).
 #[inline(always)]
-fn eval<const E: bool, L: PairLaw>(law: &L, dt: f64, s: &mut Scratch) {
+fn eval<const E: bool, const D: bool, L: PairLaw>(law: &L, dt: f64, s: &mut Scratch) {
     for k in 0..BLOCK {
         let (dx, dy) = (s.dx[k], s.dy[k]);
         let d2 = dx * dx + dy * dy;
@@ -329,11 +336,13 @@ fn eval<const E: bool, L: PairLaw>(law: &L, dt: f64, s: &mut Scratch) {
         s.tj[k] = if touch { tj } else { 0.0 };
         if E {
             s.es[k] = if touch { o.e_strain + roll[2] } else { 0.0 };
-            let (dn, dt_) = (o.d_n, o.d_t);
-            s.dfx[k] = if touch { dn * nx - dt_ * ny } else { 0.0 };
-            s.dfy[k] = if touch { dn * ny + dt_ * nx } else { 0.0 };
-            s.dti[k] = if touch { -ai * dt_ } else { 0.0 };
-            s.dtj[k] = if touch { -aj * dt_ } else { 0.0 };
+            if D {
+                let (dn, dt_) = (o.d_n, o.d_t);
+                s.dfx[k] = if touch { dn * nx - dt_ * ny } else { 0.0 };
+                s.dfy[k] = if touch { dn * ny + dt_ * nx } else { 0.0 };
+                s.dti[k] = if touch { -ai * dt_ } else { 0.0 };
+                s.dtj[k] = if touch { -aj * dt_ } else { 0.0 };
+            }
             s.ef[k] = if touch { o.e_fric + roll[1] } else { released };
         }
     }
@@ -347,21 +356,26 @@ fn eval<const E: bool, L: PairLaw>(law: &L, dt: f64, s: &mut Scratch) {
 /// The CPU must support AVX2.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-unsafe fn eval_avx2<const E: bool, L: PairLaw>(law: &L, dt: f64, s: &mut Scratch) {
-    eval::<E, L>(law, dt, s)
+unsafe fn eval_avx2<const E: bool, const D: bool, L: PairLaw>(law: &L, dt: f64, s: &mut Scratch) {
+    eval::<E, D, L>(law, dt, s)
 }
 
 /// Evaluate one gathered block with the best instruction set available.
 #[inline(always)]
-fn eval_best<const E: bool, L: PairLaw>(law: &L, dt: f64, s: &mut Scratch, avx2: bool) {
+fn eval_best<const E: bool, const D: bool, L: PairLaw>(
+    law: &L,
+    dt: f64,
+    s: &mut Scratch,
+    avx2: bool,
+) {
     #[cfg(target_arch = "x86_64")]
     if avx2 {
         // SAFETY: `avx2` is true only when the CPU reports AVX2 (see `has_avx2`).
-        unsafe { eval_avx2::<E, L>(law, dt, s) };
+        unsafe { eval_avx2::<E, D, L>(law, dt, s) };
         return;
     }
     let _ = avx2;
-    eval::<E, L>(law, dt, s)
+    eval::<E, D, L>(law, dt, s)
 }
 
 pub(crate) fn has_avx2() -> bool {
@@ -380,7 +394,7 @@ pub(crate) fn has_avx2() -> bool {
 /// writes `us` back.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-pub(crate) fn block<const E: bool, L: PairLaw>(
+pub(crate) fn block<const E: bool, const D: bool, L: PairLaw>(
     c: &Ctx<L>,
     p0: usize,
     gi: &mut usize,
@@ -391,12 +405,13 @@ pub(crate) fn block<const E: bool, L: PairLaw>(
     avx2: bool,
 ) {
     let q = us.len();
-    if c.g0.is_empty() {
-        gather::<L, false>(c, p0, q, gi, us, mr, s);
-    } else {
-        gather::<L, true>(c, p0, q, gi, us, mr, s);
+    match (c.g0.is_empty(), c.img.is_periodic()) {
+        (true, false) => gather::<L, false, false>(c, p0, q, gi, us, mr, s),
+        (true, true) => gather::<L, false, true>(c, p0, q, gi, us, mr, s),
+        (false, false) => gather::<L, true, false>(c, p0, q, gi, us, mr, s),
+        (false, true) => gather::<L, true, true>(c, p0, q, gi, us, mr, s),
     }
-    eval_best::<E, L>(c.law, c.dt, s, avx2);
+    eval_best::<E, D, L>(c.law, c.dt, s, avx2);
     if L::ROLLING {
         mr.copy_from_slice(&s.mr[..q]);
     }

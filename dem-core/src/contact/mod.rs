@@ -182,6 +182,23 @@ impl ContactLaws {
         self.rolling[self.index(a, b)].as_ref()
     }
 
+    /// Whether some pair's law may have a nonzero dashpot force. `false` only when every law
+    /// is linear with a zero dashpot coefficient (`Ratio(0)` or `Gamma(0)`), a finite k_n ≥ 0
+    /// and a finite shear-damping factor, so that c_n = 0 and c_t = 0 · c_n = 0 exactly and
+    /// every dashpot force is ±0 (see [`disc_disc::Dashpot`]).
+    pub fn has_dashpots(&self) -> bool {
+        !self.models.iter().all(|m| match m {
+            ContactModel::Linear(l) => {
+                let zero = match l.damping {
+                    NormalDamping::Ratio(z) => z == 0.0,
+                    NormalDamping::Gamma(g) => g == 0.0,
+                };
+                zero && l.kn >= 0.0 && l.kn.is_finite() && l.shear_damping.is_finite()
+            }
+            ContactModel::HertzMindlin(_) => false,
+        })
+    }
+
     /// Whether any pair has rolling resistance.
     pub fn any_rolling(&self) -> bool {
         self.rolling.iter().any(|r| r.is_some())

@@ -94,14 +94,16 @@ struct DiscSide<'a> {
 struct PairSide<'a> {
     us: &'a mut [f64],
     mr: &'a mut [f64],
-    /// Partner-side slots for pairs whose partner is shared: fx, fy, tj and (E) dashpot parts.
+    /// Partner-side slots for pairs whose partner is shared: fx, fy, tj and (D) dashpot parts.
     slot: [&'a mut [f64]; 6],
 }
 
 /// One range of discs `[lo, hi)`: compute its pairs and scatter (see the module doc).
-/// `SPLIT`: there may be shared discs (else the plain one-thread pass).
+/// `SPLIT`: there may be shared discs (else the plain one-thread pass). `E`: energies are
+/// tracked; `D` (only with `E`): the dashpot forces are summed per disc as well (see
+/// [`super::disc_disc::compute`]: not needed when no law has a dashpot).
 #[allow(clippy::too_many_arguments)]
-fn range_pass<const E: bool, const SPLIT: bool, L: PairLaw>(
+fn range_pass<const E: bool, const D: bool, const SPLIT: bool, L: PairLaw>(
     c: &Ctx<L>,
     shared: &[bool],
     lo: usize,
@@ -139,7 +141,7 @@ fn range_pass<const E: bool, const SPLIT: bool, L: PairLaw>(
         while p < pend {
             let q = BLOCK.min(pend - p);
             let (u, m) = (&mut us[p - p0..p - p0 + q], &mut mr[p - p0..p - p0 + q]);
-            block::<E, L>(c, p, &mut gi, u, m, sc, &mut e, avx2);
+            block::<E, D, L>(c, p, &mut gi, u, m, sc, &mut e, avx2);
             for k in 0..q {
                 let pp = p + k;
                 while at!(c.start, i + 1) as usize <= pp {
@@ -148,7 +150,7 @@ fn range_pass<const E: bool, const SPLIT: bool, L: PairLaw>(
                         ofx[li] = ax;
                         ofy[li] = ay;
                         otq[li] = at;
-                        if E {
+                        if D {
                             odx[li] = bx;
                             ody[li] = by;
                             odt[li] = bt;
@@ -157,7 +159,7 @@ fn range_pass<const E: bool, const SPLIT: bool, L: PairLaw>(
                         fx[li] += ax;
                         fy[li] += ay;
                         tq[li] += at;
-                        if E {
+                        if D {
                             dfx[li] += bx;
                             dfy[li] += by;
                             dtq[li] += bt;
@@ -177,7 +179,7 @@ fn range_pass<const E: bool, const SPLIT: bool, L: PairLaw>(
                 // SAFETY: lp < the range's pair count (pp in [start[lo], start[hi])) and
                 // us has that length.
                 unsafe { *us.get_unchecked_mut(lp) = sc.us[k] };
-                if E {
+                if D {
                     bx -= sc.dfx[k];
                     by -= sc.dfy[k];
                     bt += sc.dti[k];
@@ -186,7 +188,7 @@ fn range_pass<const E: bool, const SPLIT: bool, L: PairLaw>(
                     sfx[lp] = f0;
                     sfy[lp] = f1;
                     stj[lp] = f3;
-                    if E {
+                    if D {
                         sdx[lp] = sc.dfx[k];
                         sdy[lp] = sc.dfy[k];
                         sdt[lp] = sc.dtj[k];
@@ -200,7 +202,7 @@ fn range_pass<const E: bool, const SPLIT: bool, L: PairLaw>(
                         *fy.get_unchecked_mut(lj) += f1;
                         *tq.get_unchecked_mut(lj) += f3;
                     }
-                    if E {
+                    if D {
                         dfx[lj] += sc.dfx[k];
                         dfy[lj] += sc.dfy[k];
                         dtq[lj] += sc.dtj[k];
@@ -215,7 +217,7 @@ fn range_pass<const E: bool, const SPLIT: bool, L: PairLaw>(
                 ofx[li] = ax;
                 ofy[li] = ay;
                 otq[li] = at;
-                if E {
+                if D {
                     odx[li] = bx;
                     ody[li] = by;
                     odt[li] = bt;
@@ -224,7 +226,7 @@ fn range_pass<const E: bool, const SPLIT: bool, L: PairLaw>(
                 fx[li] += ax;
                 fy[li] += ay;
                 tq[li] += at;
-                if E {
+                if D {
                     dfx[li] += bx;
                     dfy[li] += by;
                     dtq[li] += bt;
@@ -268,7 +270,7 @@ impl SyncPtr {
 }
 
 /// The disc arrays the pass writes (length n) and the per-disc dashpot sums (length n when
-/// `E`, else unused).
+/// `D`, else unused).
 pub(crate) struct Outs<'a> {
     pub fx: &'a mut [f64],
     pub fy: &'a mut [f64],
@@ -277,8 +279,10 @@ pub(crate) struct Outs<'a> {
 }
 
 /// Run the pass over `ranges` ranges (1: the one-thread pass, no rayon). `c.start`, `c.nbr`
-/// are those of `nb`; `us`, `mr` its history arrays. Returns the energies.
-pub(crate) fn pass<const E: bool, L: PairLaw>(
+/// are those of `nb`; `us`, `mr` its history arrays. Returns the energies. `E`, `D`: see
+/// [`range_pass`]. (Kept out of line: inlined into its caller it compiles to slower code.)
+#[inline(never)]
+pub(crate) fn pass<const E: bool, const D: bool, L: PairLaw>(
     c: &Ctx<L>,
     us: &mut [f64],
     mr: &mut [f64],
@@ -311,7 +315,7 @@ pub(crate) fn pass<const E: bool, L: PairLaw>(
             slot: Default::default(),
         };
         let sc = &mut *s.scratch;
-        range_pass::<E, false, L>(c, &[], 0, n, ds, ps, &mut s.chunk_energy, sc, avx2);
+        range_pass::<E, D, false, L>(c, &[], 0, n, ds, ps, &mut s.chunk_energy, sc, avx2);
     } else {
         let Slots {
             plan,
@@ -326,7 +330,7 @@ pub(crate) fn pass<const E: bool, L: PairLaw>(
             ..
         } = s;
         plan.update(nb, n, ranges, E);
-        let (ns, no) = if E { (np, n) } else { (0, 0) };
+        let (ns, no) = if D { (np, n) } else { (0, 0) };
         for (k, v) in [
             &mut *sfx, &mut *sfy, &mut *stj, &mut *sdx, &mut *sdy, &mut *sdt,
         ]
@@ -352,7 +356,7 @@ pub(crate) fn pass<const E: bool, L: PairLaw>(
             let (lo, hi) = (b[r], b[r + 1]);
             let (p0, p1) = (c.start[lo] as usize, c.start[hi] as usize);
             let (nd, npr) = (hi - lo, p1 - p0);
-            let (nde, npe) = if E { (nd, npr) } else { (0, 0) };
+            let (nde, npe) = if D { (nd, npr) } else { (0, 0) };
             // SAFETY: ranges are disjoint disc ranges [lo, hi) and pair ranges [p0, p1) of
             // arrays of length n and np (the E-only arrays are touched only when E, then
             // they have these lengths too); energy chunks: with E the non-empty ranges start
@@ -397,7 +401,7 @@ pub(crate) fn pass<const E: bool, L: PairLaw>(
             };
             SCRATCH.with(|sc| {
                 let sc = &mut sc.borrow_mut();
-                range_pass::<E, true, L>(c, shared, lo, hi, ds, ps, en, sc, avx2);
+                range_pass::<E, D, true, L>(c, shared, lo, hi, ds, ps, en, sc, avx2);
             });
         });
         // Shared discs: partner-side slots in increasing pair order, then the own sum.
@@ -409,7 +413,7 @@ pub(crate) fn pass<const E: bool, L: PairLaw>(
                 fx[k] += sfx[p];
                 fy[k] += sfy[p];
                 tq[k] += stj[p];
-                if E {
+                if D {
                     dfx[k] += sdx[p];
                     dfy[k] += sdy[p];
                     dtq[k] += sdt[p];
@@ -418,7 +422,7 @@ pub(crate) fn pass<const E: bool, L: PairLaw>(
             fx[k] += own[0][k];
             fy[k] += own[1][k];
             tq[k] += own[2][k];
-            if E {
+            if D {
                 dfx[k] += own[3][k];
                 dfy[k] += own[4][k];
                 dtq[k] += own[5][k];

@@ -40,6 +40,14 @@ impl MinImage {
         }
     }
 
+    /// Whether either axis is periodic. When neither is, [`MinImage::delta`] is the identity
+    /// for every input (the half lengths are +∞: no comparison holds, not even for NaN or ±∞),
+    /// so hot loops may skip it.
+    #[inline(always)]
+    pub fn is_periodic(&self) -> bool {
+        self.hx != f64::INFINITY || self.hy != f64::INFINITY
+    }
+
     /// Minimum image of the difference (dx, dy) (valid for |d| < 1.5 L).
     #[inline(always)]
     pub fn delta(&self, mut dx: f64, mut dy: f64) -> (f64, f64) {
