@@ -148,6 +148,18 @@ pub fn thread_cpu_s() -> Option<f64> {
     Some(ns * 1e-9)
 }
 
+/// Failure record of a run: `{"error", "key"}`. A later call with [`Missing::List`] reports
+/// the failure instead of listing the run as not run; [`Missing::Run`] runs it again (the code
+/// may have changed).
+pub const FAILED_FILE: &str = "run.failed.json";
+
+/// The error of an earlier failed run in `dir` with this key, if any.
+fn earlier_failure(dir: &Path, key: &str) -> Option<String> {
+    let text = std::fs::read_to_string(dir.join(FAILED_FILE)).ok()?;
+    let v: serde_json::Value = serde_json::from_str(&text).ok()?;
+    (v["key"].as_str()? == key).then(|| v["error"].as_str().unwrap_or("").to_string())
+}
+
 /// CPU time recorded beside an earlier run, if any.
 fn earlier_cpu(dir: &Path) -> Option<f64> {
     let text = std::fs::read_to_string(dir.join(TIME_FILE)).ok()?;
@@ -221,7 +233,13 @@ pub fn run_jobs(
             .zip(before)
             .filter(|(j, b)| {
                 if b.is_none() {
-                    not_run.push(j.name.clone());
+                    match earlier_failure(&work.join(&j.name), &key_of(j)) {
+                        Some(e) => errors
+                            .lock()
+                            .unwrap()
+                            .push(format!("{}: failed in an earlier call: {e}", j.name)),
+                        None => not_run.push(j.name.clone()),
+                    }
                 }
                 b.is_some()
             })
@@ -286,6 +304,7 @@ pub fn run_jobs(
                     (r, thread_cpu_s().zip(c0).map(|(c1, c0)| c1 - c0))
                 });
                 if let Ok(res) = &r {
+                    let _ = std::fs::remove_file(dir.join(FAILED_FILE));
                     let time = serde_json::json!({
                         "wall_time_s": res.run.wall_time_s,
                         "cpu_time_s": cpu,
@@ -344,6 +363,14 @@ pub fn run_jobs(
                 })
             }
             Err(e) => {
+                let record = serde_json::json!({ "error": e, "key": key });
+                if let Err(w) = crate::page::write(
+                    &dir,
+                    FAILED_FILE,
+                    &serde_json::to_string_pretty(&record).unwrap_or_default(),
+                ) {
+                    errors.lock().unwrap().push(w);
+                }
                 let msg = format!("{}: {e}", job.name);
                 progress(&format!("[{}/{total}] FAILED {msg}", *n));
                 errors.lock().unwrap().push(msg);

@@ -73,5 +73,20 @@ fn finished_runs_are_read_back_and_changed_ones_rerun() {
     assert_eq!(back.finished.len(), 1);
     assert!(back.finished[0].resumed);
     assert_eq!(back.finished[0].record, third[0].record);
+
+    // A failed run leaves its error: listing reports the failure rather than "not run".
+    p.dt_factor = Some(2.0);
+    let failed = run_plan(&p, &work, Missing::Run, &log);
+    assert!(failed.finished.is_empty());
+    assert_eq!(failed.errors.len(), 1, "{:?}", failed.errors);
+    let listed = run_plan(&p, &work, Missing::List, &log);
+    assert!(listed.missing.is_empty(), "{:?}", listed.missing);
+    assert_eq!(listed.errors.len(), 1);
+    assert!(
+        listed.errors[0].contains("failed in an earlier call")
+            && listed.errors[0].contains("dt_factor"),
+        "{:?}",
+        listed.errors
+    );
     let _ = std::fs::remove_dir_all(&work);
 }
