@@ -59,6 +59,26 @@ pub fn hex_lattice_state(cells: [usize; 2]) -> State {
     st
 }
 
+/// [`hex_lattice_state`] with random velocities (uniform in ±v/2 per axis) and spins (±w/2)
+/// from a seeded LCG: the moving lattice the contact-pass bit-identity tests compare on.
+#[cfg(test)]
+pub(crate) fn shaken_hex_lattice(cells: [usize; 2], seed: u64, v: f64, w: f64) -> State {
+    let mut st = hex_lattice_state(cells);
+    let mut s = seed;
+    let mut r = || {
+        s = s
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (s >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+    };
+    for k in 0..st.discs.len() {
+        st.discs.vx[k] = v * r();
+        st.discs.vy[k] = v * r();
+        st.discs.omega[k] = w * r();
+    }
+    st
+}
+
 /// The bond group of the benchmark lattice: k̄n = k̄s = KN/Ā with Ā = 2·r·t.
 pub fn lattice_bond_group(t: f64) -> BondGroup {
     let area = 2.0 * RADIUS * t;

@@ -236,7 +236,7 @@ fn run<L: PairLaw>(a: Args, law: &L) -> PassEnergy {
 
 #[cfg(test)]
 mod tests {
-    use crate::bond::bench::hex_lattice_state;
+    use crate::bond::bench::shaken_hex_lattice;
     use crate::contact::{HertzMindlin, LinearSpringDashpot, NormalDamping};
     use crate::{ContactLaws, ContactModel, Params, World};
 
@@ -245,19 +245,7 @@ mod tests {
     /// runs when one disc has another material with the same law.
     #[test]
     fn uniform_path_gives_the_table_bits() {
-        let mut st = hex_lattice_state([16, 8]);
-        let mut s = 11u64;
-        let mut r = || {
-            s = s
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (s >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        };
-        for k in 0..st.discs.len() {
-            st.discs.vx[k] = 0.02 * r();
-            st.discs.vy[k] = 0.02 * r();
-            st.discs.omega[k] = 20.0 * r();
-        }
+        let st = shaken_hex_lattice([16, 8], 11, 0.02, 20.0);
         let lin = |damping| LinearSpringDashpot {
             kn: 1e5,
             ks: 3e4,
@@ -306,19 +294,7 @@ mod tests {
     /// energies) of the pass with the sums, which a damped law of an unused material turns on.
     #[test]
     fn undamped_laws_skip_the_dashpot_sums_with_the_same_bits() {
-        let mut st = hex_lattice_state([16, 8]);
-        let mut s = 3u64;
-        let mut r = || {
-            s = s
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (s >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        };
-        for k in 0..st.discs.len() {
-            st.discs.vx[k] = 0.02 * r();
-            st.discs.vy[k] = 0.02 * r();
-            st.discs.omega[k] = 20.0 * r();
-        }
+        let st = shaken_hex_lattice([16, 8], 3, 0.02, 20.0);
         let law = LinearSpringDashpot {
             kn: 1e5,
             ks: 3e4,

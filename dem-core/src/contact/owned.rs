@@ -438,7 +438,7 @@ pub(crate) fn pass<const E: bool, const D: bool, L: PairLaw>(
 
 #[cfg(test)]
 mod tests {
-    use crate::bond::bench::hex_lattice_state;
+    use crate::bond::bench::shaken_hex_lattice;
     use crate::contact::{LinearSpringDashpot, NormalDamping};
     use crate::{ContactLaws, ContactModel, Params, World};
 
@@ -446,19 +446,7 @@ mod tests {
     /// energy tracking, and really has shared discs to finish.
     #[test]
     fn any_split_gives_the_one_thread_bits() {
-        let mut st = hex_lattice_state([40, 12]);
-        let mut s = 5u64;
-        let mut r = || {
-            s = s
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (s >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        };
-        for k in 0..st.discs.len() {
-            st.discs.vx[k] = 0.01 * r();
-            st.discs.vy[k] = 0.01 * r();
-            st.discs.omega[k] = 10.0 * r();
-        }
+        let st = shaken_hex_lattice([40, 12], 5, 0.01, 10.0);
         let law = LinearSpringDashpot {
             kn: 1e5,
             ks: 3e4,
