@@ -42,6 +42,20 @@ pub enum GuardError {
     },
 }
 
+/// The deepest contact of a state ([`World::deepest_overlap`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct DeepestOverlap {
+    /// Overlap over the smaller radius (disc pair) or the disc radius (wall); negative when
+    /// the closest neighbour is apart.
+    pub fraction: f64,
+    /// Stable disc id.
+    pub disc: u32,
+    /// Partner disc id, or `u32::MAX` for a wall.
+    pub other: u32,
+    /// The wall's name for a disc-wall contact.
+    pub wall: Option<String>,
+}
+
 impl World {
     fn dt_cause(&self) -> String {
         let crit = self.critical_dt();
@@ -83,55 +97,26 @@ impl World {
             }
         }
         let limit = self.params.max_overlap_fraction;
-        let img = MinImage::new(&st.periodic);
-        let nb = &self.nb;
-        if nb.start.len() == d.len() + 1 {
-            for i in 0..d.len() {
-                for p in nb.start[i] as usize..nb.start[i + 1] as usize {
-                    let j = nb.nbr[p] as usize;
-                    let (dx, dy) = img.delta(d.x[j] - d.x[i], d.y[j] - d.y[i]);
-                    let g0 = nb.g0.get(p).copied().unwrap_or(0.0);
-                    let ov = d.r[i] + d.r[j] + g0 - (dx * dx + dy * dy).sqrt();
-                    let frac = ov / d.r[i].min(d.r[j]);
-                    if frac > limit {
-                        return Err(GuardError::Overlap {
-                            step,
-                            disc: d.id[i],
-                            other: d.id[j],
-                            fraction: frac,
-                            limit,
-                            cause: format!(
-                                "{}, or contact stiffness too low for the load",
-                                self.dt_cause()
-                            ),
-                        });
-                    }
-                }
-            }
-            for q in 0..nb.walls.wall.len() {
-                let (w, i) = (
-                    &st.walls[nb.walls.wall[q] as usize],
-                    nb.walls.disc[q] as usize,
-                );
-                if i >= d.len() {
-                    continue;
-                }
-                let (_, _, dist) = closest_on_segment(w, d.x[i], d.y[i], &img);
-                let frac = (d.r[i] - dist) / d.r[i];
-                if frac > limit {
-                    return Err(GuardError::Overlap {
-                        step,
-                        disc: d.id[i],
-                        other: u32::MAX,
-                        fraction: frac,
-                        limit,
-                        cause: format!(
-                            "wall '{}' pushed too far or too fast, or {}",
-                            w.name,
-                            self.dt_cause()
-                        ),
-                    });
-                }
+        if let Some(o) = self.deepest_overlap() {
+            if o.fraction > limit {
+                let cause = match &o.wall {
+                    Some(w) => format!(
+                        "wall '{w}' pushed too far or too fast, or {}",
+                        self.dt_cause()
+                    ),
+                    None => format!(
+                        "{}, or contact stiffness too low for the load",
+                        self.dt_cause()
+                    ),
+                };
+                return Err(GuardError::Overlap {
+                    step,
+                    disc: o.disc,
+                    other: o.other,
+                    fraction: o.fraction,
+                    limit,
+                    cause,
+                });
             }
         }
         if self.params.track_energy && self.energy.initial.is_some() {
@@ -161,6 +146,51 @@ impl World {
             }
         }
         Ok(())
+    }
+
+    /// The deepest overlap of the current neighbour lists: disc pairs (beyond their reference
+    /// gap, over the smaller radius) and disc-wall contacts (over the disc radius), as the
+    /// guard measures it. `None` before the first neighbour build or with no pair at all.
+    pub fn deepest_overlap(&self) -> Option<DeepestOverlap> {
+        let st = &self.state;
+        let d = &st.discs;
+        let img = MinImage::new(&st.periodic);
+        let nb = &self.nb;
+        if nb.start.len() != d.len() + 1 {
+            return None;
+        }
+        let mut best: Option<DeepestOverlap> = None;
+        let mut keep = |fraction: f64, disc: u32, other: u32, wall: Option<&str>| {
+            if best.as_ref().is_none_or(|b| fraction > b.fraction) {
+                best = Some(DeepestOverlap {
+                    fraction,
+                    disc,
+                    other,
+                    wall: wall.map(str::to_string),
+                });
+            }
+        };
+        for i in 0..d.len() {
+            for p in nb.start[i] as usize..nb.start[i + 1] as usize {
+                let j = nb.nbr[p] as usize;
+                let (dx, dy) = img.delta(d.x[j] - d.x[i], d.y[j] - d.y[i]);
+                let g0 = nb.g0.get(p).copied().unwrap_or(0.0);
+                let ov = d.r[i] + d.r[j] + g0 - (dx * dx + dy * dy).sqrt();
+                keep(ov / d.r[i].min(d.r[j]), d.id[i], d.id[j], None);
+            }
+        }
+        for q in 0..nb.walls.wall.len() {
+            let (w, i) = (
+                &st.walls[nb.walls.wall[q] as usize],
+                nb.walls.disc[q] as usize,
+            );
+            if i >= d.len() {
+                continue;
+            }
+            let (_, _, dist) = closest_on_segment(w, d.x[i], d.y[i], &img);
+            keep((d.r[i] - dist) / d.r[i], d.id[i], u32::MAX, Some(&w.name));
+        }
+        best
     }
 
     /// Energy at the rounding level of the positions, Σᵢ ½ Kᵢ (16 ε Lᵢ)² with Kᵢ the disc's

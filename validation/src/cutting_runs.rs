@@ -356,6 +356,7 @@ pub fn run_jobs(
                         steps: res.run.steps,
                         wall_time_s: res.run.wall_time_s,
                         cpu_time_s: cpu,
+                        peak_avg_n: averaged_peak(&dir, &res, job.specimen.grain_size),
                     },
                     result_file: dir.join(cutting::RESULT_FILE).display().to_string(),
                     resumed,
@@ -383,6 +384,15 @@ pub fn run_jobs(
         errors: errors.into_inner().unwrap(),
         missing: not_run,
     }
+}
+
+/// Peak of the main force averaged over `width` of tool travel within the run's steady
+/// window ([`crate::table2::PEAK_AVERAGING`]), read from the run's `cutting.forces.csv`.
+fn averaged_peak(dir: &Path, res: &CuttingResult, width: f64) -> Option<f64> {
+    let t = dem_core::lab::history::Table::read(&dir.join(cutting::FORCES_FILE)).ok()?;
+    let x = t.column("travel_m", "").ok()?;
+    let f = t.column("main_N", "").ok()?;
+    dem_core::lab::analysis::moving_mean_peak(&x, &f, res.window[0], res.window[1], width)
 }
 
 /// Runs `f` on a one-thread rayon pool (the engine's inner parallel loops then run serially).

@@ -56,6 +56,14 @@ fn quick_report_writes_sane_json_for_every_section() {
             assert!(v.is_finite() && v > 0.0, "{f} = {v} in {c}");
         }
         assert!(num(c, "peak_kN") >= num(c, "mean_kN"), "{c}");
+        // The averaged peak (absent where the steady window is shorter than a grain) is a
+        // mean of samples: never above the largest sample.
+        if let Some(a) = c["peak_avg_kN"].as_f64() {
+            assert!(
+                a.is_finite() && a <= num(c, "peak_kN") * (1.0 + 1e-12),
+                "{c}"
+            );
+        }
         assert_eq!(c["seeds"], 1);
         assert!(num(c, "mean_rel_err").is_finite() && num(c, "peak_rel_err").is_finite());
     }

@@ -134,6 +134,56 @@ pub fn force_stats(abscissa: &[f64], force: &[f64], from: f64, to: f64) -> Optio
     })
 }
 
+/// Largest mean of `force` over a stretch of `width` of the abscissa (a moving average of
+/// width `width`), over the stretches that lie wholly inside `[from, to]`; each stretch starts
+/// at a sample and holds the samples in `[x, x + width]`. A measured force peak depends on how
+/// the force is filtered: the largest single sample of a DEM force history is one contact
+/// event, while the force averaged over the time the tool takes to advance by one grain is the
+/// load that breaks off material. `None` when no stretch fits or `width` is not positive.
+///
+/// ```
+/// use dem_core::lab::analysis::moving_mean_peak;
+/// let x = [0.0, 1.0, 2.0, 3.0, 4.0, 5.0];
+/// let f = [0.0, 0.0, 9.0, 3.0, 0.0, 0.0];
+/// assert_eq!(moving_mean_peak(&x, &f, 0.0, 5.0, 0.0), None);
+/// assert_eq!(moving_mean_peak(&x, &f, 0.0, 5.0, 1.0), Some(6.0)); // samples 2 and 3
+/// assert_eq!(moving_mean_peak(&x, &f, 0.0, 5.0, 2.0), Some(4.0)); // samples 1..=3 or 2..=4
+/// ```
+pub fn moving_mean_peak(
+    abscissa: &[f64],
+    force: &[f64],
+    from: f64,
+    to: f64,
+    width: f64,
+) -> Option<f64> {
+    if !(width > 0.0) {
+        return None;
+    }
+    let pts: Vec<(f64, f64)> = abscissa
+        .iter()
+        .zip(force)
+        .filter(|(x, _)| **x >= from && **x <= to)
+        .map(|(x, f)| (*x, *f))
+        .collect();
+    let mut best: Option<f64> = None;
+    let (mut end, mut sum) = (0usize, 0.0f64);
+    for start in 0..pts.len() {
+        let x0 = pts[start].0;
+        if x0 + width > to {
+            break;
+        }
+        end = end.max(start);
+        while end < pts.len() && pts[end].0 <= x0 + width {
+            sum += pts[end].1;
+            end += 1;
+        }
+        let m = sum / (end - start) as f64;
+        best = Some(best.map_or(m, |b| b.max(m)));
+        sum -= pts[start].1;
+    }
+    best
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -178,6 +228,28 @@ mod tests {
         // 3·F·L/(2·b·h²) with F = 2, L = 3, b = 1, h = 1: 9.
         assert!((flexural_strength(2.0, 3.0, 1.0, 1.0) - 9.0).abs() < 1e-15);
         assert!((fracture_toughness(1.0, 1.0, 1.0 / PI) - 1.0).abs() < 1e-15);
+    }
+
+    #[test]
+    fn moving_mean_peak_of_a_spike_and_a_plateau() {
+        // Travel in mm at 0.25 mm spacing (exact in binary); one spike of 1 MN on 10 kN.
+        let x: Vec<f64> = (0..4001).map(|i| i as f64 * 0.25).collect();
+        let mut f = vec![1e4; x.len()];
+        f[2000] = 1e6;
+        // Raw peak: the spike. Averaged over 10 mm (41 samples): the spike shares its window.
+        let raw = force_stats(&x, &f, 0.0, 1000.0).unwrap().peak;
+        assert_eq!(raw, 1e6);
+        let avg = moving_mean_peak(&x, &f, 0.0, 1000.0, 10.0).unwrap();
+        let expect = 1e4 + (1e6 - 1e4) / 41.0;
+        assert!((avg / expect - 1.0).abs() < 1e-12, "{avg} vs {expect}");
+        // A window wider than the range has no full stretch; a constant force is itself.
+        assert_eq!(moving_mean_peak(&x, &f, 0.0, 1000.0, 2000.0), None);
+        let c = vec![5.0; x.len()];
+        let m = moving_mean_peak(&x, &c, 200.0, 1000.0, 86.0).unwrap();
+        assert!((m - 5.0).abs() < 1e-12);
+        // Only stretches inside [from, to]: the spike before `from` is not seen.
+        let m = moving_mean_peak(&x, &f, 600.0, 1000.0, 10.0).unwrap();
+        assert!((m - 1e4).abs() < 1e-6);
     }
 
     #[test]

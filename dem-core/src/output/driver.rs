@@ -83,6 +83,8 @@ pub struct Simulation {
     gauges: Vec<Vec<bool>>,
     /// Largest load so far (`run.stop_after_peak`), N.
     peak_load: f64,
+    /// Deepest overlap (fraction of the radius) seen at the guard checks of this invocation.
+    max_overlap: f64,
 }
 
 /// Whether `name` is a file the driver writes.
@@ -185,6 +187,7 @@ impl Simulation {
             dt_range: [dt, dt],
             last_flush: Instant::now(),
             output_time: Duration::ZERO,
+            max_overlap: 0.0,
             gauges,
             peak_load,
         })
@@ -333,6 +336,9 @@ impl Simulation {
     /// Runs the guard; on failure writes what is safe and returns the error.
     fn guard(&mut self, t0: Instant) -> Result<(), RunError> {
         let Err(error) = self.world.guard() else {
+            if let Some(o) = self.world.deepest_overlap() {
+                self.max_overlap = self.max_overlap.max(o.fraction);
+            }
             return Ok(());
         };
         let saved = self.out.join("last-good-state.json");
@@ -507,6 +513,7 @@ impl Simulation {
             dt: w.dt(),
             dt_min: self.dt_range[0],
             dt_max: self.dt_range[1],
+            max_overlap_fraction: self.max_overlap,
             wall_time_s: wall.as_secs_f64(),
             particle_steps_per_s: if stepping > 0.0 {
                 st.discs.len() as f64 * steps as f64 / stepping

@@ -31,6 +31,11 @@ pub struct RunSummary {
     pub dt: f64,
     pub dt_min: f64,
     pub dt_max: f64,
+    /// Deepest overlap seen at the guard checks of this invocation: disc pairs over the
+    /// smaller radius, disc-wall contacts over the disc radius (the guard stops a run above
+    /// `run.max_overlap_fraction`). Absent (0) in summaries written before it was recorded.
+    #[serde(default)]
+    pub max_overlap_fraction: f64,
     pub wall_time_s: f64,
     /// discs × steps / wall time of the stepping (outputs excluded).
     pub particle_steps_per_s: f64,
@@ -49,6 +54,7 @@ impl RunSummary {
             ("dt", self.dt),
             ("dt_min", self.dt_min),
             ("dt_max", self.dt_max),
+            ("max_overlap_fraction", self.max_overlap_fraction),
             ("wall_time_s", self.wall_time_s),
             ("particle_steps_per_s", self.particle_steps_per_s),
             ("energy.kinetic_translation", e.kinetic_translation),
