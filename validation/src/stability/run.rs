@@ -3,7 +3,6 @@
 //! driver to check that nothing non-finite is written.
 
 use super::{CaseRecord, CaseSpec, Expect, Probe2x, StabilityError, Verdict};
-use dem_core::neighbors::{closest_on_segment, MinImage};
 use dem_core::output::driver::{RunError, RunOptions, Simulation};
 use dem_core::scene::model::{Scene, Stop};
 use dem_core::{State, World};
@@ -77,21 +76,10 @@ impl Samples {
 }
 
 /// Largest overlap beyond the reference gap over the smaller radius (disc pairs), and over the
-/// disc radius (walls), as the guard measures it.
+/// disc radius (walls), as the guard measures it ([`World::deepest_overlap`]); 0 when nothing
+/// touches.
 pub fn max_overlap_fraction(w: &World) -> f64 {
-    let d = &w.state.discs;
-    let mut worst = w
-        .contacts()
-        .map(|c| c.overlap / d.r[c.i as usize].min(d.r[c.j as usize]))
-        .fold(0.0f64, f64::max);
-    let img = MinImage::new(&w.state.periodic);
-    for wall in &w.state.walls {
-        for i in 0..d.len() {
-            let (_, _, dist) = closest_on_segment(wall, d.x[i], d.y[i], &img);
-            worst = worst.max((d.r[i] - dist) / d.r[i]);
-        }
-    }
-    worst
+    w.deepest_overlap().map_or(0.0, |o| o.fraction.max(0.0))
 }
 
 /// Every kinematic and force value of the state is finite.
