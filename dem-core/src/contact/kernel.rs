@@ -153,9 +153,9 @@ pub struct Scratch {
     dx: [f64; BLOCK],
     dy: [f64; BLOCK],
     reach: [f64; BLOCK],
-    wr: [f64; BLOCK],
-    ws: [f64; BLOCK],
-    wrel: [f64; BLOCK],
+    /// Angular velocities of i and j (combined in [`eval`], vectorised).
+    wi: [f64; BLOCK],
+    wj: [f64; BLOCK],
     dvx: [f64; BLOCK],
     dvy: [f64; BLOCK],
     ms: [f64; BLOCK],
@@ -191,9 +191,8 @@ impl Default for Scratch {
             dx: z,
             dy: z,
             reach: z,
-            wr: z,
-            ws: z,
-            wrel: z,
+            wi: z,
+            wj: z,
             dvx: z,
             dvy: z,
             ms: z,
@@ -242,7 +241,6 @@ fn gather<L: PairLaw, const G0: bool>(
         let b = (at!(c.start, i + 1) as usize).min(end);
         let (xi, yi, ri, wi) = (at!(c.x, i), at!(c.y, i), at!(c.r, i), at!(c.w, i));
         let (vxi, vyi, mvi) = (at!(c.vx, i), at!(c.vy, i), at!(c.minv, i));
-        let wri = wi * ri;
         let mati = if L::MATERIAL { at!(c.mat, i) } else { 0 };
         while p < b {
             let j = at!(c.nbr, p) as usize;
@@ -254,14 +252,12 @@ fn gather<L: PairLaw, const G0: bool>(
             if G0 {
                 s.reach[k] = ri + rj + at!(c.g0, p);
             }
-            let wj = at!(c.w, j);
-            s.wr[k] = wri + wj * rj;
-            s.ws[k] = wi + wj;
+            s.wi[k] = wi;
+            s.wj[k] = at!(c.w, j);
             s.dvx[k] = at!(c.vx, j) - vxi;
             s.dvy[k] = at!(c.vy, j) - vyi;
             s.ms[k] = mvi + at!(c.minv, j);
             if L::ROLLING {
-                s.wrel[k] = wi - wj;
                 s.mr[k] = at!(mr, k);
             }
             if L::MATERIAL {
@@ -306,7 +302,8 @@ fn eval<const E: bool, const D: bool, const PER: bool, const G0: bool, L: PairLa
         // centres: arms a_i = r_i − h, a_j = r_j − h with a_i + a_j = d (see `super`).
         let h = 0.5 * (ri + rj - d);
         let (ai, aj) = (ri - h, rj - h);
-        let wr = s.wr[k] - h * s.ws[k];
+        let (wi, wj) = (s.wi[k], s.wj[k]);
+        let wr = (wi * ri + wj * rj) - h * (wi + wj);
         let rvx = s.dvx[k] + wr * ny;
         let rvy = s.dvy[k] - wr * nx;
         let kin = PairKin {
@@ -328,7 +325,7 @@ fn eval<const E: bool, const D: bool, const PER: bool, const G0: bool, L: PairLa
         let o = law.force::<E>(s.mi[k], s.mj[k], &kin, &mut u);
         let mut m = s.mr[k];
         let roll = if L::ROLLING && touch {
-            law.rolling(s.mi[k], s.mj[k], &kin, o.f_n, s.wrel[k], &mut m)
+            law.rolling(s.mi[k], s.mj[k], &kin, o.f_n, wi - wj, &mut m)
         } else {
             [0.0; 3]
         };
