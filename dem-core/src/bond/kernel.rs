@@ -155,16 +155,17 @@ pub(super) fn run(
         for k in (0..nb).step_by(BLOCK) {
             let e = (k + BLOCK).min(nb);
             let mut s = sub(&mut m, k..e);
-            let (nbrk, all_intact) = block_best(c, b, k, &mut s, &mut o[..e - k], w, avx2, valid);
+            let (nbrk, all_intact) = block_best(c, b, k, &mut s, o, w, avx2, valid);
             broke += nbrk;
             if valid && all_intact && nbrk == 0 {
                 // SAFETY: `valid`: all indices < nd = fx.len() = fy.len() = tq.len().
-                unsafe { scatter_unchecked(fx, fy, tq, &b.i[k..e], &b.j[k..e], &o[..e - k]) };
+                unsafe { scatter_unchecked(fx, fy, tq, &b.i[k..e], &b.j[k..e], o) };
                 continue;
             }
             for q in k..e {
                 if m.status[q] == INTACT {
-                    scatter(fx, fy, tq, b.i[q] as usize, b.j[q] as usize, &o[q - k]);
+                    let o = [o[0][q - k], o[1][q - k], o[2][q - k], o[3][q - k]];
+                    scatter(fx, fy, tq, b.i[q] as usize, b.j[q] as usize, &o);
                 }
             }
         }
@@ -191,11 +192,15 @@ pub(super) fn run(
             };
             let len = o.len();
             let mut w = Work::new();
+            let mut ob: BlockOut = [[0.0; BLOCK]; 4];
             let mut broke = 0;
             for k in (0..len).step_by(BLOCK) {
                 let e = (k + BLOCK).min(len);
                 let mut s = sub(&mut chunk, k..e);
-                broke += block_best(c, b, base + k, &mut s, &mut o[k..e], &mut w, avx2, valid).0;
+                broke += block_best(c, b, base + k, &mut s, &mut ob, &mut w, avx2, valid).0;
+                for (q, o) in o[k..e].iter_mut().enumerate() {
+                    *o = [ob[0][q], ob[1][q], ob[2][q], ob[3][q]];
+                }
             }
             broke
         })
@@ -246,7 +251,7 @@ pub(super) fn index_bound(i: &[u32], j: &[u32]) -> usize {
 ///
 /// # Safety
 /// Every index in `i` and `j` must be below the common length of `fx`, `fy` and `tq`, and
-/// `i`, `j`, `o` must have one length.
+/// `i` and `j` must have one length, at most [`BLOCK`].
 #[inline(always)]
 unsafe fn scatter_unchecked(
     fx: &mut [f64],
@@ -254,20 +259,18 @@ unsafe fn scatter_unchecked(
     tq: &mut [f64],
     i: &[u32],
     j: &[u32],
-    o: &[[f64; 4]],
+    o: &BlockOut,
 ) {
-    for k in 0..o.len() {
-        let (i, j, o) = (
-            *i.get_unchecked(k) as usize,
-            *j.get_unchecked(k) as usize,
-            o.get_unchecked(k),
-        );
-        *fx.get_unchecked_mut(i) -= o[0];
-        *fy.get_unchecked_mut(i) -= o[1];
-        *tq.get_unchecked_mut(i) += o[2];
-        *fx.get_unchecked_mut(j) += o[0];
-        *fy.get_unchecked_mut(j) += o[1];
-        *tq.get_unchecked_mut(j) += o[3];
+    let [ox, oy, oti, otj] = o;
+    for k in 0..i.len().min(BLOCK) {
+        let (i, j) = (*i.get_unchecked(k) as usize, *j.get_unchecked(k) as usize);
+        let (f0, f1, f2, f3) = (ox[k], oy[k], oti[k], otj[k]);
+        *fx.get_unchecked_mut(i) -= f0;
+        *fy.get_unchecked_mut(i) -= f1;
+        *tq.get_unchecked_mut(i) += f2;
+        *fx.get_unchecked_mut(j) += f0;
+        *fy.get_unchecked_mut(j) += f1;
+        *tq.get_unchecked_mut(j) += f3;
     }
 }
 
@@ -284,7 +287,7 @@ unsafe fn block_avx2(
     b: &BondsIn,
     base: usize,
     m: &mut BondsMut,
-    out: &mut [[f64; 4]],
+    out: &mut BlockOut,
     w: &mut Work,
     valid: bool,
 ) -> (usize, bool) {
@@ -303,7 +306,7 @@ fn block_best(
     b: &BondsIn,
     base: usize,
     m: &mut BondsMut,
-    out: &mut [[f64; 4]],
+    out: &mut BlockOut,
     w: &mut Work,
     avx2: bool,
     valid: bool,
@@ -337,14 +340,18 @@ pub(super) fn has_avx2() -> bool {
 #[derive(Clone, Debug)]
 pub(super) struct SerialWork {
     w: Work,
-    o: [[f64; 4]; BLOCK],
+    o: BlockOut,
 }
+
+/// Outputs of one block, by component (force on j along x, y, torques on i, j) and bond: the
+/// vectorised pass stores whole vectors.
+pub(super) type BlockOut = [[f64; BLOCK]; 4];
 
 impl Default for SerialWork {
     fn default() -> SerialWork {
         SerialWork {
             w: Work::new(),
-            o: [[0.0; 4]; BLOCK],
+            o: [[0.0; BLOCK]; 4],
         }
     }
 }
@@ -423,7 +430,7 @@ fn block<const VALID: bool>(
     b: &BondsIn,
     base: usize,
     m: &mut BondsMut,
-    out: &mut [[f64; 4]],
+    out: &mut BlockOut,
     w: &mut Work,
 ) -> (usize, bool) {
     let n = m.status.len();
@@ -431,7 +438,8 @@ fn block<const VALID: bool>(
     let (i_, j_, grp) = (&b.i[r.clone()], &b.j[r.clone()], &b.group[r.clone()]);
     let (g0_, rbar_) = (&b.g0[r.clone()], &b.rbar[r]);
     let (f_n, f_s, f_m) = (&mut m.fn_[..n], &mut m.fs[..n], &mut m.m[..n]);
-    let (status, out) = (&mut m.status[..n], &mut out[..n]);
+    let status = &mut m.status[..n];
+    let [ox, oy, oti, otj] = out;
     // Pass 1a: gather the pair data (all disc slices re-cut to one length so the bounds checks
     // fold into one). Entries past `n` keep finite values of an earlier block or the padding
     // (their results are not used).
@@ -593,7 +601,10 @@ fn block<const VALID: bool>(
                 f,
                 stress_flags(&l, tensile[k], cohesion[k], tan_phi[k]),
             );
-            out[k] = o;
+            ox[k] = o[0];
+            oy[k] = o[1];
+            oti[k] = o[2];
+            otj[k] = o[3];
             codes[k] = code;
         }
     } else if let Some((p, tensile, cohesion, tan_phi)) = fast {
@@ -620,7 +631,10 @@ fn block<const VALID: bool>(
                 f,
                 stress_flags(&l, tensile, cohesion, tan_phi),
             );
-            out[k] = o;
+            ox[k] = o[0];
+            oy[k] = o[1];
+            oti[k] = o[2];
+            otj[k] = o[3];
             codes[k] = code;
         }
     } else {
@@ -641,7 +655,10 @@ fn block<const VALID: bool>(
             f_m[k] = f[2];
             let flags = c.compiled[g].flags(&l);
             let (o, code) = finish(gnx[k], gny[k], gai[k], gaj[k], f, flags);
-            out[k] = o;
+            ox[k] = o[0];
+            oy[k] = o[1];
+            oti[k] = o[2];
+            otj[k] = o[3];
             codes[k] = code;
         }
     }
