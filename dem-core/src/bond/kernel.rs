@@ -98,6 +98,8 @@ pub(super) struct Ctx<'a> {
     pub v: DiscView<'a>,
     pub groups: &'a [BondGroup],
     pub compiled: &'a [Compiled],
+    /// Per-bond stress-criterion parameters of parallel bonds ([`StressParams`]).
+    pub stress: &'a StressParams,
     pub t: f64,
     pub dt: f64,
 }
@@ -369,9 +371,6 @@ struct Work {
     wjs: [f64; BLOCK],
     /// n̂x, n̂y, gap, a_i, a_j, v_t, Δω.
     geo: [[f64; BLOCK]; 7],
-    /// Per-bond parameters of a block of parallel bonds with the stress criterion in several
-    /// groups: k̄n, k̄s, λ̄, β̄, σ̄c, c̄, tan φ̄.
-    par: [[f64; BLOCK]; 7],
 }
 
 impl Work {
@@ -386,37 +385,83 @@ impl Work {
             wis: [0.0; BLOCK],
             wjs: [0.0; BLOCK],
             geo: [[0.0; BLOCK]; 7],
-            par: [[0.0; BLOCK]; 7],
         }
     }
 }
 
-/// When every bond of `grp` (one block) belongs to a parallel-bond group with the stress
-/// criterion, write each bond's group parameters to `par` (k̄n, k̄s, λ̄, β̄, σ̄c, c̄, tan φ̄) and
-/// return true; else false.
-#[inline(always)]
-fn gather_stress_params(c: &Ctx, grp: &[u16], par: &mut [[f64; BLOCK]; 7]) -> bool {
-    for (k, &g) in grp.iter().enumerate().take(BLOCK) {
-        let g = g as usize;
-        match (&c.groups[g].model, c.compiled[g].criterion) {
-            (
+/// Per-bond parameters of parallel bonds with the stress criterion (k̄n, k̄s, λ̄, β̄, σ̄c, c̄,
+/// tan φ̄; zeros for other bonds), and per block of [`BLOCK`] bonds (blocks start at multiples
+/// of BLOCK) whether all its bonds are such bonds. Built from the groups once (the store
+/// rebuilds it when bonds are added or reordered), so that a block whose bonds interleave
+/// several such groups (improved ORC: intra-grain and grain-boundary bonds) reads them as
+/// arrays instead of looking up each bond's group every step.
+#[derive(Clone, Debug, Default)]
+pub(super) struct StressParams {
+    par: [Vec<f64>; 7],
+    block_ok: Vec<bool>,
+}
+
+impl StressParams {
+    pub(super) fn new(groups: &[BondGroup], compiled: &[Compiled], grp: &[u16]) -> StressParams {
+        let mut s = StressParams::default();
+        for v in s.par.iter_mut() {
+            v.resize(grp.len(), 0.0);
+        }
+        let mut ok = vec![false; grp.len()];
+        for (k, &g) in grp.iter().enumerate() {
+            let g = g as usize;
+            if let (
                 BondModel::Parallel(p),
                 Criterion::Stress {
                     tensile, cohesion, ..
                 },
-            ) => {
-                par[0][k] = p.kn;
-                par[1][k] = p.ks;
-                par[2][k] = p.lambda;
-                par[3][k] = p.beta;
-                par[4][k] = tensile;
-                par[5][k] = cohesion;
-                par[6][k] = c.compiled[g].tan_phi;
+            ) = (&groups[g].model, compiled[g].criterion)
+            {
+                for (v, x) in s.par.iter_mut().zip([
+                    p.kn,
+                    p.ks,
+                    p.lambda,
+                    p.beta,
+                    tensile,
+                    cohesion,
+                    compiled[g].tan_phi,
+                ]) {
+                    v[k] = x;
+                }
+                ok[k] = true;
             }
-            _ => return false,
         }
+        s.block_ok = ok.chunks(BLOCK).map(|c| c.iter().all(|&o| o)).collect();
+        s
     }
-    true
+
+    /// Whether the store had `n` bonds when this was built.
+    pub(super) fn fits(&self, n: usize) -> bool {
+        self.par[0].len() == n && self.block_ok.len() == n.div_ceil(BLOCK)
+    }
+
+    /// The parameters of the full block starting at `base` (a multiple of [`BLOCK`]) when all
+    /// its bonds are parallel bonds with the stress criterion.
+    #[inline(always)]
+    #[allow(clippy::manual_is_multiple_of)] // rust-version 1.80
+    fn block(&self, base: usize) -> Option<[&[f64; BLOCK]; 7]> {
+        if base % BLOCK != 0 || !self.block_ok.get(base / BLOCK).copied().unwrap_or(false) {
+            return None;
+        }
+        let r = base..base + BLOCK;
+        fn a(v: &[f64], r: std::ops::Range<usize>) -> Option<&[f64; BLOCK]> {
+            v.get(r)?.try_into().ok()
+        }
+        Some([
+            a(&self.par[0], r.clone())?,
+            a(&self.par[1], r.clone())?,
+            a(&self.par[2], r.clone())?,
+            a(&self.par[3], r.clone())?,
+            a(&self.par[4], r.clone())?,
+            a(&self.par[5], r.clone())?,
+            a(&self.par[6], r.clone())?,
+        ])
+    }
 }
 
 /// Update the block of bonds `base..base + m.status.len()`: new forces and status, and for each
@@ -457,7 +502,6 @@ fn block<const VALID: bool>(
         wis,
         wjs,
         geo,
-        par,
     } = w;
     if VALID {
         for k in 0..n {
@@ -567,13 +611,12 @@ fn block<const VALID: bool>(
     // path, with the same values: same bits.
     let mixed =
         if fast.is_none() && n == BLOCK && status.iter().fold(INTACT, |a, &s| a | s) == INTACT {
-            gather_stress_params(c, grp, par)
+            c.stress.block(base)
         } else {
-            false
+            None
         };
-    let all_intact = fast.is_some() || mixed;
-    if mixed {
-        let [kn, ks, lambda, beta, tensile, cohesion, tan_phi] = &*par;
+    let all_intact = fast.is_some() || mixed.is_some();
+    if let Some([kn, ks, lambda, beta, tensile, cohesion, tan_phi]) = mixed {
         for k in 0..BLOCK {
             let p = ParallelBondParams {
                 kn: kn[k],
