@@ -590,95 +590,97 @@ fn block<const VALID: bool>(
     // Bond length R_i + R_j + g0 (only the strain criterion reads it).
     let length = |k: usize| gai[k] + gaj[k] - ggap[k] + g0_[k];
     let g_first = grp.first().copied().unwrap_or(0) as usize;
+    // Blocks with a few broken bonds take the straight-line loops too, masked: a broken
+    // bond's lane is computed but its forces are kept and it reports no break (the general
+    // path skips it; its outputs are not scattered, see `run`). Blocks with many broken bonds
+    // take the general path, which skips them.
+    let broken_any = status.iter().fold(INTACT, |a, &s| a | s) != INTACT;
+    let broken = if broken_any {
+        status.iter().filter(|&&s| s != INTACT).count()
+    } else {
+        0
+    };
+    let straight_ok = n == BLOCK && broken <= BLOCK / 4;
     let fast = match (&c.groups[g_first].model, c.compiled[g_first].criterion) {
         (
             BondModel::Parallel(p),
             Criterion::Stress {
                 tensile, cohesion, ..
             },
-        ) if n == BLOCK
-            && grp.iter().fold(0, |a, &g| a | (g ^ g_first as u16)) == 0
-            && status.iter().fold(INTACT, |a, &s| a | s) == INTACT =>
-        {
+        ) if straight_ok && grp.iter().fold(0, |a, &g| a | (g ^ g_first as u16)) == 0 => {
             Some((*p, tensile, cohesion, c.compiled[g_first].tan_phi))
         }
         _ => None,
     };
     let mut codes = [0u8; BLOCK];
     // Several groups, all parallel bonds with the stress criterion (improved ORC: intra-grain
-    // and grain-boundary bonds interleave in store order): their parameters are gathered per
+    // and grain-boundary bonds interleave in store order): their parameters are read per
     // bond and the straight-line loop below evaluates the same expressions as the general
     // path, with the same values: same bits.
-    let mixed =
-        if fast.is_none() && n == BLOCK && status.iter().fold(INTACT, |a, &s| a | s) == INTACT {
-            c.stress.block(base)
-        } else {
-            None
+    let mixed = if fast.is_none() && straight_ok {
+        c.stress.block(base)
+    } else {
+        None
+    };
+    let all_intact = (fast.is_some() || mixed.is_some()) && !broken_any;
+    // Pass 2, straight-line code over a full block of parallel bonds with the stress
+    // criterion; `$par(k)` gives bond k's parameters, `$masked` whether broken bonds are
+    // to be left as they are.
+    macro_rules! straight {
+        ($masked:expr, $par:expr) => {
+            for k in 0..BLOCK {
+                let (p, tensile, cohesion, tan_phi) = $par(k);
+                let (f, l) = potyondy2004::update(
+                    &p,
+                    rbar_[k],
+                    c.t,
+                    g0_[k],
+                    length(k),
+                    &kin(k),
+                    [f_n[k], f_s[k], f_m[k]],
+                );
+                let (o, code) = finish(
+                    gnx[k],
+                    gny[k],
+                    gai[k],
+                    gaj[k],
+                    f,
+                    stress_flags(&l, tensile, cohesion, tan_phi),
+                );
+                let keep = !$masked || status[k] == INTACT;
+                f_n[k] = if keep { f[0] } else { f_n[k] };
+                f_s[k] = if keep { f[1] } else { f_s[k] };
+                f_m[k] = if keep { f[2] } else { f_m[k] };
+                ox[k] = o[0];
+                oy[k] = o[1];
+                oti[k] = o[2];
+                otj[k] = o[3];
+                codes[k] = if keep { code } else { 0 };
+            }
         };
-    let all_intact = fast.is_some() || mixed.is_some();
+    }
     if let Some([kn, ks, lambda, beta, tensile, cohesion, tan_phi]) = mixed {
-        for k in 0..BLOCK {
+        let par = |k: usize| {
             let p = ParallelBondParams {
                 kn: kn[k],
                 ks: ks[k],
                 lambda: lambda[k],
                 beta: beta[k],
             };
-            let (f, l) = potyondy2004::update(
-                &p,
-                rbar_[k],
-                c.t,
-                g0_[k],
-                length(k),
-                &kin(k),
-                [f_n[k], f_s[k], f_m[k]],
-            );
-            f_n[k] = f[0];
-            f_s[k] = f[1];
-            f_m[k] = f[2];
-            let (o, code) = finish(
-                gnx[k],
-                gny[k],
-                gai[k],
-                gaj[k],
-                f,
-                stress_flags(&l, tensile[k], cohesion[k], tan_phi[k]),
-            );
-            ox[k] = o[0];
-            oy[k] = o[1];
-            oti[k] = o[2];
-            otj[k] = o[3];
-            codes[k] = code;
+            (p, tensile[k], cohesion[k], tan_phi[k])
+        };
+        if broken_any {
+            straight!(true, par);
+        } else {
+            straight!(false, par);
         }
-    } else if let Some((p, tensile, cohesion, tan_phi)) = fast {
-        // Pass 2, fast: straight-line code over the block (intact parallel bonds, stress
-        // criterion, one group).
-        for k in 0..BLOCK {
-            let (f, l) = potyondy2004::update(
-                &p,
-                rbar_[k],
-                c.t,
-                g0_[k],
-                length(k),
-                &kin(k),
-                [f_n[k], f_s[k], f_m[k]],
-            );
-            f_n[k] = f[0];
-            f_s[k] = f[1];
-            f_m[k] = f[2];
-            let (o, code) = finish(
-                gnx[k],
-                gny[k],
-                gai[k],
-                gaj[k],
-                f,
-                stress_flags(&l, tensile, cohesion, tan_phi),
-            );
-            ox[k] = o[0];
-            oy[k] = o[1];
-            oti[k] = o[2];
-            otj[k] = o[3];
-            codes[k] = code;
+    } else if let Some(q) = fast {
+        // One group: the parameters are the same for every bond.
+        let par = |_: usize| q;
+        if broken_any {
+            straight!(true, par);
+        } else {
+            straight!(false, par);
         }
     } else {
         // Pass 2, general: any model and criterion per bond, skipping broken bonds.
@@ -718,119 +720,4 @@ fn block<const VALID: bool>(
 }
 
 #[cfg(test)]
-mod tests {
-    use super::super::bench::{bonded_lattice_state, lattice_bond_group, RADIUS};
-    use super::super::Bonds;
-    use super::*;
-
-    /// The AVX2 and baseline builds of the block loop give the same bits (on CPUs with AVX2;
-    /// elsewhere both runs take the baseline path).
-    #[test]
-    fn avx2_and_baseline_agree_bitwise() {
-        let (mut st, bonds) = bonded_lattice_state([12, 8]);
-        let n = st.discs.len();
-        let mut s = 1u64;
-        for k in 0..n {
-            let mut r = || {
-                s = s
-                    .wrapping_mul(6364136223846793005)
-                    .wrapping_add(1442695040888963407);
-                ((s >> 11) as f64 / (1u64 << 53) as f64) - 0.5
-            };
-            st.discs.x[k] += 2e-6 * r();
-            st.discs.y[k] += 2e-6 * r();
-            st.discs.vx[k] = 0.1 * r();
-            st.discs.vy[k] = 0.1 * r();
-            st.discs.omega[k] = 50.0 * r();
-        }
-        let go = |avx2: bool| {
-            let mut b = bonds.clone();
-            let mut st = st.clone();
-            for _ in 0..3 {
-                st.discs.clear_forces();
-                b.compute_with(&mut st, 1e-7, avx2);
-            }
-            (st, b)
-        };
-        let a = go(false);
-        let b = go(has_avx2());
-        assert!(a.0.discs.fx.iter().any(|&f| f != 0.0));
-        assert_eq!(a, b);
-    }
-
-    /// Blocks of intact parallel bonds in two stress-criterion groups (the improved-ORC case)
-    /// take the straight-line path with per-bond parameters; it gives the bits of the general
-    /// per-bond path, which every block of a store with fewer than BLOCK bonds takes.
-    #[test]
-    fn mixed_group_blocks_give_the_general_path_bits() {
-        let (mut st, _) = bonded_lattice_state([12, 8]);
-        let mut s = 7u64;
-        for k in 0..st.discs.len() {
-            let mut r = || {
-                s = s
-                    .wrapping_mul(6364136223846793005)
-                    .wrapping_add(1442695040888963407);
-                ((s >> 11) as f64 / (1u64 << 53) as f64) - 0.5
-            };
-            st.discs.x[k] += 2e-6 * r();
-            st.discs.y[k] += 2e-6 * r();
-            st.discs.vx[k] = 0.1 * r();
-            st.discs.vy[k] = 0.1 * r();
-            st.discs.omega[k] = 50.0 * r();
-        }
-        let g0 = lattice_bond_group(st.thickness);
-        let mut g1 = g0.clone();
-        g1.name = "other".into();
-        if let BondModel::Parallel(p) = &mut g1.model {
-            p.kn *= 1.7;
-            p.ks *= 0.6;
-            p.beta = 0.5;
-        }
-        g1.criterion = Criterion::Stress {
-            tensile: 2e8,
-            cohesion: 3e8,
-            friction_angle: 0.3,
-        };
-        let groups = vec![g0, g1];
-        let mut all = Bonds::new(groups.clone()).unwrap();
-        all.install_within_gap(&st, 0.1 * RADIUS, |i, j| Some(((i + j) % 2) as u16))
-            .unwrap();
-        let views: Vec<_> = all.iter().collect();
-        assert!(views.len() >= 4 * BLOCK);
-        assert!(views[..BLOCK].iter().any(|v| v.group != views[0].group));
-        // The same bonds in stores of fewer than BLOCK bonds: the general path.
-        let mut parts: Vec<Bonds> = views
-            .chunks(BLOCK - 1)
-            .map(|c| {
-                let mut b = Bonds::new(groups.clone()).unwrap();
-                b.install_pairs(&st, c.iter().map(|v| (v.i as usize, v.j as usize, v.group)))
-                    .unwrap();
-                b
-            })
-            .collect();
-        let avx2 = has_avx2();
-        for _ in 0..3 {
-            let mut a = st.clone();
-            a.discs.clear_forces();
-            all.compute_with(&mut a, 1e-7, avx2);
-            for b in parts.iter_mut() {
-                let mut a = st.clone();
-                a.discs.clear_forces();
-                b.compute_with(&mut a, 1e-7, avx2);
-            }
-        }
-        let bits = |v: super::super::BondView| {
-            (
-                v.i,
-                v.j,
-                v.group,
-                v.status,
-                [v.fn_, v.fs, v.m].map(f64::to_bits),
-            )
-        };
-        let whole: Vec<_> = all.iter().map(bits).collect();
-        let split: Vec<_> = parts.iter().flat_map(|b| b.iter()).map(bits).collect();
-        assert!(all.iter().any(|v| v.fs != 0.0));
-        assert_eq!(whole, split);
-    }
-}
+mod tests;
