@@ -98,6 +98,8 @@ pub(super) struct Ctx<'a> {
     pub v: DiscView<'a>,
     pub groups: &'a [BondGroup],
     pub compiled: &'a [Compiled],
+    /// Per-bond stress-criterion parameters of parallel bonds ([`StressParams`]).
+    pub stress: &'a StressParams,
     pub t: f64,
     pub dt: f64,
 }
@@ -155,16 +157,17 @@ pub(super) fn run(
         for k in (0..nb).step_by(BLOCK) {
             let e = (k + BLOCK).min(nb);
             let mut s = sub(&mut m, k..e);
-            let (nbrk, all_intact) = block_best(c, b, k, &mut s, &mut o[..e - k], w, avx2, valid);
+            let (nbrk, all_intact) = block_best(c, b, k, &mut s, o, w, avx2, valid);
             broke += nbrk;
             if valid && all_intact && nbrk == 0 {
                 // SAFETY: `valid`: all indices < nd = fx.len() = fy.len() = tq.len().
-                unsafe { scatter_unchecked(fx, fy, tq, &b.i[k..e], &b.j[k..e], &o[..e - k]) };
+                unsafe { scatter_unchecked(fx, fy, tq, &b.i[k..e], &b.j[k..e], o) };
                 continue;
             }
             for q in k..e {
                 if m.status[q] == INTACT {
-                    scatter(fx, fy, tq, b.i[q] as usize, b.j[q] as usize, &o[q - k]);
+                    let o = [o[0][q - k], o[1][q - k], o[2][q - k], o[3][q - k]];
+                    scatter(fx, fy, tq, b.i[q] as usize, b.j[q] as usize, &o);
                 }
             }
         }
@@ -191,11 +194,15 @@ pub(super) fn run(
             };
             let len = o.len();
             let mut w = Work::new();
+            let mut ob: BlockOut = [[0.0; BLOCK]; 4];
             let mut broke = 0;
             for k in (0..len).step_by(BLOCK) {
                 let e = (k + BLOCK).min(len);
                 let mut s = sub(&mut chunk, k..e);
-                broke += block_best(c, b, base + k, &mut s, &mut o[k..e], &mut w, avx2, valid).0;
+                broke += block_best(c, b, base + k, &mut s, &mut ob, &mut w, avx2, valid).0;
+                for (q, o) in o[k..e].iter_mut().enumerate() {
+                    *o = [ob[0][q], ob[1][q], ob[2][q], ob[3][q]];
+                }
             }
             broke
         })
@@ -246,7 +253,7 @@ pub(super) fn index_bound(i: &[u32], j: &[u32]) -> usize {
 ///
 /// # Safety
 /// Every index in `i` and `j` must be below the common length of `fx`, `fy` and `tq`, and
-/// `i`, `j`, `o` must have one length.
+/// `i` and `j` must have one length, at most [`BLOCK`].
 #[inline(always)]
 unsafe fn scatter_unchecked(
     fx: &mut [f64],
@@ -254,20 +261,18 @@ unsafe fn scatter_unchecked(
     tq: &mut [f64],
     i: &[u32],
     j: &[u32],
-    o: &[[f64; 4]],
+    o: &BlockOut,
 ) {
-    for k in 0..o.len() {
-        let (i, j, o) = (
-            *i.get_unchecked(k) as usize,
-            *j.get_unchecked(k) as usize,
-            o.get_unchecked(k),
-        );
-        *fx.get_unchecked_mut(i) -= o[0];
-        *fy.get_unchecked_mut(i) -= o[1];
-        *tq.get_unchecked_mut(i) += o[2];
-        *fx.get_unchecked_mut(j) += o[0];
-        *fy.get_unchecked_mut(j) += o[1];
-        *tq.get_unchecked_mut(j) += o[3];
+    let [ox, oy, oti, otj] = o;
+    for k in 0..i.len().min(BLOCK) {
+        let (i, j) = (*i.get_unchecked(k) as usize, *j.get_unchecked(k) as usize);
+        let (f0, f1, f2, f3) = (ox[k], oy[k], oti[k], otj[k]);
+        *fx.get_unchecked_mut(i) -= f0;
+        *fy.get_unchecked_mut(i) -= f1;
+        *tq.get_unchecked_mut(i) += f2;
+        *fx.get_unchecked_mut(j) += f0;
+        *fy.get_unchecked_mut(j) += f1;
+        *tq.get_unchecked_mut(j) += f3;
     }
 }
 
@@ -284,7 +289,7 @@ unsafe fn block_avx2(
     b: &BondsIn,
     base: usize,
     m: &mut BondsMut,
-    out: &mut [[f64; 4]],
+    out: &mut BlockOut,
     w: &mut Work,
     valid: bool,
 ) -> (usize, bool) {
@@ -303,7 +308,7 @@ fn block_best(
     b: &BondsIn,
     base: usize,
     m: &mut BondsMut,
-    out: &mut [[f64; 4]],
+    out: &mut BlockOut,
     w: &mut Work,
     avx2: bool,
     valid: bool,
@@ -337,14 +342,18 @@ pub(super) fn has_avx2() -> bool {
 #[derive(Clone, Debug)]
 pub(super) struct SerialWork {
     w: Work,
-    o: [[f64; 4]; BLOCK],
+    o: BlockOut,
 }
+
+/// Outputs of one block, by component (force on j along x, y, torques on i, j) and bond: the
+/// vectorised pass stores whole vectors.
+pub(super) type BlockOut = [[f64; BLOCK]; 4];
 
 impl Default for SerialWork {
     fn default() -> SerialWork {
         SerialWork {
             w: Work::new(),
-            o: [[0.0; 4]; BLOCK],
+            o: [[0.0; BLOCK]; 4],
         }
     }
 }
@@ -362,9 +371,6 @@ struct Work {
     wjs: [f64; BLOCK],
     /// n̂x, n̂y, gap, a_i, a_j, v_t, Δω.
     geo: [[f64; BLOCK]; 7],
-    /// Per-bond parameters of a block of parallel bonds with the stress criterion in several
-    /// groups: k̄n, k̄s, λ̄, β̄, σ̄c, c̄, tan φ̄.
-    par: [[f64; BLOCK]; 7],
 }
 
 impl Work {
@@ -379,37 +385,83 @@ impl Work {
             wis: [0.0; BLOCK],
             wjs: [0.0; BLOCK],
             geo: [[0.0; BLOCK]; 7],
-            par: [[0.0; BLOCK]; 7],
         }
     }
 }
 
-/// When every bond of `grp` (one block) belongs to a parallel-bond group with the stress
-/// criterion, write each bond's group parameters to `par` (k̄n, k̄s, λ̄, β̄, σ̄c, c̄, tan φ̄) and
-/// return true; else false.
-#[inline(always)]
-fn gather_stress_params(c: &Ctx, grp: &[u16], par: &mut [[f64; BLOCK]; 7]) -> bool {
-    for (k, &g) in grp.iter().enumerate().take(BLOCK) {
-        let g = g as usize;
-        match (&c.groups[g].model, c.compiled[g].criterion) {
-            (
+/// Per-bond parameters of parallel bonds with the stress criterion (k̄n, k̄s, λ̄, β̄, σ̄c, c̄,
+/// tan φ̄; zeros for other bonds), and per block of [`BLOCK`] bonds (blocks start at multiples
+/// of BLOCK) whether all its bonds are such bonds. Built from the groups once (the store
+/// rebuilds it when bonds are added or reordered), so that a block whose bonds interleave
+/// several such groups (improved ORC: intra-grain and grain-boundary bonds) reads them as
+/// arrays instead of looking up each bond's group every step.
+#[derive(Clone, Debug, Default)]
+pub(super) struct StressParams {
+    par: [Vec<f64>; 7],
+    block_ok: Vec<bool>,
+}
+
+impl StressParams {
+    pub(super) fn new(groups: &[BondGroup], compiled: &[Compiled], grp: &[u16]) -> StressParams {
+        let mut s = StressParams::default();
+        for v in s.par.iter_mut() {
+            v.resize(grp.len(), 0.0);
+        }
+        let mut ok = vec![false; grp.len()];
+        for (k, &g) in grp.iter().enumerate() {
+            let g = g as usize;
+            if let (
                 BondModel::Parallel(p),
                 Criterion::Stress {
                     tensile, cohesion, ..
                 },
-            ) => {
-                par[0][k] = p.kn;
-                par[1][k] = p.ks;
-                par[2][k] = p.lambda;
-                par[3][k] = p.beta;
-                par[4][k] = tensile;
-                par[5][k] = cohesion;
-                par[6][k] = c.compiled[g].tan_phi;
+            ) = (&groups[g].model, compiled[g].criterion)
+            {
+                for (v, x) in s.par.iter_mut().zip([
+                    p.kn,
+                    p.ks,
+                    p.lambda,
+                    p.beta,
+                    tensile,
+                    cohesion,
+                    compiled[g].tan_phi,
+                ]) {
+                    v[k] = x;
+                }
+                ok[k] = true;
             }
-            _ => return false,
         }
+        s.block_ok = ok.chunks(BLOCK).map(|c| c.iter().all(|&o| o)).collect();
+        s
     }
-    true
+
+    /// Whether the store had `n` bonds when this was built.
+    pub(super) fn fits(&self, n: usize) -> bool {
+        self.par[0].len() == n && self.block_ok.len() == n.div_ceil(BLOCK)
+    }
+
+    /// The parameters of the full block starting at `base` (a multiple of [`BLOCK`]) when all
+    /// its bonds are parallel bonds with the stress criterion.
+    #[inline(always)]
+    #[allow(clippy::manual_is_multiple_of)] // rust-version 1.80
+    fn block(&self, base: usize) -> Option<[&[f64; BLOCK]; 7]> {
+        if base % BLOCK != 0 || !self.block_ok.get(base / BLOCK).copied().unwrap_or(false) {
+            return None;
+        }
+        let r = base..base + BLOCK;
+        fn a(v: &[f64], r: std::ops::Range<usize>) -> Option<&[f64; BLOCK]> {
+            v.get(r)?.try_into().ok()
+        }
+        Some([
+            a(&self.par[0], r.clone())?,
+            a(&self.par[1], r.clone())?,
+            a(&self.par[2], r.clone())?,
+            a(&self.par[3], r.clone())?,
+            a(&self.par[4], r.clone())?,
+            a(&self.par[5], r.clone())?,
+            a(&self.par[6], r.clone())?,
+        ])
+    }
 }
 
 /// Update the block of bonds `base..base + m.status.len()`: new forces and status, and for each
@@ -423,7 +475,7 @@ fn block<const VALID: bool>(
     b: &BondsIn,
     base: usize,
     m: &mut BondsMut,
-    out: &mut [[f64; 4]],
+    out: &mut BlockOut,
     w: &mut Work,
 ) -> (usize, bool) {
     let n = m.status.len();
@@ -431,7 +483,8 @@ fn block<const VALID: bool>(
     let (i_, j_, grp) = (&b.i[r.clone()], &b.j[r.clone()], &b.group[r.clone()]);
     let (g0_, rbar_) = (&b.g0[r.clone()], &b.rbar[r]);
     let (f_n, f_s, f_m) = (&mut m.fn_[..n], &mut m.fs[..n], &mut m.m[..n]);
-    let (status, out) = (&mut m.status[..n], &mut out[..n]);
+    let status = &mut m.status[..n];
+    let [ox, oy, oti, otj] = out;
     // Pass 1a: gather the pair data (all disc slices re-cut to one length so the bounds checks
     // fold into one). Entries past `n` keep finite values of an earlier block or the padding
     // (their results are not used).
@@ -449,7 +502,6 @@ fn block<const VALID: bool>(
         wis,
         wjs,
         geo,
-        par,
     } = w;
     if VALID {
         for k in 0..n {
@@ -538,90 +590,97 @@ fn block<const VALID: bool>(
     // Bond length R_i + R_j + g0 (only the strain criterion reads it).
     let length = |k: usize| gai[k] + gaj[k] - ggap[k] + g0_[k];
     let g_first = grp.first().copied().unwrap_or(0) as usize;
+    // Blocks with a few broken bonds take the straight-line loops too, masked: a broken
+    // bond's lane is computed but its forces are kept and it reports no break (the general
+    // path skips it; its outputs are not scattered, see `run`). Blocks with many broken bonds
+    // take the general path, which skips them.
+    let broken_any = status.iter().fold(INTACT, |a, &s| a | s) != INTACT;
+    let broken = if broken_any {
+        status.iter().filter(|&&s| s != INTACT).count()
+    } else {
+        0
+    };
+    let straight_ok = n == BLOCK && broken <= BLOCK / 4;
     let fast = match (&c.groups[g_first].model, c.compiled[g_first].criterion) {
         (
             BondModel::Parallel(p),
             Criterion::Stress {
                 tensile, cohesion, ..
             },
-        ) if n == BLOCK
-            && grp.iter().fold(0, |a, &g| a | (g ^ g_first as u16)) == 0
-            && status.iter().fold(INTACT, |a, &s| a | s) == INTACT =>
-        {
+        ) if straight_ok && grp.iter().fold(0, |a, &g| a | (g ^ g_first as u16)) == 0 => {
             Some((*p, tensile, cohesion, c.compiled[g_first].tan_phi))
         }
         _ => None,
     };
     let mut codes = [0u8; BLOCK];
     // Several groups, all parallel bonds with the stress criterion (improved ORC: intra-grain
-    // and grain-boundary bonds interleave in store order): their parameters are gathered per
+    // and grain-boundary bonds interleave in store order): their parameters are read per
     // bond and the straight-line loop below evaluates the same expressions as the general
     // path, with the same values: same bits.
-    let mixed =
-        if fast.is_none() && n == BLOCK && status.iter().fold(INTACT, |a, &s| a | s) == INTACT {
-            gather_stress_params(c, grp, par)
-        } else {
-            false
+    let mixed = if fast.is_none() && straight_ok {
+        c.stress.block(base)
+    } else {
+        None
+    };
+    let all_intact = (fast.is_some() || mixed.is_some()) && !broken_any;
+    // Pass 2, straight-line code over a full block of parallel bonds with the stress
+    // criterion; `$par(k)` gives bond k's parameters, `$masked` whether broken bonds are
+    // to be left as they are.
+    macro_rules! straight {
+        ($masked:expr, $par:expr) => {
+            for k in 0..BLOCK {
+                let (p, tensile, cohesion, tan_phi) = $par(k);
+                let (f, l) = potyondy2004::update(
+                    &p,
+                    rbar_[k],
+                    c.t,
+                    g0_[k],
+                    length(k),
+                    &kin(k),
+                    [f_n[k], f_s[k], f_m[k]],
+                );
+                let (o, code) = finish(
+                    gnx[k],
+                    gny[k],
+                    gai[k],
+                    gaj[k],
+                    f,
+                    stress_flags(&l, tensile, cohesion, tan_phi),
+                );
+                let keep = !$masked || status[k] == INTACT;
+                f_n[k] = if keep { f[0] } else { f_n[k] };
+                f_s[k] = if keep { f[1] } else { f_s[k] };
+                f_m[k] = if keep { f[2] } else { f_m[k] };
+                ox[k] = o[0];
+                oy[k] = o[1];
+                oti[k] = o[2];
+                otj[k] = o[3];
+                codes[k] = if keep { code } else { 0 };
+            }
         };
-    let all_intact = fast.is_some() || mixed;
-    if mixed {
-        let [kn, ks, lambda, beta, tensile, cohesion, tan_phi] = &*par;
-        for k in 0..BLOCK {
+    }
+    if let Some([kn, ks, lambda, beta, tensile, cohesion, tan_phi]) = mixed {
+        let par = |k: usize| {
             let p = ParallelBondParams {
                 kn: kn[k],
                 ks: ks[k],
                 lambda: lambda[k],
                 beta: beta[k],
             };
-            let (f, l) = potyondy2004::update(
-                &p,
-                rbar_[k],
-                c.t,
-                g0_[k],
-                length(k),
-                &kin(k),
-                [f_n[k], f_s[k], f_m[k]],
-            );
-            f_n[k] = f[0];
-            f_s[k] = f[1];
-            f_m[k] = f[2];
-            let (o, code) = finish(
-                gnx[k],
-                gny[k],
-                gai[k],
-                gaj[k],
-                f,
-                stress_flags(&l, tensile[k], cohesion[k], tan_phi[k]),
-            );
-            out[k] = o;
-            codes[k] = code;
+            (p, tensile[k], cohesion[k], tan_phi[k])
+        };
+        if broken_any {
+            straight!(true, par);
+        } else {
+            straight!(false, par);
         }
-    } else if let Some((p, tensile, cohesion, tan_phi)) = fast {
-        // Pass 2, fast: straight-line code over the block (intact parallel bonds, stress
-        // criterion, one group).
-        for k in 0..BLOCK {
-            let (f, l) = potyondy2004::update(
-                &p,
-                rbar_[k],
-                c.t,
-                g0_[k],
-                length(k),
-                &kin(k),
-                [f_n[k], f_s[k], f_m[k]],
-            );
-            f_n[k] = f[0];
-            f_s[k] = f[1];
-            f_m[k] = f[2];
-            let (o, code) = finish(
-                gnx[k],
-                gny[k],
-                gai[k],
-                gaj[k],
-                f,
-                stress_flags(&l, tensile, cohesion, tan_phi),
-            );
-            out[k] = o;
-            codes[k] = code;
+    } else if let Some(q) = fast {
+        // One group: the parameters are the same for every bond.
+        let par = |_: usize| q;
+        if broken_any {
+            straight!(true, par);
+        } else {
+            straight!(false, par);
         }
     } else {
         // Pass 2, general: any model and criterion per bond, skipping broken bonds.
@@ -641,7 +700,10 @@ fn block<const VALID: bool>(
             f_m[k] = f[2];
             let flags = c.compiled[g].flags(&l);
             let (o, code) = finish(gnx[k], gny[k], gai[k], gaj[k], f, flags);
-            out[k] = o;
+            ox[k] = o[0];
+            oy[k] = o[1];
+            oti[k] = o[2];
+            otj[k] = o[3];
             codes[k] = code;
         }
     }
@@ -658,119 +720,4 @@ fn block<const VALID: bool>(
 }
 
 #[cfg(test)]
-mod tests {
-    use super::super::bench::{bonded_lattice_state, lattice_bond_group, RADIUS};
-    use super::super::Bonds;
-    use super::*;
-
-    /// The AVX2 and baseline builds of the block loop give the same bits (on CPUs with AVX2;
-    /// elsewhere both runs take the baseline path).
-    #[test]
-    fn avx2_and_baseline_agree_bitwise() {
-        let (mut st, bonds) = bonded_lattice_state([12, 8]);
-        let n = st.discs.len();
-        let mut s = 1u64;
-        for k in 0..n {
-            let mut r = || {
-                s = s
-                    .wrapping_mul(6364136223846793005)
-                    .wrapping_add(1442695040888963407);
-                ((s >> 11) as f64 / (1u64 << 53) as f64) - 0.5
-            };
-            st.discs.x[k] += 2e-6 * r();
-            st.discs.y[k] += 2e-6 * r();
-            st.discs.vx[k] = 0.1 * r();
-            st.discs.vy[k] = 0.1 * r();
-            st.discs.omega[k] = 50.0 * r();
-        }
-        let go = |avx2: bool| {
-            let mut b = bonds.clone();
-            let mut st = st.clone();
-            for _ in 0..3 {
-                st.discs.clear_forces();
-                b.compute_with(&mut st, 1e-7, avx2);
-            }
-            (st, b)
-        };
-        let a = go(false);
-        let b = go(has_avx2());
-        assert!(a.0.discs.fx.iter().any(|&f| f != 0.0));
-        assert_eq!(a, b);
-    }
-
-    /// Blocks of intact parallel bonds in two stress-criterion groups (the improved-ORC case)
-    /// take the straight-line path with per-bond parameters; it gives the bits of the general
-    /// per-bond path, which every block of a store with fewer than BLOCK bonds takes.
-    #[test]
-    fn mixed_group_blocks_give_the_general_path_bits() {
-        let (mut st, _) = bonded_lattice_state([12, 8]);
-        let mut s = 7u64;
-        for k in 0..st.discs.len() {
-            let mut r = || {
-                s = s
-                    .wrapping_mul(6364136223846793005)
-                    .wrapping_add(1442695040888963407);
-                ((s >> 11) as f64 / (1u64 << 53) as f64) - 0.5
-            };
-            st.discs.x[k] += 2e-6 * r();
-            st.discs.y[k] += 2e-6 * r();
-            st.discs.vx[k] = 0.1 * r();
-            st.discs.vy[k] = 0.1 * r();
-            st.discs.omega[k] = 50.0 * r();
-        }
-        let g0 = lattice_bond_group(st.thickness);
-        let mut g1 = g0.clone();
-        g1.name = "other".into();
-        if let BondModel::Parallel(p) = &mut g1.model {
-            p.kn *= 1.7;
-            p.ks *= 0.6;
-            p.beta = 0.5;
-        }
-        g1.criterion = Criterion::Stress {
-            tensile: 2e8,
-            cohesion: 3e8,
-            friction_angle: 0.3,
-        };
-        let groups = vec![g0, g1];
-        let mut all = Bonds::new(groups.clone()).unwrap();
-        all.install_within_gap(&st, 0.1 * RADIUS, |i, j| Some(((i + j) % 2) as u16))
-            .unwrap();
-        let views: Vec<_> = all.iter().collect();
-        assert!(views.len() >= 4 * BLOCK);
-        assert!(views[..BLOCK].iter().any(|v| v.group != views[0].group));
-        // The same bonds in stores of fewer than BLOCK bonds: the general path.
-        let mut parts: Vec<Bonds> = views
-            .chunks(BLOCK - 1)
-            .map(|c| {
-                let mut b = Bonds::new(groups.clone()).unwrap();
-                b.install_pairs(&st, c.iter().map(|v| (v.i as usize, v.j as usize, v.group)))
-                    .unwrap();
-                b
-            })
-            .collect();
-        let avx2 = has_avx2();
-        for _ in 0..3 {
-            let mut a = st.clone();
-            a.discs.clear_forces();
-            all.compute_with(&mut a, 1e-7, avx2);
-            for b in parts.iter_mut() {
-                let mut a = st.clone();
-                a.discs.clear_forces();
-                b.compute_with(&mut a, 1e-7, avx2);
-            }
-        }
-        let bits = |v: super::super::BondView| {
-            (
-                v.i,
-                v.j,
-                v.group,
-                v.status,
-                [v.fn_, v.fs, v.m].map(f64::to_bits),
-            )
-        };
-        let whole: Vec<_> = all.iter().map(bits).collect();
-        let split: Vec<_> = parts.iter().flat_map(|b| b.iter()).map(bits).collect();
-        assert!(all.iter().any(|v| v.fs != 0.0));
-        assert_eq!(whole, split);
-    }
-}
+mod tests;

@@ -22,6 +22,9 @@ struct Cache {
     /// whenever `i` or `j` change (`add`, `remap`), so the kernel's index check is not redone
     /// every step.
     index_bound: Option<usize>,
+    /// Per-bond stress parameters of parallel bonds (see [`kernel::StressParams`]); rebuilt
+    /// when bonds are added or reordered.
+    stress: Option<kernel::StressParams>,
 }
 
 impl PartialEq for Cache {
@@ -255,6 +258,7 @@ impl Bonds {
         self.i.push(i as u32);
         self.j.push(j as u32);
         self.cache.index_bound = None;
+        self.cache.stress = None;
         self.group.push(group);
         self.g0.push(install::gap(st, i, j));
         self.rbar.push(rbar);
@@ -328,6 +332,12 @@ impl Bonds {
     fn ensure_cache(&mut self) {
         if self.cache.compiled.len() != self.groups.len() {
             self.cache.compiled = self.groups.iter().map(|g| g.criterion.compile()).collect();
+            self.cache.stress = None;
+        }
+        let n = self.group.len();
+        if !self.cache.stress.as_ref().is_some_and(|s| s.fits(n)) {
+            let s = kernel::StressParams::new(&self.groups, &self.cache.compiled, &self.group);
+            self.cache.stress = Some(s);
         }
     }
 
@@ -358,6 +368,7 @@ impl Bonds {
             },
             groups: &self.groups,
             compiled: &self.cache.compiled,
+            stress: self.cache.stress.as_ref().expect("built by ensure_cache"),
             t: st.thickness,
             dt,
         };
@@ -480,6 +491,7 @@ impl Bonds {
     /// their smaller disc index so the kernel walks the discs in memory order.
     pub fn remap(&mut self, new_index_of_old: &[u32]) {
         self.cache.index_bound = None;
+        self.cache.stress = None;
         for k in self.i.iter_mut().chain(self.j.iter_mut()) {
             *k = new_index_of_old[*k as usize];
         }

@@ -153,9 +153,9 @@ pub struct Scratch {
     dx: [f64; BLOCK],
     dy: [f64; BLOCK],
     reach: [f64; BLOCK],
-    wr: [f64; BLOCK],
-    ws: [f64; BLOCK],
-    wrel: [f64; BLOCK],
+    /// Angular velocities of i and j (combined in [`eval`], vectorised).
+    wi: [f64; BLOCK],
+    wj: [f64; BLOCK],
     dvx: [f64; BLOCK],
     dvy: [f64; BLOCK],
     ms: [f64; BLOCK],
@@ -191,9 +191,8 @@ impl Default for Scratch {
             dx: z,
             dy: z,
             reach: z,
-            wr: z,
-            ws: z,
-            wrel: z,
+            wi: z,
+            wj: z,
             dvx: z,
             dvy: z,
             ms: z,
@@ -218,20 +217,20 @@ impl Default for Scratch {
 }
 
 /// Gather pairs p0..p0+q (q ≤ BLOCK) into the scratch arrays, disc by disc (`gi` is the
-/// disc owning pair p0 or an earlier disc; it is advanced). The history is read from `us`,
-/// `mr`, the slots of these q pairs (indexed from 0). `PER`: apply the minimum image (else
-/// the box is not periodic and [`MinImage::delta`] would be the identity).
+/// disc owning pair p0 or an earlier disc; it is advanced). The rolling history is read from
+/// `mr`, the slots of these q pairs (indexed from 0). The centre differences are stored as
+/// they are: [`eval`] applies the minimum image (branch-free, vectorised); the reach
+/// r_i + r_j is stored only with reference gaps (`G0`), else [`eval`] forms it.
 #[inline(always)]
-fn gather<L: PairLaw, const G0: bool, const PER: bool>(
+fn gather<L: PairLaw, const G0: bool>(
     c: &Ctx<L>,
     p0: usize,
     q: usize,
     gi: &mut usize,
-    us: &[f64],
     mr: &[f64],
     s: &mut Scratch,
 ) {
-    assert!(q <= BLOCK && us.len() == q && mr.len() == q);
+    assert!(q <= BLOCK && mr.len() == q);
     let (mut p, end) = (p0, p0 + q);
     let mut k = 0;
     while p < end {
@@ -242,31 +241,23 @@ fn gather<L: PairLaw, const G0: bool, const PER: bool>(
         let b = (at!(c.start, i + 1) as usize).min(end);
         let (xi, yi, ri, wi) = (at!(c.x, i), at!(c.y, i), at!(c.r, i), at!(c.w, i));
         let (vxi, vyi, mvi) = (at!(c.vx, i), at!(c.vy, i), at!(c.minv, i));
-        let wri = wi * ri;
         let mati = if L::MATERIAL { at!(c.mat, i) } else { 0 };
         while p < b {
             let j = at!(c.nbr, p) as usize;
-            let (ddx, ddy) = (at!(c.x, j) - xi, at!(c.y, j) - yi);
-            let (ddx, ddy) = if PER {
-                c.img.delta(ddx, ddy)
-            } else {
-                (ddx, ddy)
-            };
-            s.dx[k] = ddx;
-            s.dy[k] = ddy;
+            s.dx[k] = at!(c.x, j) - xi;
+            s.dy[k] = at!(c.y, j) - yi;
             let rj = at!(c.r, j);
             s.ri[k] = ri;
             s.rj[k] = rj;
-            s.reach[k] = if G0 { ri + rj + at!(c.g0, p) } else { ri + rj };
-            let wj = at!(c.w, j);
-            s.wr[k] = wri + wj * rj;
-            s.ws[k] = wi + wj;
+            if G0 {
+                s.reach[k] = ri + rj + at!(c.g0, p);
+            }
+            s.wi[k] = wi;
+            s.wj[k] = at!(c.w, j);
             s.dvx[k] = at!(c.vx, j) - vxi;
             s.dvy[k] = at!(c.vy, j) - vyi;
             s.ms[k] = mvi + at!(c.minv, j);
-            s.us[k] = at!(us, k);
             if L::ROLLING {
-                s.wrel[k] = wi - wj;
                 s.mr[k] = at!(mr, k);
             }
             if L::MATERIAL {
@@ -282,22 +273,37 @@ fn gather<L: PairLaw, const G0: bool, const PER: bool>(
 
 /// Evaluate the law for all BLOCK entries (branch-free, fixed trip count: vectorisable).
 /// `E`: energies; `D` (only with `E`): the dashpot parts of the forces (for their per-disc sums).
+/// `PER`: apply the minimum image `img` (else the box is not periodic and
+/// [`MinImage::delta`] would be the identity); `G0`: the reach was gathered (else it is
+/// r_i + r_j). `us`: the tangential spring histories of the block, updated in place.
 #[inline(always)]
-fn eval<const E: bool, const D: bool, L: PairLaw>(law: &L, dt: f64, s: &mut Scratch) {
+#[allow(clippy::needless_range_loop)] // one index over many arrays: the vectorisable form
+fn eval<const E: bool, const D: bool, const PER: bool, const G0: bool, L: PairLaw>(
+    law: &L,
+    dt: f64,
+    img: &MinImage,
+    s: &mut Scratch,
+    us: &mut [f64; BLOCK],
+) {
     for k in 0..BLOCK {
-        let (dx, dy) = (s.dx[k], s.dy[k]);
+        let (dx, dy) = if PER {
+            img.delta_select(s.dx[k], s.dy[k])
+        } else {
+            (s.dx[k], s.dy[k])
+        };
         let d2 = dx * dx + dy * dy;
-        let rc = s.reach[k];
+        let (ri, rj) = (s.ri[k], s.rj[k]);
+        let rc = if G0 { s.reach[k] } else { ri + rj };
         let touch = d2 < rc * rc && rc > 0.0 && s.ms[k] > 0.0;
         let d = d2.sqrt();
         let inv = 1.0 / d;
         let (nx, ny) = (dx * inv, dy * inv);
-        let (ri, rj) = (s.ri[k], s.rj[k]);
         // Contact point midway in the geometric overlap r_i + r_j − d, on the line of
         // centres: arms a_i = r_i − h, a_j = r_j − h with a_i + a_j = d (see `super`).
         let h = 0.5 * (ri + rj - d);
         let (ai, aj) = (ri - h, rj - h);
-        let wr = s.wr[k] - h * s.ws[k];
+        let (wi, wj) = (s.wi[k], s.wj[k]);
+        let wr = (wi * ri + wj * rj) - h * (wi + wj);
         let rvx = s.dvx[k] + wr * ny;
         let rvy = s.dvy[k] - wr * nx;
         let kin = PairKin {
@@ -308,7 +314,7 @@ fn eval<const E: bool, const D: bool, L: PairLaw>(law: &L, dt: f64, s: &mut Scra
             r_eff: ri * rj / (ri + rj),
             dt,
         };
-        let mut u = s.us[k];
+        let mut u = us[k];
         // A contact that opens drops its spring histories: their elastic energy is counted as
         // dissipated by friction (it is not returned to the discs).
         let released = if E && !touch {
@@ -319,11 +325,11 @@ fn eval<const E: bool, const D: bool, L: PairLaw>(law: &L, dt: f64, s: &mut Scra
         let o = law.force::<E>(s.mi[k], s.mj[k], &kin, &mut u);
         let mut m = s.mr[k];
         let roll = if L::ROLLING && touch {
-            law.rolling(s.mi[k], s.mj[k], &kin, o.f_n, s.wrel[k], &mut m)
+            law.rolling(s.mi[k], s.mj[k], &kin, o.f_n, wi - wj, &mut m)
         } else {
             [0.0; 3]
         };
-        s.us[k] = if touch { u } else { 0.0 };
+        us[k] = if touch { u } else { 0.0 };
         s.mr[k] = if touch { m } else { 0.0 };
         // t = (−n_y, n_x): F = F_n n + F_t t.
         let fx = o.f_n * nx - o.f_t * ny;
@@ -356,26 +362,32 @@ fn eval<const E: bool, const D: bool, L: PairLaw>(law: &L, dt: f64, s: &mut Scra
 /// The CPU must support AVX2.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-unsafe fn eval_avx2<const E: bool, const D: bool, L: PairLaw>(law: &L, dt: f64, s: &mut Scratch) {
-    eval::<E, D, L>(law, dt, s)
+unsafe fn eval_avx2<const E: bool, const D: bool, const PER: bool, const G0: bool, L: PairLaw>(
+    law: &L,
+    dt: f64,
+    img: &MinImage,
+    s: &mut Scratch,
+    us: &mut [f64; BLOCK],
+) {
+    eval::<E, D, PER, G0, L>(law, dt, img, s, us)
 }
 
 /// Evaluate one gathered block with the best instruction set available.
 #[inline(always)]
-fn eval_best<const E: bool, const D: bool, L: PairLaw>(
-    law: &L,
-    dt: f64,
+fn eval_best<const E: bool, const D: bool, const PER: bool, const G0: bool, L: PairLaw>(
+    c: &Ctx<L>,
     s: &mut Scratch,
+    us: &mut [f64; BLOCK],
     avx2: bool,
 ) {
     #[cfg(target_arch = "x86_64")]
     if avx2 {
         // SAFETY: `avx2` is true only when the CPU reports AVX2 (see `has_avx2`).
-        unsafe { eval_avx2::<E, D, L>(law, dt, s) };
+        unsafe { eval_avx2::<E, D, PER, G0, L>(c.law, c.dt, &c.img, s, us) };
         return;
     }
     let _ = avx2;
-    eval::<E, D, L>(law, dt, s)
+    eval::<E, D, PER, G0, L>(c.law, c.dt, &c.img, s, us)
 }
 
 pub(crate) fn has_avx2() -> bool {
@@ -390,8 +402,9 @@ pub(crate) fn has_avx2() -> bool {
 }
 
 /// Evaluate pairs p0..p0+q: gather, evaluate, write the rolling history back and add the
-/// energies in pair order. Forces and the new `us` stay in the scratch [..q]; the caller
-/// writes `us` back.
+/// energies in pair order. Forces stay in the scratch [..q]; the tangential histories `us`
+/// (the q pairs' slots) are updated in place (a full block directly, a partial one through
+/// the scratch).
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn block<const E: bool, const D: bool, L: PairLaw>(
@@ -405,13 +418,29 @@ pub(crate) fn block<const E: bool, const D: bool, L: PairLaw>(
     avx2: bool,
 ) {
     let q = us.len();
-    match (c.g0.is_empty(), c.img.is_periodic()) {
-        (true, false) => gather::<L, false, false>(c, p0, q, gi, us, mr, s),
-        (true, true) => gather::<L, false, true>(c, p0, q, gi, us, mr, s),
-        (false, false) => gather::<L, true, false>(c, p0, q, gi, us, mr, s),
-        (false, true) => gather::<L, true, true>(c, p0, q, gi, us, mr, s),
+    let g0 = !c.g0.is_empty();
+    if g0 {
+        gather::<L, true>(c, p0, q, gi, mr, s);
+    } else {
+        gather::<L, false>(c, p0, q, gi, mr, s);
     }
-    eval_best::<E, D, L>(c.law, c.dt, s, avx2);
+    let run = |s: &mut Scratch, u: &mut [f64; BLOCK]| match (c.img.is_periodic(), g0) {
+        (false, false) => eval_best::<E, D, false, false, L>(c, s, u, avx2),
+        (true, false) => eval_best::<E, D, true, false, L>(c, s, u, avx2),
+        (false, true) => eval_best::<E, D, false, true, L>(c, s, u, avx2),
+        (true, true) => eval_best::<E, D, true, true, L>(c, s, u, avx2),
+    };
+    match <&mut [f64; BLOCK]>::try_from(&mut *us) {
+        Ok(u) => run(s, u),
+        Err(_) => {
+            // Entries q..BLOCK of the history keep stale but finite data and are ignored.
+            let mut u = s.us;
+            u[..q].copy_from_slice(us);
+            run(s, &mut u);
+            us.copy_from_slice(&u[..q]);
+            s.us = u;
+        }
+    }
     if L::ROLLING {
         mr.copy_from_slice(&s.mr[..q]);
     }

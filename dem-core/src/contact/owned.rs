@@ -176,9 +176,6 @@ fn range_pass<const E: bool, const D: bool, const SPLIT: bool, L: PairLaw>(
                 at += f2;
                 let j = at!(c.nbr, pp) as usize;
                 let lp = pp - p0;
-                // SAFETY: lp < the range's pair count (pp in [start[lo], start[hi])) and
-                // us has that length.
-                unsafe { *us.get_unchecked_mut(lp) = sc.us[k] };
                 if D {
                     bx -= sc.dfx[k];
                     by -= sc.dfy[k];

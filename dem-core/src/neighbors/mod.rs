@@ -63,6 +63,30 @@ impl MinImage {
         }
         (dx, dy)
     }
+
+    /// [`MinImage::delta`] written with selects instead of branches (the same values, bit for
+    /// bit: each axis picks d − L, d + L or d by the same comparisons), so that the blocked
+    /// force pass can apply it to a whole block in vector registers.
+    #[inline(always)]
+    pub fn delta_select(&self, dx: f64, dy: f64) -> (f64, f64) {
+        let (ax, bx) = (dx - self.lx, dx + self.lx);
+        let (ay, by) = (dy - self.ly, dy + self.ly);
+        let dx = if dx > self.hx {
+            ax
+        } else if dx < -self.hx {
+            bx
+        } else {
+            dx
+        };
+        let dy = if dy > self.hy {
+            ay
+        } else if dy < -self.hy {
+            by
+        } else {
+            dy
+        };
+        (dx, dy)
+    }
 }
 
 /// Key of an unordered pair of disc ids (or indices), smaller first.

@@ -1,0 +1,172 @@
+//! Tests of the bond kernel: AVX2 against baseline, straight-line against general paths.
+
+use super::super::bench::{bonded_lattice_state, lattice_bond_group, RADIUS};
+use super::super::BondStatus;
+use super::super::Bonds;
+use super::*;
+
+/// The AVX2 and baseline builds of the block loop give the same bits (on CPUs with AVX2;
+/// elsewhere both runs take the baseline path).
+#[test]
+fn avx2_and_baseline_agree_bitwise() {
+    let (mut st, bonds) = bonded_lattice_state([12, 8]);
+    let n = st.discs.len();
+    let mut s = 1u64;
+    for k in 0..n {
+        let mut r = || {
+            s = s
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            ((s >> 11) as f64 / (1u64 << 53) as f64) - 0.5
+        };
+        st.discs.x[k] += 2e-6 * r();
+        st.discs.y[k] += 2e-6 * r();
+        st.discs.vx[k] = 0.1 * r();
+        st.discs.vy[k] = 0.1 * r();
+        st.discs.omega[k] = 50.0 * r();
+    }
+    let go = |avx2: bool| {
+        let mut b = bonds.clone();
+        let mut st = st.clone();
+        for _ in 0..3 {
+            st.discs.clear_forces();
+            b.compute_with(&mut st, 1e-7, avx2);
+        }
+        (st, b)
+    };
+    let a = go(false);
+    let b = go(has_avx2());
+    assert!(a.0.discs.fx.iter().any(|&f| f != 0.0));
+    assert_eq!(a, b);
+}
+
+/// The shaken 12 × 8 lattice of the tests below (random displacements and velocities).
+fn shaken_state() -> crate::state::State {
+    let (mut st, _) = bonded_lattice_state([12, 8]);
+    let mut s = 7u64;
+    for k in 0..st.discs.len() {
+        let mut r = || {
+            s = s
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            ((s >> 11) as f64 / (1u64 << 53) as f64) - 0.5
+        };
+        st.discs.x[k] += 2e-6 * r();
+        st.discs.y[k] += 2e-6 * r();
+        st.discs.vx[k] = 0.1 * r();
+        st.discs.vy[k] = 0.1 * r();
+        st.discs.omega[k] = 50.0 * r();
+    }
+    st
+}
+
+/// Run `steps` steps of the store built with `groups` (bond group `assign(i, j)`) whole and
+/// split into stores of fewer than BLOCK bonds (the general per-bond path); assert equal bits
+/// and return whether some full block of the whole store had between 1 and BLOCK/4 broken
+/// bonds before a step (the masked straight-line path).
+fn whole_against_split(
+    groups: Vec<super::super::BondGroup>,
+    assign: impl Fn(usize, usize) -> u16,
+    steps: usize,
+) -> bool {
+    let st = shaken_state();
+    let mut all = Bonds::new(groups.clone()).unwrap();
+    all.install_within_gap(&st, 0.1 * RADIUS, |i, j| Some(assign(i, j)))
+        .unwrap();
+    let views: Vec<_> = all.iter().collect();
+    assert!(views.len() >= 4 * BLOCK);
+    // The same bonds in stores of fewer than BLOCK bonds: the general path.
+    let mut parts: Vec<Bonds> = views
+        .chunks(BLOCK - 1)
+        .map(|c| {
+            let mut b = Bonds::new(groups.clone()).unwrap();
+            b.install_pairs(&st, c.iter().map(|v| (v.i as usize, v.j as usize, v.group)))
+                .unwrap();
+            b
+        })
+        .collect();
+    let avx2 = has_avx2();
+    let mut masked = false;
+    for _ in 0..steps {
+        let v: Vec<_> = all.iter().collect();
+        masked |= v.chunks_exact(BLOCK).any(|c| {
+            let b = c.iter().filter(|v| v.status != BondStatus::Intact).count();
+            (1..=BLOCK / 4).contains(&b)
+        });
+        let mut a = st.clone();
+        a.discs.clear_forces();
+        all.compute_with(&mut a, 1e-7, avx2);
+        for b in parts.iter_mut() {
+            let mut a = st.clone();
+            a.discs.clear_forces();
+            b.compute_with(&mut a, 1e-7, avx2);
+        }
+    }
+    let bits = |v: super::super::BondView| {
+        (
+            v.i,
+            v.j,
+            v.group,
+            v.status,
+            [v.fn_, v.fs, v.m].map(f64::to_bits),
+        )
+    };
+    let whole: Vec<_> = all.iter().map(bits).collect();
+    let split: Vec<_> = parts.iter().flat_map(|b| b.iter()).map(bits).collect();
+    assert!(all.iter().any(|v| v.fs != 0.0));
+    assert_eq!(whole, split);
+    masked
+}
+
+/// Two parallel-bond groups with the stress criterion, the second stiffer in normal, softer
+/// in shear, with β̄ = 0.5 and the given strengths.
+fn two_groups(tensile: f64, cohesion: f64) -> Vec<super::super::BondGroup> {
+    let g0 = lattice_bond_group(bonded_lattice_state([3, 3]).0.thickness);
+    let mut g1 = g0.clone();
+    g1.name = "other".into();
+    if let BondModel::Parallel(p) = &mut g1.model {
+        p.kn *= 1.7;
+        p.ks *= 0.6;
+        p.beta = 0.5;
+    }
+    g1.criterion = Criterion::Stress {
+        tensile,
+        cohesion,
+        friction_angle: 0.3,
+    };
+    vec![g0, g1]
+}
+
+/// Blocks of intact parallel bonds in two stress-criterion groups (the improved-ORC case)
+/// take the straight-line path with per-bond parameters; it gives the bits of the general
+/// per-bond path, which every block of a store with fewer than BLOCK bonds takes.
+#[test]
+fn mixed_group_blocks_give_the_general_path_bits() {
+    let st = shaken_state();
+    let groups = two_groups(2e8, 3e8);
+    let mut b = Bonds::new(groups.clone()).unwrap();
+    b.install_within_gap(&st, 0.1 * RADIUS, |i, j| Some(((i + j) % 2) as u16))
+        .unwrap();
+    let v: Vec<_> = b.iter().collect();
+    assert!(v[..BLOCK].iter().any(|x| x.group != v[0].group));
+    whole_against_split(groups, |i, j| ((i + j) % 2) as u16, 3);
+}
+
+/// Blocks with a few broken bonds take the straight-line path masked (the broken bonds keep
+/// their state, bonds breaking in it are reported as by the general path): the general
+/// path's bits, for one group (weakened until bonds break step by step) and for two.
+#[test]
+fn blocks_with_a_few_broken_bonds_give_the_general_path_bits() {
+    let mut masked = [false; 2];
+    // Strengths at which some of the 576 bonds break over the 40 steps (measured: 120 and
+    // 72, 26 and 18, 1 and 1 broken).
+    for strength in [2e4, 3e4, 4e4] {
+        // One group: the second group is unused.
+        let mut groups = two_groups(strength, strength);
+        groups.swap(0, 1);
+        masked[0] |= whole_against_split(groups, |_, _| 0, 40);
+        let groups = two_groups(strength, strength);
+        masked[1] |= whole_against_split(groups, |i, j| ((i + j) % 2) as u16, 40);
+    }
+    assert_eq!(masked, [true, true], "no block took the masked path");
+}
