@@ -156,7 +156,7 @@ pub fn moving_mean_peak(
     to: f64,
     width: f64,
 ) -> Option<f64> {
-    if !(width > 0.0) {
+    if width.is_nan() || width <= 0.0 {
         return None;
     }
     let pts: Vec<(f64, f64)> = abscissa
