@@ -52,8 +52,8 @@ pub struct DeepestOverlap {
     pub disc: u32,
     /// Partner disc id, or `u32::MAX` for a wall.
     pub other: u32,
-    /// The wall's name for a disc-wall contact.
-    pub wall: Option<String>,
+    /// The wall's index in `State::walls` for a disc-wall contact.
+    pub wall: Option<usize>,
 }
 
 impl World {
@@ -72,6 +72,12 @@ impl World {
     /// kinetic energy below [`crate::Params::max_energy_growth`] × the energy supplied plus
     /// the rounding-level energy of the positions (needs [`crate::Params::track_energy`]).
     pub fn check(&self) -> Result<(), GuardError> {
+        self.check_deepest().map(|_| ())
+    }
+
+    /// [`World::check`], returning on success the deepest overlap it measured (the fraction of
+    /// [`World::deepest_overlap`], 0 when nothing touches).
+    fn check_deepest(&self) -> Result<f64, GuardError> {
         let st = &self.state;
         let d = &st.discs;
         let step = st.step;
@@ -97,11 +103,13 @@ impl World {
             }
         }
         let limit = self.params.max_overlap_fraction;
-        if let Some(o) = self.deepest_overlap() {
+        let deepest = self.deepest_overlap();
+        if let Some(o) = &deepest {
             if o.fraction > limit {
-                let cause = match &o.wall {
+                let cause = match o.wall {
                     Some(w) => format!(
-                        "wall '{w}' pushed too far or too fast, or {}",
+                        "wall '{}' pushed too far or too fast, or {}",
+                        st.walls[w].name,
                         self.dt_cause()
                     ),
                     None => format!(
@@ -145,7 +153,7 @@ impl World {
                 });
             }
         }
-        Ok(())
+        Ok(deepest.map_or(0.0, |o| o.fraction.max(0.0)))
     }
 
     /// The deepest overlap of the current neighbour lists: disc pairs (beyond their reference
@@ -160,13 +168,13 @@ impl World {
             return None;
         }
         let mut best: Option<DeepestOverlap> = None;
-        let mut keep = |fraction: f64, disc: u32, other: u32, wall: Option<&str>| {
+        let mut keep = |fraction: f64, disc: u32, other: u32, wall: Option<usize>| {
             if best.as_ref().is_none_or(|b| fraction > b.fraction) {
                 best = Some(DeepestOverlap {
                     fraction,
                     disc,
                     other,
-                    wall: wall.map(str::to_string),
+                    wall,
                 });
             }
         };
@@ -180,15 +188,12 @@ impl World {
             }
         }
         for q in 0..nb.walls.wall.len() {
-            let (w, i) = (
-                &st.walls[nb.walls.wall[q] as usize],
-                nb.walls.disc[q] as usize,
-            );
+            let (w, i) = (nb.walls.wall[q] as usize, nb.walls.disc[q] as usize);
             if i >= d.len() {
                 continue;
             }
-            let (_, _, dist) = closest_on_segment(w, d.x[i], d.y[i], &img);
-            keep((d.r[i] - dist) / d.r[i], d.id[i], u32::MAX, Some(&w.name));
+            let (_, _, dist) = closest_on_segment(&st.walls[w], d.x[i], d.y[i], &img);
+            keep((d.r[i] - dist) / d.r[i], d.id[i], u32::MAX, Some(w));
         }
         best
     }
@@ -211,11 +216,13 @@ impl World {
             .sum()
     }
 
-    /// [`World::check`], keeping a copy of the state when it passes.
-    pub fn guard(&mut self) -> Result<(), GuardError> {
-        self.check()?;
+    /// [`World::check`], keeping a copy of the state when it passes; returns the deepest
+    /// overlap it measured (fraction of the radius, see [`World::deepest_overlap`]; 0 when
+    /// nothing touches), so callers that report it need not scan the contacts again.
+    pub fn guard(&mut self) -> Result<f64, GuardError> {
+        let deepest = self.check_deepest()?;
         self.last_good = Some(Box::new(self.state.clone()));
-        Ok(())
+        Ok(deepest)
     }
 
     /// The last state that passed [`World::guard`] (to save when a run is stopped).

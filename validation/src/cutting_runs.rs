@@ -389,10 +389,14 @@ pub fn run_jobs(
 /// Peak of the main force averaged over `width` of tool travel within the run's steady
 /// window ([`crate::table2::PEAK_AVERAGING`]), read from the run's `cutting.forces.csv`.
 fn averaged_peak(dir: &Path, res: &CuttingResult, width: f64) -> Option<f64> {
-    let t = dem_core::lab::history::Table::read(&dir.join(cutting::FORCES_FILE)).ok()?;
-    let x = t.column("travel_m", "").ok()?;
-    let f = t.column("main_N", "").ok()?;
+    let (x, f) = main_force(&dir.join(cutting::FORCES_FILE))?;
     dem_core::lab::analysis::moving_mean_peak(&x, &f, res.window[0], res.window[1], width)
+}
+
+/// Tool travel (m) and main force (N) of a run's `cutting.forces.csv`.
+pub fn main_force(file: &Path) -> Option<(Vec<f64>, Vec<f64>)> {
+    let t = dem_core::lab::history::Table::read(file).ok()?;
+    Some((t.column("travel_m", "").ok()?, t.column("main_N", "").ok()?))
 }
 
 /// Runs `f` on a one-thread rayon pool (the engine's inner parallel loops then run serially).

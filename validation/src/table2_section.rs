@@ -82,9 +82,7 @@ pub fn plan(data: &Path, quick: bool) -> Result<Plan, String> {
 
 /// Reads `cutting.forces.csv` (travel, time, main, vertical) as (travel mm, main kN × scale).
 fn force_series(file: &Path, scale: f64) -> Option<Vec<(f64, f64)>> {
-    let t = dem_core::lab::history::Table::read(file).ok()?;
-    let x = t.column("travel_m", "").ok()?;
-    let f = t.column("main_N", "").ok()?;
+    let (x, f) = crate::cutting_runs::main_force(file)?;
     Some(
         x.iter()
             .zip(&f)

@@ -335,11 +335,12 @@ impl Simulation {
 
     /// Runs the guard; on failure writes what is safe and returns the error.
     fn guard(&mut self, t0: Instant) -> Result<(), RunError> {
-        let Err(error) = self.world.guard() else {
-            if let Some(o) = self.world.deepest_overlap() {
-                self.max_overlap = self.max_overlap.max(o.fraction);
+        let error = match self.world.guard() {
+            Ok(deepest) => {
+                self.max_overlap = self.max_overlap.max(deepest);
+                return Ok(());
             }
-            return Ok(());
+            Err(e) => e,
         };
         let saved = self.out.join("last-good-state.json");
         let good = self

@@ -49,7 +49,8 @@ impl Samples {
     /// Samples the world after at least one step. The balance terms are those of
     /// `dem_core::energy::EnergyReport::new`: error = E_now + dissipated + released − E₀ − W,
     /// scale = max(|E₀|, |E_now|, dissipated, |W|).
-    fn observe(&mut self, w: &World) {
+    /// `overlap`: the deepest overlap the guard measured on this state.
+    fn observe(&mut self, w: &World, overlap: f64) {
         let e = w.energy();
         self.balance = self.balance.max(e.balance_error.abs());
         let dissipated = e.damping + e.friction;
@@ -62,7 +63,7 @@ impl Samples {
             .max(e.boundary_work.abs());
         self.abs_err = self.abs_err.max(err.abs());
         self.scale = self.scale.max(scale);
-        self.overlap = self.overlap.max(max_overlap_fraction(w));
+        self.overlap = self.overlap.max(overlap);
     }
 
     /// Largest absolute balance error over the largest energy term of the run.
@@ -73,13 +74,6 @@ impl Samples {
             0.0
         }
     }
-}
-
-/// Largest overlap beyond the reference gap over the smaller radius (disc pairs), and over the
-/// disc radius (walls), as the guard measures it ([`World::deepest_overlap`]); 0 when nothing
-/// touches.
-pub fn max_overlap_fraction(w: &World) -> f64 {
-    w.deepest_overlap().map_or(0.0, |o| o.fraction.max(0.0))
 }
 
 /// Every kinematic and force value of the state is finite.
@@ -125,7 +119,7 @@ pub fn run_case(spec: &CaseSpec, dir: &Path, out: &Path) -> Result<CaseRecord, S
         w.run(spec.sample_every.min(planned - w.state.step));
         s.observe_dt(&w);
         match w.guard() {
-            Ok(()) => s.observe(&w),
+            Ok(overlap) => s.observe(&w, overlap),
             Err(e) => {
                 guard_message = Some(e.to_string());
                 finite = w.last_good().is_some_and(state_finite);
@@ -236,7 +230,7 @@ fn probe_2x(scene: &Scene, steps: u64, bound: f64) -> Result<Probe2x, StabilityE
     while guard_message.is_none() && w.state.step < steps {
         w.run(10.min(steps - w.state.step));
         match w.guard() {
-            Ok(()) => s.observe(&w),
+            Ok(overlap) => s.observe(&w, overlap),
             Err(e) => guard_message = Some(e.to_string()),
         }
     }
