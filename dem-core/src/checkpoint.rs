@@ -3,6 +3,7 @@
 //! snapshot list), written atomically. A run restarted from a checkpoint continues
 //! bit-identically: the same steps give the same bytes of state as an uninterrupted run.
 
+use crate::output::summary::RunTotals;
 use crate::output::vtk::Entry;
 use crate::pipeline::World;
 use serde::{Deserialize, Serialize};
@@ -36,6 +37,8 @@ struct CheckpointRef<'a> {
     scene_hash: &'a str,
     history_rows: &'a str,
     snapshots: &'a [Entry],
+    #[serde(skip_serializing_if = "Option::is_none")]
+    run: Option<&'a RunTotals>,
     world: &'a World,
 }
 
@@ -49,6 +52,10 @@ pub struct Checkpoint {
     pub history_rows: String,
     /// VTK snapshots written up to the checkpoint.
     pub snapshots: Vec<Entry>,
+    /// The run's totals up to the checkpoint (run time, dt range, deepest overlap, over all
+    /// invocations); `None` in checkpoints written before they were recorded.
+    #[serde(default)]
+    pub run: Option<RunTotals>,
     pub world: World,
 }
 
@@ -58,12 +65,14 @@ pub fn to_json(
     scene_hash: &str,
     history_rows: &str,
     snapshots: &[Entry],
+    run: Option<&RunTotals>,
 ) -> Result<String, serde_json::Error> {
     serde_json::to_string(&CheckpointRef {
         schema: SCHEMA,
         scene_hash,
         history_rows,
         snapshots,
+        run,
         world,
     })
 }
@@ -75,9 +84,10 @@ pub fn save(
     scene_hash: &str,
     history_rows: &str,
     snapshots: &[Entry],
+    run: Option<&RunTotals>,
 ) -> Result<(), CheckpointError> {
     let file = path.display().to_string();
-    let text = to_json(world, scene_hash, history_rows, snapshots).map_err(|e| {
+    let text = to_json(world, scene_hash, history_rows, snapshots, run).map_err(|e| {
         CheckpointError::Format {
             file: file.clone(),
             reason: e.to_string(),

@@ -137,16 +137,13 @@ pub struct Finished {
 pub const KEY_FILE: &str = "run.key.json";
 
 /// Run-time file of a finished run: `{"wall_time_s", "cpu_time_s"}` (CPU time of the thread
-/// that stepped it; on a shared machine the wall time overstates the cost).
+/// that stepped it; on a shared machine the wall time overstates the cost). A run resumed
+/// from a checkpoint (an earlier invocation was stopped) gives the totals over its
+/// invocations as the cutting driver recorded them (stepping only, without the few seconds
+/// of setup and analysis the one-invocation figure includes) and `"invocations"`.
 pub const TIME_FILE: &str = "run.time.json";
 
-/// CPU time of the calling thread (s): Linux `/proc/thread-self/schedstat`, first field (ns
-/// on the CPU); None where that file does not exist.
-pub fn thread_cpu_s() -> Option<f64> {
-    let text = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
-    let ns: f64 = text.split_whitespace().next()?.parse().ok()?;
-    Some(ns * 1e-9)
-}
+pub use dem_core::output::summary::thread_cpu_s;
 
 /// Failure record of a run: `{"error", "key"}`. A later call with [`Missing::List`] reports
 /// the failure instead of listing the run as not run; [`Missing::Run`] runs it again (the code
@@ -303,12 +300,20 @@ pub fn run_jobs(
                         .map_err(|e| e.to_string());
                     (r, thread_cpu_s().zip(c0).map(|(c1, c0)| c1 - c0))
                 });
+                // A resumed run: the driver's totals over all its invocations.
+                let cpu = match &r {
+                    Ok(res) if res.run.invocations > 1 => res.run.cpu_time_s,
+                    _ => cpu,
+                };
                 if let Ok(res) = &r {
                     let _ = std::fs::remove_file(dir.join(FAILED_FILE));
-                    let time = serde_json::json!({
+                    let mut time = serde_json::json!({
                         "wall_time_s": res.run.wall_time_s,
                         "cpu_time_s": cpu,
                     });
+                    if res.run.invocations > 1 {
+                        time["invocations"] = serde_json::json!(res.run.invocations);
+                    }
                     for (file, text) in [
                         (
                             TIME_FILE,
@@ -340,7 +345,16 @@ pub fn run_jobs(
                     } else {
                         t0.elapsed().as_secs_f64()
                     },
-                    if resumed { " (earlier run)" } else { "" }
+                    if resumed {
+                        " (earlier run)".to_string()
+                    } else if res.run.invocations > 1 {
+                        format!(
+                            " (resumed from a checkpoint; {} invocations, {:.1} s in all)",
+                            res.run.invocations, res.run.wall_time_s
+                        )
+                    } else {
+                        String::new()
+                    }
                 ));
                 Some(Finished {
                     name: job.name.clone(),

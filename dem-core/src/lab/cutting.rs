@@ -500,6 +500,19 @@ pub struct RunFigures {
     /// before it was recorded.
     #[serde(default)]
     pub max_overlap_fraction: Option<f64>,
+    /// CPU time of the thread that drove the run (s; all of its CPU on a one-thread pool),
+    /// over all invocations; `None` where unknown and in results written before it was
+    /// recorded.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cpu_time_s: Option<f64>,
+    /// Invocations the run took (1, or more when it was resumed from a checkpoint; wall and
+    /// CPU time, dt range and deepest overlap are over all of them).
+    #[serde(default = "one")]
+    pub invocations: u32,
+}
+
+fn one() -> u32 {
+    1
 }
 
 /// Everything the cutting test reports (SI: m, N for the scene thickness, kg, s).
@@ -637,6 +650,8 @@ pub fn analyze(
         wall_time_s: 0.0,
         threads: rayon::current_num_threads(),
         max_overlap_fraction: None,
+        cpu_time_s: None,
+        invocations: 1,
     };
     let result = CuttingResult {
         schema: RESULT_SCHEMA.into(),
@@ -661,11 +676,35 @@ pub fn analyze(
     Ok((result, f))
 }
 
-/// Runs a cutting test on the specimen file `specimen` with `model`, writing everything to
-/// `out_dir`: `cutting.scene.json` (plain scene; `dem run` re-runs it into the same folder),
-/// the run's outputs (`history.csv`, `breaks.csv`, `summary.json`, `ckpt-final.json`),
-/// `cutting.forces.csv` and `cutting.result.json`. `progress(done, total)` is called now and
-/// then with step counts. Runs on the current rayon pool (results do not depend on its size).
+/// How [`run_with`] runs: checkpoints to resume from, and an optional stop.
+#[derive(Clone, Debug)]
+pub struct CuttingRunOptions {
+    /// About this many numbered checkpoints over the run (0 = none): only the newest is kept,
+    /// and it is deleted when the run completes (`ckpt-final.json` stays).
+    pub checkpoints: u64,
+    /// Continue from the newest numbered checkpoint in the output folder if the folder holds a
+    /// run of the same scene (`cutting.scene.json` equal to the one this test writes): a run
+    /// that was killed goes on from its last checkpoint instead of starting again, with the
+    /// same results bit for bit (checkpoints restore the whole world). A checkpoint that does
+    /// not load starts the run afresh.
+    pub resume: bool,
+    /// Stop when the world reaches this step, before the end (the run then returns
+    /// [`LabError::Stopped`] and can be resumed).
+    pub max_steps: Option<u64>,
+}
+
+impl Default for CuttingRunOptions {
+    fn default() -> CuttingRunOptions {
+        CuttingRunOptions {
+            checkpoints: 20,
+            resume: true,
+            max_steps: None,
+        }
+    }
+}
+
+/// Runs a cutting test with the default [`CuttingRunOptions`] (20 checkpoints, resuming an
+/// interrupted run of the same scene); see [`run_with`].
 pub fn run(
     test: &CuttingTest,
     model: &LabModel,
@@ -673,9 +712,37 @@ pub fn run(
     out_dir: &Path,
     progress: &mut dyn FnMut(u64, u64),
 ) -> Result<CuttingResult, LabError> {
+    run_with(
+        test,
+        model,
+        specimen,
+        out_dir,
+        &CuttingRunOptions::default(),
+        progress,
+    )
+}
+
+/// Runs a cutting test on the specimen file `specimen` with `model`, writing everything to
+/// `out_dir`: `cutting.scene.json` (plain scene; `dem run` re-runs it into the same folder),
+/// the run's outputs (`history.csv`, `breaks.csv`, `summary.json`, `ckpt-final.json`),
+/// `cutting.forces.csv` and `cutting.result.json`. `progress(done, total)` is called now and
+/// then with step counts (of this invocation). Runs on the current rayon pool (results do
+/// not depend on its size).
+pub fn run_with(
+    test: &CuttingTest,
+    model: &LabModel,
+    specimen: &Path,
+    out_dir: &Path,
+    ro: &CuttingRunOptions,
+    progress: &mut dyn FnMut(u64, u64),
+) -> Result<CuttingResult, LabError> {
     test.validate()?;
     let spec = SpecimenInfo::read(specimen)?;
     let scene_file = out_dir.join(SCENE_FILE);
+    // The scene of an earlier run in this folder (read before the probe overwrites it).
+    let earlier: Option<Value> = std::fs::read_to_string(&scene_file)
+        .ok()
+        .and_then(|t| serde_json::from_str(&t).ok());
     // Probe the time step: build the world once, so the history cadence gives about
     // `history_rows` rows.
     let probe = scene(test, model, &spec, 1)?;
@@ -684,12 +751,49 @@ pub fn run(
     let g = CutGeometry::new(test, spec.extent)?;
     let steps = (g.duration / dt).ceil().max(1.0) as u64;
     let every = steps.div_ceil(test.history_rows).max(1);
-    let s = scene(test, model, &spec, every)?;
-    let opts = RunOptions {
-        out_dir: Some(out_dir.to_path_buf()),
-        ..Default::default()
+    let mut s = scene(test, model, &spec, every)?;
+    if ro.checkpoints > 0 {
+        // On history rows, about `checkpoints` over the run.
+        let n = steps.div_ceil(every).div_ceil(ro.checkpoints).max(1) * every;
+        s["outputs"]["checkpoint_every"] = json!(n);
+        s["outputs"]["checkpoint_keep"] = json!(1);
+    }
+    let restart = if ro.resume && earlier.as_ref() == Some(&s) {
+        crate::output::driver::numbered_checkpoints(out_dir)
+            .ok()
+            .and_then(|mut c| c.pop())
+            .map(|(_, p)| p)
+    } else {
+        None
     };
-    let lab = run_scene(&s, &scene_file, &opts, progress)?;
+    let mut opts = RunOptions {
+        out_dir: Some(out_dir.to_path_buf()),
+        restart,
+        max_steps: ro.max_steps,
+    };
+    let lab = match run_scene(&s, &scene_file, &opts, progress) {
+        Err(LabError::Run(crate::output::driver::RunError::Checkpoint(_)))
+            if opts.restart.is_some() =>
+        {
+            opts.restart = None;
+            run_scene(&s, &scene_file, &opts, progress)?
+        }
+        r => r?,
+    };
+    if lab.summary.status == "max_steps" {
+        return Err(LabError::Stopped {
+            dir: out_dir.display().to_string(),
+            step: lab.summary.final_step,
+        });
+    }
+    if ro.checkpoints > 0 {
+        for (_, p) in crate::output::driver::numbered_checkpoints(out_dir)? {
+            std::fs::remove_file(&p).map_err(|source| LabError::Io {
+                file: p.display().to_string(),
+                source,
+            })?;
+        }
+    }
     let hist = lab.out_dir.join("history.csv");
     let (mut result, forces) = analyze(
         test,
@@ -699,11 +803,22 @@ pub fn run(
         &lab.world,
     )?;
     result.run.history_every = every;
-    result.run.wall_time_s = lab.summary.wall_time_s;
-    result.run.dt_min = lab.summary.dt_min;
-    result.run.dt_max = lab.summary.dt_max;
     result.run.threads = lab.summary.threads;
-    result.run.max_overlap_fraction = Some(lab.summary.max_overlap_fraction);
+    let sm = &lab.summary;
+    let whole = sm.whole_run.unwrap_or(crate::output::summary::RunTotals {
+        invocations: 1,
+        wall_time_s: sm.wall_time_s,
+        cpu_time_s: sm.cpu_time_s,
+        dt_min: sm.dt_min,
+        dt_max: sm.dt_max,
+        max_overlap_fraction: sm.max_overlap_fraction,
+    });
+    result.run.wall_time_s = whole.wall_time_s;
+    result.run.cpu_time_s = whole.cpu_time_s;
+    result.run.invocations = whole.invocations;
+    result.run.dt_min = whole.dt_min;
+    result.run.dt_max = whole.dt_max;
+    result.run.max_overlap_fraction = Some(whole.max_overlap_fraction);
     let forces_file = out_dir.join(FORCES_FILE);
     write_atomic(&forces_file, forces.to_csv().as_bytes())?;
     let result_file = out_dir.join(RESULT_FILE);

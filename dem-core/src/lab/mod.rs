@@ -58,4 +58,6 @@ pub enum LabError {
     Analysis { test: String, reason: String },
     #[error("{field}: {reason}")]
     Param { field: String, reason: String },
+    #[error("{dir}: stopped at step {step} before the end (max_steps); run it again to continue from its last checkpoint")]
+    Stopped { dir: String, step: u64 },
 }

@@ -11,7 +11,7 @@
 
 use super::history::History;
 use super::run_controls::{gauge_members, gauge_positions, peak_of_rows, wall_load};
-use super::summary::{RunSummary, SCHEMA as SUMMARY_SCHEMA};
+use super::summary::{thread_cpu_s, RunSummary, RunTotals, SCHEMA as SUMMARY_SCHEMA};
 use super::vtk::{self, BondLine, Collection, Entry};
 use super::{write_atomic, OutputError};
 use crate::bond::BondStatus;
@@ -85,6 +85,34 @@ pub struct Simulation {
     peak_load: f64,
     /// Deepest overlap (fraction of the radius) seen at the guard checks of this invocation.
     max_overlap: f64,
+    /// The run's totals up to the checkpoint this invocation restarted from.
+    before: Option<RunTotals>,
+    /// Start of this invocation's stepping: wall clock and the driving thread's CPU time.
+    started: Instant,
+    cpu_started: Option<f64>,
+}
+
+/// The numbered checkpoints `ckpt-<step>.json` in `dir`, by increasing step.
+pub fn numbered_checkpoints(dir: &Path) -> Result<Vec<(u64, PathBuf)>, OutputError> {
+    let io = |source| OutputError::Io {
+        file: dir.display().to_string(),
+        source,
+    };
+    let mut found = Vec::new();
+    for entry in std::fs::read_dir(dir).map_err(io)? {
+        let entry = entry.map_err(io)?;
+        let name = entry.file_name().to_string_lossy().into_owned();
+        let step = name
+            .strip_prefix("ckpt-")
+            .and_then(|r| r.strip_suffix(".json"))
+            .filter(|n| !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit()))
+            .and_then(|n| n.parse::<u64>().ok());
+        if let Some(step) = step {
+            found.push((step, entry.path()));
+        }
+    }
+    found.sort();
+    Ok(found)
 }
 
 /// Whether `name` is a file the driver writes.
@@ -119,7 +147,7 @@ impl Simulation {
             .clone()
             .unwrap_or_else(|| scene.outputs.dir.clone());
         let hash = scene.physics_hash();
-        let (world, rows, snaps, restarted_from) = match &opts.restart {
+        let (world, rows, snaps, restarted_from, before) = match &opts.restart {
             Some(p) => {
                 let c = checkpoint::load(p, &hash)?;
                 (
@@ -127,12 +155,14 @@ impl Simulation {
                     c.history_rows,
                     c.snapshots,
                     Some(p.display().to_string()),
+                    c.run,
                 )
             }
             None => (
                 crate::scene::build(&scene)?,
                 String::new(),
                 Vec::new(),
+                None,
                 None,
             ),
         };
@@ -190,6 +220,9 @@ impl Simulation {
             max_overlap: 0.0,
             gauges,
             peak_load,
+            before,
+            started: Instant::now(),
+            cpu_started: thread_cpu_s(),
         })
     }
 
@@ -249,6 +282,7 @@ impl Simulation {
         progress: &mut dyn FnMut(u64, u64),
     ) -> Result<(RunSummary, Ending), RunError> {
         let t0 = Instant::now();
+        (self.started, self.cpu_started) = (t0, thread_cpu_s());
         let o = self.scene.outputs.clone();
         std::fs::create_dir_all(&self.out).map_err(|source| OutputError::Io {
             file: self.out.display().to_string(),
@@ -468,13 +502,44 @@ impl Simulation {
         Ok(())
     }
 
+    /// Writes a checkpoint (with the run's totals so far); after a numbered one, deletes the
+    /// older numbered checkpoints beyond `outputs.checkpoint_keep`.
     fn checkpoint(&mut self, path: &Path) -> Result<(), RunError> {
         self.flush()?;
         let rows = self.history.as_ref().map_or("", |h| h.rows());
         let snaps = self.pvd.as_ref().map_or(&[][..], |c| &c.entries[..]);
-        checkpoint::save(path, &self.world, &self.hash, rows, snaps)?;
+        let totals = self.totals();
+        checkpoint::save(path, &self.world, &self.hash, rows, snaps, Some(&totals))?;
         self.record(path);
+        let keep = self.scene.outputs.checkpoint_keep as usize;
+        if keep > 0 {
+            let mut numbered = numbered_checkpoints(&self.out)?;
+            let old = numbered.len().saturating_sub(keep);
+            for (_, p) in numbered.drain(..old) {
+                std::fs::remove_file(&p).map_err(|source| OutputError::Io {
+                    file: p.display().to_string(),
+                    source,
+                })?;
+                if let Ok(rel) = p.strip_prefix(&self.out) {
+                    self.files.remove(&rel.display().to_string());
+                }
+            }
+        }
         Ok(())
+    }
+
+    /// The run's totals: the restart checkpoint's plus this invocation so far.
+    fn totals(&self) -> RunTotals {
+        let cpu = thread_cpu_s()
+            .zip(self.cpu_started)
+            .map(|(c1, c0)| (c1 - c0).max(0.0));
+        RunTotals::then(
+            self.before.as_ref(),
+            self.started.elapsed().as_secs_f64(),
+            cpu,
+            self.dt_range,
+            self.max_overlap,
+        )
     }
 
     fn summary(
@@ -516,6 +581,10 @@ impl Simulation {
             dt_max: self.dt_range[1],
             max_overlap_fraction: self.max_overlap,
             wall_time_s: wall.as_secs_f64(),
+            cpu_time_s: thread_cpu_s()
+                .zip(self.cpu_started)
+                .map(|(c1, c0)| (c1 - c0).max(0.0)),
+            whole_run: Some(self.totals()),
             particle_steps_per_s: if stepping > 0.0 {
                 st.discs.len() as f64 * steps as f64 / stepping
             } else {

@@ -168,6 +168,7 @@ pub(crate) fn outputs(
         history_every: o.history_every,
         vtk_every: o.vtk_every,
         checkpoint_every: o.checkpoint_every,
+        checkpoint_keep: o.checkpoint_keep,
         guard_every: o.guard_every,
         summary: o.summary,
     })

@@ -217,6 +217,8 @@ pub struct Outputs {
     pub history_every: u64,
     pub vtk_every: u64,
     pub checkpoint_every: u64,
+    /// Numbered checkpoints kept (newest; 0 = all).
+    pub checkpoint_keep: u32,
     pub guard_every: u64,
     pub summary: bool,
     pub gauges: Vec<Gauge>,

@@ -514,6 +514,10 @@ pub struct OutputSpec {
     pub vtk_every: u64,
     #[serde(default)]
     pub checkpoint_every: u64,
+    /// Keep only the newest N numbered checkpoints (`ckpt-<step>.json`), deleting older ones
+    /// as new ones are written; 0 = keep all.
+    #[serde(default, skip_serializing_if = "is_zero_u32")]
+    pub checkpoint_keep: u32,
     /// Blow-up guard interval (the guard also runs at every output).
     #[serde(default = "default_guard")]
     pub guard_every: u64,
@@ -522,6 +526,10 @@ pub struct OutputSpec {
     /// Position gauges (mean position of the discs in a region).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub gauges: Vec<GaugeSpec>,
+}
+
+fn is_zero_u32(v: &u32) -> bool {
+    *v == 0
 }
 
 fn default_history() -> u64 {
@@ -543,6 +551,7 @@ impl Default for OutputSpec {
             history_every: default_history(),
             vtk_every: 0,
             checkpoint_every: 0,
+            checkpoint_keep: 0,
             guard_every: default_guard(),
             summary: true,
             gauges: Vec::new(),
