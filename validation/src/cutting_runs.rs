@@ -371,6 +371,7 @@ pub fn run_jobs(
                         wall_time_s: res.run.wall_time_s,
                         cpu_time_s: cpu,
                         peak_avg_n: averaged_peak(&dir, &res, job.specimen.grain_size),
+                        max_overlap_fraction: res.run.max_overlap_fraction,
                     },
                     result_file: dir.join(cutting::RESULT_FILE).display().to_string(),
                     resumed,

@@ -13,3 +13,4 @@ pub mod stability;
 pub mod table1;
 pub mod table2;
 pub mod table2_section;
+pub mod table2_why;

@@ -75,6 +75,10 @@ pub struct RunRecord {
     /// [`PEAK_AVERAGING`]), from the run's force history; `None` when it could not be read.
     #[serde(default)]
     pub peak_avg_n: Option<f64>,
+    /// Deepest overlap seen at the run's guard checks (fraction of the smaller radius);
+    /// `None` in results written before it was recorded.
+    #[serde(default)]
+    pub max_overlap_fraction: Option<f64>,
 }
 
 /// What the averaged peak ([`RunRecord::peak_avg_n`]) averages over. Our raw peak is the
@@ -521,6 +525,7 @@ mod tests {
                         wall_time_s: 1.0,
                         cpu_time_s: None,
                         peak_avg_n: Some(pk * 450.0 * f),
+                        max_overlap_fraction: None,
                     });
                 }
             }

@@ -181,6 +181,14 @@ pub fn section(
         total_time
     );
     md += &t.markdown().replacen("## Table 2", "### Table 2", 1);
+    // Where ours disagrees, the most likely cause (not for the quick mode's toy runs).
+    let why = if quick {
+        vec![]
+    } else {
+        crate::table2_why::findings(&records, &t, &paper, plan.specimen.grain_size * 1e3)
+    };
+    md += "\n";
+    md += &crate::table2_why::markdown(&why);
     if !not_run.is_empty() {
         md += &format!(
             "\n**Not run yet** ({} of the plan's {} runs; a later call without \
@@ -215,6 +223,7 @@ pub fn section(
             ("table2.json".into(), json(&t)),
             ("table2_runs.json".into(), json(&runs)),
             ("table2_not_run.json".into(), json(&not_run)),
+            ("table2_why.json".into(), json(&why)),
         ],
     };
     Ok((section, scale))
