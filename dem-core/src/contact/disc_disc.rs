@@ -9,7 +9,7 @@
 //! thread count. Energies are summed in pair order within fixed chunks of [`CHUNK`] discs and
 //! the chunk sums added in chunk order.
 
-use super::kernel::{Ctx, LinearGamma, LinearRatio, PairLaw, Scratch};
+use super::kernel::{Acc4, Ctx, LinearGamma, LinearRatio, Packed, PairLaw, Scratch};
 use super::owned::{self, ListRef, Outs, Plan};
 use super::{ContactLaws, ContactModel, NormalDamping};
 use crate::neighbors::{MinImage, Neighbors};
@@ -87,6 +87,12 @@ pub struct Slots {
     pub chunk_energy: Vec<PassEnergy>,
     /// The split of the discs between threads.
     pub plan: Plan,
+    /// Packed disc records of the AVX2 gather and force accumulators of the AVX2 scatter
+    /// (see [`super::owned`]), rebuilt at every pass.
+    pub packed: Vec<Packed>,
+    pub acc: Vec<Acc4>,
+    /// Take the portable gather and scatter even when the CPU has AVX2 (tests).
+    pub portable: bool,
 }
 
 /// Whether the list is consistent with `n` discs (checked before unchecked indexing).
