@@ -126,8 +126,9 @@ fn valid(d: &Discs, nb: &Neighbors, minv: &[f64]) -> bool {
                 && nb.start.windows(2).all(|w| w[0] <= w[1])))
 }
 
-/// Compute disc–disc contact forces, adding them to `d.fx, d.fy, d.torque` (which the caller
-/// has cleared). Returns the pass energies (zero unless `track_energy`). `dashpots` (only with
+/// Compute disc–disc contact forces into `d.fx, d.fy, d.torque` (their previous content is
+/// replaced: the pass clears them or, on the AVX2 path, overwrites them with its
+/// accumulators, which start at +0.0, so the caller need not clear them). Returns the pass energies (zero unless `track_energy`). `dashpots` (only with
 /// `track_energy`): sum the dashpot forces per disc into `slots.dashpot` for the integration
 /// pass; the caller passes `false` when no law has a dashpot
 /// ([`ContactLaws::has_dashpots`]), and the sums are then neither reset nor filled.

@@ -17,8 +17,8 @@
 //! [f_x, f_y, torque, ·] (32 bytes): one vector addition per pair for j and a vector running
 //! sum for i, instead of three scalar read-modify-writes and three scalar sums. Lane by lane
 //! these are the additions of the portable scatter, in the same order; the accumulators start
-//! at +0.0 like the cleared force arrays, so copying them into `fx, fy, tq` at the end of each
-//! range gives the same bits (signed zeros included). Shared discs are untouched in the
+//! at +0.0 like the force arrays on the portable path (which [`pass`] clears), so copying them
+//! into `fx, fy, tq` at the end of each range gives the same bits (signed zeros included). Shared discs are untouched in the
 //! accumulators (+0.0 copied) and get their sums in the second pass as before.
 
 use super::disc_disc::{PassEnergy, Slots, CHUNK};
@@ -423,8 +423,9 @@ fn range_pass<const E: bool, const D: bool, const SPLIT: bool, L: PairLaw>(
 }
 
 /// Copy the accumulators `ds.f` to `ds.fx, ds.fy, ds.tq` (AVX2: four discs at a time,
-/// transposed in registers). They started at +0.0, as `fx, fy, tq` (cleared by the caller
-/// of the pass), and received the same additions: copying them gives the same bits.
+/// transposed in registers). They started at +0.0 (cleared by `pack`), as `fx, fy, tq` do on
+/// the portable path (cleared by [`pass`]), and received the same additions: copying them
+/// gives the same bits.
 ///
 /// # Safety
 /// The CPU must support AVX2.
@@ -508,7 +509,8 @@ pub(crate) struct Outs<'a> {
 
 /// Run the pass over `ranges` ranges (1: the one-thread pass, no rayon). `c.start`, `c.nbr`
 /// are those of `nb`; `us`, `mr` its history arrays. Returns the energies. `E`, `D`: see
-/// [`range_pass`]. (Kept out of line: inlined into its caller it compiles to slower code.)
+/// [`range_pass`]. The forces `outs.fx, fy, tq` are replaced (the portable path clears them
+/// first; the AVX2 path copies its accumulators, cleared by `pack`, into every disc). (Kept out of line: inlined into its caller it compiles to slower code.)
 #[inline(never)]
 pub(crate) fn pass<const E: bool, const D: bool, L: PairLaw>(
     c: &Ctx<L>,
@@ -549,6 +551,11 @@ pub(crate) fn pass<const E: bool, const D: bool, L: PairLaw>(
         (&[], &mut [])
     };
     let Outs { fx, fy, tq, dash } = outs;
+    if !aos {
+        for v in [&mut *fx, &mut *fy, &mut *tq] {
+            v.fill(0.0);
+        }
+    }
     let [dfx, dfy, dtq] = dash;
     if ranges <= 1 || n == 0 {
         let ds = DiscSide {
