@@ -127,7 +127,7 @@ impl World {
         let dash = track && self.laws.has_dashpots();
         let dt = self.dt;
         let img = MinImage::new(&self.state.periodic);
-        self.state.discs.clear_forces();
+        // (The contact pass replaces the forces: no clearing needed.)
         let mut e = disc_disc::compute(
             &mut self.state.discs,
             &mut self.nb,

@@ -9,7 +9,7 @@
 //! thread count. Energies are summed in pair order within fixed chunks of [`CHUNK`] discs and
 //! the chunk sums added in chunk order.
 
-use super::kernel::{Ctx, LinearGamma, LinearRatio, PairLaw, Scratch};
+use super::kernel::{Acc4, Ctx, LinearGamma, LinearRatio, Packed, PairLaw, Scratch};
 use super::owned::{self, ListRef, Outs, Plan};
 use super::{ContactLaws, ContactModel, NormalDamping};
 use crate::neighbors::{MinImage, Neighbors};
@@ -87,6 +87,12 @@ pub struct Slots {
     pub chunk_energy: Vec<PassEnergy>,
     /// The split of the discs between threads.
     pub plan: Plan,
+    /// Packed disc records of the AVX2 gather and force accumulators of the AVX2 scatter
+    /// (see [`super::owned`]), rebuilt at every pass.
+    pub packed: Vec<Packed>,
+    pub acc: Vec<Acc4>,
+    /// Take the portable gather and scatter even when the CPU has AVX2 (tests).
+    pub portable: bool,
 }
 
 /// Whether the list is consistent with `n` discs (checked before unchecked indexing).
@@ -120,8 +126,9 @@ fn valid(d: &Discs, nb: &Neighbors, minv: &[f64]) -> bool {
                 && nb.start.windows(2).all(|w| w[0] <= w[1])))
 }
 
-/// Compute disc–disc contact forces, adding them to `d.fx, d.fy, d.torque` (which the caller
-/// has cleared). Returns the pass energies (zero unless `track_energy`). `dashpots` (only with
+/// Compute disc–disc contact forces into `d.fx, d.fy, d.torque` (their previous content is
+/// replaced: the pass clears them or, on the AVX2 path, overwrites them with its
+/// accumulators, which start at +0.0, so the caller need not clear them). Returns the pass energies (zero unless `track_energy`). `dashpots` (only with
 /// `track_energy`): sum the dashpot forces per disc into `slots.dashpot` for the integration
 /// pass; the caller passes `false` when no law has a dashpot
 /// ([`ContactLaws::has_dashpots`]), and the sums are then neither reset nor filled.

@@ -3,6 +3,12 @@
 //! branch-free loop evaluates the law over the whole block (compiled twice: baseline and AVX2,
 //! chosen at run time; only correctly rounded IEEE operations and no FMA contraction are used,
 //! so both give the same bits), and the caller scatters the forces.
+//!
+//! With AVX2 the gather reads packed per-disc records ([`Packed`], 64 bytes: [x, y, v_x, v_y]
+//! and [ω, r, 1/m, 0]) built once per pass by `pack`: a pair costs two aligned vector
+//! loads per disc and one vector subtraction, and 4×4 transposes in registers fill the SoA
+//! scratch of four pairs at once (`gather_aos`). The values are copies or the same single
+//! IEEE operations as the scalar gather's, so the scratch holds the same bits.
 
 use super::disc_disc::PassEnergy;
 use super::{ContactLaws, HertzMindlin, LinearSpringDashpot, PairKin, PairOut};
@@ -230,9 +236,23 @@ fn gather<L: PairLaw, const G0: bool>(
     mr: &[f64],
     s: &mut Scratch,
 ) {
-    assert!(q <= BLOCK && mr.len() == q);
-    let (mut p, end) = (p0, p0 + q);
-    let mut k = 0;
+    gather_from::<L, G0>(c, p0, q, 0, gi, mr, s)
+}
+
+/// [`gather`] of the block's entries k0..q only (pairs p0 + k0..p0 + q).
+#[inline(always)]
+fn gather_from<L: PairLaw, const G0: bool>(
+    c: &Ctx<L>,
+    p0: usize,
+    q: usize,
+    k0: usize,
+    gi: &mut usize,
+    mr: &[f64],
+    s: &mut Scratch,
+) {
+    assert!(q <= BLOCK && mr.len() == q && k0 <= q);
+    let (mut p, end) = (p0 + k0, p0 + q);
+    let mut k = k0;
     while p < end {
         while at!(c.start, *gi + 1) as usize <= p {
             *gi += 1;
@@ -269,6 +289,176 @@ fn gather<L: PairLaw, const G0: bool>(
         }
     }
     // Entries q..BLOCK keep stale but finite data (or zeros) and are ignored.
+}
+
+/// One disc's data packed for the AVX2 gather (`gather_aos`): `a` = [x, y, v_x, v_y],
+/// `b` = [ω, r, 1/m, 0] (the inverse contact mass), 64 bytes, one cache line. Built once per
+/// force pass by `pack` from the SoA disc arrays (plain copies: the same bits).
+#[derive(Clone, Copy, Debug, Default)]
+#[repr(C, align(64))]
+pub struct Packed {
+    a: [f64; 4],
+    b: [f64; 4],
+}
+
+/// One disc's force accumulator of the AVX2 scatter: [f_x, f_y, torque, unused] (32 bytes,
+/// see [`super::owned`]).
+#[derive(Clone, Copy, Debug, Default)]
+#[repr(C, align(32))]
+pub struct Acc4(pub(crate) [f64; 4]);
+
+/// Pack discs `lo..lo + pk.len()` into `pk` and clear their accumulators `f` to +0.0
+/// (AVX2: four discs at a time, 4×4 transposes in registers; plain copies).
+///
+/// # Safety
+/// The CPU must support AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+pub(crate) unsafe fn pack<L: PairLaw>(c: &Ctx<L>, lo: usize, pk: &mut [Packed], f: &mut [Acc4]) {
+    use std::arch::x86_64::*;
+    let n = pk.len();
+    assert!(f.len() == n && lo + n < c.start.len());
+    let (dst, zero) = (pk.as_mut_ptr(), _mm256_setzero_pd());
+    let mut k = 0;
+    while k + 4 <= n {
+        let i = lo + k;
+        // SAFETY: i + 4 <= lo + n <= n_discs, the length of every disc array (`valid`);
+        // k + 4 <= n = pk.len() = f.len(); the records are 64- and 32-byte aligned.
+        let ld = |a: &[f64]| _mm256_loadu_pd(a.as_ptr().add(i));
+        let quad = |r0, r1, r2, r3| {
+            let t0 = _mm256_unpacklo_pd(r0, r1); // r0[0] r1[0] r0[2] r1[2]
+            let t1 = _mm256_unpackhi_pd(r0, r1);
+            let t2 = _mm256_unpacklo_pd(r2, r3);
+            let t3 = _mm256_unpackhi_pd(r2, r3);
+            [
+                _mm256_permute2f128_pd(t0, t2, 0x20),
+                _mm256_permute2f128_pd(t1, t3, 0x20),
+                _mm256_permute2f128_pd(t0, t2, 0x31),
+                _mm256_permute2f128_pd(t1, t3, 0x31),
+            ]
+        };
+        let a = quad(ld(c.x), ld(c.y), ld(c.vx), ld(c.vy));
+        let b = quad(ld(c.w), ld(c.r), ld(c.minv), zero);
+        for l in 0..4 {
+            let d = dst.add(k + l);
+            _mm256_store_pd((*d).a.as_mut_ptr(), a[l]);
+            _mm256_store_pd((*d).b.as_mut_ptr(), b[l]);
+            // Volatile: else the compiler turns these stores into a call of `memset`, a
+            // second pass over the accumulators.
+            std::ptr::write_volatile(f.as_mut_ptr().add(k + l) as *mut __m256d, zero);
+        }
+        k += 4;
+    }
+    for k in k..n {
+        let i = lo + k;
+        pk[k] = Packed {
+            a: [at!(c.x, i), at!(c.y, i), at!(c.vx, i), at!(c.vy, i)],
+            b: [at!(c.w, i), at!(c.r, i), at!(c.minv, i), 0.0],
+        };
+        f[k] = Acc4([0.0; 4]);
+    }
+}
+
+/// [`gather`] from the packed records (AVX2): for four pairs at a time, the two records of
+/// each partner j and of its disc i are loaded as vectors, [x, y, v_x, v_y]_j − [..]_i is
+/// one lane-wise subtraction (the same IEEE operations as the scalar x_j − x_i, ...), and
+/// 4×4 transposes in registers turn the four per-pair rows into the SoA columns of the
+/// scratch that [`eval`] vectorises over: d_x, d_y, Δv_x, Δv_y, ω_i, ω_j, r_i, r_j and
+/// 1/m_i + 1/m_j (the same sum as the scalar gather's, in the same operand order). The
+/// q mod 4 last pairs take the scalar gather. Every scratch entry thus has the bits the
+/// portable [`gather`] writes.
+///
+/// # Safety
+/// The CPU must support AVX2; `pk` must hold the packed record of every disc (`pk.len() + 1
+/// == c.start.len()`) and the list must be valid (see [`at`]).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn gather_aos<L: PairLaw, const G0: bool>(
+    c: &Ctx<L>,
+    pk: &[Packed],
+    p0: usize,
+    q: usize,
+    gi: &mut usize,
+    mr: &[f64],
+    s: &mut Scratch,
+) {
+    use std::arch::x86_64::*;
+    assert!(q <= BLOCK && mr.len() == q);
+    let base = pk.as_ptr();
+    // SAFETY (all record loads): every disc index comes from the valid list (< n =
+    // pk.len()) and the records are 64-byte aligned, so both 32-byte halves are aligned.
+    let ld_a = |k: usize| _mm256_load_pd((*base.add(k)).a.as_ptr());
+    let ld_b = |k: usize| _mm256_load_pd((*base.add(k)).b.as_ptr());
+    let mut k = 0;
+    // The disc of the current pair and its end in the list.
+    let mut i = *gi;
+    let mut next = at!(c.start, i + 1) as usize;
+    while k + 4 <= q {
+        let p = p0 + k;
+        let mut ii = [0usize; 4];
+        let mut jj = [0usize; 4];
+        for l in 0..4 {
+            while next <= p + l {
+                i += 1;
+                next = at!(c.start, i + 1) as usize;
+            }
+            ii[l] = i;
+            jj[l] = at!(c.nbr, p + l) as usize;
+        }
+        // Rows [dx, dy, dvx, dvy] of the four pairs, then columns.
+        let d0 = _mm256_sub_pd(ld_a(jj[0]), ld_a(ii[0]));
+        let d1 = _mm256_sub_pd(ld_a(jj[1]), ld_a(ii[1]));
+        let d2 = _mm256_sub_pd(ld_a(jj[2]), ld_a(ii[2]));
+        let d3 = _mm256_sub_pd(ld_a(jj[3]), ld_a(ii[3]));
+        let t0 = _mm256_unpacklo_pd(d0, d1); // dx0 dx1 dvx0 dvx1
+        let t1 = _mm256_unpackhi_pd(d0, d1); // dy0 dy1 dvy0 dvy1
+        let t2 = _mm256_unpacklo_pd(d2, d3);
+        let t3 = _mm256_unpackhi_pd(d2, d3);
+        // SAFETY (scratch stores): k + 4 <= q <= BLOCK.
+        let st = |a: &mut [f64; BLOCK], v| _mm256_storeu_pd(a.as_mut_ptr().add(k), v);
+        st(&mut s.dx, _mm256_permute2f128_pd(t0, t2, 0x20));
+        st(&mut s.dvx, _mm256_permute2f128_pd(t0, t2, 0x31));
+        st(&mut s.dy, _mm256_permute2f128_pd(t1, t3, 0x20));
+        st(&mut s.dvy, _mm256_permute2f128_pd(t1, t3, 0x31));
+        // [ω, r, 1/m, 0] of the four i and of the four j, as columns (ω, r, 1/m).
+        let cols = |b0, b1, b2, b3| {
+            let u0 = _mm256_unpacklo_pd(b0, b1); // w0 w1 m0 m1
+            let u1 = _mm256_unpackhi_pd(b0, b1); // r0 r1 0 0
+            let u2 = _mm256_unpacklo_pd(b2, b3);
+            let u3 = _mm256_unpackhi_pd(b2, b3);
+            (
+                _mm256_permute2f128_pd(u0, u2, 0x20),
+                _mm256_permute2f128_pd(u1, u3, 0x20),
+                _mm256_permute2f128_pd(u0, u2, 0x31),
+            )
+        };
+        let (wi, ri, mi) = cols(ld_b(ii[0]), ld_b(ii[1]), ld_b(ii[2]), ld_b(ii[3]));
+        let (wj, rj, mj) = cols(ld_b(jj[0]), ld_b(jj[1]), ld_b(jj[2]), ld_b(jj[3]));
+        st(&mut s.wi, wi);
+        st(&mut s.wj, wj);
+        st(&mut s.ri, ri);
+        st(&mut s.rj, rj);
+        st(&mut s.ms, _mm256_add_pd(mi, mj));
+        if G0 {
+            // (r_i + r_j) + g₀, as the scalar gather. SAFETY: p + 4 <= p0 + q <= np.
+            let g = _mm256_loadu_pd(c.g0.as_ptr().add(p));
+            st(&mut s.reach, _mm256_add_pd(_mm256_add_pd(ri, rj), g));
+        }
+        for l in 0..4 {
+            if L::ROLLING {
+                s.mr[k + l] = at!(mr, k + l);
+            }
+            if L::MATERIAL {
+                s.mi[k + l] = at!(c.mat, ii[l]);
+                s.mj[k + l] = at!(c.mat, jj[l]);
+            }
+        }
+        k += 4;
+    }
+    *gi = i;
+    if k < q {
+        gather_from::<L, G0>(c, p0, q, k, gi, mr, s);
+    }
 }
 
 /// Evaluate the law for all BLOCK entries (branch-free, fixed trip count: vectorisable).
@@ -404,11 +594,13 @@ pub(crate) fn has_avx2() -> bool {
 /// Evaluate pairs p0..p0+q: gather, evaluate, write the rolling history back and add the
 /// energies in pair order. Forces stay in the scratch [..q]; the tangential histories `us`
 /// (the q pairs' slots) are updated in place (a full block directly, a partial one through
-/// the scratch).
+/// the scratch). `pk`: the packed disc records of this pass ([`pack`]; then the AVX2 gather
+/// [`gather_aos`] runs, which needs `avx2`) or empty (the portable gather).
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn block<const E: bool, const D: bool, L: PairLaw>(
     c: &Ctx<L>,
+    pk: &[Packed],
     p0: usize,
     gi: &mut usize,
     us: &mut [f64],
@@ -419,10 +611,24 @@ pub(crate) fn block<const E: bool, const D: bool, L: PairLaw>(
 ) {
     let q = us.len();
     let g0 = !c.g0.is_empty();
-    if g0 {
-        gather::<L, true>(c, p0, q, gi, mr, s);
-    } else {
-        gather::<L, false>(c, p0, q, gi, mr, s);
+    #[cfg(target_arch = "x86_64")]
+    if !pk.is_empty() {
+        assert!(avx2 && pk.len() + 1 == c.start.len());
+        // SAFETY: the CPU has AVX2 (`avx2`, see `has_avx2`); `pk` holds one record per disc.
+        unsafe {
+            if g0 {
+                gather_aos::<L, true>(c, pk, p0, q, gi, mr, s);
+            } else {
+                gather_aos::<L, false>(c, pk, p0, q, gi, mr, s);
+            }
+        }
+    }
+    if pk.is_empty() {
+        if g0 {
+            gather::<L, true>(c, p0, q, gi, mr, s);
+        } else {
+            gather::<L, false>(c, p0, q, gi, mr, s);
+        }
     }
     let run = |s: &mut Scratch, u: &mut [f64; BLOCK]| match (c.img.is_periodic(), g0) {
         (false, false) => eval_best::<E, D, false, false, L>(c, s, u, avx2),

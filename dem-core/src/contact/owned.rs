@@ -11,9 +11,18 @@
 //!
 //! Energies are summed in pair order per fixed chunk of [`CHUNK`] discs (ranges start at chunk
 //! boundaries when energy is tracked) and the chunk sums added in chunk order.
+//!
+//! With AVX2 the pass reads the discs through packed per-disc records ([`Packed`], built once
+//! per pass, see [`super::kernel`]) and scatters into per-disc accumulators [`Acc4`]
+//! [f_x, f_y, torque, ·] (32 bytes): one vector addition per pair for j and a vector running
+//! sum for i, instead of three scalar read-modify-writes and three scalar sums. Lane by lane
+//! these are the additions of the portable scatter, in the same order; the accumulators start
+//! at +0.0 like the force arrays on the portable path (which [`pass`] clears), so copying them
+//! into `fx, fy, tq` at the end of each range gives the same bits (signed zeros included). Shared discs are untouched in the
+//! accumulators (+0.0 copied) and get their sums in the second pass as before.
 
 use super::disc_disc::{PassEnergy, Slots, CHUNK};
-use super::kernel::{at, block, has_avx2, Ctx, PairLaw, Scratch, BLOCK};
+use super::kernel::{at, block, has_avx2, pack, Acc4, Ctx, Packed, PairLaw, Scratch, BLOCK};
 
 /// The parts of the neighbour list the split needs.
 pub(crate) struct ListRef<'a> {
@@ -82,6 +91,9 @@ struct DiscSide<'a> {
     fx: &'a mut [f64],
     fy: &'a mut [f64],
     tq: &'a mut [f64],
+    /// Force accumulators [f_x, f_y, torque, ·] of the AVX2 scatter (empty on the portable
+    /// path), +0.0 at the start of the pass and copied to `fx, fy, tq` at the end of the range.
+    f: &'a mut [Acc4],
     /// Dashpot sums (energy tracking only; else empty).
     dfx: &'a mut [f64],
     dfy: &'a mut [f64],
@@ -98,13 +110,259 @@ struct PairSide<'a> {
     slot: [&'a mut [f64]; 6],
 }
 
+/// The scatter of one range: its outputs and its running state.
+struct Sink<'a, 'b> {
+    /// The range's first disc and first pair.
+    lo: usize,
+    p0: usize,
+    shared: &'b [bool],
+    /// The disc whose own pairs are being summed, and the sums: `a` = (f_x, f_y, torque, ·)
+    /// (the forces on i are minus those on j), `b` = the dashpot parts (only with `D`).
+    i: usize,
+    a: [f64; 4],
+    b: [f64; 3],
+    ds: DiscSide<'a>,
+    slot: [&'a mut [f64]; 6],
+}
+
+impl Sink<'_, '_> {
+    #[inline(always)]
+    fn is_shared<const SPLIT: bool>(&self, k: usize) -> bool {
+        SPLIT && at!(self.shared, k)
+    }
+
+    /// Disc i has all its own pairs: add their sums to it (or, shared, keep them for the
+    /// second pass) and go on to disc i + 1. `aos`: the forces go to the accumulators `f`
+    /// (lane-wise, the same additions as to `fx, fy, tq`).
+    #[inline(always)]
+    fn flush<const D: bool, const SPLIT: bool>(&mut self, aos: bool) {
+        let li = self.i - self.lo;
+        let shared = self.is_shared::<SPLIT>(self.i);
+        let (a, b, ds) = (self.a, self.b, &mut self.ds);
+        if shared {
+            ds.own[0][li] = a[0];
+            ds.own[1][li] = a[1];
+            ds.own[2][li] = a[2];
+            if D {
+                ds.own[3][li] = b[0];
+                ds.own[4][li] = b[1];
+                ds.own[5][li] = b[2];
+            }
+        } else {
+            if aos {
+                let f = &mut ds.f[li].0;
+                for l in 0..4 {
+                    f[l] += a[l];
+                }
+            } else {
+                ds.fx[li] += a[0];
+                ds.fy[li] += a[1];
+                ds.tq[li] += a[2];
+            }
+            if D {
+                ds.dfx[li] += b[0];
+                ds.dfy[li] += b[1];
+                ds.dtq[li] += b[2];
+            }
+        }
+        self.a = [0.0; 4];
+        self.b = [0.0; 3];
+        self.i += 1;
+    }
+
+    /// Scatter the forces of pairs p..p+q (scratch entries 0..q) in list order (portable).
+    #[inline(always)]
+    fn scatter<const D: bool, const SPLIT: bool, L: PairLaw>(
+        &mut self,
+        c: &Ctx<L>,
+        p: usize,
+        q: usize,
+        sc: &Scratch,
+    ) {
+        let (mut ax, mut ay, mut at) = (self.a[0], self.a[1], self.a[2]);
+        let (mut bx, mut by, mut bt) = (self.b[0], self.b[1], self.b[2]);
+        for k in 0..q {
+            let pp = p + k;
+            while at!(c.start, self.i + 1) as usize <= pp {
+                self.a = [ax, ay, at, 0.0];
+                self.b = [bx, by, bt];
+                self.flush::<D, SPLIT>(false);
+                (ax, ay, at) = (0.0, 0.0, 0.0);
+                (bx, by, bt) = (0.0, 0.0, 0.0);
+            }
+            // Pairs not in contact add zeros, as every other path does.
+            let (f0, f1, f2, f3) = (sc.fx[k], sc.fy[k], sc.ti[k], sc.tj[k]);
+            ax -= f0;
+            ay -= f1;
+            at += f2;
+            let j = at!(c.nbr, pp) as usize;
+            let lp = pp - self.p0;
+            if D {
+                bx -= sc.dfx[k];
+                by -= sc.dfy[k];
+                bt += sc.dti[k];
+            }
+            if SPLIT && at!(self.shared, j) {
+                let [sfx, sfy, stj, sdx, sdy, sdt] = &mut self.slot;
+                sfx[lp] = f0;
+                sfy[lp] = f1;
+                stj[lp] = f3;
+                if D {
+                    sdx[lp] = sc.dfx[k];
+                    sdy[lp] = sc.dfy[k];
+                    sdt[lp] = sc.dtj[k];
+                }
+            } else {
+                let lj = j - self.lo;
+                let ds = &mut self.ds;
+                // SAFETY: j is not shared, so lo <= i < j < hi (see `Plan::update`;
+                // one range: lo = 0, hi = n), and the disc slices have length hi - lo.
+                unsafe {
+                    *ds.fx.get_unchecked_mut(lj) += f0;
+                    *ds.fy.get_unchecked_mut(lj) += f1;
+                    *ds.tq.get_unchecked_mut(lj) += f3;
+                }
+                if D {
+                    ds.dfx[lj] += sc.dfx[k];
+                    ds.dfy[lj] += sc.dfy[k];
+                    ds.dtq[lj] += sc.dtj[k];
+                }
+            }
+        }
+        self.a = [ax, ay, at, 0.0];
+        self.b = [bx, by, bt];
+    }
+
+    /// [`Sink::scatter`] into the force accumulators `f` (AVX2). Four pairs' forces are
+    /// transposed in registers into the records (f_x, f_y, t_j, 0) for j, added to `f[j]`
+    /// with one vector addition, and (f_x, f_y, −t_i, 0) for i, subtracted from the running
+    /// sum (ax − f_x, ay − f_y, at − (−t_i) = at + t_i exactly, lane 3 unused): per lane the
+    /// same IEEE additions in the same order as the portable scatter.
+    ///
+    /// # Safety
+    /// The CPU must support AVX2; `f` must have the length of the range and the list must be
+    /// valid (see [`at`]).
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn scatter_aos<const D: bool, const SPLIT: bool, L: PairLaw>(
+        &mut self,
+        c: &Ctx<L>,
+        p: usize,
+        q: usize,
+        sc: &Scratch,
+    ) {
+        use std::arch::x86_64::*;
+        assert!(q <= BLOCK);
+        // One range: lo = 0 (known here, so no offset per pair).
+        let lo = if SPLIT { self.lo } else { 0 };
+        // Accumulator of disc k at fb + 4 k (k in lo..hi; only such addresses are accessed).
+        let fb = (self.ds.f.as_mut_ptr() as *mut f64).wrapping_sub(4 * lo);
+        let mut i = self.i;
+        let mut next = at!(c.start, i + 1) as usize;
+        let mut acc = _mm256_loadu_pd(self.a.as_ptr());
+        let zero = _mm256_setzero_pd();
+        let sign = _mm256_set1_pd(-0.0);
+        // One pair: finish the discs before it, then add its forces.
+        let mut pair = |k: usize, vi: __m256d, vj: __m256d| {
+            let pp = p + k;
+            while pp >= next {
+                if D || (SPLIT && at!(self.shared, i)) {
+                    self.i = i;
+                    _mm256_storeu_pd(self.a.as_mut_ptr(), acc);
+                    self.flush::<D, SPLIT>(true);
+                } else {
+                    // The flush's f[i] += a, as one vector addition. SAFETY: lo <= i < hi
+                    // (the range's discs), f[i - lo] is in bounds and 32-byte aligned.
+                    let fi = fb.add(4 * i);
+                    _mm256_store_pd(fi, _mm256_add_pd(_mm256_load_pd(fi), acc));
+                }
+                acc = zero;
+                i += 1;
+                next = at!(c.start, i + 1) as usize;
+            }
+            acc = _mm256_sub_pd(acc, vi);
+            if D {
+                self.b[0] -= sc.dfx[k];
+                self.b[1] -= sc.dfy[k];
+                self.b[2] += sc.dti[k];
+            }
+            let j = at!(c.nbr, pp) as usize;
+            if SPLIT && at!(self.shared, j) {
+                let lp = pp - self.p0;
+                let [sfx, sfy, stj, sdx, sdy, sdt] = &mut self.slot;
+                sfx[lp] = sc.fx[k];
+                sfy[lp] = sc.fy[k];
+                stj[lp] = sc.tj[k];
+                if D {
+                    sdx[lp] = sc.dfx[k];
+                    sdy[lp] = sc.dfy[k];
+                    sdt[lp] = sc.dtj[k];
+                }
+            } else {
+                // SAFETY: j is not shared, so lo <= i < j < hi (see `Plan::update`; one
+                // range: lo = 0, hi = n): f[j - lo] is in bounds and 32-byte aligned.
+                let fj = fb.add(4 * j);
+                _mm256_store_pd(fj, _mm256_add_pd(_mm256_load_pd(fj), vj));
+                if D {
+                    let (ds, lj) = (&mut self.ds, j - lo);
+                    ds.dfx[lj] += sc.dfx[k];
+                    ds.dfy[lj] += sc.dfy[k];
+                    ds.dtq[lj] += sc.dtj[k];
+                }
+            }
+        };
+        let mut g = 0;
+        while g < q {
+            // SAFETY: g + 4 <= BLOCK (a multiple of 4); entries q..BLOCK are stale but
+            // finite, and not used.
+            let ld = |a: &[f64; BLOCK]| _mm256_loadu_pd(a.as_ptr().add(g));
+            let (fx, fy) = (ld(&sc.fx), ld(&sc.fy));
+            let nti = _mm256_xor_pd(ld(&sc.ti), sign);
+            let tj = ld(&sc.tj);
+            let xy_lo = _mm256_unpacklo_pd(fx, fy); // fx0 fy0 fx2 fy2
+            let xy_hi = _mm256_unpackhi_pd(fx, fy); // fx1 fy1 fx3 fy3
+            let ti_lo = _mm256_unpacklo_pd(nti, zero); // -ti0 0 -ti2 0
+            let ti_hi = _mm256_unpackhi_pd(nti, zero);
+            let tj_lo = _mm256_unpacklo_pd(tj, zero);
+            let tj_hi = _mm256_unpackhi_pd(tj, zero);
+            let vi = [
+                _mm256_permute2f128_pd(xy_lo, ti_lo, 0x20),
+                _mm256_permute2f128_pd(xy_hi, ti_hi, 0x20),
+                _mm256_permute2f128_pd(xy_lo, ti_lo, 0x31),
+                _mm256_permute2f128_pd(xy_hi, ti_hi, 0x31),
+            ];
+            let vj = [
+                _mm256_permute2f128_pd(xy_lo, tj_lo, 0x20),
+                _mm256_permute2f128_pd(xy_hi, tj_hi, 0x20),
+                _mm256_permute2f128_pd(xy_lo, tj_lo, 0x31),
+                _mm256_permute2f128_pd(xy_hi, tj_hi, 0x31),
+            ];
+            if g + 4 <= q {
+                for l in 0..4 {
+                    pair(g + l, vi[l], vj[l]);
+                }
+            } else {
+                for l in 0..q - g {
+                    pair(g + l, vi[l], vj[l]);
+                }
+            }
+            g += 4;
+        }
+        self.i = i;
+        _mm256_storeu_pd(self.a.as_mut_ptr(), acc);
+    }
+}
+
 /// One range of discs `[lo, hi)`: compute its pairs and scatter (see the module doc).
 /// `SPLIT`: there may be shared discs (else the plain one-thread pass). `E`: energies are
 /// tracked; `D` (only with `E`): the dashpot forces are summed per disc as well (see
-/// [`super::disc_disc::compute`]: not needed when no law has a dashpot).
+/// [`super::disc_disc::compute`]: not needed when no law has a dashpot). `pk`: the packed
+/// disc records (then `ds.f` has the range's accumulators and the AVX2 gather and scatter
+/// run, which need `avx2`) or empty (portable gather and scatter).
 #[allow(clippy::too_many_arguments)]
 fn range_pass<const E: bool, const D: bool, const SPLIT: bool, L: PairLaw>(
     c: &Ctx<L>,
+    pk: &[Packed],
     shared: &[bool],
     lo: usize,
     hi: usize,
@@ -114,23 +372,20 @@ fn range_pass<const E: bool, const D: bool, const SPLIT: bool, L: PairLaw>(
     sc: &mut Scratch,
     avx2: bool,
 ) {
+    let aos = !pk.is_empty();
+    assert!(!aos || (avx2 && ds.f.len() == hi - lo));
     let p0 = at!(c.start, lo) as usize;
-    let DiscSide {
-        fx,
-        fy,
-        tq,
-        dfx,
-        dfy,
-        dtq,
-        own,
-    } = ds;
     let PairSide { us, mr, slot } = ps;
-    let [ofx, ofy, otq, odx, ody, odt] = own;
-    let [sfx, sfy, stj, sdx, sdy, sdt] = slot;
-    let is_shared = |k: usize| SPLIT && at!(shared, k);
-    let mut i = lo;
-    let (mut ax, mut ay, mut at) = (0.0, 0.0, 0.0);
-    let (mut bx, mut by, mut bt) = (0.0, 0.0, 0.0);
+    let mut sink = Sink {
+        lo,
+        p0,
+        shared,
+        i: lo,
+        a: [0.0; 4],
+        b: [0.0; 3],
+        ds,
+        slot,
+    };
     let mut gi = lo;
     let mut clo = lo;
     while clo < hi {
@@ -141,102 +396,74 @@ fn range_pass<const E: bool, const D: bool, const SPLIT: bool, L: PairLaw>(
         while p < pend {
             let q = BLOCK.min(pend - p);
             let (u, m) = (&mut us[p - p0..p - p0 + q], &mut mr[p - p0..p - p0 + q]);
-            block::<E, D, L>(c, p, &mut gi, u, m, sc, &mut e, avx2);
-            for k in 0..q {
-                let pp = p + k;
-                while at!(c.start, i + 1) as usize <= pp {
-                    let li = i - lo;
-                    if is_shared(i) {
-                        ofx[li] = ax;
-                        ofy[li] = ay;
-                        otq[li] = at;
-                        if D {
-                            odx[li] = bx;
-                            ody[li] = by;
-                            odt[li] = bt;
-                        }
-                    } else {
-                        fx[li] += ax;
-                        fy[li] += ay;
-                        tq[li] += at;
-                        if D {
-                            dfx[li] += bx;
-                            dfy[li] += by;
-                            dtq[li] += bt;
-                        }
-                    }
-                    (ax, ay, at) = (0.0, 0.0, 0.0);
-                    (bx, by, bt) = (0.0, 0.0, 0.0);
-                    i += 1;
-                }
-                // Pairs not in contact add zeros, as every other path does.
-                let (f0, f1, f2, f3) = (sc.fx[k], sc.fy[k], sc.ti[k], sc.tj[k]);
-                ax -= f0;
-                ay -= f1;
-                at += f2;
-                let j = at!(c.nbr, pp) as usize;
-                let lp = pp - p0;
-                if D {
-                    bx -= sc.dfx[k];
-                    by -= sc.dfy[k];
-                    bt += sc.dti[k];
-                }
-                if is_shared(j) {
-                    sfx[lp] = f0;
-                    sfy[lp] = f1;
-                    stj[lp] = f3;
-                    if D {
-                        sdx[lp] = sc.dfx[k];
-                        sdy[lp] = sc.dfy[k];
-                        sdt[lp] = sc.dtj[k];
-                    }
-                } else {
-                    let lj = j - lo;
-                    // SAFETY: j is not shared, so lo <= i < j < hi (see `Plan::update`;
-                    // one range: lo = 0, hi = n), and the disc slices have length hi - lo.
-                    unsafe {
-                        *fx.get_unchecked_mut(lj) += f0;
-                        *fy.get_unchecked_mut(lj) += f1;
-                        *tq.get_unchecked_mut(lj) += f3;
-                    }
-                    if D {
-                        dfx[lj] += sc.dfx[k];
-                        dfy[lj] += sc.dfy[k];
-                        dtq[lj] += sc.dtj[k];
-                    }
-                }
+            block::<E, D, L>(c, pk, p, &mut gi, u, m, sc, &mut e, avx2);
+            #[cfg(target_arch = "x86_64")]
+            if aos {
+                // SAFETY: `aos` implies AVX2 (asserted above) and `f` of the range's length.
+                unsafe { sink.scatter_aos::<D, SPLIT, L>(c, p, q, sc) };
+            }
+            if !aos {
+                sink.scatter::<D, SPLIT, L>(c, p, q, sc);
             }
             p += q;
         }
-        while i < chi {
-            let li = i - lo;
-            if is_shared(i) {
-                ofx[li] = ax;
-                ofy[li] = ay;
-                otq[li] = at;
-                if D {
-                    odx[li] = bx;
-                    ody[li] = by;
-                    odt[li] = bt;
-                }
-            } else {
-                fx[li] += ax;
-                fy[li] += ay;
-                tq[li] += at;
-                if D {
-                    dfx[li] += bx;
-                    dfy[li] += by;
-                    dtq[li] += bt;
-                }
-            }
-            (ax, ay, at) = (0.0, 0.0, 0.0);
-            (bx, by, bt) = (0.0, 0.0, 0.0);
-            i += 1;
+        while sink.i < chi {
+            sink.flush::<D, SPLIT>(aos);
         }
         if E {
             energy[clo / CHUNK - lo / CHUNK] = e;
         }
         clo = chi;
+    }
+    #[cfg(target_arch = "x86_64")]
+    if aos {
+        // SAFETY: `aos` implies AVX2 (asserted above).
+        unsafe { copy_out(&mut sink.ds) };
+    }
+}
+
+/// Copy the accumulators `ds.f` to `ds.fx, ds.fy, ds.tq` (AVX2: four discs at a time,
+/// transposed in registers). They started at +0.0 (cleared by `pack`), as `fx, fy, tq` do on
+/// the portable path (cleared by [`pass`]), and received the same additions: copying them
+/// gives the same bits.
+///
+/// # Safety
+/// The CPU must support AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn copy_out(ds: &mut DiscSide) {
+    use std::arch::x86_64::*;
+    let n = ds.f.len();
+    assert!(ds.fx.len() == n && ds.fy.len() == n && ds.tq.len() == n);
+    let f = ds.f.as_ptr() as *const f64;
+    let mut k = 0;
+    while k + 4 <= n {
+        // SAFETY: k + 4 <= n: the four records and the stores are in bounds; the records
+        // are 32-byte aligned.
+        let r = |l: usize| _mm256_load_pd(f.add(4 * (k + l)));
+        let t0 = _mm256_unpacklo_pd(r(0), r(1)); // fx0 fx1 tq0 tq1
+        let t1 = _mm256_unpackhi_pd(r(0), r(1)); // fy0 fy1 · ·
+        let t2 = _mm256_unpacklo_pd(r(2), r(3));
+        let t3 = _mm256_unpackhi_pd(r(2), r(3));
+        _mm256_storeu_pd(
+            ds.fx.as_mut_ptr().add(k),
+            _mm256_permute2f128_pd(t0, t2, 0x20),
+        );
+        _mm256_storeu_pd(
+            ds.fy.as_mut_ptr().add(k),
+            _mm256_permute2f128_pd(t1, t3, 0x20),
+        );
+        _mm256_storeu_pd(
+            ds.tq.as_mut_ptr().add(k),
+            _mm256_permute2f128_pd(t0, t2, 0x31),
+        );
+        k += 4;
+    }
+    for k in k..n {
+        let a = ds.f[k].0;
+        ds.fx[k] = a[0];
+        ds.fy[k] = a[1];
+        ds.tq[k] = a[2];
     }
 }
 
@@ -246,19 +473,24 @@ thread_local! {
 }
 
 /// Raw pointer that may be shared across threads; each range touches disjoint index ranges.
-#[derive(Clone, Copy)]
-struct SyncPtr(*mut f64);
-unsafe impl Send for SyncPtr {}
-unsafe impl Sync for SyncPtr {}
+struct SyncPtr<T>(*mut T);
+impl<T> Clone for SyncPtr<T> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+impl<T> Copy for SyncPtr<T> {}
+unsafe impl<T> Send for SyncPtr<T> {}
+unsafe impl<T> Sync for SyncPtr<T> {}
 
-impl SyncPtr {
-    fn of(v: &mut [f64]) -> SyncPtr {
+impl<T> SyncPtr<T> {
+    fn of(v: &mut [T]) -> SyncPtr<T> {
         SyncPtr(v.as_mut_ptr())
     }
 
     /// # Safety
     /// `[a, a + len)` must be in bounds of the array and not aliased by any live reference.
-    unsafe fn slice<'a>(self, a: usize, len: usize) -> &'a mut [f64] {
+    unsafe fn slice<'a>(self, a: usize, len: usize) -> &'a mut [T] {
         if len == 0 {
             return &mut [];
         }
@@ -277,7 +509,8 @@ pub(crate) struct Outs<'a> {
 
 /// Run the pass over `ranges` ranges (1: the one-thread pass, no rayon). `c.start`, `c.nbr`
 /// are those of `nb`; `us`, `mr` its history arrays. Returns the energies. `E`, `D`: see
-/// [`range_pass`]. (Kept out of line: inlined into its caller it compiles to slower code.)
+/// [`range_pass`]. The forces `outs.fx, fy, tq` are replaced (the portable path clears them
+/// first; the AVX2 path copies its accumulators, cleared by `pack`, into every disc). (Kept out of line: inlined into its caller it compiles to slower code.)
 #[inline(never)]
 pub(crate) fn pass<const E: bool, const D: bool, L: PairLaw>(
     c: &Ctx<L>,
@@ -294,13 +527,42 @@ pub(crate) fn pass<const E: bool, const D: bool, L: PairLaw>(
     s.chunk_energy.clear();
     s.chunk_energy.resize(nchunks, PassEnergy::default());
     let avx2 = has_avx2();
+    // The packed gather and the accumulator scatter (AVX2; see `kernel::Packed`).
+    let aos = cfg!(target_arch = "x86_64") && avx2 && !s.portable && n > 0;
+    #[cfg(target_arch = "x86_64")]
+    if aos {
+        s.packed.resize(n, Packed::default());
+        s.acc.resize(n, Acc4::default());
+        // SAFETY (`pack`): `aos` implies AVX2.
+        if ranges <= 1 {
+            unsafe { pack(c, 0, &mut s.packed, &mut s.acc) };
+        } else {
+            const PACK: usize = 4096;
+            s.packed
+                .par_chunks_mut(PACK)
+                .zip(s.acc.par_chunks_mut(PACK))
+                .enumerate()
+                .for_each(|(k, (pk, f))| unsafe { pack(c, k * PACK, pk, f) });
+        }
+    }
+    let (pk, acc): (&[Packed], &mut [Acc4]) = if aos {
+        (&s.packed, &mut s.acc)
+    } else {
+        (&[], &mut [])
+    };
     let Outs { fx, fy, tq, dash } = outs;
+    if !aos {
+        for v in [&mut *fx, &mut *fy, &mut *tq] {
+            v.fill(0.0);
+        }
+    }
     let [dfx, dfy, dtq] = dash;
     if ranges <= 1 || n == 0 {
         let ds = DiscSide {
             fx,
             fy,
             tq,
+            f: acc,
             dfx,
             dfy,
             dtq,
@@ -312,7 +574,7 @@ pub(crate) fn pass<const E: bool, const D: bool, L: PairLaw>(
             slot: Default::default(),
         };
         let sc = &mut *s.scratch;
-        range_pass::<E, D, false, L>(c, &[], 0, n, ds, ps, &mut s.chunk_energy, sc, avx2);
+        range_pass::<E, D, false, L>(c, pk, &[], 0, n, ds, ps, &mut s.chunk_energy, sc, avx2);
     } else {
         let Slots {
             plan,
@@ -340,6 +602,7 @@ pub(crate) fn pass<const E: bool, const D: bool, L: PairLaw>(
             v.resize(if k < 3 { n } else { no }, 0.0);
         }
         let dp = [SyncPtr::of(fx), SyncPtr::of(fy), SyncPtr::of(tq)];
+        let ap = SyncPtr::of(acc);
         let ddp = [SyncPtr::of(dfx), SyncPtr::of(dfy), SyncPtr::of(dtq)];
         let op = own.each_mut().map(|v| SyncPtr::of(v));
         let pp = [SyncPtr::of(us), SyncPtr::of(mr)];
@@ -364,6 +627,7 @@ pub(crate) fn pass<const E: bool, const D: bool, L: PairLaw>(
                     fx: dp[0].slice(lo, nd),
                     fy: dp[1].slice(lo, nd),
                     tq: dp[2].slice(lo, nd),
+                    f: ap.slice(lo, if aos { nd } else { 0 }),
                     dfx: ddp[0].slice(lo, nde),
                     dfy: ddp[1].slice(lo, nde),
                     dtq: ddp[2].slice(lo, nde),
@@ -398,7 +662,7 @@ pub(crate) fn pass<const E: bool, const D: bool, L: PairLaw>(
             };
             SCRATCH.with(|sc| {
                 let sc = &mut sc.borrow_mut();
-                range_pass::<E, D, true, L>(c, shared, lo, hi, ds, ps, en, sc, avx2);
+                range_pass::<E, D, true, L>(c, pk, shared, lo, hi, ds, ps, en, sc, avx2);
             });
         });
         // Shared discs: partner-side slots in increasing pair order, then the own sum.
@@ -436,8 +700,89 @@ pub(crate) fn pass<const E: bool, const D: bool, L: PairLaw>(
 #[cfg(test)]
 mod tests {
     use crate::bond::bench::shaken_hex_lattice;
-    use crate::contact::{LinearSpringDashpot, NormalDamping};
+    use crate::contact::{LinearSpringDashpot, NormalDamping, RollingResistance};
     use crate::{ContactLaws, ContactModel, Params, World};
+
+    /// The packed gather and accumulator scatter (AVX2) give the bits of the portable gather
+    /// and scatter: forces, state, histories and energies, for 1 and 3 threads, with and
+    /// without energy tracking, with reference gaps and with a material table with rolling
+    /// resistance. (Without AVX2 both runs take the portable path.)
+    #[test]
+    fn packed_gather_and_scatter_give_the_portable_bits() {
+        let st = shaken_hex_lattice([24, 10], 17, 0.02, 20.0);
+        let law = LinearSpringDashpot {
+            kn: 1e5,
+            ks: 3e4,
+            damping: NormalDamping::Ratio(0.2),
+            shear_damping: 0.5,
+            mu: 0.3,
+        };
+        let mut table = ContactLaws::new(2, ContactModel::Linear(law));
+        table.set_rolling(0, 1, Some(RollingResistance::new(0.1)));
+        for (threads, track, offsets, laws) in [
+            (
+                1,
+                false,
+                false,
+                ContactLaws::uniform(ContactModel::Linear(law)),
+            ),
+            (
+                1,
+                true,
+                true,
+                ContactLaws::uniform(ContactModel::Linear(law)),
+            ),
+            (
+                3,
+                false,
+                true,
+                ContactLaws::uniform(ContactModel::Linear(law)),
+            ),
+            (3, true, false, table.clone()),
+            (1, true, false, table.clone()),
+        ] {
+            let run = |portable: bool| {
+                let pool = rayon::ThreadPoolBuilder::new()
+                    .num_threads(threads)
+                    .build()
+                    .expect("pool");
+                pool.install(|| {
+                    let mut st = st.clone();
+                    if laws.n_materials() > 1 {
+                        for k in (0..st.discs.len()).step_by(3) {
+                            st.discs.material[k] = 1;
+                        }
+                    }
+                    let params = Params {
+                        dt_fixed: Some(1e-7),
+                        skin: Some(1e-4),
+                        track_energy: track,
+                        ..Params::default()
+                    };
+                    let mut w = World::new(st, params, laws.clone());
+                    w.slots.portable = portable;
+                    if offsets {
+                        for k in 0..40 {
+                            w.set_contact_offset(k, k + 1, -1e-5);
+                        }
+                    }
+                    w.run(25);
+                    let d = &w.state.discs;
+                    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+                    (
+                        [
+                            &d.fx, &d.fy, &d.torque, &d.x, &d.vy, &d.omega, &w.nb.us, &w.nb.mr,
+                        ]
+                        .map(|v| bits(v)),
+                        format!("{:?}", w.energy()),
+                    )
+                })
+            };
+            let (a, b) = (run(false), run(true));
+            assert!(a.0[0].iter().any(|&b| f64::from_bits(b) != 0.0));
+            assert_eq!(a, b, "{threads} threads, track {track}, offsets {offsets}");
+        }
+    }
 
     /// The split pass gives the one-thread bits for 2, 3 and 5 ranges, with and without
     /// energy tracking, and really has shared discs to finish.
