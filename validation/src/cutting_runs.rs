@@ -372,6 +372,14 @@ pub fn run_jobs(
                         cpu_time_s: cpu,
                         peak_avg_n: averaged_peak(&dir, &res, job.specimen.grain_size),
                         max_overlap_fraction: res.run.max_overlap_fraction,
+                        broken_total: Some(res.broken_total),
+                        broken_intra_grain: Some(
+                            res.broken_bonds
+                                .iter()
+                                .filter(|b| b.group == "intra_grain")
+                                .map(|b| b.tension + b.shear)
+                                .sum(),
+                        ),
                     },
                     result_file: dir.join(cutting::RESULT_FILE).display().to_string(),
                     resumed,

@@ -79,6 +79,12 @@ pub struct RunRecord {
     /// `None` in results written before it was recorded.
     #[serde(default)]
     pub max_overlap_fraction: Option<f64>,
+    /// Bonds broken during the run: all, and those of the intra-grain group (improved ORC's
+    /// bonds inside grains; 0 for the other methods).
+    #[serde(default)]
+    pub broken_total: Option<u64>,
+    #[serde(default)]
+    pub broken_intra_grain: Option<u64>,
 }
 
 /// What the averaged peak ([`RunRecord::peak_avg_n`]) averages over. Our raw peak is the
@@ -526,6 +532,8 @@ mod tests {
                         cpu_time_s: None,
                         peak_avg_n: Some(pk * 450.0 * f),
                         max_overlap_fraction: None,
+                        broken_total: None,
+                        broken_intra_grain: None,
                     });
                 }
             }
