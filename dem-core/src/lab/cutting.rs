@@ -787,12 +787,7 @@ pub fn run_with(
         });
     }
     if ro.checkpoints > 0 {
-        for (_, p) in crate::output::driver::numbered_checkpoints(out_dir)? {
-            std::fs::remove_file(&p).map_err(|source| LabError::Io {
-                file: p.display().to_string(),
-                source,
-            })?;
-        }
+        crate::output::driver::prune_checkpoints(out_dir, 0)?;
     }
     let hist = lab.out_dir.join("history.csv");
     let (mut result, forces) = analyze(
@@ -805,13 +800,15 @@ pub fn run_with(
     result.run.history_every = every;
     result.run.threads = lab.summary.threads;
     let sm = &lab.summary;
-    let whole = sm.whole_run.unwrap_or(crate::output::summary::RunTotals {
-        invocations: 1,
-        wall_time_s: sm.wall_time_s,
-        cpu_time_s: sm.cpu_time_s,
-        dt_min: sm.dt_min,
-        dt_max: sm.dt_max,
-        max_overlap_fraction: sm.max_overlap_fraction,
+    // (The driver always records the totals; a summary without them is this invocation.)
+    let whole = sm.whole_run.unwrap_or_else(|| {
+        crate::output::summary::RunTotals::then(
+            None,
+            sm.wall_time_s,
+            sm.cpu_time_s,
+            [sm.dt_min, sm.dt_max],
+            sm.max_overlap_fraction,
+        )
     });
     result.run.wall_time_s = whole.wall_time_s;
     result.run.cpu_time_s = whole.cpu_time_s;

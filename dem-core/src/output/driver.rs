@@ -115,6 +115,22 @@ pub fn numbered_checkpoints(dir: &Path) -> Result<Vec<(u64, PathBuf)>, OutputErr
     Ok(found)
 }
 
+/// Deletes the numbered checkpoints in `dir` but the newest `keep` (0: all of them); returns
+/// the deleted paths.
+pub fn prune_checkpoints(dir: &Path, keep: usize) -> Result<Vec<PathBuf>, OutputError> {
+    let mut numbered = numbered_checkpoints(dir)?;
+    let old = numbered.len().saturating_sub(keep);
+    let mut gone = Vec::with_capacity(old);
+    for (_, p) in numbered.drain(..old) {
+        std::fs::remove_file(&p).map_err(|source| OutputError::Io {
+            file: p.display().to_string(),
+            source,
+        })?;
+        gone.push(p);
+    }
+    Ok(gone)
+}
+
 /// Whether `name` is a file the driver writes.
 fn is_output_name(name: &str) -> bool {
     let numbered = |pre: &str, ext: &str| {
@@ -513,13 +529,7 @@ impl Simulation {
         self.record(path);
         let keep = self.scene.outputs.checkpoint_keep as usize;
         if keep > 0 {
-            let mut numbered = numbered_checkpoints(&self.out)?;
-            let old = numbered.len().saturating_sub(keep);
-            for (_, p) in numbered.drain(..old) {
-                std::fs::remove_file(&p).map_err(|source| OutputError::Io {
-                    file: p.display().to_string(),
-                    source,
-                })?;
+            for p in prune_checkpoints(&self.out, keep)? {
                 if let Ok(rel) = p.strip_prefix(&self.out) {
                     self.files.remove(&rel.display().to_string());
                 }
