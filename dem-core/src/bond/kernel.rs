@@ -9,6 +9,7 @@
 //! all produce identical bits.
 
 use super::criteria::{stress_flags, BreakMode, Compiled, Criterion, Loads};
+use super::incidence::Incidence;
 use super::potyondy2004::{Kinematics, ParallelBondParams};
 use super::{contact_bond, potyondy2004, BondGroup, BondModel};
 use crate::state::Periodic;
@@ -133,7 +134,9 @@ pub(super) struct DiscOut<'a> {
 /// number of bonds broken now (marked [`NEW`] + mode). `avx2`: use the AVX2 build of the
 /// block loop (pass [`has_avx2`]; same results either way). `index_bound`: [`index_bound`] of
 /// `b.i`, `b.j` (cached by the store). `serial`: the work arrays of the one-thread path (kept
-/// by the store, so they are not re-zeroed every step).
+/// by the store, so they are not re-zeroed every step). `incidence`: the bonds by disc for
+/// the parallel path's per-disc sums (built here when missing or made for another disc count;
+/// the store resets it when bonds change).
 #[allow(clippy::too_many_arguments)]
 pub(super) fn run(
     c: &Ctx,
@@ -142,6 +145,7 @@ pub(super) fn run(
     out: DiscOut,
     scratch: &mut Vec<[f64; 4]>,
     serial: &mut SerialWork,
+    incidence: &mut Option<Incidence>,
     avx2: bool,
     index_bound: usize,
 ) -> usize {
@@ -207,9 +211,20 @@ pub(super) fn run(
             broke
         })
         .sum();
-    for (q, o) in scratch.iter().enumerate() {
-        if m.status[q] == INTACT {
-            scatter(fx, fy, tq, b.i[q] as usize, b.j[q] as usize, o);
+    if index_bound <= nd {
+        // The per-disc sums as a gather over discs, in parallel (same bits, see `incidence`).
+        if incidence.as_ref().is_none_or(|inc| inc.discs() != nd) {
+            *incidence = Some(Incidence::new(b.i, b.j, nd));
+        }
+        if let Some(inc) = incidence {
+            inc.gather(scratch, m.status, fx, fy, tq);
+        }
+    } else {
+        // An index out of range: the checked scatter reports it.
+        for (q, o) in scratch.iter().enumerate() {
+            if m.status[q] == INTACT {
+                scatter(fx, fy, tq, b.i[q] as usize, b.j[q] as usize, o);
+            }
         }
     }
     broke

@@ -9,7 +9,8 @@
 //! **Parallelism and determinism.** Each bond's new forces depend only on its own history and on
 //! the two discs' positions and velocities, so they are computed per bond (in parallel with rayon
 //! when there are many bonds and more than one thread) into per-bond slots; the per-disc sums are
-//! then done serially in bond-store order. With one thread the two passes are fused, doing the
+//! then gathered, in parallel over discs, each disc adding its bonds in bond-store order
+//! ([`incidence`]). With one thread the two passes are fused into a scatter in bond order, the
 //! same arithmetic in the same order. Results are bit-identical for any thread count.
 
 pub mod attach;
@@ -17,6 +18,7 @@ pub mod bench;
 pub mod breaks;
 pub mod contact_bond;
 pub mod criteria;
+mod incidence;
 pub mod install;
 mod kernel;
 pub mod potyondy2004;

@@ -22,6 +22,8 @@ struct Cache {
     /// whenever `i` or `j` change (`add`, `remap`), so the kernel's index check is not redone
     /// every step.
     index_bound: Option<usize>,
+    /// The bonds by disc, for the parallel per-disc sums; reset with `index_bound`.
+    incidence: Option<super::incidence::Incidence>,
     /// Per-bond stress parameters of parallel bonds (see [`kernel::StressParams`]); rebuilt
     /// when bonds are added or reordered.
     stress: Option<kernel::StressParams>,
@@ -258,6 +260,7 @@ impl Bonds {
         self.i.push(i as u32);
         self.j.push(j as u32);
         self.cache.index_bound = None;
+        self.cache.incidence = None;
         self.cache.stress = None;
         self.group.push(group);
         self.g0.push(install::gap(st, i, j));
@@ -401,6 +404,7 @@ impl Bonds {
             out,
             &mut self.cache.scratch,
             &mut self.cache.serial,
+            &mut self.cache.incidence,
             avx2,
             bound,
         );
@@ -491,6 +495,7 @@ impl Bonds {
     /// their smaller disc index so the kernel walks the discs in memory order.
     pub fn remap(&mut self, new_index_of_old: &[u32]) {
         self.cache.index_bound = None;
+        self.cache.incidence = None;
         self.cache.stress = None;
         for k in self.i.iter_mut().chain(self.j.iter_mut()) {
             *k = new_index_of_old[*k as usize];

@@ -91,6 +91,9 @@ pub struct Slots {
     /// (see [`super::owned`]), rebuilt at every pass.
     pub packed: Vec<Packed>,
     pub acc: Vec<Acc4>,
+    /// The accumulators `acc` are all +0.0: the last AVX2 pass copied them out and cleared
+    /// them (while in cache), so the next `pack` need not (saves a read of every record).
+    pub acc_zero: bool,
     /// Take the portable gather and scatter even when the CPU has AVX2 (tests).
     pub portable: bool,
 }

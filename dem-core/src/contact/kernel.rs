@@ -307,14 +307,21 @@ pub struct Packed {
 #[repr(C, align(32))]
 pub struct Acc4(pub(crate) [f64; 4]);
 
-/// Pack discs `lo..lo + pk.len()` into `pk` and clear their accumulators `f` to +0.0
-/// (AVX2: four discs at a time, 4×4 transposes in registers; plain copies).
+/// Pack discs `lo..lo + pk.len()` into `pk` and, with `clear`, set their accumulators `f` to
+/// +0.0 (AVX2: four discs at a time, 4×4 transposes in registers; plain copies). (Without
+/// `clear` the accumulators must be +0.0 already: the copy-out of the last pass clears them.)
 ///
 /// # Safety
 /// The CPU must support AVX2.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-pub(crate) unsafe fn pack<L: PairLaw>(c: &Ctx<L>, lo: usize, pk: &mut [Packed], f: &mut [Acc4]) {
+pub(crate) unsafe fn pack<L: PairLaw>(
+    c: &Ctx<L>,
+    lo: usize,
+    pk: &mut [Packed],
+    f: &mut [Acc4],
+    clear: bool,
+) {
     use std::arch::x86_64::*;
     let n = pk.len();
     assert!(f.len() == n && lo + n < c.start.len());
@@ -343,9 +350,11 @@ pub(crate) unsafe fn pack<L: PairLaw>(c: &Ctx<L>, lo: usize, pk: &mut [Packed], 
             let d = dst.add(k + l);
             _mm256_store_pd((*d).a.as_mut_ptr(), a[l]);
             _mm256_store_pd((*d).b.as_mut_ptr(), b[l]);
-            // Volatile: else the compiler turns these stores into a call of `memset`, a
-            // second pass over the accumulators.
-            std::ptr::write_volatile(f.as_mut_ptr().add(k + l) as *mut __m256d, zero);
+            if clear {
+                // Volatile: else the compiler turns these stores into a call of `memset`,
+                // a second pass over the accumulators.
+                std::ptr::write_volatile(f.as_mut_ptr().add(k + l) as *mut __m256d, zero);
+            }
         }
         k += 4;
     }
@@ -355,7 +364,9 @@ pub(crate) unsafe fn pack<L: PairLaw>(c: &Ctx<L>, lo: usize, pk: &mut [Packed], 
             a: [at!(c.x, i), at!(c.y, i), at!(c.vx, i), at!(c.vy, i)],
             b: [at!(c.w, i), at!(c.r, i), at!(c.minv, i), 0.0],
         };
-        f[k] = Acc4([0.0; 4]);
+        if clear {
+            f[k] = Acc4([0.0; 4]);
+        }
     }
 }
 

@@ -45,9 +45,33 @@ pub struct Plan {
     shared: Vec<bool>,
     /// The shared discs, increasing.
     shared_list: Vec<u32>,
+    /// Dirty pairs before pair p (length pairs + 1). A disc is clean when it is not shared
+    /// and none of its pairs has a shared partner; a block of pairs that reaches only clean
+    /// discs (see [`Plan::plain`]) is scattered by the plain one-range code, which makes the
+    /// same additions without the per-pair shared tests.
+    dirty: Vec<u32>,
 }
 
 impl Plan {
+    /// Whether the block of pairs `[p, p + q)` reaches only clean discs: its pairs' discs,
+    /// discs without pairs before them, and the disc of pair p − 1 (still summing when the
+    /// block starts).
+    #[inline]
+    fn plain(dirty: &[u32], p: usize, q: usize) -> bool {
+        dirty[p + q] == dirty[p.saturating_sub(1)]
+    }
+
+    /// (plain, other) blocks of [`BLOCK`] pairs counted from pair 0 (tests: both kinds run).
+    #[cfg(test)]
+    fn block_kinds(&self) -> (usize, usize) {
+        let np = self.dirty.len().saturating_sub(1);
+        let plain = (0..np)
+            .step_by(BLOCK)
+            .filter(|&p| Plan::plain(&self.dirty, p, BLOCK.min(np - p)))
+            .count();
+        (plain, np.div_ceil(BLOCK) - plain)
+    }
+
     /// Make (or keep) the plan for `ranges` ranges over the list `nb` of `n` discs.
     fn update(&mut self, nb: &ListRef, n: usize, ranges: usize, track: bool) {
         let np = nb.nbr.len();
@@ -83,6 +107,24 @@ impl Plan {
             }
         }
         self.shared_list = (0..n as u32).filter(|&k| self.shared[k as usize]).collect();
+        // Pair p is dirty when its disc is not clean, or a disc with no pairs between the
+        // previous pair's disc and its own is not (that disc is flushed at pair p).
+        self.dirty.clear();
+        self.dirty.push(0);
+        let mut count = 0;
+        for r in 0..ranges {
+            let (lo, hi) = (self.bounds[r], self.bounds[r + 1]);
+            let mut gap_dirty = false;
+            for i in lo..hi {
+                let (a, b) = (nb.start[i] as usize, nb.start[i + 1] as usize);
+                let dirty = self.shared[i] || nb.nbr[a..b].iter().any(|&j| self.shared[j as usize]);
+                for p in a..b {
+                    count += u32::from(dirty || (p == a && gap_dirty));
+                    self.dirty.push(count);
+                }
+                gap_dirty = (a == b) && (gap_dirty || dirty);
+            }
+        }
     }
 }
 
@@ -215,8 +257,9 @@ impl Sink<'_, '_> {
             } else {
                 let lj = j - self.lo;
                 let ds = &mut self.ds;
-                // SAFETY: j is not shared, so lo <= i < j < hi (see `Plan::update`;
-                // one range: lo = 0, hi = n), and the disc slices have length hi - lo.
+                // SAFETY: j is not shared (tested, or the block reaches clean discs only,
+                // `Plan::dirty`), so lo <= i < j < hi (see `Plan::update`; one range:
+                // lo = 0, hi = n), and the disc slices have length hi - lo.
                 unsafe {
                     *ds.fx.get_unchecked_mut(lj) += f0;
                     *ds.fy.get_unchecked_mut(lj) += f1;
@@ -253,8 +296,7 @@ impl Sink<'_, '_> {
     ) {
         use std::arch::x86_64::*;
         assert!(q <= BLOCK);
-        // One range: lo = 0 (known here, so no offset per pair).
-        let lo = if SPLIT { self.lo } else { 0 };
+        let lo = self.lo;
         // Accumulator of disc k at fb + 4 k (k in lo..hi; only such addresses are accessed).
         let fb = (self.ds.f.as_mut_ptr() as *mut f64).wrapping_sub(4 * lo);
         let mut i = self.i;
@@ -263,54 +305,59 @@ impl Sink<'_, '_> {
         let zero = _mm256_setzero_pd();
         let sign = _mm256_set1_pd(-0.0);
         // One pair: finish the discs before it, then add its forces.
-        let mut pair = |k: usize, vi: __m256d, vj: __m256d| {
-            let pp = p + k;
-            while pp >= next {
-                if D || (SPLIT && at!(self.shared, i)) {
-                    self.i = i;
-                    _mm256_storeu_pd(self.a.as_mut_ptr(), acc);
-                    self.flush::<D, SPLIT>(true);
+        // A macro, not a closure: expanded at each call site, so always inlined.
+        macro_rules! pair {
+            ($k:expr, $vi:expr, $vj:expr) => {{
+                let (k, vi, vj): (usize, __m256d, __m256d) = ($k, $vi, $vj);
+                let pp = p + k;
+                while pp >= next {
+                    if D || (SPLIT && at!(self.shared, i)) {
+                        self.i = i;
+                        _mm256_storeu_pd(self.a.as_mut_ptr(), acc);
+                        self.flush::<D, SPLIT>(true);
+                    } else {
+                        // The flush's f[i] += a, as one vector addition. SAFETY: lo <= i < hi
+                        // (the range's discs), f[i - lo] is in bounds and 32-byte aligned.
+                        let fi = fb.add(4 * i);
+                        _mm256_store_pd(fi, _mm256_add_pd(_mm256_load_pd(fi), acc));
+                    }
+                    acc = zero;
+                    i += 1;
+                    next = at!(c.start, i + 1) as usize;
+                }
+                acc = _mm256_sub_pd(acc, vi);
+                if D {
+                    self.b[0] -= sc.dfx[k];
+                    self.b[1] -= sc.dfy[k];
+                    self.b[2] += sc.dti[k];
+                }
+                let j = at!(c.nbr, pp) as usize;
+                if SPLIT && at!(self.shared, j) {
+                    let lp = pp - self.p0;
+                    let [sfx, sfy, stj, sdx, sdy, sdt] = &mut self.slot;
+                    sfx[lp] = sc.fx[k];
+                    sfy[lp] = sc.fy[k];
+                    stj[lp] = sc.tj[k];
+                    if D {
+                        sdx[lp] = sc.dfx[k];
+                        sdy[lp] = sc.dfy[k];
+                        sdt[lp] = sc.dtj[k];
+                    }
                 } else {
-                    // The flush's f[i] += a, as one vector addition. SAFETY: lo <= i < hi
-                    // (the range's discs), f[i - lo] is in bounds and 32-byte aligned.
-                    let fi = fb.add(4 * i);
-                    _mm256_store_pd(fi, _mm256_add_pd(_mm256_load_pd(fi), acc));
+                    // SAFETY: j is not shared (tested, or the block reaches clean discs only,
+                    // `Plan::dirty`), so lo <= i < j < hi (see `Plan::update`; one range:
+                    // lo = 0, hi = n): f[j - lo] is in bounds and 32-byte aligned.
+                    let fj = fb.add(4 * j);
+                    _mm256_store_pd(fj, _mm256_add_pd(_mm256_load_pd(fj), vj));
+                    if D {
+                        let (ds, lj) = (&mut self.ds, j - lo);
+                        ds.dfx[lj] += sc.dfx[k];
+                        ds.dfy[lj] += sc.dfy[k];
+                        ds.dtq[lj] += sc.dtj[k];
+                    }
                 }
-                acc = zero;
-                i += 1;
-                next = at!(c.start, i + 1) as usize;
-            }
-            acc = _mm256_sub_pd(acc, vi);
-            if D {
-                self.b[0] -= sc.dfx[k];
-                self.b[1] -= sc.dfy[k];
-                self.b[2] += sc.dti[k];
-            }
-            let j = at!(c.nbr, pp) as usize;
-            if SPLIT && at!(self.shared, j) {
-                let lp = pp - self.p0;
-                let [sfx, sfy, stj, sdx, sdy, sdt] = &mut self.slot;
-                sfx[lp] = sc.fx[k];
-                sfy[lp] = sc.fy[k];
-                stj[lp] = sc.tj[k];
-                if D {
-                    sdx[lp] = sc.dfx[k];
-                    sdy[lp] = sc.dfy[k];
-                    sdt[lp] = sc.dtj[k];
-                }
-            } else {
-                // SAFETY: j is not shared, so lo <= i < j < hi (see `Plan::update`; one
-                // range: lo = 0, hi = n): f[j - lo] is in bounds and 32-byte aligned.
-                let fj = fb.add(4 * j);
-                _mm256_store_pd(fj, _mm256_add_pd(_mm256_load_pd(fj), vj));
-                if D {
-                    let (ds, lj) = (&mut self.ds, j - lo);
-                    ds.dfx[lj] += sc.dfx[k];
-                    ds.dfy[lj] += sc.dfy[k];
-                    ds.dtq[lj] += sc.dtj[k];
-                }
-            }
-        };
+            }};
+        }
         let mut g = 0;
         while g < q {
             // SAFETY: g + 4 <= BLOCK (a multiple of 4); entries q..BLOCK are stale but
@@ -337,16 +384,14 @@ impl Sink<'_, '_> {
                 _mm256_permute2f128_pd(xy_lo, tj_lo, 0x31),
                 _mm256_permute2f128_pd(xy_hi, tj_hi, 0x31),
             ];
-            // Unrolled for the one-range pass; the split pass (a larger `pair`) calls it from
-            // one site only, so that it stays inlined (called from the unrolled sites it
-            // was not, and the split pass lost a third of its speed).
-            if !SPLIT && g + 4 <= q {
-                for l in 0..4 {
-                    pair(g + l, vi[l], vj[l]);
-                }
+            if g + 4 <= q {
+                pair!(g, vi[0], vj[0]);
+                pair!(g + 1, vi[1], vj[1]);
+                pair!(g + 2, vi[2], vj[2]);
+                pair!(g + 3, vi[3], vj[3]);
             } else {
-                for l in 0..(q - g).min(4) {
-                    pair(g + l, vi[l], vj[l]);
+                for l in 0..q - g {
+                    pair!(g + l, vi[l], vj[l]);
                 }
             }
             g += 4;
@@ -367,8 +412,8 @@ fn range_pass<const E: bool, const D: bool, const SPLIT: bool, L: PairLaw>(
     c: &Ctx<L>,
     pk: &[Packed],
     shared: &[bool],
-    lo: usize,
-    hi: usize,
+    (lo, hi): (usize, usize),
+    dirty: &[u32],
     ds: DiscSide,
     ps: PairSide,
     energy: &mut [PassEnergy],
@@ -400,13 +445,25 @@ fn range_pass<const E: bool, const D: bool, const SPLIT: bool, L: PairLaw>(
             let q = BLOCK.min(pend - p);
             let (u, m) = (&mut us[p - p0..p - p0 + q], &mut mr[p - p0..p - p0 + q]);
             block::<E, D, L>(c, pk, p, &mut gi, u, m, sc, &mut e, avx2);
+            // In a block of clean discs the split's tests are all false (see `Plan::dirty`).
+            let plain = !SPLIT || Plan::plain(dirty, p, q);
             #[cfg(target_arch = "x86_64")]
             if aos {
                 // SAFETY: `aos` implies AVX2 (asserted above) and `f` of the range's length.
-                unsafe { sink.scatter_aos::<D, SPLIT, L>(c, p, q, sc) };
+                unsafe {
+                    if plain {
+                        sink.scatter_aos::<D, false, L>(c, p, q, sc)
+                    } else {
+                        sink.scatter_aos::<D, SPLIT, L>(c, p, q, sc)
+                    }
+                };
             }
             if !aos {
-                sink.scatter::<D, SPLIT, L>(c, p, q, sc);
+                if plain {
+                    sink.scatter::<D, false, L>(c, p, q, sc);
+                } else {
+                    sink.scatter::<D, SPLIT, L>(c, p, q, sc);
+                }
             }
             p += q;
         }
@@ -426,8 +483,9 @@ fn range_pass<const E: bool, const D: bool, const SPLIT: bool, L: PairLaw>(
 }
 
 /// Copy the accumulators `ds.f` to `ds.fx, ds.fy, ds.tq` (AVX2: four discs at a time,
-/// transposed in registers). They started at +0.0 (cleared by `pack`), as `fx, fy, tq` do on
-/// the portable path (cleared by [`pass`]), and received the same additions: copying them
+/// transposed in registers) and clear them to +0.0 for the next pass (see
+/// [`Slots::acc_zero`](super::disc_disc::Slots)). They started at +0.0, as `fx, fy, tq` do
+/// on the portable path (cleared by [`pass`]), and received the same additions: copying them
 /// gives the same bits.
 ///
 /// # Safety
@@ -438,7 +496,8 @@ unsafe fn copy_out(ds: &mut DiscSide) {
     use std::arch::x86_64::*;
     let n = ds.f.len();
     assert!(ds.fx.len() == n && ds.fy.len() == n && ds.tq.len() == n);
-    let f = ds.f.as_ptr() as *const f64;
+    let f = ds.f.as_mut_ptr() as *mut f64;
+    let zero = _mm256_setzero_pd();
     let mut k = 0;
     while k + 4 <= n {
         // SAFETY: k + 4 <= n: the four records and the stores are in bounds; the records
@@ -460,6 +519,11 @@ unsafe fn copy_out(ds: &mut DiscSide) {
             ds.tq.as_mut_ptr().add(k),
             _mm256_permute2f128_pd(t0, t2, 0x31),
         );
+        // Clear the records for the next pass while their lines are in cache (volatile:
+        // else the compiler may move the stores into a separate `memset` pass).
+        for l in 0..4 {
+            std::ptr::write_volatile(f.add(4 * (k + l)) as *mut __m256d, zero);
+        }
         k += 4;
     }
     for k in k..n {
@@ -467,6 +531,7 @@ unsafe fn copy_out(ds: &mut DiscSide) {
         ds.fx[k] = a[0];
         ds.fy[k] = a[1];
         ds.tq[k] = a[2];
+        ds.f[k] = Acc4::default();
     }
 }
 
@@ -549,9 +614,12 @@ pub(crate) fn pass<const E: bool, const D: bool, L: PairLaw>(
     if aos {
         s.packed.resize(n, Packed::default());
         s.acc.resize(n, Acc4::default());
+        // Cleared by the last pass's copy-out (the usual case), else here by `pack`.
+        let clear = !s.acc_zero;
+        s.acc_zero = false;
         // SAFETY (`pack`): `aos` implies AVX2.
         if ranges <= 1 {
-            unsafe { pack(c, 0, &mut s.packed, &mut s.acc) };
+            unsafe { pack(c, 0, &mut s.packed, &mut s.acc, clear) };
         } else {
             // Each range packs its own discs, on the worker that will then mostly read them
             // (the split's ranges, in the same parallel loop shape as the force pass).
@@ -565,7 +633,7 @@ pub(crate) fn pass<const E: bool, const D: bool, L: PairLaw>(
                 unsafe {
                     let pk = std::slice::from_raw_parts_mut(pp.get().add(lo), hi - lo);
                     let f = std::slice::from_raw_parts_mut(fp.get().add(lo), hi - lo);
-                    pack(c, lo, pk, f)
+                    pack(c, lo, pk, f, clear)
                 }
             });
         }
@@ -599,7 +667,18 @@ pub(crate) fn pass<const E: bool, const D: bool, L: PairLaw>(
             slot: Default::default(),
         };
         let sc = &mut *s.scratch;
-        range_pass::<E, D, false, L>(c, pk, &[], 0, n, ds, ps, &mut s.chunk_energy, sc, avx2);
+        range_pass::<E, D, false, L>(
+            c,
+            pk,
+            &[],
+            (0, n),
+            &[],
+            ds,
+            ps,
+            &mut s.chunk_energy,
+            sc,
+            avx2,
+        );
     } else {
         let Slots {
             plan,
@@ -636,7 +715,7 @@ pub(crate) fn pass<const E: bool, const D: bool, L: PairLaw>(
         ]
         .map(|v| SyncPtr::of(v));
         let ep = chunk_energy.as_mut_ptr() as usize;
-        let (b, shared) = (&plan.bounds, &plan.shared);
+        let (b, shared, dirty) = (&plan.bounds, &plan.shared, &plan.dirty);
         (0..ranges).into_par_iter().for_each(|r| {
             let (lo, hi) = (b[r], b[r + 1]);
             let (p0, p1) = (c.start[lo] as usize, c.start[hi] as usize);
@@ -687,7 +766,8 @@ pub(crate) fn pass<const E: bool, const D: bool, L: PairLaw>(
             };
             SCRATCH.with(|sc| {
                 let sc = &mut sc.borrow_mut();
-                range_pass::<E, D, true, L>(c, pk, shared, lo, hi, ds, ps, en, sc, avx2);
+                let lh = (lo, hi);
+                range_pass::<E, D, true, L>(c, pk, shared, lh, dirty, ds, ps, en, sc, avx2);
             });
         });
         // Shared discs: partner-side slots in increasing pair order, then the own sum.
@@ -715,6 +795,8 @@ pub(crate) fn pass<const E: bool, const D: bool, L: PairLaw>(
             }
         }
     }
+    // Every range copied its accumulators out and cleared them.
+    s.acc_zero = aos;
     let mut total = PassEnergy::default();
     for e in &s.chunk_energy {
         total.add(e);
@@ -810,7 +892,8 @@ mod tests {
     }
 
     /// The split pass gives the one-thread bits for 2, 3 and 5 ranges, with and without
-    /// energy tracking, and really has shared discs to finish.
+    /// energy tracking, and really has shared discs to finish and both plain blocks (scattered
+    /// by the one-range code) and blocks with shared discs.
     #[test]
     fn any_split_gives_the_one_thread_bits() {
         let st = shaken_hex_lattice([40, 12], 5, 0.01, 10.0);
@@ -838,6 +921,10 @@ mod tests {
                     let mut w = World::new(st.clone(), params.clone(), laws);
                     w.run(20);
                     let shared = w.slots.plan.shared_list.len();
+                    if threads > 1 {
+                        let (plain, other) = w.slots.plan.block_kinds();
+                        assert!(plain > 0 && other > 0, "{threads}: {plain} {other}");
+                    }
                     let d = &w.state.discs;
                     let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
                     let dp = &w.slots.dashpot;
