@@ -13,6 +13,9 @@ pub struct Counters {
     pub steps: u64,
     pub rebuilds: u64,
     pub reorders: u64,
+    /// Disc–disc passes that read disc records packed by the previous step's integrator
+    /// (steps inside `World::run_while` after the first, without rigid clumps or a rebuild).
+    pub packed_by_integrator: u64,
 }
 
 impl Counters {
@@ -48,8 +51,8 @@ impl Counters {
             s += &format!("{name:>11}: {t:9.3} s {:5.1} %\n", 100.0 * t / tot);
         }
         s += &format!(
-            "steps {} rebuilds {} reorders {}\n",
-            self.steps, self.rebuilds, self.reorders
+            "steps {} rebuilds {} reorders {} packed by the integrator {}\n",
+            self.steps, self.rebuilds, self.reorders, self.packed_by_integrator
         );
         s
     }

@@ -11,6 +11,7 @@
 //! the two half-step velocities.
 
 use crate::contact::disc_disc::{Dashpot, CHUNK};
+use crate::contact::kernel::Packed;
 use crate::state::Discs;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -103,7 +104,23 @@ struct Ro<'a> {
     fixed: &'a [bool],
     /// Dashpot sums (length n when energy is tracked and `Kick::dash`).
     dash: &'a Dashpot,
+    /// Where to pack the moved discs for the next force pass, if anywhere, and the radii
+    /// for the records.
+    pack: Option<PackOut>,
+    r: &'a [f64],
 }
+
+/// Where the integrator writes the discs' packed records for the next disc–disc pass, right
+/// after moving each block of discs (while in cache; see `Slots::packed_fresh`): the records,
+/// one per disc. Made only when the CPU has AVX2 (the packing uses it).
+#[derive(Clone, Copy)]
+pub struct PackOut {
+    pub(crate) pk: *mut Packed,
+    pub(crate) len: usize,
+}
+// SAFETY: the chunks of the pass write disjoint index ranges of the records.
+unsafe impl Send for PackOut {}
+unsafe impl Sync for PackOut {}
 
 /// Discs per sub-block of [`chunk`]: the state update and the per-disc energy terms are
 /// computed over a sub-block in one branch-free loop (vectorised), then the terms are summed
@@ -292,6 +309,26 @@ unsafe fn chunk<const E: bool, const D: bool, const DAMP: bool, const VISC: bool
             k,
             terms,
         );
+        #[cfg(target_arch = "x86_64")]
+        if let Some(po) = d.pack {
+            // The moved discs b0..b1, packed as the force pass's `pack` would (plain copies).
+            // SAFETY: a `PackOut` exists only when the CPU has AVX2 (`pack_records` needs
+            // it); p[..] point to arrays of length n_discs >= b1 (the caller's contract),
+            // po.len >= b1 (asserted by `integrate_discs`), and no other thread touches
+            // indices b0..b1.
+            let sl = |a: usize| std::slice::from_raw_parts(p[a].0.add(b0) as *const f64, n);
+            let src = crate::contact::kernel::PackSrc {
+                x: sl(0),
+                y: sl(1),
+                vx: sl(3),
+                vy: sl(4),
+                w: sl(5),
+                r: &d.r[b0..b1],
+                minv: &c.minv_contact[b0..b1],
+            };
+            let pk = std::slice::from_raw_parts_mut(po.pk.add(b0), n);
+            crate::contact::kernel::pack_records(&src, 0, pk, &mut [], false);
+        }
         if E {
             let [t_kt, t_kr, t_dmp, t_dc, t_gp, t_bw] = &*terms;
             for i in 0..n {
@@ -349,7 +386,9 @@ unsafe fn chunk_best<const E: bool, const D: bool, const DAMP: bool, const VISC:
 }
 
 /// Integrate all free and fixed discs; chunked like the force pass so that the reported sums
-/// do not depend on the thread count.
+/// do not depend on the thread count. `pack`: where to pack the moved discs for the next
+/// disc–disc pass (see [`PackOut`]), if anywhere.
+#[allow(clippy::too_many_arguments)]
 pub fn integrate_discs(
     d: &mut Discs,
     dash: &Dashpot,
@@ -358,8 +397,10 @@ pub fn integrate_discs(
     y0: &[f64],
     k: &Kick,
     parts: &mut Vec<Moved>,
+    pack: Option<PackOut>,
 ) -> Moved {
     let n = d.len();
+    assert!(pack.is_none_or(|po| po.len >= n && d.r.len() >= n && c.minv_contact.len() >= n));
     let Discs {
         x,
         y,
@@ -373,6 +414,7 @@ pub fn integrate_discs(
         fy,
         torque,
         fixed,
+        r,
         ..
     } = d;
     let p = [
@@ -391,6 +433,8 @@ pub fn integrate_discs(
         torque,
         fixed,
         dash,
+        pack,
+        r,
     };
     let dr = &dr;
     let nchunks = n.div_ceil(CHUNK);

@@ -94,6 +94,12 @@ pub struct Slots {
     /// The accumulators `acc` are all +0.0: the last AVX2 pass copied them out and cleared
     /// them (while in cache), so the next `pack` need not (saves a read of every record).
     pub acc_zero: bool,
+    /// `packed` holds the discs' current records, written by the integrator at the end of
+    /// the last step (only inside [`crate::World::run_while`], where nothing else can change
+    /// the discs between two steps, and without rigid clumps, whose pass moves discs after
+    /// the integrator); the next pass then skips `pack` and clears this. Any neighbour
+    /// rebuild clears it too (discs may be reordered).
+    pub packed_fresh: bool,
     /// Take the portable gather and scatter even when the CPU has AVX2 (tests).
     pub portable: bool,
 }

@@ -322,15 +322,58 @@ pub(crate) unsafe fn pack<L: PairLaw>(
     f: &mut [Acc4],
     clear: bool,
 ) {
+    let src = PackSrc {
+        x: c.x,
+        y: c.y,
+        vx: c.vx,
+        vy: c.vy,
+        w: c.w,
+        r: c.r,
+        minv: c.minv,
+    };
+    pack_records(&src, lo, pk, f, clear)
+}
+
+/// The disc arrays a packed record is made of (see [`Packed`]).
+pub(crate) struct PackSrc<'a> {
+    pub x: &'a [f64],
+    pub y: &'a [f64],
+    pub vx: &'a [f64],
+    pub vy: &'a [f64],
+    pub w: &'a [f64],
+    pub r: &'a [f64],
+    pub minv: &'a [f64],
+}
+
+/// [`pack`] from any disc arrays: records `pk` of discs `lo..lo + pk.len()` of `c`; the
+/// accumulators `f` (of the same length) are cleared when `clear` (else untouched, and may
+/// be empty). Also used by the integrator, which packs each block of discs right after moving
+/// them (see `Slots::packed_fresh`).
+///
+/// # Safety
+/// The CPU must support AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+pub(crate) unsafe fn pack_records(
+    c: &PackSrc,
+    lo: usize,
+    pk: &mut [Packed],
+    f: &mut [Acc4],
+    clear: bool,
+) {
     use std::arch::x86_64::*;
     let n = pk.len();
-    assert!(f.len() == n && lo + n < c.start.len());
+    let len = lo + n;
+    assert!(!clear || f.len() == n);
+    assert!([c.x, c.y, c.vx, c.vy, c.w, c.r, c.minv]
+        .iter()
+        .all(|a| a.len() >= len));
     let (dst, zero) = (pk.as_mut_ptr(), _mm256_setzero_pd());
     let mut k = 0;
     while k + 4 <= n {
         let i = lo + k;
-        // SAFETY: i + 4 <= lo + n <= n_discs, the length of every disc array (`valid`);
-        // k + 4 <= n = pk.len() = f.len(); the records are 64- and 32-byte aligned.
+        // SAFETY: i + 4 <= lo + n <= the length of every source array (asserted); k + 4 <= n
+        // = pk.len() (= f.len() when `clear`); the records are 64- and 32-byte aligned.
         let ld = |a: &[f64]| _mm256_loadu_pd(a.as_ptr().add(i));
         let quad = |r0, r1, r2, r3| {
             let t0 = _mm256_unpacklo_pd(r0, r1); // r0[0] r1[0] r0[2] r1[2]

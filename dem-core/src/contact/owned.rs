@@ -610,6 +610,9 @@ pub(crate) fn pass<const E: bool, const D: bool, L: PairLaw>(
     let avx2 = has_avx2();
     // The packed gather and the accumulator scatter (AVX2; see `kernel::Packed`).
     let aos = cfg!(target_arch = "x86_64") && avx2 && !s.portable && n > 0;
+    // Records written by the last step's integrator, valid for this pass only.
+    let fresh = aos && s.packed_fresh && s.packed.len() == n;
+    s.packed_fresh = false;
     #[cfg(target_arch = "x86_64")]
     if aos {
         s.packed.resize(n, Packed::default());
@@ -618,7 +621,12 @@ pub(crate) fn pass<const E: bool, const D: bool, L: PairLaw>(
         let clear = !s.acc_zero;
         s.acc_zero = false;
         // SAFETY (`pack`): `aos` implies AVX2.
-        if ranges <= 1 {
+        if fresh {
+            // The integrator packed the records (see `Slots::packed_fresh`).
+            if clear {
+                s.acc.fill(Acc4::default());
+            }
+        } else if ranges <= 1 {
             unsafe { pack(c, 0, &mut s.packed, &mut s.acc, clear) };
         } else {
             // Each range packs its own discs, on the worker that will then mostly read them
