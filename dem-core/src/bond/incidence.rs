@@ -93,6 +93,7 @@ impl Incidence {
 
 #[cfg(test)]
 mod tests {
+    use super::super::kernel::scatter;
     use super::*;
 
     /// The gather makes the additions of the serial bond-order scatter, bit for bit, on a
@@ -120,19 +121,16 @@ mod tests {
             status.push(if b == 17 { INTACT + 1 } else { INTACT });
         }
         let base: Vec<f64> = (0..n).map(|_| rnd()).collect();
-        let (mut sx, mut sy, mut st) = (base.clone(), base.clone(), base.clone());
-        for b in 0..nb {
-            if status[b] != INTACT {
-                continue;
+        // The one-thread path's scatter (`kernel::scatter`), over the bonds in `order`.
+        let scatter = |order: &mut dyn Iterator<Item = usize>| {
+            let (mut fx, mut fy, mut tq) = (base.clone(), base.clone(), base.clone());
+            for b in order.filter(|&b| status[b] == INTACT) {
+                let (a, c) = (i[b] as usize, j[b] as usize);
+                scatter(&mut fx, &mut fy, &mut tq, a, c, &o[b]);
             }
-            let (a, c, v) = (i[b] as usize, j[b] as usize, o[b]);
-            sx[a] -= v[0];
-            sy[a] -= v[1];
-            st[a] += v[2];
-            sx[c] += v[0];
-            sy[c] += v[1];
-            st[c] += v[3];
-        }
+            (fx, fy, tq)
+        };
+        let (sx, sy, st) = scatter(&mut (0..nb));
         let inc = Incidence::new(&i, &j, n);
         for threads in [1, 3] {
             let pool = rayon::ThreadPoolBuilder::new()
@@ -147,19 +145,7 @@ mod tests {
             assert_eq!(bits(&gt), bits(&st), "threads {threads}");
         }
         // And the order matters for these values (else the test would prove nothing).
-        let (mut rx, mut ry, mut rt) = (base.clone(), base.clone(), base);
-        for b in (0..nb).rev() {
-            if status[b] != INTACT {
-                continue;
-            }
-            let (a, c, v) = (i[b] as usize, j[b] as usize, o[b]);
-            rx[a] -= v[0];
-            ry[a] -= v[1];
-            rt[a] += v[2];
-            rx[c] += v[0];
-            ry[c] += v[1];
-            rt[c] += v[3];
-        }
+        let (rx, ry, rt) = scatter(&mut (0..nb).rev());
         assert!(rx != sx || ry != sy || rt != st);
     }
 }

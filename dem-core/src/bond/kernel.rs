@@ -213,12 +213,12 @@ pub(super) fn run(
         .sum();
     if index_bound <= nd {
         // The per-disc sums as a gather over discs, in parallel (same bits, see `incidence`).
-        if incidence.as_ref().is_none_or(|inc| inc.discs() != nd) {
-            *incidence = Some(Incidence::new(b.i, b.j, nd));
+        if incidence.as_ref().is_some_and(|inc| inc.discs() != nd) {
+            *incidence = None;
         }
-        if let Some(inc) = incidence {
-            inc.gather(scratch, m.status, fx, fy, tq);
-        }
+        incidence
+            .get_or_insert_with(|| Incidence::new(b.i, b.j, nd))
+            .gather(scratch, m.status, fx, fy, tq);
     } else {
         // An index out of range: the checked scatter reports it.
         for (q, o) in scratch.iter().enumerate() {
@@ -242,7 +242,14 @@ fn sub<'a>(m: &'a mut BondsMut, r: std::ops::Range<usize>) -> BondsMut<'a> {
 /// Add one bond's contribution to its discs (the only place disc sums are formed). The three
 /// slices have one length (so one bounds check covers them).
 #[inline(always)]
-fn scatter(fx: &mut [f64], fy: &mut [f64], tq: &mut [f64], i: usize, j: usize, o: &[f64; 4]) {
+pub(super) fn scatter(
+    fx: &mut [f64],
+    fy: &mut [f64],
+    tq: &mut [f64],
+    i: usize,
+    j: usize,
+    o: &[f64; 4],
+) {
     let n = fx.len();
     let (fx, fy, tq) = (&mut fx[..n], &mut fy[..n], &mut tq[..n]);
     fx[i] -= o[0];

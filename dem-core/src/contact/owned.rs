@@ -540,19 +540,6 @@ thread_local! {
     static SCRATCH: std::cell::RefCell<Box<Scratch>> = std::cell::RefCell::new(Box::default());
 }
 
-/// Raw pointer of any element type that may be shared across threads (disjoint ranges).
-#[derive(Clone, Copy)]
-struct RawPtr<T>(*mut T);
-unsafe impl<T> Send for RawPtr<T> {}
-unsafe impl<T> Sync for RawPtr<T> {}
-
-impl<T> RawPtr<T> {
-    /// The pointer (a method, so closures capture the Sync wrapper, not the raw field).
-    fn get(self) -> *mut T {
-        self.0
-    }
-}
-
 /// Raw pointer that may be shared across threads; each range touches disjoint index ranges.
 struct SyncPtr<T>(*mut T);
 impl<T> Clone for SyncPtr<T> {
@@ -610,9 +597,9 @@ pub(crate) fn pass<const E: bool, const D: bool, L: PairLaw>(
     let avx2 = has_avx2();
     // The packed gather and the accumulator scatter (AVX2; see `kernel::Packed`).
     let aos = cfg!(target_arch = "x86_64") && avx2 && !s.portable && n > 0;
-    // Records written by the last step's integrator, valid for this pass only.
+    // Records written by the last step's integrator (valid for this pass only: the pipeline
+    // clears the flag after it).
     let fresh = aos && s.packed_fresh && s.packed.len() == n;
-    s.packed_fresh = false;
     #[cfg(target_arch = "x86_64")]
     if aos {
         s.packed.resize(n, Packed::default());
@@ -633,16 +620,12 @@ pub(crate) fn pass<const E: bool, const D: bool, L: PairLaw>(
             // (the split's ranges, in the same parallel loop shape as the force pass).
             s.plan.update(nb, n, ranges, E);
             let b = &s.plan.bounds;
-            let (pp, fp) = (RawPtr(s.packed.as_mut_ptr()), RawPtr(s.acc.as_mut_ptr()));
+            let (pp, fp) = (SyncPtr::of(&mut s.packed), SyncPtr::of(&mut s.acc));
             (0..ranges).into_par_iter().for_each(|r| {
                 let (lo, hi) = (b[r], b[r + 1]);
                 // SAFETY: the ranges [lo, hi) are disjoint and within the n records of
                 // `packed` and `acc` (resized above); `pack` needs AVX2 (`aos`).
-                unsafe {
-                    let pk = std::slice::from_raw_parts_mut(pp.get().add(lo), hi - lo);
-                    let f = std::slice::from_raw_parts_mut(fp.get().add(lo), hi - lo);
-                    pack(c, lo, pk, f, clear)
-                }
+                unsafe { pack(c, lo, pp.slice(lo, hi - lo), fp.slice(lo, hi - lo), clear) }
             });
         }
     }
