@@ -170,8 +170,15 @@ impl World {
         }
         let t3 = Counters::lap(&mut self.counters.walls, t2);
         if let Some(b) = self.bonds.as_mut() {
-            b.compute(&mut self.state, dt);
+            // The contact pass's packed records still describe the discs (AVX2 only).
+            let pk: &[_] = if self.slots.packed_current {
+                &self.slots.packed
+            } else {
+                &[]
+            };
+            b.compute_packed(&mut self.state, dt, pk);
         }
+        self.slots.packed_current = false;
         let t4 = Counters::lap(&mut self.counters.bonds, t3);
         let kick = Kick {
             kick: 0.5 * (self.dt_prev + dt),

@@ -12,6 +12,7 @@ use super::criteria::{stress_flags, BreakMode, Compiled, Criterion, Loads};
 use super::incidence::Incidence;
 use super::potyondy2004::{Kinematics, ParallelBondParams};
 use super::{contact_bond, potyondy2004, BondGroup, BondModel};
+use crate::contact::kernel::Packed;
 use crate::state::Periodic;
 use rayon::prelude::*;
 
@@ -97,6 +98,9 @@ impl DiscView<'_> {
 /// Per-step constants of the kernel.
 pub(super) struct Ctx<'a> {
     pub v: DiscView<'a>,
+    /// The contact pass's packed records of the same discs (one per disc), or empty; not
+    /// empty only when the CPU has AVX2 (see [`gather_packed`]).
+    pub packed: &'a [Packed],
     pub groups: &'a [BondGroup],
     pub compiled: &'a [Compiled],
     /// Per-bond stress-criterion parameters of parallel bonds ([`StressParams`]).
@@ -295,6 +299,87 @@ unsafe fn scatter_unchecked(
         *fx.get_unchecked_mut(j) += f0;
         *fy.get_unchecked_mut(j) += f1;
         *tq.get_unchecked_mut(j) += f3;
+    }
+}
+
+/// Pass 1a of [`block`] from the packed disc records (AVX2): for four bonds at a time the
+/// records of j and i are loaded as vectors, [x, y, v_x, v_y]_j − [..]_i is one lane-wise
+/// subtraction (the IEEE operations of the scalar x_j − x_i, ...), and 4×4 transposes turn
+/// the rows into the columns d_x, d_y, Δv_x, Δv_y (`dv`) and ω_i, r_i, ω_j, r_j (`ws`, plain
+/// copies); the last bonds mod 4 are read from the records one by one. The same bits as
+/// the gather from the disc arrays, from one cache line per disc instead of six (the
+/// approach of the contact pass, `contact::kernel::gather_aos`).
+///
+/// # Safety
+/// The CPU must support AVX2; every index in `i_` and `j_` must be below `pk.len()`, and
+/// they must have one length, at most [`BLOCK`].
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn gather_packed(
+    pk: &[Packed],
+    i_: &[u32],
+    j_: &[u32],
+    dv: [&mut [f64; BLOCK]; 4],
+    ws: [&mut [f64; BLOCK]; 4],
+) {
+    use std::arch::x86_64::*;
+    let n = i_.len().min(j_.len()).min(BLOCK);
+    let base = pk.as_ptr();
+    // SAFETY (record loads): indices below pk.len() (the contract); records are 64-byte
+    // aligned, so both 32-byte halves are aligned.
+    let ld_a = |k: u32| _mm256_load_pd((*base.add(k as usize)).a.as_ptr());
+    let ld_b = |k: u32| _mm256_load_pd((*base.add(k as usize)).b.as_ptr());
+    let [dxs, dys, dvx, dvy] = dv;
+    let [wis, ris, wjs, rjs] = ws;
+    let mut k = 0;
+    while k + 4 <= n {
+        let (i, j) = (i_.get_unchecked(k..k + 4), j_.get_unchecked(k..k + 4));
+        let d0 = _mm256_sub_pd(ld_a(j[0]), ld_a(i[0]));
+        let d1 = _mm256_sub_pd(ld_a(j[1]), ld_a(i[1]));
+        let d2 = _mm256_sub_pd(ld_a(j[2]), ld_a(i[2]));
+        let d3 = _mm256_sub_pd(ld_a(j[3]), ld_a(i[3]));
+        let t0 = _mm256_unpacklo_pd(d0, d1); // dx0 dx1 dvx0 dvx1
+        let t1 = _mm256_unpackhi_pd(d0, d1); // dy0 dy1 dvy0 dvy1
+        let t2 = _mm256_unpacklo_pd(d2, d3);
+        let t3 = _mm256_unpackhi_pd(d2, d3);
+        // SAFETY (stores): k + 4 <= n <= BLOCK.
+        let st = |a: &mut [f64; BLOCK], v| _mm256_storeu_pd(a.as_mut_ptr().add(k), v);
+        st(dxs, _mm256_permute2f128_pd(t0, t2, 0x20));
+        st(dvx, _mm256_permute2f128_pd(t0, t2, 0x31));
+        st(dys, _mm256_permute2f128_pd(t1, t3, 0x20));
+        st(dvy, _mm256_permute2f128_pd(t1, t3, 0x31));
+        // [ω, r, 1/m, 0] rows of four discs → the columns ω and r.
+        let cols = |b0, b1, b2, b3| {
+            let u0 = _mm256_unpacklo_pd(b0, b1); // w0 w1 m0 m1
+            let u1 = _mm256_unpackhi_pd(b0, b1); // r0 r1 0 0
+            let u2 = _mm256_unpacklo_pd(b2, b3);
+            let u3 = _mm256_unpackhi_pd(b2, b3);
+            (
+                _mm256_permute2f128_pd(u0, u2, 0x20),
+                _mm256_permute2f128_pd(u1, u3, 0x20),
+            )
+        };
+        let (wi, ri) = cols(ld_b(i[0]), ld_b(i[1]), ld_b(i[2]), ld_b(i[3]));
+        let (wj, rj) = cols(ld_b(j[0]), ld_b(j[1]), ld_b(j[2]), ld_b(j[3]));
+        st(wis, wi);
+        st(ris, ri);
+        st(wjs, wj);
+        st(rjs, rj);
+        k += 4;
+    }
+    for k in k..n {
+        let (pi, pj) = (
+            &*base.add(*i_.get_unchecked(k) as usize),
+            &*base.add(*j_.get_unchecked(k) as usize),
+        );
+        dxs[k] = pj.a[0] - pi.a[0];
+        dys[k] = pj.a[1] - pi.a[1];
+        dvx[k] = pj.a[2] - pi.a[2];
+        dvy[k] = pj.a[3] - pi.a[3];
+        wis[k] = pi.b[0];
+        ris[k] = pi.b[1];
+        wjs[k] = pj.b[0];
+        rjs[k] = pj.b[1];
     }
 }
 
@@ -525,7 +610,19 @@ fn block<const VALID: bool>(
         wjs,
         geo,
     } = w;
-    if VALID {
+    #[cfg(target_arch = "x86_64")]
+    let from_records = VALID && c.packed.len() == nd;
+    #[cfg(not(target_arch = "x86_64"))]
+    let from_records = false;
+    #[cfg(target_arch = "x86_64")]
+    if from_records {
+        let dv = [&mut *dxs, &mut *dys, &mut *dvx, &mut *dvy];
+        let ws = [&mut *wis, &mut *ris, &mut *wjs, &mut *rjs];
+        // SAFETY: `packed` is not empty only with AVX2 (see `Ctx::packed`); VALID: every
+        // index of the block is below nd = its length.
+        unsafe { gather_packed(c.packed, i_, j_, dv, ws) };
+    }
+    if VALID && !from_records {
         for k in 0..n {
             // SAFETY: VALID: the caller checked i, j < nd for every bond; k < n = len of all.
             unsafe {

@@ -100,6 +100,10 @@ pub struct Slots {
     /// the integrator); the next pass then skips `pack` and clears this. Any neighbour
     /// rebuild clears it too (discs may be reordered).
     pub packed_fresh: bool,
+    /// `packed` holds the records of the discs as the last disc–disc pass saw them (its
+    /// AVX2 path ran): the bond stage of the same step reads them (nothing moves the discs
+    /// in between). Set by the pass, cleared by the pipeline when the discs move.
+    pub packed_current: bool,
     /// Take the portable gather and scatter even when the CPU has AVX2 (tests).
     pub portable: bool,
 }

@@ -297,8 +297,8 @@ fn gather_from<L: PairLaw, const G0: bool>(
 #[derive(Clone, Copy, Debug, Default)]
 #[repr(C, align(64))]
 pub struct Packed {
-    a: [f64; 4],
-    b: [f64; 4],
+    pub(crate) a: [f64; 4],
+    pub(crate) b: [f64; 4],
 }
 
 /// One disc's force accumulator of the AVX2 scatter: [f_x, f_y, torque, unused] (32 bytes,

@@ -597,6 +597,8 @@ pub(crate) fn pass<const E: bool, const D: bool, L: PairLaw>(
     let avx2 = has_avx2();
     // The packed gather and the accumulator scatter (AVX2; see `kernel::Packed`).
     let aos = cfg!(target_arch = "x86_64") && avx2 && !s.portable && n > 0;
+    // Every record is written below (packed by the integrator or here).
+    s.packed_current = aos;
     // Records written by the last step's integrator (valid for this pass only: the pipeline
     // clears the flag after it).
     let fresh = aos && s.packed_fresh && s.packed.len() == n;

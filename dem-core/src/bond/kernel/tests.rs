@@ -16,7 +16,7 @@ fn avx2_and_baseline_agree_bitwise() {
         let mut st = st.clone();
         for _ in 0..3 {
             st.discs.clear_forces();
-            b.compute_with(&mut st, 1e-7, avx2);
+            b.compute_with(&mut st, 1e-7, avx2, &[]);
         }
         (st, b)
     };
@@ -24,6 +24,64 @@ fn avx2_and_baseline_agree_bitwise() {
     let b = go(has_avx2());
     assert!(a.0.discs.fx.iter().any(|&f| f != 0.0));
     assert_eq!(a, b);
+}
+
+/// The gather from the contact pass's packed records (AVX2) gives the bits of the gather
+/// from the disc arrays, and the records are really read: records of other positions give
+/// other forces. (On CPUs without AVX2 there are no records.)
+#[cfg(target_arch = "x86_64")]
+#[test]
+#[allow(clippy::manual_is_multiple_of)] // rust-version 1.80
+fn packed_records_give_the_array_bits() {
+    use crate::contact::kernel::{pack_records, PackSrc, Packed};
+    if !has_avx2() {
+        return;
+    }
+    let st = shaken_state(5);
+    // Some pairs left out, so that the bonds fill no whole number of blocks and of fours:
+    // the partial block and the scalar tail of the gather run too.
+    let mut bonds = Bonds::new(vec![lattice_bond_group(st.thickness)]).unwrap();
+    bonds
+        .install_within_gap(&st, 0.1 * RADIUS, |i, j| ((i + j) % 7 != 0).then_some(0))
+        .unwrap();
+    assert!(
+        bonds.len() % 4 != 0 && bonds.len() % BLOCK != 0,
+        "{}",
+        bonds.len()
+    );
+    let records = |st: &crate::state::State| {
+        let d = &st.discs;
+        let minv = vec![1.0; d.len()];
+        let src = PackSrc {
+            x: &d.x,
+            y: &d.y,
+            vx: &d.vx,
+            vy: &d.vy,
+            w: &d.omega,
+            r: &d.r,
+            minv: &minv,
+        };
+        let mut pk = vec![Packed::default(); d.len()];
+        // SAFETY: the CPU has AVX2 (checked above).
+        unsafe { pack_records(&src, 0, &mut pk, &mut [], false) };
+        pk
+    };
+    let go = |pk: &[Packed]| {
+        let mut b = bonds.clone();
+        let mut st = st.clone();
+        for _ in 0..3 {
+            st.discs.clear_forces();
+            b.compute_with(&mut st, 1e-7, true, pk);
+        }
+        (st, b)
+    };
+    let from_arrays = go(&[]);
+    assert!(from_arrays.0.discs.fx.iter().any(|&f| f != 0.0));
+    assert_eq!(go(&records(&st)), from_arrays);
+    let mut other = st.clone();
+    other.discs.x[7] += 1e-6;
+    other.discs.omega[3] += 1.0;
+    assert_ne!(go(&records(&other)).0.discs.fx, from_arrays.0.discs.fx);
 }
 
 /// The bonded 12 × 8 lattice shaken: random displacements and velocities from a seeded LCG.
@@ -81,11 +139,11 @@ fn whole_against_split(
         });
         let mut a = st.clone();
         a.discs.clear_forces();
-        all.compute_with(&mut a, 1e-7, avx2);
+        all.compute_with(&mut a, 1e-7, avx2, &[]);
         for b in parts.iter_mut() {
             let mut a = st.clone();
             a.discs.clear_forces();
-            b.compute_with(&mut a, 1e-7, avx2);
+            b.compute_with(&mut a, 1e-7, avx2, &[]);
         }
     }
     let bits = |v: super::super::BondView| {
