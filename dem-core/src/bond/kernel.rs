@@ -12,6 +12,8 @@ use super::criteria::{stress_flags, BreakMode, Compiled, Criterion, Loads};
 use super::incidence::Incidence;
 use super::potyondy2004::{Kinematics, ParallelBondParams};
 use super::{contact_bond, potyondy2004, BondGroup, BondModel};
+#[cfg(target_arch = "x86_64")]
+use crate::contact::kernel::transpose4;
 use crate::contact::kernel::Packed;
 use crate::state::Periodic;
 use rayon::prelude::*;
@@ -334,33 +336,17 @@ unsafe fn gather_packed(
     let mut k = 0;
     while k + 4 <= n {
         let (i, j) = (i_.get_unchecked(k..k + 4), j_.get_unchecked(k..k + 4));
-        let d0 = _mm256_sub_pd(ld_a(j[0]), ld_a(i[0]));
-        let d1 = _mm256_sub_pd(ld_a(j[1]), ld_a(i[1]));
-        let d2 = _mm256_sub_pd(ld_a(j[2]), ld_a(i[2]));
-        let d3 = _mm256_sub_pd(ld_a(j[3]), ld_a(i[3]));
-        let t0 = _mm256_unpacklo_pd(d0, d1); // dx0 dx1 dvx0 dvx1
-        let t1 = _mm256_unpackhi_pd(d0, d1); // dy0 dy1 dvy0 dvy1
-        let t2 = _mm256_unpacklo_pd(d2, d3);
-        let t3 = _mm256_unpackhi_pd(d2, d3);
+        let d = |l: usize| _mm256_sub_pd(ld_a(j[l]), ld_a(i[l]));
+        let [dx, dy, dvxv, dvyv] = transpose4([d(0), d(1), d(2), d(3)]);
         // SAFETY (stores): k + 4 <= n <= BLOCK.
         let st = |a: &mut [f64; BLOCK], v| _mm256_storeu_pd(a.as_mut_ptr().add(k), v);
-        st(dxs, _mm256_permute2f128_pd(t0, t2, 0x20));
-        st(dvx, _mm256_permute2f128_pd(t0, t2, 0x31));
-        st(dys, _mm256_permute2f128_pd(t1, t3, 0x20));
-        st(dvy, _mm256_permute2f128_pd(t1, t3, 0x31));
+        st(dxs, dx);
+        st(dys, dy);
+        st(dvx, dvxv);
+        st(dvy, dvyv);
         // [ω, r, 1/m, 0] rows of four discs → the columns ω and r.
-        let cols = |b0, b1, b2, b3| {
-            let u0 = _mm256_unpacklo_pd(b0, b1); // w0 w1 m0 m1
-            let u1 = _mm256_unpackhi_pd(b0, b1); // r0 r1 0 0
-            let u2 = _mm256_unpacklo_pd(b2, b3);
-            let u3 = _mm256_unpackhi_pd(b2, b3);
-            (
-                _mm256_permute2f128_pd(u0, u2, 0x20),
-                _mm256_permute2f128_pd(u1, u3, 0x20),
-            )
-        };
-        let (wi, ri) = cols(ld_b(i[0]), ld_b(i[1]), ld_b(i[2]), ld_b(i[3]));
-        let (wj, rj) = cols(ld_b(j[0]), ld_b(j[1]), ld_b(j[2]), ld_b(j[3]));
+        let [wi, ri, _, _] = transpose4([ld_b(i[0]), ld_b(i[1]), ld_b(i[2]), ld_b(i[3])]);
+        let [wj, rj, _, _] = transpose4([ld_b(j[0]), ld_b(j[1]), ld_b(j[2]), ld_b(j[3])]);
         st(wis, wi);
         st(ris, ri);
         st(wjs, wj);

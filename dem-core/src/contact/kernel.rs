@@ -307,6 +307,32 @@ pub struct Packed {
 #[repr(C, align(32))]
 pub struct Acc4(pub(crate) [f64; 4]);
 
+/// The 4×4 transpose of four rows [a, b, c, d]ₖ (k = 0..3) into the four columns
+/// [a₀ a₁ a₂ a₃], [b..], [c..], [d..] in registers (AVX: two unpacks and a lane permute per
+/// column; plain moves, so the values keep their bits). Used by the packing of the disc
+/// records and by the packed gathers of the contact and bond passes.
+///
+/// # Safety
+/// The CPU must support AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[inline]
+pub(crate) unsafe fn transpose4(
+    r: [std::arch::x86_64::__m256d; 4],
+) -> [std::arch::x86_64::__m256d; 4] {
+    use std::arch::x86_64::*;
+    let t0 = _mm256_unpacklo_pd(r[0], r[1]); // a0 a1 c0 c1
+    let t1 = _mm256_unpackhi_pd(r[0], r[1]); // b0 b1 d0 d1
+    let t2 = _mm256_unpacklo_pd(r[2], r[3]);
+    let t3 = _mm256_unpackhi_pd(r[2], r[3]);
+    [
+        _mm256_permute2f128_pd(t0, t2, 0x20),
+        _mm256_permute2f128_pd(t1, t3, 0x20),
+        _mm256_permute2f128_pd(t0, t2, 0x31),
+        _mm256_permute2f128_pd(t1, t3, 0x31),
+    ]
+}
+
 /// Pack discs `lo..lo + pk.len()` into `pk` and, with `clear`, set their accumulators `f` to
 /// +0.0 (AVX2: four discs at a time, 4×4 transposes in registers; plain copies). (Without
 /// `clear` the accumulators must be +0.0 already: the copy-out of the last pass clears them.)
@@ -375,20 +401,9 @@ pub(crate) unsafe fn pack_records(
         // SAFETY: i + 4 <= lo + n <= the length of every source array (asserted); k + 4 <= n
         // = pk.len() (= f.len() when `clear`); the records are 64- and 32-byte aligned.
         let ld = |a: &[f64]| _mm256_loadu_pd(a.as_ptr().add(i));
-        let quad = |r0, r1, r2, r3| {
-            let t0 = _mm256_unpacklo_pd(r0, r1); // r0[0] r1[0] r0[2] r1[2]
-            let t1 = _mm256_unpackhi_pd(r0, r1);
-            let t2 = _mm256_unpacklo_pd(r2, r3);
-            let t3 = _mm256_unpackhi_pd(r2, r3);
-            [
-                _mm256_permute2f128_pd(t0, t2, 0x20),
-                _mm256_permute2f128_pd(t1, t3, 0x20),
-                _mm256_permute2f128_pd(t0, t2, 0x31),
-                _mm256_permute2f128_pd(t1, t3, 0x31),
-            ]
-        };
-        let a = quad(ld(c.x), ld(c.y), ld(c.vx), ld(c.vy));
-        let b = quad(ld(c.w), ld(c.r), ld(c.minv), zero);
+        // Four arrays' values of discs i..i + 4 → the four discs' records.
+        let a = transpose4([ld(c.x), ld(c.y), ld(c.vx), ld(c.vy)]);
+        let b = transpose4([ld(c.w), ld(c.r), ld(c.minv), zero]);
         for l in 0..4 {
             let d = dst.add(k + l);
             _mm256_store_pd((*d).a.as_mut_ptr(), a[l]);
@@ -460,34 +475,17 @@ unsafe fn gather_aos<L: PairLaw, const G0: bool>(
             jj[l] = at!(c.nbr, p + l) as usize;
         }
         // Rows [dx, dy, dvx, dvy] of the four pairs, then columns.
-        let d0 = _mm256_sub_pd(ld_a(jj[0]), ld_a(ii[0]));
-        let d1 = _mm256_sub_pd(ld_a(jj[1]), ld_a(ii[1]));
-        let d2 = _mm256_sub_pd(ld_a(jj[2]), ld_a(ii[2]));
-        let d3 = _mm256_sub_pd(ld_a(jj[3]), ld_a(ii[3]));
-        let t0 = _mm256_unpacklo_pd(d0, d1); // dx0 dx1 dvx0 dvx1
-        let t1 = _mm256_unpackhi_pd(d0, d1); // dy0 dy1 dvy0 dvy1
-        let t2 = _mm256_unpacklo_pd(d2, d3);
-        let t3 = _mm256_unpackhi_pd(d2, d3);
+        let d = |l: usize| _mm256_sub_pd(ld_a(jj[l]), ld_a(ii[l]));
+        let [dx, dy, dvx, dvy] = transpose4([d(0), d(1), d(2), d(3)]);
         // SAFETY (scratch stores): k + 4 <= q <= BLOCK.
         let st = |a: &mut [f64; BLOCK], v| _mm256_storeu_pd(a.as_mut_ptr().add(k), v);
-        st(&mut s.dx, _mm256_permute2f128_pd(t0, t2, 0x20));
-        st(&mut s.dvx, _mm256_permute2f128_pd(t0, t2, 0x31));
-        st(&mut s.dy, _mm256_permute2f128_pd(t1, t3, 0x20));
-        st(&mut s.dvy, _mm256_permute2f128_pd(t1, t3, 0x31));
-        // [ω, r, 1/m, 0] of the four i and of the four j, as columns (ω, r, 1/m).
-        let cols = |b0, b1, b2, b3| {
-            let u0 = _mm256_unpacklo_pd(b0, b1); // w0 w1 m0 m1
-            let u1 = _mm256_unpackhi_pd(b0, b1); // r0 r1 0 0
-            let u2 = _mm256_unpacklo_pd(b2, b3);
-            let u3 = _mm256_unpackhi_pd(b2, b3);
-            (
-                _mm256_permute2f128_pd(u0, u2, 0x20),
-                _mm256_permute2f128_pd(u1, u3, 0x20),
-                _mm256_permute2f128_pd(u0, u2, 0x31),
-            )
-        };
-        let (wi, ri, mi) = cols(ld_b(ii[0]), ld_b(ii[1]), ld_b(ii[2]), ld_b(ii[3]));
-        let (wj, rj, mj) = cols(ld_b(jj[0]), ld_b(jj[1]), ld_b(jj[2]), ld_b(jj[3]));
+        st(&mut s.dx, dx);
+        st(&mut s.dvx, dvx);
+        st(&mut s.dy, dy);
+        st(&mut s.dvy, dvy);
+        // [ω, r, 1/m, 0] of the four i and of the four j, as columns.
+        let [wi, ri, mi, _] = transpose4([ld_b(ii[0]), ld_b(ii[1]), ld_b(ii[2]), ld_b(ii[3])]);
+        let [wj, rj, mj, _] = transpose4([ld_b(jj[0]), ld_b(jj[1]), ld_b(jj[2]), ld_b(jj[3])]);
         st(&mut s.wi, wi);
         st(&mut s.wj, wj);
         st(&mut s.ri, ri);
