@@ -8,7 +8,7 @@
 //! The cut is shorter than Table 2's (L is part of the sweep's plan and stated in the report):
 //! the 4× run at L = 10 mm alone would take hours of one core on the development machine.
 
-use crate::cutting_runs::{run_jobs, Job, Missing};
+use crate::cutting_runs::{run_jobs, Job, Missing, Reused};
 use crate::page::{json, Figure, Section};
 use crate::plot::{self, Series};
 use dem_core::lab::cutting::CuttingTest;
@@ -68,6 +68,9 @@ pub struct Sweep {
     pub force_scale: Option<f64>,
     pub points: Vec<Point>,
     pub failed: Vec<String>,
+    /// Runs read back from earlier calls (not in the JSON: it describes the call).
+    #[serde(skip)]
+    pub reused: Reused,
 }
 
 /// The paper's traditional a_p = 1 mm, v = 1 m/s cell (Ye & Xu 2010, Table 2): peak, mean (kN).
@@ -118,6 +121,7 @@ pub fn run(
 ) -> Result<Sweep, String> {
     let jobs = jobs(p);
     let outcome = run_jobs(&jobs, work, missing, progress);
+    let reused = outcome.reused();
     let (done, failed) = (outcome.finished, outcome.errors);
     if !outcome.missing.is_empty() {
         return Err(format!(
@@ -175,6 +179,7 @@ pub fn run(
         force_scale,
         points,
         failed,
+        reused,
     })
 }
 

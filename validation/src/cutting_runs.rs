@@ -194,6 +194,32 @@ pub struct Outcome {
     pub missing: Vec<String>,
 }
 
+/// Finished runs read back from an earlier call instead of run now, and their run time as
+/// recorded when they ran: a report rebuilt from finished runs states what they cost.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct Reused {
+    pub runs: usize,
+    pub wall_time_s: f64,
+}
+
+impl Reused {
+    pub fn add(&mut self, o: Reused) {
+        self.runs += o.runs;
+        self.wall_time_s += o.wall_time_s;
+    }
+}
+
+impl Outcome {
+    /// The finished runs that were read back, not run now.
+    pub fn reused(&self) -> Reused {
+        let back = self.finished.iter().filter(|f| f.resumed);
+        Reused {
+            runs: back.clone().count(),
+            wall_time_s: back.map(|f| f.record.wall_time_s).sum(),
+        }
+    }
+}
+
 /// Runs the plan under `work` (specimens in `work/specimens`, runs in
 /// `work/<method>-d<a_p>-v<v>-s<seed>/`); see [`run_jobs`].
 pub fn run_plan(

@@ -1,5 +1,6 @@
 //! Where and when the report was made: commit, machine, threads, date, tool versions, run time.
 
+use crate::cutting_runs::Reused;
 use serde::Serialize;
 use std::process::Command;
 
@@ -15,6 +16,10 @@ pub struct Environment {
     pub date_utc: String,
     pub mode: String,
     pub total_wall_time_s: f64,
+    /// Finished cutting runs this call read back instead of running them, with their wall
+    /// time as recorded when they ran (so a report rebuilt from finished runs states their
+    /// cost too).
+    pub reused: Reused,
 }
 
 fn run(cmd: &str, args: &[&str]) -> Option<String> {
@@ -75,13 +80,27 @@ impl Environment {
             date_utc: utc_string(now),
             mode: mode.into(),
             total_wall_time_s: 0.0,
+            reused: Reused::default(),
         }
     }
 
     pub fn markdown(&self) -> String {
+        let reused = if self.reused.runs > 0 {
+            format!(
+                "| finished runs read back | {} runs, {:.0} s ({:.1} h) of wall time when they ran |\n\
+                 | total with those runs | {:.0} s ({:.1} h) |\n",
+                self.reused.runs,
+                self.reused.wall_time_s,
+                self.reused.wall_time_s / 3600.0,
+                self.total_wall_time_s + self.reused.wall_time_s,
+                (self.total_wall_time_s + self.reused.wall_time_s) / 3600.0
+            )
+        } else {
+            String::new()
+        };
         format!(
             "| | |\n|---|---|\n| commit | `{}`{} |\n| machine | {} ({} cores), {} |\n| threads | {} |\n\
-             | compiler | {} |\n| date (UTC) | {} |\n| mode | {} |\n| total run time | {:.1} s |\n",
+             | compiler | {} |\n| date (UTC) | {} |\n| mode | {} |\n| run time of this call | {:.1} s |\n{}",
             self.commit,
             if self.dirty { " (uncommitted changes)" } else { "" },
             self.cpu,
@@ -91,7 +110,8 @@ impl Environment {
             self.rustc,
             self.date_utc,
             self.mode,
-            self.total_wall_time_s
+            self.total_wall_time_s,
+            reused
         )
     }
 }

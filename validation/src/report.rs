@@ -1,6 +1,7 @@
 //! Writes the report folder: `index.md`, a self-contained `index.html`, SVG plots and the JSON
 //! behind every table and plot. Sections run in order; each is one module of this crate.
 
+use crate::cutting_runs::Reused;
 use crate::environment::Environment;
 use crate::page::{json, write_report, Figure, Section};
 use crate::plot::{self, Series};
@@ -39,6 +40,8 @@ pub const SECTIONS: [&str; 5] = ["table1", "sweep", "table2", "convergence", "st
 pub struct Shared {
     /// N at the run thickness → kN at the Table 2 fitted thickness.
     pub force_scale: Option<f64>,
+    /// Finished runs read back instead of run now (see [`Environment::reused`]).
+    pub reused: Reused,
 }
 
 /// Table 1 of Ye & Xu (2010).
@@ -130,9 +133,10 @@ fn stability_section(o: &ReportOptions, _: &mut Shared) -> Result<Section, Strin
 
 /// Table 2: the cutting runs, the table, its plots.
 fn table2_section(o: &ReportOptions, sh: &mut Shared) -> Result<Section, String> {
-    let (s, scale) =
+    let (s, scale, reused) =
         crate::table2_section::section(&o.data, &o.out, o.quick, &o.table2, o.missing)?;
     sh.force_scale = Some(scale);
+    sh.reused.add(reused);
     Ok(s)
 }
 
@@ -146,6 +150,7 @@ fn convergence_section(o: &ReportOptions, sh: &mut Shared) -> Result<Section, St
         o.missing,
         &|l| eprintln!("  {l}"),
     )?;
+    sh.reused.add(sw.reused);
     sw.section()
 }
 
@@ -215,6 +220,7 @@ pub fn run(o: &ReportOptions) -> Result<String, String> {
         );
     }
     env.total_wall_time_s = t0.elapsed().as_secs_f64();
+    env.reused = shared.reused;
     sections.insert(
         0,
         Section {

@@ -3,7 +3,7 @@
 //! ([`crate::table2`]), a bar chart ours vs paper and the force histories of the three methods
 //! at a_p = 1 mm, v = 1 m/s.
 
-use crate::cutting_runs::{run_plan, Missing, Plan};
+use crate::cutting_runs::{run_plan, Missing, Plan, Reused};
 use crate::page::{json, Figure, Section};
 use crate::plot::{self, Series};
 use crate::table2::{self, PaperTable2, METHODS};
@@ -101,14 +101,15 @@ pub struct Subset {
 }
 
 /// Runs the plan (or its `subset`) into `out/table2-runs` and builds the section; also returns
-/// the factor that turns N at the run thickness into kN at the fitted thickness.
+/// the factor that turns N at the run thickness into kN at the fitted thickness, and the runs
+/// read back from earlier calls.
 pub fn section(
     data: &Path,
     out: &Path,
     quick: bool,
     subset: &Subset,
     missing: Missing,
-) -> Result<(Section, f64), String> {
+) -> Result<(Section, f64, Reused), String> {
     let mut plan = plan(data, quick)?;
     if !subset.methods.is_empty() {
         plan.methods.retain(|m| subset.methods.contains(m));
@@ -122,6 +123,7 @@ pub fn section(
     let paper = PaperTable2::read(&data.join("reference/ye_xu_2010_table2.json"))?;
     let work = out.join("table2-runs");
     let outcome = run_plan(&plan, &work, missing, &|l| eprintln!("  {l}"));
+    let reused = outcome.reused();
     let (runs, errors, not_run) = (outcome.finished, outcome.errors, outcome.missing);
     let partial = !subset.methods.is_empty() || !subset.seeds.is_empty() || !not_run.is_empty();
     let records: Vec<_> = runs.iter().map(|r| r.record.clone()).collect();
@@ -226,5 +228,5 @@ pub fn section(
             ("table2_why.json".into(), json(&why)),
         ],
     };
-    Ok((section, scale))
+    Ok((section, scale, reused))
 }
