@@ -4,50 +4,22 @@
 //! break log and energies — on 1 and 2 threads, through neighbour rebuilds with reordering and
 //! bond breaks, and `run_while` must stop where its condition says.
 
-use dem_core::bond::bench::{bonded_lattice_state, RADIUS};
-use dem_core::bond::{world_with_bonds, Bonds, Criterion};
-use dem_core::contact::LinearSpringDashpot;
-use dem_core::{ContactLaws, ContactModel, Params, World};
+mod shaken_lattice;
 
-/// Deterministic numbers in [−1, 1).
-fn rng(seed: u64) -> impl FnMut() -> f64 {
-    let mut s = seed;
-    move || {
-        s = s
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        2.0 * ((s >> 11) as f64 / (1u64 << 53) as f64) - 1.0
-    }
-}
+use dem_core::bond::bench::RADIUS;
+use dem_core::{Params, World};
 
-/// A shaken bonded lattice (3,600 discs, 10,800 weak bonds) with a small Verlet skin, so that
-/// the list is rebuilt (and the discs reordered) during the run, and energies tracked.
+/// The shaken weak-bond lattice ([`shaken_lattice::weak_shaken_lattice`]) with a small Verlet
+/// skin, so that the list is rebuilt (and the discs reordered) during the run, and energies
+/// tracked.
 fn world() -> World {
-    let (mut st, b) = bonded_lattice_state([60, 30]);
-    let mut g = b.groups()[0].clone();
-    g.criterion = Criterion::Stress {
-        tensile: 2e5,
-        cohesion: 2.4e5,
-        friction_angle: 0.3,
-    };
-    let mut bonds = Bonds::new(vec![g]).unwrap();
-    bonds.install_at_contacts(&st, 1e-5, 0).unwrap();
-    let mut rnd = rng(11);
-    for k in 0..st.discs.len() {
-        st.discs.vx[k] = 0.05 * rnd();
-        st.discs.vy[k] = 0.05 * rnd();
-        st.discs.omega[k] = 40.0 * rnd();
-    }
-    let laws = ContactLaws::uniform(ContactModel::Linear(LinearSpringDashpot::elastic(
-        1e5, 2e4, 0.5,
-    )));
     let params = Params {
         skin: Some(0.002 * RADIUS),
         reorder_every: 1,
         track_energy: true,
         ..Params::default()
     };
-    world_with_bonds(st, params, laws, bonds, &[]).unwrap()
+    shaken_lattice::weak_shaken_lattice(11, 0.05, params)
 }
 
 /// (state, bonds with their break log, energies) as text, and (passes with integrator-packed

@@ -3,23 +3,15 @@
 //! conserved, no bond broken); a bonded lattice with breaking bonds gives identical bytes on 1
 //! and 2 threads.
 
-use dem_core::bond::bench::bonded_lattice_state;
 use dem_core::bond::{
     world_with_bonds, BondGroup, BondModel, Bonds, Criterion, ParallelBondParams,
 };
 use dem_core::contact::LinearSpringDashpot;
 use dem_core::{ContactLaws, ContactModel, Params, State, World};
 
-/// Deterministic numbers in [−1, 1).
-fn rng(seed: u64) -> impl FnMut() -> f64 {
-    let mut s = seed;
-    move || {
-        s = s
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        2.0 * ((s >> 11) as f64 / (1u64 << 53) as f64) - 1.0
-    }
-}
+mod shaken_lattice;
+
+use shaken_lattice::rng;
 
 /// Parallel bonds with the PFC deformability relation k̄n = E/(R1 + R2) (taken at the mean
 /// radius sum `rsum`), k̄s = k̄n/2.5, and strengths far above the loads of the test.
@@ -181,25 +173,7 @@ fn bonded_world_is_bit_identical_on_one_and_two_threads() {
             .unwrap();
         pool.install(|| {
             // 3600 discs, 10,800 weak bonds (above the parallel threshold), shaken.
-            let (mut st, b) = bonded_lattice_state([60, 30]);
-            let mut g = b.groups()[0].clone();
-            g.criterion = Criterion::Stress {
-                tensile: 2e5,
-                cohesion: 2.4e5,
-                friction_angle: 0.3,
-            };
-            let mut bonds = Bonds::new(vec![g]).unwrap();
-            bonds.install_at_contacts(&st, 1e-5, 0).unwrap();
-            let mut rnd = rng(5);
-            for k in 0..st.discs.len() {
-                st.discs.vx[k] = 0.02 * rnd();
-                st.discs.vy[k] = 0.02 * rnd();
-                st.discs.omega[k] = 40.0 * rnd();
-            }
-            let laws = ContactLaws::uniform(ContactModel::Linear(LinearSpringDashpot::elastic(
-                1e5, 2e4, 0.5,
-            )));
-            let mut w = world_with_bonds(st, Params::default(), laws, bonds, &[]).unwrap();
+            let mut w = shaken_lattice::weak_shaken_lattice(5, 0.02, Params::default());
             w.run(1000);
             let b = w.bonds.as_ref().unwrap();
             (

@@ -100,8 +100,8 @@ impl DiscView<'_> {
 /// Per-step constants of the kernel.
 pub(super) struct Ctx<'a> {
     pub v: DiscView<'a>,
-    /// The contact pass's packed records of the same discs (one per disc), or empty; not
-    /// empty only when the CPU has AVX2 (see [`gather_packed`]).
+    /// The contact pass's packed records of the same discs, or empty; not empty only when
+    /// the CPU has AVX2; read (see [`gather_packed`]) only when there is one per disc.
     pub packed: &'a [Packed],
     pub groups: &'a [BondGroup],
     pub compiled: &'a [Compiled],

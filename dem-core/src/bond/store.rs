@@ -378,12 +378,9 @@ impl Bonds {
                 r: &d.r,
                 per: kernel::per_axes(&st.periodic),
             },
-            // The records are read with AVX2 loads: only with AVX2, and only a full set.
-            packed: if avx2 && pk.len() == d.x.len() {
-                pk
-            } else {
-                &[]
-            },
+            // The records are read with AVX2 loads: only with AVX2 (the kernel checks that
+            // there is one per disc).
+            packed: if avx2 { pk } else { &[] },
             groups: &self.groups,
             compiled: &self.cache.compiled,
             stress: self.cache.stress.as_ref().expect("built by ensure_cache"),
