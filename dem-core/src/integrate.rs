@@ -117,6 +117,10 @@ struct Ro<'a> {
 pub struct PackOut {
     pub(crate) pk: *mut Packed,
     pub(crate) len: usize,
+    /// The records hold the discs' current radii and inverse contact masses (this step's
+    /// disc–disc pass wrote or read them, for the same discs and caches): only the moving
+    /// parts are rewritten (`repack_moved`).
+    pub(crate) reuse: bool,
 }
 // SAFETY: the chunks of the pass write disjoint index ranges of the records.
 unsafe impl Send for PackOut {}
@@ -142,7 +146,7 @@ thread_local! {
 /// Returns whether some disc moved beyond the rebuild limit.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-fn sub_block<const E: bool, const D: bool, const DAMP: bool, const VISC: bool>(
+fn sub_block<const E: bool, const D: bool, const DAMP: bool, const VISC: bool, const G: bool>(
     x: &mut [f64],
     y: &mut [f64],
     th: &mut [f64],
@@ -173,7 +177,14 @@ fn sub_block<const E: bool, const D: bool, const DAMP: bool, const VISC: bool>(
     let [gx, gy] = k.gravity;
     let mut exceeded = false;
     for i in 0..n {
-        let (mut ax, mut ay, mut at) = (fx[i] + m[i] * gx, fy[i] + m[i] * gy, tq[i]);
+        // Without gravity (`G` false: g = 0) the weight m g is +0 or −0 and adding it leaves
+        // the force's bits unchanged (a force sum is never −0: it starts at +0 and adds in
+        // round-to-nearest), so the masses are not read.
+        let (mut ax, mut ay, mut at) = if G {
+            (fx[i] + m[i] * gx, fy[i] + m[i] * gy, tq[i])
+        } else {
+            (fx[i], fy[i], tq[i])
+        };
         let (f0x, f0y, t0) = (ax, ay, at);
         let (ux, uy, uw) = (vx[i], vy[i], w[i]);
         if DAMP {
@@ -297,18 +308,14 @@ unsafe fn chunk<const E: bool, const D: bool, const DAMP: bool, const VISC: bool
             dfy,
             dtq,
         ];
-        exceeded |= sub_block::<E, D, DAMP, VISC>(
-            std::slice::from_raw_parts_mut(p[0].0.add(b0), n),
-            std::slice::from_raw_parts_mut(p[1].0.add(b0), n),
-            std::slice::from_raw_parts_mut(p[2].0.add(b0), n),
-            std::slice::from_raw_parts_mut(p[3].0.add(b0), n),
-            std::slice::from_raw_parts_mut(p[4].0.add(b0), n),
-            std::slice::from_raw_parts_mut(p[5].0.add(b0), n),
-            ro,
-            &d.fixed[r],
-            k,
-            terms,
-        );
+        let xs = [0, 1, 2, 3, 4, 5].map(|a| std::slice::from_raw_parts_mut(p[a].0.add(b0), n));
+        let [x, y, th, vx, vy, w] = xs;
+        let fixed = &d.fixed[r];
+        exceeded |= if k.gravity != [0.0, 0.0] {
+            sub_block::<E, D, DAMP, VISC, true>(x, y, th, vx, vy, w, ro, fixed, k, terms)
+        } else {
+            sub_block::<E, D, DAMP, VISC, false>(x, y, th, vx, vy, w, ro, fixed, k, terms)
+        };
         #[cfg(target_arch = "x86_64")]
         if let Some(po) = d.pack {
             // The moved discs b0..b1, packed as the force pass's `pack` would (plain copies).
@@ -327,7 +334,11 @@ unsafe fn chunk<const E: bool, const D: bool, const DAMP: bool, const VISC: bool
                 minv: &c.minv_contact[b0..b1],
             };
             let pk = std::slice::from_raw_parts_mut(po.pk.add(b0), n);
-            crate::contact::kernel::pack_records(&src, 0, pk, &mut [], false);
+            if po.reuse {
+                crate::contact::kernel::repack_moved(&src, pk);
+            } else {
+                crate::contact::kernel::pack_records(&src, 0, pk, &mut [], false);
+            }
         }
         if E {
             let [t_kt, t_kr, t_dmp, t_dc, t_gp, t_bw] = &*terms;

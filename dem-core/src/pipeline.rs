@@ -178,6 +178,8 @@ impl World {
             };
             b.compute_packed(&mut self.state, dt, pk);
         }
+        // Whether the records hold this step's discs (radii, masses) for the integrator.
+        let records_current = self.slots.packed_current;
         self.slots.packed_current = false;
         let t4 = Counters::lap(&mut self.counters.bonds, t3);
         let kick = Kick {
@@ -207,6 +209,7 @@ impl World {
         let po = pack.then_some(integrate::PackOut {
             pk: self.slots.packed.as_mut_ptr(),
             len: self.slots.packed.len(),
+            reuse: records_current && self.slots.packed.len() == self.state.discs.len(),
         });
         let mut moved = integrate::integrate_discs(
             &mut self.state.discs,

@@ -158,6 +158,9 @@ pub fn compute(
     slots: &mut Slots,
 ) -> PassEnergy {
     assert!(valid(d, nb, minv), "neighbour list out of date");
+    if !nb.verified || nb.owner.len() != nb.nbr.len() {
+        nb.set_owner();
+    }
     nb.verified = true;
     let dashpots = track_energy && dashpots;
     if dashpots {
@@ -224,6 +227,7 @@ fn run<L: PairLaw>(a: Args, law: &L) -> PassEnergy {
         minv,
         start: &nb.start,
         nbr: &nb.nbr,
+        owner: &nb.owner,
         g0: &nb.g0,
         law,
         img,

@@ -11,6 +11,7 @@
 //! IEEE operations as the scalar gather's, so the scratch holds the same bits.
 
 use super::disc_disc::PassEnergy;
+use super::linear4::{self, Linear4};
 use super::{ContactLaws, HertzMindlin, LinearSpringDashpot, PairKin, PairOut};
 use crate::neighbors::MinImage;
 
@@ -43,6 +44,11 @@ pub trait PairLaw: Sync {
     /// Rolling moment on i after the update, dissipated and stored energy
     /// (see [`super::RollingResistance::update`]).
     #[inline(always)]
+    /// The law's parameters when it is a uniform linear law (the four-lane kernel
+    /// [`super::linear4`] then evaluates it without energies).
+    fn linear4(&self) -> Option<Linear4> {
+        None
+    }
     fn rolling(
         &self,
         _mi: u16,
@@ -72,6 +78,9 @@ impl PairLaw for LinearGamma {
     fn released(&self, _: u16, _: u16, _: &PairKin, us: f64, _: f64) -> f64 {
         0.5 * self.0.ks * us * us
     }
+    fn linear4(&self) -> Option<Linear4> {
+        Some(Linear4::new(&self.0, false, self.1))
+    }
 }
 
 impl PairLaw for LinearRatio {
@@ -85,6 +94,9 @@ impl PairLaw for LinearRatio {
     #[inline(always)]
     fn released(&self, _: u16, _: u16, _: &PairKin, us: f64, _: f64) -> f64 {
         0.5 * self.0.ks * us * us
+    }
+    fn linear4(&self) -> Option<Linear4> {
+        Some(Linear4::new(&self.0, true, self.1))
     }
 }
 
@@ -147,6 +159,8 @@ pub(crate) struct Ctx<'a, L: PairLaw> {
     pub(crate) minv: &'a [f64],
     pub(crate) start: &'a [u32],
     pub(crate) nbr: &'a [u32],
+    /// The disc of each pair (see [`crate::neighbors::Neighbors::owner`]).
+    pub(crate) owner: &'a [u32],
     pub(crate) g0: &'a [f64],
     pub(crate) law: &'a L,
     pub(crate) img: MinImage,
@@ -428,13 +442,50 @@ pub(crate) unsafe fn pack_records(
     }
 }
 
+/// [`pack_records`] for discs whose records already hold their radius and inverse contact
+/// mass (lanes 1 and 2 of `b`: the records of this step's disc–disc pass, for the same discs
+/// and caches): only [x, y, v_x, v_y] and ω are written, so the integrator, which repacks
+/// the discs it has just moved, does not stream the radius and mass arrays. The kept lanes
+/// are the copies `pack_records` would write (and lane 3 stays 0): the same bits.
+///
+/// # Safety
+/// The CPU must support AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+pub(crate) unsafe fn repack_moved(c: &PackSrc, pk: &mut [Packed]) {
+    use std::arch::x86_64::*;
+    let n = pk.len();
+    assert!([c.x, c.y, c.vx, c.vy, c.w].iter().all(|a| a.len() >= n));
+    let dst = pk.as_mut_ptr();
+    let mut k = 0;
+    while k + 4 <= n {
+        // SAFETY: k + 4 <= n <= the length of every source array (asserted) and of pk; the
+        // records are 64-byte aligned.
+        let ld = |a: &[f64]| _mm256_loadu_pd(a.as_ptr().add(k));
+        let a = transpose4([ld(c.x), ld(c.y), ld(c.vx), ld(c.vy)]);
+        for (l, &al) in a.iter().enumerate() {
+            let d = dst.add(k + l);
+            _mm256_store_pd((*d).a.as_mut_ptr(), al);
+            let w = _mm256_broadcast_sd(&*c.w.as_ptr().add(k + l));
+            let b = _mm256_blend_pd::<0b0001>(_mm256_load_pd((*d).b.as_ptr()), w);
+            _mm256_store_pd((*d).b.as_mut_ptr(), b);
+        }
+        k += 4;
+    }
+    for (k, r) in pk.iter_mut().enumerate().skip(k) {
+        r.a = [at!(c.x, k), at!(c.y, k), at!(c.vx, k), at!(c.vy, k)];
+        r.b[0] = at!(c.w, k);
+    }
+}
+
 /// [`gather`] from the packed records (AVX2): for four pairs at a time, the two records of
 /// each partner j and of its disc i are loaded as vectors, [x, y, v_x, v_y]_j − [..]_i is
 /// one lane-wise subtraction (the same IEEE operations as the scalar x_j − x_i, ...), and
 /// 4×4 transposes in registers turn the four per-pair rows into the SoA columns of the
 /// scratch that [`eval`] vectorises over: d_x, d_y, Δv_x, Δv_y, ω_i, ω_j, r_i, r_j and
-/// 1/m_i + 1/m_j (the same sum as the scalar gather's, in the same operand order). The
-/// q mod 4 last pairs take the scalar gather. Every scratch entry thus has the bits the
+/// 1/m_i + 1/m_j (the same sum as the scalar gather's, in the same operand order). The discs
+/// i of the pairs are read from the owner array (no walk along `start`, so no
+/// data-dependent branches). The q mod 4 last pairs take the scalar gather. Every scratch entry thus has the bits the
 /// portable [`gather`] writes.
 ///
 /// # Safety
@@ -458,22 +509,13 @@ unsafe fn gather_aos<L: PairLaw, const G0: bool>(
     // pk.len()) and the records are 64-byte aligned, so both 32-byte halves are aligned.
     let ld_a = |k: usize| _mm256_load_pd((*base.add(k)).a.as_ptr());
     let ld_b = |k: usize| _mm256_load_pd((*base.add(k)).b.as_ptr());
+    assert!(c.owner.len() == c.nbr.len());
     let mut k = 0;
-    // The disc of the current pair and its end in the list.
-    let mut i = *gi;
-    let mut next = at!(c.start, i + 1) as usize;
     while k + 4 <= q {
         let p = p0 + k;
-        let mut ii = [0usize; 4];
-        let mut jj = [0usize; 4];
-        for l in 0..4 {
-            while next <= p + l {
-                i += 1;
-                next = at!(c.start, i + 1) as usize;
-            }
-            ii[l] = i;
-            jj[l] = at!(c.nbr, p + l) as usize;
-        }
+        // The discs i and j of the four pairs (owners: no walk along `start`, no branches).
+        let ii: [usize; 4] = std::array::from_fn(|l| at!(c.owner, p + l) as usize);
+        let jj: [usize; 4] = std::array::from_fn(|l| at!(c.nbr, p + l) as usize);
         // Rows [dx, dy, dvx, dvy] of the four pairs, then columns.
         let d = |l: usize| _mm256_sub_pd(ld_a(jj[l]), ld_a(ii[l]));
         let [dx, dy, dvx, dvy] = transpose4([d(0), d(1), d(2), d(3)]);
@@ -507,7 +549,10 @@ unsafe fn gather_aos<L: PairLaw, const G0: bool>(
         }
         k += 4;
     }
-    *gi = i;
+    if k > 0 {
+        // The disc of the last pair gathered (at most that of the next pair).
+        *gi = at!(c.owner, p0 + k - 1) as usize;
+    }
     if k < q {
         gather_from::<L, G0>(c, p0, q, k, gi, mr, s);
     }
@@ -663,6 +708,23 @@ pub(crate) fn block<const E: bool, const D: bool, L: PairLaw>(
 ) {
     let q = us.len();
     let g0 = !c.g0.is_empty();
+    #[cfg(target_arch = "x86_64")]
+    if let (false, false, false, Some(lin)) = (pk.is_empty(), E, g0, c.law.linear4()) {
+        // A uniform linear law without energies or reference gaps: in registers.
+        assert!(avx2);
+        let per = c.img.is_periodic();
+        // SAFETY: the CPU has AVX2 (`avx2`, see `has_avx2`); `pk` holds one record per disc
+        // (asserted by the callee) and the list is valid.
+        unsafe {
+            match (per, lin.ratio) {
+                (false, false) => linear4::block::<L, false, false>(c, &lin, pk, p0, q, gi, us, s),
+                (false, true) => linear4::block::<L, false, true>(c, &lin, pk, p0, q, gi, us, s),
+                (true, false) => linear4::block::<L, true, false>(c, &lin, pk, p0, q, gi, us, s),
+                (true, true) => linear4::block::<L, true, true>(c, &lin, pk, p0, q, gi, us, s),
+            }
+        }
+        return;
+    }
     #[cfg(target_arch = "x86_64")]
     if !pk.is_empty() {
         assert!(avx2 && pk.len() + 1 == c.start.len());

@@ -25,6 +25,7 @@ pub mod disc_disc;
 pub mod disc_segment;
 pub mod hertz_mindlin;
 pub mod kernel;
+pub mod linear4;
 pub mod linear_spring_dashpot;
 pub mod owned;
 pub mod rolling;

@@ -477,12 +477,13 @@ fn range_pass<const E: bool, const D: bool, const SPLIT: bool, L: PairLaw>(
     }
     #[cfg(target_arch = "x86_64")]
     if aos {
+        let ds = &mut sink.ds;
         // SAFETY: `aos` implies AVX2 (asserted above).
-        unsafe { copy_out(&mut sink.ds) };
+        unsafe { copy_out(ds.f, ds.fx, ds.fy, ds.tq) };
     }
 }
 
-/// Copy the accumulators `ds.f` to `ds.fx, ds.fy, ds.tq` (AVX2: four discs at a time,
+/// Copy the accumulators `acc` to `fx, fy, tq` (AVX2: four discs at a time,
 /// transposed in registers) and clear them to +0.0 for the next pass (see
 /// [`Slots::acc_zero`](super::disc_disc::Slots)). They started at +0.0, as `fx, fy, tq` do
 /// on the portable path (cleared by [`pass`]), and received the same additions: copying them
@@ -492,11 +493,11 @@ fn range_pass<const E: bool, const D: bool, const SPLIT: bool, L: PairLaw>(
 /// The CPU must support AVX2.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-unsafe fn copy_out(ds: &mut DiscSide) {
+unsafe fn copy_out(acc: &mut [Acc4], fx: &mut [f64], fy: &mut [f64], tq: &mut [f64]) {
     use std::arch::x86_64::*;
-    let n = ds.f.len();
-    assert!(ds.fx.len() == n && ds.fy.len() == n && ds.tq.len() == n);
-    let f = ds.f.as_mut_ptr() as *mut f64;
+    let n = acc.len();
+    assert!(fx.len() == n && fy.len() == n && tq.len() == n);
+    let f = acc.as_mut_ptr() as *mut f64;
     let zero = _mm256_setzero_pd();
     let mut k = 0;
     while k + 4 <= n {
@@ -507,18 +508,9 @@ unsafe fn copy_out(ds: &mut DiscSide) {
         let t1 = _mm256_unpackhi_pd(r(0), r(1)); // fy0 fy1 · ·
         let t2 = _mm256_unpacklo_pd(r(2), r(3));
         let t3 = _mm256_unpackhi_pd(r(2), r(3));
-        _mm256_storeu_pd(
-            ds.fx.as_mut_ptr().add(k),
-            _mm256_permute2f128_pd(t0, t2, 0x20),
-        );
-        _mm256_storeu_pd(
-            ds.fy.as_mut_ptr().add(k),
-            _mm256_permute2f128_pd(t1, t3, 0x20),
-        );
-        _mm256_storeu_pd(
-            ds.tq.as_mut_ptr().add(k),
-            _mm256_permute2f128_pd(t0, t2, 0x31),
-        );
+        _mm256_storeu_pd(fx.as_mut_ptr().add(k), _mm256_permute2f128_pd(t0, t2, 0x20));
+        _mm256_storeu_pd(fy.as_mut_ptr().add(k), _mm256_permute2f128_pd(t1, t3, 0x20));
+        _mm256_storeu_pd(tq.as_mut_ptr().add(k), _mm256_permute2f128_pd(t0, t2, 0x31));
         // Clear the records for the next pass while their lines are in cache (volatile:
         // else the compiler may move the stores into a separate `memset` pass).
         for l in 0..4 {
@@ -527,11 +519,11 @@ unsafe fn copy_out(ds: &mut DiscSide) {
         k += 4;
     }
     for k in k..n {
-        let a = ds.f[k].0;
-        ds.fx[k] = a[0];
-        ds.fy[k] = a[1];
-        ds.tq[k] = a[2];
-        ds.f[k] = Acc4::default();
+        let a = acc[k].0;
+        fx[k] = a[0];
+        fy[k] = a[1];
+        tq[k] = a[2];
+        acc[k] = Acc4::default();
     }
 }
 

@@ -48,6 +48,12 @@ impl MinImage {
         self.hx != f64::INFINITY || self.hy != f64::INFINITY
     }
 
+    /// [L_x, L_x/2, L_y, L_y/2] (+∞ on an axis that is not periodic), for vectorised copies
+    /// of [`MinImage::delta_select`].
+    pub fn parts(&self) -> [f64; 4] {
+        [self.lx, self.hx, self.ly, self.hy]
+    }
+
     /// Minimum image of the difference (dx, dy) (valid for |d| < 1.5 L).
     #[inline(always)]
     pub fn delta(&self, mut dx: f64, mut dy: f64) -> (f64, f64) {
@@ -131,11 +137,26 @@ pub struct Neighbors {
     /// indices once when this is false.
     #[serde(skip)]
     pub verified: bool,
+    /// The disc i of each pair (parallel to `nbr`: `owner[p] = i` for p in
+    /// `start[i]..start[i+1]`), read by the AVX2 gather instead of walking `start`. Made by
+    /// [`Neighbors::set_owner`] with every build and whenever the force pass verifies the list.
+    #[serde(skip)]
+    pub owner: Vec<u32>,
 }
 
 impl Neighbors {
     pub fn n_pairs(&self) -> usize {
         self.nbr.len()
+    }
+
+    /// Fill [`Neighbors::owner`] from `start` (a consistent `start` gives owners < n).
+    pub fn set_owner(&mut self) {
+        self.owner.clear();
+        self.owner.reserve(self.nbr.len());
+        for (i, w) in self.start.windows(2).enumerate() {
+            let k = (w[1] as usize).saturating_sub(w[0] as usize);
+            self.owner.extend(std::iter::repeat_n(i as u32, k));
+        }
     }
 
     /// Largest squared displacement of a disc since the last build (serial max: exact).
@@ -245,6 +266,7 @@ impl Neighbors {
             .collect();
         self.skin = skin;
         self.builds += 1;
+        self.set_owner();
         self.verified = true;
     }
 
