@@ -527,6 +527,20 @@ unsafe fn copy_out(acc: &mut [Acc4], fx: &mut [f64], fy: &mut [f64], tq: &mut [f
     }
 }
 
+/// Run `f(r)` for every range r in 0..ranges, in parallel. With one range per worker thread
+/// (the usual split) range r runs on worker r at every call (`rayon::broadcast`), so a
+/// worker meets the same discs and pairs in its own caches at every step (measured: +6 %
+/// on the dense lattice on two threads, 10 alternating rounds; the integrator keeps rayon's
+/// dynamic chunks, which balance better on a noisy host than fixed halves did); else on any
+/// worker.
+pub(crate) fn for_each_range(ranges: usize, f: impl Fn(usize) + Sync) {
+    if ranges == rayon::current_num_threads() {
+        rayon::broadcast(|ctx| f(ctx.index()));
+    } else {
+        (0..ranges).into_par_iter().for_each(&f);
+    }
+}
+
 thread_local! {
     /// One block scratch per worker thread, allocated once.
     static SCRATCH: std::cell::RefCell<Box<Scratch>> = std::cell::RefCell::new(Box::default());
@@ -615,7 +629,7 @@ pub(crate) fn pass<const E: bool, const D: bool, L: PairLaw>(
             s.plan.update(nb, n, ranges, E);
             let b = &s.plan.bounds;
             let (pp, fp) = (SyncPtr::of(&mut s.packed), SyncPtr::of(&mut s.acc));
-            (0..ranges).into_par_iter().for_each(|r| {
+            for_each_range(ranges, |r| {
                 let (lo, hi) = (b[r], b[r + 1]);
                 // SAFETY: the ranges [lo, hi) are disjoint and within the n records of
                 // `packed` and `acc` (resized above); `pack` needs AVX2 (`aos`).
@@ -701,7 +715,7 @@ pub(crate) fn pass<const E: bool, const D: bool, L: PairLaw>(
         .map(|v| SyncPtr::of(v));
         let ep = chunk_energy.as_mut_ptr() as usize;
         let (b, shared, dirty) = (&plan.bounds, &plan.shared, &plan.dirty);
-        (0..ranges).into_par_iter().for_each(|r| {
+        for_each_range(ranges, |r| {
             let (lo, hi) = (b[r], b[r + 1]);
             let (p0, p1) = (c.start[lo] as usize, c.start[hi] as usize);
             let (nd, npr) = (hi - lo, p1 - p0);
