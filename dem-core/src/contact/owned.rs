@@ -310,20 +310,7 @@ impl Sink<'_, '_> {
             ($k:expr, $vi:expr, $vj:expr) => {{
                 let (k, vi, vj): (usize, __m256d, __m256d) = ($k, $vi, $vj);
                 let pp = p + k;
-                if !D && !SPLIT {
-                    // One-range scatter: a new disc flushes the last one's sum; discs without
-                    // pairs in between are skipped (their flush would add +0.0 to a sum that
-                    // is never −0.0: no change, see the module doc).
-                    let o = at!(c.owner, pp) as usize;
-                    if o != i {
-                        // SAFETY: as below.
-                        let fi = fb.add(4 * i);
-                        _mm256_store_pd(fi, _mm256_add_pd(_mm256_load_pd(fi), acc));
-                        acc = zero;
-                        i = o;
-                    }
-                }
-                while (D || SPLIT) && pp >= next {
+                while pp >= next {
                     if D || (SPLIT && at!(self.shared, i)) {
                         self.i = i;
                         _mm256_storeu_pd(self.a.as_mut_ptr(), acc);
