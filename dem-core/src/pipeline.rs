@@ -209,7 +209,7 @@ impl World {
         let po = pack.then_some(integrate::PackOut {
             pk: self.slots.packed.as_mut_ptr(),
             len: self.slots.packed.len(),
-            reuse: records_current && self.slots.packed.len() == self.state.discs.len(),
+            reuse: records_current,
         });
         let mut moved = integrate::integrate_discs(
             &mut self.state.discs,

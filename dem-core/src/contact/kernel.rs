@@ -41,14 +41,14 @@ pub trait PairLaw: Sync {
     /// step, estimated as δ + v_n Δt from the current overlap (exact for the linear law, whose
     /// stiffnesses do not depend on δ).
     fn released(&self, mi: u16, mj: u16, k: &PairKin, us: f64, mr: f64) -> f64;
-    /// Rolling moment on i after the update, dissipated and stored energy
-    /// (see [`super::RollingResistance::update`]).
-    #[inline(always)]
     /// The law's parameters when it is a uniform linear law (the four-lane kernel
     /// [`super::linear4`] then evaluates it without energies).
     fn linear4(&self) -> Option<Linear4> {
         None
     }
+    /// Rolling moment on i after the update, dissipated and stored energy
+    /// (see [`super::RollingResistance::update`]).
+    #[inline(always)]
     fn rolling(
         &self,
         _mi: u16,
@@ -347,6 +347,38 @@ pub(crate) unsafe fn transpose4(
     ]
 }
 
+/// The columns of four pairs (discs `ii[l]`, `jj[l]`) from the packed records at `base`:
+/// [d_x, d_y, Δv_x, Δv_y] (the records' [x, y, v_x, v_y]_j − [..]_i, one lane-wise subtraction
+/// per pair, then a transpose) and [ω, r, 1/m] of the four i and of the four j. Plain loads,
+/// moves and the same subtractions as the scalar gather: the same bits. Shared by the packed
+/// gather ([`gather_aos`]) and the four-lane linear kernel ([`super::linear4`]).
+///
+/// # Safety
+/// The CPU must support AVX2; every index must be that of a record at `base` (64-byte
+/// aligned, so both halves are aligned).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[inline]
+#[allow(clippy::type_complexity)]
+pub(crate) unsafe fn pair_columns(
+    base: *const Packed,
+    ii: [usize; 4],
+    jj: [usize; 4],
+) -> (
+    [std::arch::x86_64::__m256d; 4],
+    [std::arch::x86_64::__m256d; 3],
+    [std::arch::x86_64::__m256d; 3],
+) {
+    use std::arch::x86_64::*;
+    let ld_a = |k: usize| _mm256_load_pd((*base.add(k)).a.as_ptr());
+    let ld_b = |k: usize| _mm256_load_pd((*base.add(k)).b.as_ptr());
+    let d = |l: usize| _mm256_sub_pd(ld_a(jj[l]), ld_a(ii[l]));
+    let dv = transpose4([d(0), d(1), d(2), d(3)]);
+    let [wi, ri, mi, _] = transpose4([ld_b(ii[0]), ld_b(ii[1]), ld_b(ii[2]), ld_b(ii[3])]);
+    let [wj, rj, mj, _] = transpose4([ld_b(jj[0]), ld_b(jj[1]), ld_b(jj[2]), ld_b(jj[3])]);
+    (dv, [wi, ri, mi], [wj, rj, mj])
+}
+
 /// Pack discs `lo..lo + pk.len()` into `pk` and, with `clear`, set their accumulators `f` to
 /// +0.0 (AVX2: four discs at a time, 4×4 transposes in registers; plain copies). (Without
 /// `clear` the accumulators must be +0.0 already: the copy-out of the last pass clears them.)
@@ -483,10 +515,10 @@ pub(crate) unsafe fn repack_moved(c: &PackSrc, pk: &mut [Packed]) {
 /// one lane-wise subtraction (the same IEEE operations as the scalar x_j − x_i, ...), and
 /// 4×4 transposes in registers turn the four per-pair rows into the SoA columns of the
 /// scratch that [`eval`] vectorises over: d_x, d_y, Δv_x, Δv_y, ω_i, ω_j, r_i, r_j and
-/// 1/m_i + 1/m_j (the same sum as the scalar gather's, in the same operand order). The discs
-/// i of the pairs are read from the owner array (no walk along `start`, so no
-/// data-dependent branches). The q mod 4 last pairs take the scalar gather. Every scratch entry thus has the bits the
-/// portable [`gather`] writes.
+/// 1/m_i + 1/m_j (the same sum as the scalar gather's, in the same operand order), see
+/// [`pair_columns`]. The discs i of the pairs are read from the owner array (no walk along
+/// `start`, so no data-dependent branches). The q mod 4 last pairs take the scalar gather.
+/// Every scratch entry thus has the bits the portable [`gather`] writes.
 ///
 /// # Safety
 /// The CPU must support AVX2; `pk` must hold the packed record of every disc (`pk.len() + 1
@@ -505,10 +537,6 @@ unsafe fn gather_aos<L: PairLaw, const G0: bool>(
     use std::arch::x86_64::*;
     assert!(q <= BLOCK && mr.len() == q);
     let base = pk.as_ptr();
-    // SAFETY (all record loads): every disc index comes from the valid list (< n =
-    // pk.len()) and the records are 64-byte aligned, so both 32-byte halves are aligned.
-    let ld_a = |k: usize| _mm256_load_pd((*base.add(k)).a.as_ptr());
-    let ld_b = |k: usize| _mm256_load_pd((*base.add(k)).b.as_ptr());
     assert!(c.owner.len() == c.nbr.len());
     let mut k = 0;
     while k + 4 <= q {
@@ -516,18 +544,14 @@ unsafe fn gather_aos<L: PairLaw, const G0: bool>(
         // The discs i and j of the four pairs (owners: no walk along `start`, no branches).
         let ii: [usize; 4] = std::array::from_fn(|l| at!(c.owner, p + l) as usize);
         let jj: [usize; 4] = std::array::from_fn(|l| at!(c.nbr, p + l) as usize);
-        // Rows [dx, dy, dvx, dvy] of the four pairs, then columns.
-        let d = |l: usize| _mm256_sub_pd(ld_a(jj[l]), ld_a(ii[l]));
-        let [dx, dy, dvx, dvy] = transpose4([d(0), d(1), d(2), d(3)]);
+        // SAFETY: every disc index comes from the valid list (< n = pk.len()).
+        let ([dx, dy, dvx, dvy], [wi, ri, mi], [wj, rj, mj]) = pair_columns(base, ii, jj);
         // SAFETY (scratch stores): k + 4 <= q <= BLOCK.
         let st = |a: &mut [f64; BLOCK], v| _mm256_storeu_pd(a.as_mut_ptr().add(k), v);
         st(&mut s.dx, dx);
         st(&mut s.dvx, dvx);
         st(&mut s.dy, dy);
         st(&mut s.dvy, dvy);
-        // [ω, r, 1/m, 0] of the four i and of the four j, as columns.
-        let [wi, ri, mi, _] = transpose4([ld_b(ii[0]), ld_b(ii[1]), ld_b(ii[2]), ld_b(ii[3])]);
-        let [wj, rj, mj, _] = transpose4([ld_b(jj[0]), ld_b(jj[1]), ld_b(jj[2]), ld_b(jj[3])]);
         st(&mut s.wi, wi);
         st(&mut s.wj, wj);
         st(&mut s.ri, ri);

@@ -13,7 +13,7 @@
 //! [`super::LinearSpringDashpot::force_cn`]), so the results are the same bits; the tests
 //! compare it with the portable path.
 
-use super::kernel::{at, transpose4, Ctx, Packed, PairLaw, Scratch, BLOCK};
+use super::kernel::{at, pair_columns, Ctx, Packed, PairLaw, Scratch, BLOCK};
 
 /// The parameters of a uniform linear law, as the four-lane kernel needs them.
 #[derive(Clone, Copy, Debug)]
@@ -75,10 +75,6 @@ pub(crate) unsafe fn block<L: PairLaw, const PER: bool, const RATIO: bool>(
     BLOCKS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
     assert!(pk.len() + 1 == c.start.len());
     let base = pk.as_ptr();
-    // SAFETY (record loads): every disc index comes from the valid list (< n = pk.len()) and
-    // the records are 64-byte aligned.
-    let ld_a = |k: usize| _mm256_load_pd((*base.add(k)).a.as_ptr());
-    let ld_b = |k: usize| _mm256_load_pd((*base.add(k)).b.as_ptr());
     let set = _mm256_set1_pd;
     let [lx, hx, ly, hy] = c.img.parts();
     let (lx, hx, nhx, ly, hy, nhy) = (set(lx), set(hx), set(-hx), set(ly), set(hy), set(-hy));
@@ -105,10 +101,9 @@ pub(crate) unsafe fn block<L: PairLaw, const PER: bool, const RATIO: bool>(
     macro_rules! group {
         ($k:expr, $m:expr, $ii:expr, $jj:expr) => {{
             let (k, m, ii, jj): (usize, usize, [usize; 4], [usize; 4]) = ($k, $m, $ii, $jj);
-            let d = |l: usize| _mm256_sub_pd(ld_a(jj[l]), ld_a(ii[l]));
-            let [dx, dy, dvx, dvy] = transpose4([d(0), d(1), d(2), d(3)]);
-            let [wi, ri, mi, _] = transpose4([ld_b(ii[0]), ld_b(ii[1]), ld_b(ii[2]), ld_b(ii[3])]);
-            let [wj, rj, mj, _] = transpose4([ld_b(jj[0]), ld_b(jj[1]), ld_b(jj[2]), ld_b(jj[3])]);
+            // SAFETY (record loads): every disc index comes from the valid list (< n =
+            // pk.len()).
+            let ([dx, dy, dvx, dvy], [wi, ri, mi], [wj, rj, mj]) = pair_columns(base, ii, jj);
             let ms = _mm256_add_pd(mi, mj);
             // Minimum image (`MinImage::delta_select`).
             let (dx, dy) = if PER {

@@ -504,13 +504,10 @@ unsafe fn copy_out(acc: &mut [Acc4], fx: &mut [f64], fy: &mut [f64], tq: &mut [f
         // SAFETY: k + 4 <= n: the four records and the stores are in bounds; the records
         // are 32-byte aligned.
         let r = |l: usize| _mm256_load_pd(f.add(4 * (k + l)));
-        let t0 = _mm256_unpacklo_pd(r(0), r(1)); // fx0 fx1 tq0 tq1
-        let t1 = _mm256_unpackhi_pd(r(0), r(1)); // fy0 fy1 · ·
-        let t2 = _mm256_unpacklo_pd(r(2), r(3));
-        let t3 = _mm256_unpackhi_pd(r(2), r(3));
-        _mm256_storeu_pd(fx.as_mut_ptr().add(k), _mm256_permute2f128_pd(t0, t2, 0x20));
-        _mm256_storeu_pd(fy.as_mut_ptr().add(k), _mm256_permute2f128_pd(t1, t3, 0x20));
-        _mm256_storeu_pd(tq.as_mut_ptr().add(k), _mm256_permute2f128_pd(t0, t2, 0x31));
+        let [cx, cy, ct, _] = super::kernel::transpose4([r(0), r(1), r(2), r(3)]);
+        _mm256_storeu_pd(fx.as_mut_ptr().add(k), cx);
+        _mm256_storeu_pd(fy.as_mut_ptr().add(k), cy);
+        _mm256_storeu_pd(tq.as_mut_ptr().add(k), ct);
         // Clear the records for the next pass while their lines are in cache (volatile:
         // else the compiler may move the stores into a separate `memset` pass).
         for l in 0..4 {
@@ -533,7 +530,7 @@ unsafe fn copy_out(acc: &mut [Acc4], fx: &mut [f64], fy: &mut [f64], tq: &mut [f
 /// on the dense lattice on two threads, 10 alternating rounds; the integrator keeps rayon's
 /// dynamic chunks, which balance better on a noisy host than fixed halves did); else on any
 /// worker.
-pub(crate) fn for_each_range(ranges: usize, f: impl Fn(usize) + Sync) {
+fn for_each_range(ranges: usize, f: impl Fn(usize) + Sync) {
     if ranges == rayon::current_num_threads() {
         rayon::broadcast(|ctx| f(ctx.index()));
     } else {
