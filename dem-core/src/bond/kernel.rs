@@ -42,7 +42,7 @@ pub(super) fn per_axes(p: &Periodic) -> [(f64, f64); 2] {
 
 /// The 1.5·2⁵² rounding constant: (x + M) − M rounds x to the nearest integer (ties to even)
 /// for |x| < 2⁵¹, without `f64::round` (a library call on baseline x86-64).
-const MAGIC: f64 = 6_755_399_441_055_744.0;
+pub(super) const MAGIC: f64 = 6_755_399_441_055_744.0;
 
 /// Minimum-image form of a difference `d` on an axis with `(l, 1/l)` (`(0, 0)`: not periodic).
 #[inline(always)]
@@ -572,6 +572,41 @@ fn block<const VALID: bool>(
     w: &mut Work,
 ) -> (usize, bool) {
     let n = m.status.len();
+    let broken_any = m.status.iter().fold(INTACT, |a, &s| a | s) != INTACT;
+    // A full block of intact parallel bonds with the stress criterion, with the packed
+    // records: the four-lane kernel (the same bits).
+    #[cfg(target_arch = "x86_64")]
+    if VALID && n == BLOCK && !broken_any && c.packed.len() == c.v.x.len() {
+        use super::parallel4::{block as four, Par};
+        let grp = &b.group[base..base + n];
+        let g = grp[0];
+        let par = match (
+            &c.groups[g as usize].model,
+            c.compiled[g as usize].criterion,
+        ) {
+            (
+                BondModel::Parallel(p),
+                Criterion::Stress {
+                    tensile, cohesion, ..
+                },
+            ) if grp.iter().fold(0, |a, &h| a | (h ^ g)) == 0 => Some(Par::Uniform([
+                p.kn,
+                p.ks,
+                p.lambda,
+                p.beta,
+                tensile,
+                cohesion,
+                c.compiled[g as usize].tan_phi,
+            ])),
+            _ => c.stress.block(base).map(Par::PerBond),
+        };
+        if let Some(par) = par {
+            // SAFETY: `packed` is not empty only with AVX2 (see `Ctx::packed`); VALID:
+            // every index of the block is below the number of discs = its length.
+            let broke = unsafe { four(c, b, base, par, m, out) };
+            return (broke, true);
+        }
+    }
     let r = base..base + n;
     let (i_, j_, grp) = (&b.i[r.clone()], &b.j[r.clone()], &b.group[r.clone()]);
     let (g0_, rbar_) = (&b.g0[r.clone()], &b.rbar[r]);
@@ -699,7 +734,6 @@ fn block<const VALID: bool>(
     // bond's lane is computed but its forces are kept and it reports no break (the general
     // path skips it; its outputs are not scattered, see `run`). Blocks with many broken bonds
     // take the general path, which skips them.
-    let broken_any = status.iter().fold(INTACT, |a, &s| a | s) != INTACT;
     let broken = if broken_any {
         status.iter().filter(|&&s| s != INTACT).count()
     } else {

@@ -21,6 +21,8 @@ pub mod criteria;
 mod incidence;
 pub mod install;
 mod kernel;
+#[cfg(target_arch = "x86_64")]
+mod parallel4;
 pub mod potyondy2004;
 mod store;
 

@@ -33,7 +33,7 @@ fn avx2_and_baseline_agree_bitwise() {
 #[test]
 #[allow(clippy::manual_is_multiple_of)] // rust-version 1.80
 fn packed_records_give_the_array_bits() {
-    use crate::contact::kernel::{pack_records, PackSrc, Packed};
+    use crate::contact::kernel::Packed;
     if !has_avx2() {
         return;
     }
@@ -49,23 +49,6 @@ fn packed_records_give_the_array_bits() {
         "{}",
         bonds.len()
     );
-    let records = |st: &crate::state::State| {
-        let d = &st.discs;
-        let minv = vec![1.0; d.len()];
-        let src = PackSrc {
-            x: &d.x,
-            y: &d.y,
-            vx: &d.vx,
-            vy: &d.vy,
-            w: &d.omega,
-            r: &d.r,
-            minv: &minv,
-        };
-        let mut pk = vec![Packed::default(); d.len()];
-        // SAFETY: the CPU has AVX2 (checked above).
-        unsafe { pack_records(&src, 0, &mut pk, &mut [], false) };
-        pk
-    };
     let go = |pk: &[Packed]| {
         let mut b = bonds.clone();
         let mut st = st.clone();
@@ -82,6 +65,108 @@ fn packed_records_give_the_array_bits() {
     other.discs.x[7] += 1e-6;
     other.discs.omega[3] += 1.0;
     assert_ne!(go(&records(&other)).0.discs.fx, from_arrays.0.discs.fx);
+}
+
+/// The packed disc records of `st`, as the contact pass builds them (the contact masses,
+/// which the bond kernel does not read, set to 1).
+///
+/// # Panics
+/// Without AVX2.
+#[cfg(target_arch = "x86_64")]
+fn records(st: &crate::state::State) -> Vec<crate::contact::kernel::Packed> {
+    use crate::contact::kernel::{pack_records, PackSrc, Packed};
+    assert!(has_avx2());
+    let d = &st.discs;
+    let minv = vec![1.0; d.len()];
+    let src = PackSrc {
+        x: &d.x,
+        y: &d.y,
+        vx: &d.vx,
+        vy: &d.vy,
+        w: &d.omega,
+        r: &d.r,
+        minv: &minv,
+    };
+    let mut pk = vec![Packed::default(); d.len()];
+    // SAFETY: the CPU has AVX2 (asserted above).
+    unsafe { pack_records(&src, 0, &mut pk, &mut [], false) };
+    pk
+}
+
+/// The four-lane kernel (full blocks of intact parallel bonds with the stress criterion, from
+/// the packed records) gives the bits of the baseline build (its straight-line and general
+/// paths): the forces on the discs at every step, the bond forces and the status, for one
+/// group and for two interleaved groups (uniform and per-bond parameters), strong bonds and
+/// weak ones that break in tension and shear (blocks with broken bonds then leave the
+/// four-lane kernel), in a periodic and a bounded box.
+#[cfg(target_arch = "x86_64")]
+#[test]
+fn four_lane_kernel_gives_the_baseline_bits() {
+    use super::super::parallel4::BLOCKS;
+    if !has_avx2() {
+        return;
+    }
+    let mut modes = [0usize; 2];
+    for periodic in [true, false] {
+        let cases = [
+            (1e8, 1e8, false),
+            (5e3, 1e8, false),
+            (1e8, 3e4, false),
+            (1e8, 1e8, true),
+            (3e4, 3e4, true),
+        ];
+        for (tensile, cohesion, two) in cases {
+            let mut st = shaken_state(11);
+            if !periodic {
+                st.periodic.length = [None, None];
+            }
+            // One group: the second group of `two_groups`, with these strengths; two groups:
+            // the strong lattice group and that one, alternating.
+            let mut groups = two_groups(tensile, cohesion);
+            if !two {
+                groups.swap(0, 1);
+            }
+            let mut bonds = Bonds::new(groups).unwrap();
+            let assign = |i: usize, j: usize| Some(if two { ((i + j) % 2) as u16 } else { 0 });
+            bonds.install_within_gap(&st, 0.1 * RADIUS, assign).unwrap();
+            assert!(bonds.len() >= 8 * BLOCK);
+            let pk = records(&st);
+            let go = |avx2: bool, pk: &[crate::contact::kernel::Packed]| {
+                let (mut b, mut s) = (bonds.clone(), st.clone());
+                let mut forces = Vec::new();
+                for _ in 0..40 {
+                    s.discs.clear_forces();
+                    b.compute_with(&mut s, 1e-7, avx2, pk);
+                    let d = &s.discs;
+                    forces.extend(
+                        d.fx.iter()
+                            .chain(&d.fy)
+                            .chain(&d.torque)
+                            .map(|f| f.to_bits()),
+                    );
+                }
+                (s, b, forces)
+            };
+            let before = BLOCKS.with(|b| b.get());
+            let four = go(true, &pk);
+            assert!(
+                BLOCKS.with(|b| b.get()) > before,
+                "four-lane kernel not used"
+            );
+            let want = go(false, &[]);
+            assert!(four.0.discs.fx.iter().any(|&f| f != 0.0));
+            assert!(
+                four == want,
+                "periodic {periodic} {tensile} {cohesion} two {two}"
+            );
+            for v in four.1.iter() {
+                if let BondStatus::Broken(m) = v.status {
+                    modes[m.index()] += 1;
+                }
+            }
+        }
+    }
+    assert!(modes[0] > 0 && modes[1] > 0, "breaks by mode: {modes:?}");
 }
 
 /// The bonded 12 × 8 lattice shaken: random displacements and velocities from a seeded LCG.
