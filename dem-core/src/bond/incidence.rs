@@ -1,15 +1,10 @@
 //! Bond incidence by disc (compressed rows): for every disc, the bonds it belongs to in
 //! increasing bond order, each with the side (i or j) the disc is on. The parallel bond stage
-//! uses it to turn the per-disc sums into a gather, split over discs: every disc adds its
-//! bonds' contributions in bond order, exactly the sequence of additions of the one-thread
-//! scatter (which walks the bonds in order and adds to i, then to j), so the bits are the same
-//! for any split, with no serial pass.
+//! ([`super::split`]) uses it to add the contributions of the discs shared by several ranges
+//! in bond order, exactly the sequence of additions of the one-thread scatter (which walks
+//! the bonds in order and adds to i, then to j), so the bits are the same for any split.
 
 use super::kernel::INTACT;
-use rayon::prelude::*;
-
-/// Discs per parallel task of [`Incidence::gather`].
-const CHUNK: usize = 4096;
 
 /// For disc k, entries `start[k]..start[k + 1]` of `entry`: `bond << 1 | side` (side 0: the
 /// disc is the bond's i, 1: its j), increasing in bond order.
@@ -47,12 +42,14 @@ impl Incidence {
         self.start.len().saturating_sub(1)
     }
 
-    /// Add the contributions `o[b]` = (f_x, f_y, t_i, t_j) of the intact bonds (`status[b]`
-    /// = [`INTACT`]) to the discs: −(f_x, f_y) and +t_i on i, +(f_x, f_y) and +t_j on j, in
-    /// bond order per disc, discs split over rayon's threads. `fx`, `fy`, `tq` have
-    /// [`Incidence::discs`] entries.
-    pub fn gather(
+    /// Add to each disc of `discs` the contributions `o[b]` = (f_x, f_y, t_i, t_j) of its
+    /// intact bonds (`status[b]` = [`INTACT`]): −(f_x, f_y) and +t_i when it is the bond's i,
+    /// +(f_x, f_y) and +t_j when its j, in bond order: the additions the one-thread scatter
+    /// (which walks the bonds in order and adds to i, then to j) makes to that disc. `fx`,
+    /// `fy`, `tq` have [`Incidence::discs`] entries.
+    pub fn add(
         &self,
+        discs: &[u32],
         o: &[[f64; 4]],
         status: &[u8],
         fx: &mut [f64],
@@ -61,33 +58,26 @@ impl Incidence {
     ) {
         let n = self.discs();
         assert!(fx.len() == n && fy.len() == n && tq.len() == n);
-        fx.par_chunks_mut(CHUNK)
-            .zip(fy.par_chunks_mut(CHUNK))
-            .zip(tq.par_chunks_mut(CHUNK))
-            .enumerate()
-            .for_each(|(c, ((fx, fy), tq))| {
-                let k0 = c * CHUNK;
-                for (l, ((fx, fy), tq)) in fx.iter_mut().zip(fy).zip(tq).enumerate() {
-                    let k = k0 + l;
-                    let (a, b) = (self.start[k] as usize, self.start[k + 1] as usize);
-                    for &e in &self.entry[a..b] {
-                        let q = (e >> 1) as usize;
-                        if status[q] != INTACT {
-                            continue;
-                        }
-                        let v = &o[q];
-                        if e & 1 == 0 {
-                            *fx -= v[0];
-                            *fy -= v[1];
-                            *tq += v[2];
-                        } else {
-                            *fx += v[0];
-                            *fy += v[1];
-                            *tq += v[3];
-                        }
-                    }
+        for &k in discs {
+            let k = k as usize;
+            let (a, b) = (self.start[k] as usize, self.start[k + 1] as usize);
+            for &e in &self.entry[a..b] {
+                let q = (e >> 1) as usize;
+                if status[q] != INTACT {
+                    continue;
                 }
-            });
+                let v = &o[q];
+                if e & 1 == 0 {
+                    fx[k] -= v[0];
+                    fy[k] -= v[1];
+                    tq[k] += v[2];
+                } else {
+                    fx[k] += v[0];
+                    fy[k] += v[1];
+                    tq[k] += v[3];
+                }
+            }
+        }
     }
 }
 
@@ -96,11 +86,11 @@ mod tests {
     use super::super::kernel::scatter;
     use super::*;
 
-    /// The gather makes the additions of the serial bond-order scatter, bit for bit, on a
-    /// pool of 1 and 3 threads (one broken bond skipped; values chosen so that the order of
-    /// additions changes the rounding).
+    /// Adding every disc's contributions makes the additions of the serial bond-order
+    /// scatter, bit for bit (one broken bond skipped; values chosen so that the order of
+    /// additions changes the rounding); discs left out of the list are left as they are.
     #[test]
-    fn gather_gives_the_bond_order_scatter_bits() {
+    fn adding_by_disc_gives_the_bond_order_scatter_bits() {
         let n = 9000; // more than two gather chunks
         let nb = 3 * n;
         let mut seed = 12345u64;
@@ -132,17 +122,26 @@ mod tests {
         };
         let (sx, sy, st) = scatter(&mut (0..nb));
         let inc = Incidence::new(&i, &j, n);
-        for threads in [1, 3] {
-            let pool = rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()
-                .unwrap();
-            let (mut gx, mut gy, mut gt) = (base.clone(), base.clone(), base.clone());
-            pool.install(|| inc.gather(&o, &status, &mut gx, &mut gy, &mut gt));
-            let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
-            assert_eq!(bits(&gx), bits(&sx), "threads {threads}");
-            assert_eq!(bits(&gy), bits(&sy), "threads {threads}");
-            assert_eq!(bits(&gt), bits(&st), "threads {threads}");
+        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        let all: Vec<u32> = (0..n as u32).collect();
+        let (mut gx, mut gy, mut gt) = (base.clone(), base.clone(), base.clone());
+        inc.add(&all, &o, &status, &mut gx, &mut gy, &mut gt);
+        assert_eq!(bits(&gx), bits(&sx));
+        assert_eq!(bits(&gy), bits(&sy));
+        assert_eq!(bits(&gt), bits(&st));
+        let odd: Vec<u32> = (1..n as u32).step_by(2).collect();
+        let (mut hx, mut hy, mut ht) = (base.clone(), base.clone(), base.clone());
+        inc.add(&odd, &o, &status, &mut hx, &mut hy, &mut ht);
+        for k in 0..n {
+            let want = if k % 2 == 1 {
+                [sx[k], sy[k], st[k]]
+            } else {
+                [base[k]; 3]
+            };
+            assert_eq!(
+                [hx[k], hy[k], ht[k]].map(f64::to_bits),
+                want.map(f64::to_bits)
+            );
         }
         // And the order matters for these values (else the test would prove nothing).
         let (rx, ry, rt) = scatter(&mut (0..nb).rev());

@@ -11,12 +11,12 @@
 use super::criteria::{stress_flags, BreakMode, Compiled, Criterion, Loads};
 use super::incidence::Incidence;
 use super::potyondy2004::{Kinematics, ParallelBondParams};
+use super::split::Split;
 use super::{contact_bond, potyondy2004, BondGroup, BondModel};
 #[cfg(target_arch = "x86_64")]
 use crate::contact::kernel::transpose4;
 use crate::contact::kernel::Packed;
 use crate::state::Periodic;
-use rayon::prelude::*;
 
 /// `status` codes: intact, broken (tension/shear), and broken in the current step (not yet
 /// logged).
@@ -28,8 +28,6 @@ pub(super) const NEW: u8 = 3; // + mode index
 pub(super) const BLOCK: usize = 32;
 /// Use the two-pass parallel kernel from this many bonds on (and with more than one thread).
 pub(super) const PAR_MIN_BONDS: usize = 8192;
-/// Bonds per parallel task (a multiple of [`BLOCK`]).
-const CHUNK: usize = 2048;
 
 /// Per axis (box length, 1/length), (0, 0) when not periodic.
 pub(super) fn per_axes(p: &Periodic) -> [(f64, f64); 2] {
@@ -136,13 +134,14 @@ pub(super) struct DiscOut<'a> {
 }
 
 /// Run the bond stage over all bonds: update forces and status, add the forces of intact
-/// bonds to the discs. `scratch` is used by the parallel path (resized as needed). Returns the
-/// number of bonds broken now (marked [`NEW`] + mode). `avx2`: use the AVX2 build of the
-/// block loop (pass [`has_avx2`]; same results either way). `index_bound`: [`index_bound`] of
-/// `b.i`, `b.j` (cached by the store). `serial`: the work arrays of the one-thread path (kept
-/// by the store, so they are not re-zeroed every step). `incidence`: the bonds by disc for
-/// the parallel path's per-disc sums (built here when missing or made for another disc count;
-/// the store resets it when bonds change).
+/// bonds to the discs. Returns the number of bonds broken now (marked [`NEW`] + mode).
+/// `avx2`: use the AVX2 build of the block loop (pass [`has_avx2`]; same results either way).
+/// `index_bound`: [`index_bound`] of `b.i`, `b.j` (cached by the store). `serial`: the work
+/// arrays of the one-thread path (kept by the store, so they are not re-zeroed every step).
+/// The parallel path ([`super::split`]) uses `scratch` (per-bond slots, resized as needed),
+/// `split` (the cut into ranges) and `incidence` (the bonds by disc, for the shared discs),
+/// building the last two when missing or made for another size (the store resets them when
+/// bonds change).
 #[allow(clippy::too_many_arguments)]
 pub(super) fn run(
     c: &Ctx,
@@ -152,15 +151,17 @@ pub(super) fn run(
     scratch: &mut Vec<[f64; 4]>,
     serial: &mut SerialWork,
     incidence: &mut Option<Incidence>,
+    split: &mut Option<Split>,
     avx2: bool,
     index_bound: usize,
 ) -> usize {
     let nb = b.i.len();
     let nd = out.fx.len();
     let (fx, fy, tq) = (&mut out.fx[..nd], &mut out.fy[..nd], &mut out.tq[..nd]);
-    let parallel = nb >= PAR_MIN_BONDS && rayon::current_num_threads() > 1;
     // Whether every disc index is in range (then the gather and scatter skip the checks).
     let valid = c.v.x.len() == nd && c.v.lengths_agree() && index_bound <= nd;
+    // (An index out of range, which cannot happen, takes the one-thread path's checks.)
+    let parallel = valid && nb >= PAR_MIN_BONDS && rayon::current_num_threads() > 1;
     if !parallel {
         let SerialWork { w, o } = serial;
         let mut broke = 0;
@@ -183,60 +184,21 @@ pub(super) fn run(
         }
         return broke;
     }
-    if scratch.len() != nb {
-        scratch.resize(nb, [0.0; 4]);
+    // Several threads: ranges of bonds, each adding directly to the discs only it touches
+    // (same bits, see `split`).
+    let ranges = rayon::current_num_threads();
+    if !split.as_ref().is_some_and(|s| s.fits(nb, nd, ranges)) {
+        *split = Some(Split::new(b.i, b.j, nd, ranges));
     }
-    let broke = m
-        .fn_
-        .par_chunks_mut(CHUNK)
-        .zip(m.fs.par_chunks_mut(CHUNK))
-        .zip(m.m.par_chunks_mut(CHUNK))
-        .zip(m.status.par_chunks_mut(CHUNK))
-        .zip(scratch.par_chunks_mut(CHUNK))
-        .enumerate()
-        .map(|(ci, ((((f_n, f_s), mm), s), o))| {
-            let base = ci * CHUNK;
-            let mut chunk = BondsMut {
-                fn_: f_n,
-                fs: f_s,
-                m: mm,
-                status: s,
-            };
-            let len = o.len();
-            let mut w = Work::new();
-            let mut ob: BlockOut = [[0.0; BLOCK]; 4];
-            let mut broke = 0;
-            for k in (0..len).step_by(BLOCK) {
-                let e = (k + BLOCK).min(len);
-                let mut s = sub(&mut chunk, k..e);
-                broke += block_best(c, b, base + k, &mut s, &mut ob, &mut w, avx2, valid).0;
-                for (q, o) in o[k..e].iter_mut().enumerate() {
-                    *o = [ob[0][q], ob[1][q], ob[2][q], ob[3][q]];
-                }
-            }
-            broke
-        })
-        .sum();
-    if index_bound <= nd {
-        // The per-disc sums as a gather over discs, in parallel (same bits, see `incidence`).
-        if incidence.as_ref().is_some_and(|inc| inc.discs() != nd) {
-            *incidence = None;
-        }
-        incidence
-            .get_or_insert_with(|| Incidence::new(b.i, b.j, nd))
-            .gather(scratch, m.status, fx, fy, tq);
-    } else {
-        // An index out of range: the checked scatter reports it.
-        for (q, o) in scratch.iter().enumerate() {
-            if m.status[q] == INTACT {
-                scatter(fx, fy, tq, b.i[q] as usize, b.j[q] as usize, o);
-            }
-        }
+    if incidence.as_ref().is_some_and(|inc| inc.discs() != nd) {
+        *incidence = None;
     }
-    broke
+    let inc = incidence.get_or_insert_with(|| Incidence::new(b.i, b.j, nd));
+    let split = split.as_ref().expect("made above");
+    super::split::run(c, b, m, (fx, fy, tq), split, inc, scratch, avx2)
 }
 
-fn sub<'a>(m: &'a mut BondsMut, r: std::ops::Range<usize>) -> BondsMut<'a> {
+pub(super) fn sub<'a>(m: &'a mut BondsMut, r: std::ops::Range<usize>) -> BondsMut<'a> {
     BondsMut {
         fn_: &mut m.fn_[r.clone()],
         fs: &mut m.fs[r.clone()],
@@ -396,7 +358,7 @@ unsafe fn block_avx2(
 /// [`block`] with the best instruction set available.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-fn block_best(
+pub(super) fn block_best(
     c: &Ctx,
     b: &BondsIn,
     base: usize,
@@ -453,7 +415,7 @@ impl Default for SerialWork {
 
 /// Per-block work arrays, reused from block to block (not re-zeroed).
 #[derive(Clone, Debug)]
-struct Work {
+pub(super) struct Work {
     dxs: [f64; BLOCK],
     dys: [f64; BLOCK],
     ris: [f64; BLOCK],
@@ -467,7 +429,7 @@ struct Work {
 }
 
 impl Work {
-    fn new() -> Work {
+    pub(super) fn new() -> Work {
         Work {
             dxs: [1.0; BLOCK],
             dys: [0.0; BLOCK],

@@ -24,6 +24,7 @@ mod kernel;
 #[cfg(target_arch = "x86_64")]
 mod parallel4;
 pub mod potyondy2004;
+mod split;
 mod store;
 
 pub use attach::{attach, world_with_bonds};

@@ -25,6 +25,8 @@ struct Cache {
     index_bound: Option<usize>,
     /// The bonds by disc, for the parallel per-disc sums; reset with `index_bound`.
     incidence: Option<super::incidence::Incidence>,
+    /// The parallel path's cut into ranges (see `split`).
+    split: Option<super::split::Split>,
     /// Per-bond stress parameters of parallel bonds (see [`kernel::StressParams`]); rebuilt
     /// when bonds are added or reordered.
     stress: Option<kernel::StressParams>,
@@ -262,6 +264,7 @@ impl Bonds {
         self.j.push(j as u32);
         self.cache.index_bound = None;
         self.cache.incidence = None;
+        self.cache.split = None;
         self.cache.stress = None;
         self.group.push(group);
         self.g0.push(install::gap(st, i, j));
@@ -417,6 +420,7 @@ impl Bonds {
             &mut self.cache.scratch,
             &mut self.cache.serial,
             &mut self.cache.incidence,
+            &mut self.cache.split,
             avx2,
             bound,
         );
@@ -508,6 +512,7 @@ impl Bonds {
     pub fn remap(&mut self, new_index_of_old: &[u32]) {
         self.cache.index_bound = None;
         self.cache.incidence = None;
+        self.cache.split = None;
         self.cache.stress = None;
         for k in self.i.iter_mut().chain(self.j.iter_mut()) {
             *k = new_index_of_old[*k as usize];

@@ -544,7 +544,8 @@ thread_local! {
 }
 
 /// Raw pointer that may be shared across threads; each range touches disjoint index ranges.
-struct SyncPtr<T>(*mut T);
+/// (Also used by the bond stage's split, `bond::split`.)
+pub(crate) struct SyncPtr<T>(*mut T);
 impl<T> Clone for SyncPtr<T> {
     fn clone(&self) -> Self {
         *self
@@ -555,13 +556,18 @@ unsafe impl<T> Send for SyncPtr<T> {}
 unsafe impl<T> Sync for SyncPtr<T> {}
 
 impl<T> SyncPtr<T> {
-    fn of(v: &mut [T]) -> SyncPtr<T> {
+    pub(crate) fn of(v: &mut [T]) -> SyncPtr<T> {
         SyncPtr(v.as_mut_ptr())
+    }
+
+    /// The pointer (a method, so that closures capture the whole `SyncPtr`).
+    pub(crate) fn ptr(self) -> *mut T {
+        self.0
     }
 
     /// # Safety
     /// `[a, a + len)` must be in bounds of the array and not aliased by any live reference.
-    unsafe fn slice<'a>(self, a: usize, len: usize) -> &'a mut [T] {
+    pub(crate) unsafe fn slice<'a>(self, a: usize, len: usize) -> &'a mut [T] {
         if len == 0 {
             return &mut [];
         }

@@ -299,3 +299,82 @@ fn blocks_with_a_few_broken_bonds_give_the_general_path_bits() {
     }
     assert_eq!(masked, [true, true], "no block took the masked path");
 }
+
+/// The parallel path (ranges of bonds, shared discs through slots: `split`) gives the bits
+/// of the one-thread path on pools of 2, 3 and 4 threads — disc state, bond forces, status
+/// and break log after 150 leapfrog steps of a shaken lattice whose weak bonds break in both
+/// modes — with the four-lane kernel (packed records) and without; the split really has
+/// shared discs and blocks that reach them.
+#[test]
+fn split_ranges_give_the_one_thread_bits() {
+    use super::super::split::Split;
+    // 60 × 30 cells: 3,600 discs, 10,800 bonds, above the parallel threshold.
+    let (mut st0, _) = bonded_lattice_state([60, 30]);
+    let mut s = 99u64;
+    for k in 0..st0.discs.len() {
+        let mut r = || {
+            s = s
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            2.0 * ((s >> 11) as f64 / (1u64 << 53) as f64) - 1.0
+        };
+        st0.discs.vx[k] = 0.02 * r();
+        st0.discs.vy[k] = 0.02 * r();
+        st0.discs.omega[k] = 40.0 * r();
+    }
+    let mut bonds0 = Bonds::new(two_groups(1.5e4, 1e4)).unwrap();
+    bonds0
+        .install_within_gap(&st0, 1e-5, |i, j| Some(((i + j) % 2) as u16))
+        .unwrap();
+    assert!(bonds0.len() >= PAR_MIN_BONDS);
+    let (bi, bj): (Vec<u32>, Vec<u32>) = bonds0.iter().map(|v| (v.i, v.j)).unzip();
+    for ranges in [2, 3, 4] {
+        let sp = Split::new(&bi, &bj, st0.discs.len(), ranges);
+        assert!(sp.n_shared() > 0);
+    }
+    let with_records = cfg!(target_arch = "x86_64") && has_avx2();
+    for packed in [false, with_records] {
+        let go = |threads: usize| {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            pool.install(|| {
+                let (mut st, mut b) = (st0.clone(), bonds0.clone());
+                let dt = 2e-7;
+                for _ in 0..150 {
+                    st.discs.clear_forces();
+                    #[cfg(target_arch = "x86_64")]
+                    let pk = if packed { records(&st) } else { Vec::new() };
+                    #[cfg(not(target_arch = "x86_64"))]
+                    let pk: Vec<crate::contact::kernel::Packed> = Vec::new();
+                    b.compute_with(&mut st, dt, has_avx2(), &pk);
+                    let d = &mut st.discs;
+                    for k in 0..d.len() {
+                        d.vx[k] += d.fx[k] / d.m[k] * dt;
+                        d.vy[k] += d.fy[k] / d.m[k] * dt;
+                        d.omega[k] += d.torque[k] / d.inertia[k] * dt;
+                        d.x[k] += d.vx[k] * dt;
+                        d.y[k] += d.vy[k] * dt;
+                    }
+                    st.step += 1;
+                }
+                let modes = b.log().events.iter().fold([0, 0], |mut m, e| {
+                    m[e.mode.index()] += 1;
+                    m
+                });
+                (serde_json::to_string(&st).unwrap(), b, modes)
+            })
+        };
+        let one = go(1);
+        // (Measured: 93 in tension and 3 in shear of 10,800.)
+        assert!(one.2[0] > 0 && one.2[1] > 0, "breaks by mode {:?}", one.2);
+        eprintln!("packed {packed}: breaks by mode {:?}", one.2);
+        assert!(one.1.log().len() < bonds0.len() / 2);
+        for threads in [2, 3, 4] {
+            let many = go(threads);
+            assert!(many.0 == one.0, "state, {threads} threads, packed {packed}");
+            assert!(many.1 == one.1, "bonds, {threads} threads, packed {packed}");
+        }
+    }
+}
