@@ -91,7 +91,7 @@ mod tests {
     /// additions changes the rounding); discs left out of the list are left as they are.
     #[test]
     fn adding_by_disc_gives_the_bond_order_scatter_bits() {
-        let n = 9000; // more than two gather chunks
+        let n = 9000;
         let nb = 3 * n;
         let mut seed = 12345u64;
         let mut rnd = || {

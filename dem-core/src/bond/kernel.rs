@@ -26,7 +26,8 @@ pub(super) const NEW: u8 = 3; // + mode index
 
 /// Bonds per block.
 pub(super) const BLOCK: usize = 32;
-/// Use the two-pass parallel kernel from this many bonds on (and with more than one thread).
+/// Use the parallel path (ranges of bonds, [`super::split`]) from this many bonds on (and with
+/// more than one thread).
 pub(super) const PAR_MIN_BONDS: usize = 8192;
 
 /// Per axis (box length, 1/length), (0, 0) when not periodic.
@@ -519,6 +520,26 @@ impl StressParams {
     }
 }
 
+/// The parameters (p, σ̄c, c̄, tan φ̄) of a block's bonds (groups `grp`, not empty) when they
+/// are all in one group of parallel bonds with the stress criterion.
+#[inline(always)]
+fn uniform_stress(c: &Ctx, grp: &[u16]) -> Option<(ParallelBondParams, f64, f64, f64)> {
+    let g = *grp.first()?;
+    if grp.iter().fold(0, |a, &h| a | (h ^ g)) != 0 {
+        return None;
+    }
+    let g = g as usize;
+    match (&c.groups[g].model, c.compiled[g].criterion) {
+        (
+            BondModel::Parallel(p),
+            Criterion::Stress {
+                tensile, cohesion, ..
+            },
+        ) => Some((*p, tensile, cohesion, c.compiled[g].tan_phi)),
+        _ => None,
+    }
+}
+
 /// Update the block of bonds `base..base + m.status.len()`: new forces and status, and for each
 /// bond still intact the force on disc j and the torques on i and j (`[fx, fy, ti, tj]`) in
 /// `out` (entries of bonds that are not intact are not to be scattered). Returns the number of
@@ -540,27 +561,11 @@ fn block<const VALID: bool>(
     #[cfg(target_arch = "x86_64")]
     if VALID && n == BLOCK && !broken_any && c.packed.len() == c.v.x.len() {
         use super::parallel4::{block as four, Par};
-        let grp = &b.group[base..base + n];
-        let g = grp[0];
-        let par = match (
-            &c.groups[g as usize].model,
-            c.compiled[g as usize].criterion,
-        ) {
-            (
-                BondModel::Parallel(p),
-                Criterion::Stress {
-                    tensile, cohesion, ..
-                },
-            ) if grp.iter().fold(0, |a, &h| a | (h ^ g)) == 0 => Some(Par::Uniform([
-                p.kn,
-                p.ks,
-                p.lambda,
-                p.beta,
-                tensile,
-                cohesion,
-                c.compiled[g as usize].tan_phi,
+        let par = match uniform_stress(c, &b.group[base..base + n]) {
+            Some((p, tensile, cohesion, tan_phi)) => Some(Par::Uniform([
+                p.kn, p.ks, p.lambda, p.beta, tensile, cohesion, tan_phi,
             ])),
-            _ => c.stress.block(base).map(Par::PerBond),
+            None => c.stress.block(base).map(Par::PerBond),
         };
         if let Some(par) = par {
             // SAFETY: `packed` is not empty only with AVX2 (see `Ctx::packed`); VALID:
@@ -691,7 +696,6 @@ fn block<const VALID: bool>(
     };
     // Bond length R_i + R_j + g0 (only the strain criterion reads it).
     let length = |k: usize| gai[k] + gaj[k] - ggap[k] + g0_[k];
-    let g_first = grp.first().copied().unwrap_or(0) as usize;
     // Blocks with a few broken bonds take the straight-line loops too, masked: a broken
     // bond's lane is computed but its forces are kept and it reports no break (the general
     // path skips it; its outputs are not scattered, see `run`). Blocks with many broken bonds
@@ -702,16 +706,10 @@ fn block<const VALID: bool>(
         0
     };
     let straight_ok = n == BLOCK && broken <= BLOCK / 4;
-    let fast = match (&c.groups[g_first].model, c.compiled[g_first].criterion) {
-        (
-            BondModel::Parallel(p),
-            Criterion::Stress {
-                tensile, cohesion, ..
-            },
-        ) if straight_ok && grp.iter().fold(0, |a, &g| a | (g ^ g_first as u16)) == 0 => {
-            Some((*p, tensile, cohesion, c.compiled[g_first].tan_phi))
-        }
-        _ => None,
+    let fast = if straight_ok {
+        uniform_stress(c, grp)
+    } else {
+        None
     };
     let mut codes = [0u8; BLOCK];
     // Several groups, all parallel bonds with the stress criterion (improved ORC: intra-grain

@@ -107,7 +107,7 @@ pub(super) fn run(
 ) -> usize {
     let nb = b.i.len();
     let nd = fx.len();
-    assert!(fy.len() == nd && tq.len() == nd && split.fits(nb, nd, split.key.2));
+    assert!(fy.len() == nd && tq.len() == nd && split.key.0 == nb && split.key.1 == nd);
     assert!(m.fn_.len() == nb && m.fs.len() == nb && m.m.len() == nb && m.status.len() == nb);
     assert!(b.i.len() == nb && b.j.len() == nb && incidence.discs() == nd);
     if slot.len() != nb {
