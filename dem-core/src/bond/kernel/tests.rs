@@ -1,6 +1,6 @@
 //! Tests of the bond kernel: AVX2 against baseline, straight-line against general paths.
 
-use super::super::bench::{bonded_lattice_state, lattice_bond_group, RADIUS};
+use super::super::bench::{bonded_lattice_state, lattice_bond_group, shaken_hex_lattice, RADIUS};
 use super::super::BondStatus;
 use super::super::Bonds;
 use super::*;
@@ -308,20 +308,9 @@ fn blocks_with_a_few_broken_bonds_give_the_general_path_bits() {
 #[test]
 fn split_ranges_give_the_one_thread_bits() {
     use super::super::split::Split;
-    // 60 × 30 cells: 3,600 discs, 10,800 bonds, above the parallel threshold.
-    let (mut st0, _) = bonded_lattice_state([60, 30]);
-    let mut s = 99u64;
-    for k in 0..st0.discs.len() {
-        let mut r = || {
-            s = s
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            2.0 * ((s >> 11) as f64 / (1u64 << 53) as f64) - 1.0
-        };
-        st0.discs.vx[k] = 0.02 * r();
-        st0.discs.vy[k] = 0.02 * r();
-        st0.discs.omega[k] = 40.0 * r();
-    }
+    // 60 × 30 cells: 3,600 discs, 10,800 bonds, above the parallel threshold; velocities
+    // within ±0.02 m/s, spins within ±40 rad/s.
+    let st0 = shaken_hex_lattice([60, 30], 99, 0.04, 80.0);
     let mut bonds0 = Bonds::new(two_groups(1.5e4, 1e4)).unwrap();
     bonds0
         .install_within_gap(&st0, 1e-5, |i, j| Some(((i + j) % 2) as u16))
