@@ -13,7 +13,6 @@
 use crate::contact::disc_disc::{Dashpot, CHUNK};
 use crate::contact::kernel::Packed;
 use crate::state::Discs;
-use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 /// Per-disc integration data, rebuilt with the neighbour list.
@@ -496,11 +495,21 @@ pub fn integrate_discs(
         })
     };
     let mut total = Moved::default();
-    if rayon::current_num_threads() > 1 && n > 2 * CHUNK {
-        (0..nchunks)
-            .into_par_iter()
-            .map(run)
-            .collect_into_vec(parts);
+    let threads = crate::team::workers();
+    if threads > 1 && n > 2 * CHUNK {
+        // Worker w of the step's team (`crate::team`) integrates the w-th of `threads`
+        // contiguous runs of chunks, at every step: about the discs of its range in the
+        // disc–disc pass. Each chunk's sums go to its own slot, added in chunk order.
+        parts.clear();
+        parts.resize(nchunks, Moved::default());
+        let out = crate::contact::owned::SyncPtr::of(parts);
+        crate::team::run(threads, &|w| {
+            for ch in w * nchunks / threads..(w + 1) * nchunks / threads {
+                let m = run(ch);
+                // SAFETY: chunk ch < nchunks = parts.len(), written by this part only.
+                unsafe { *out.ptr().add(ch) = m };
+            }
+        });
         for m in parts.iter() {
             total.add(m);
         }

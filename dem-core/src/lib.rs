@@ -32,6 +32,7 @@ pub mod pipeline;
 pub mod scene;
 pub mod specimen;
 pub mod state;
+pub mod team;
 pub mod timestep;
 pub mod validate;
 

@@ -17,7 +17,7 @@
 use super::incidence::Incidence;
 use super::kernel::{block_best, sub, BlockOut, BondsIn, BondsMut, Ctx, Work, BLOCK, INTACT};
 use crate::contact::owned::SyncPtr;
-use rayon::prelude::*;
+use std::sync::atomic::{AtomicUsize, Ordering::Relaxed};
 
 /// The cut of the bonds into ranges for one bond list, disc count and range count.
 #[derive(Clone, Debug, Default)]
@@ -126,61 +126,62 @@ pub(super) fn run(
         SyncPtr::of(&mut *fy),
         SyncPtr::of(&mut *tq),
     );
-    let broke = (0..ranges)
-        .into_par_iter()
-        .map(|r| {
-            let (lo, hi) = (split.bounds[r], split.bounds[r + 1]);
-            // SAFETY: the bond ranges [lo, hi) are disjoint and within the nb entries of
-            // every bond array.
-            let (mut mr, slot) = unsafe {
-                let n = hi - lo;
-                let mr = BondsMut {
-                    fn_: pf.slice(lo, n),
-                    fs: ps.slice(lo, n),
-                    m: pm.slice(lo, n),
-                    status: pst.slice(lo, n),
-                };
-                (mr, psl.slice(lo, n))
+    // (An integer sum: the same for any order of the ranges.)
+    let broke = AtomicUsize::new(0);
+    // Range r on worker r of the step's team at every step (as the contact pass's ranges).
+    crate::team::run(ranges, &|r| {
+        let (lo, hi) = (split.bounds[r], split.bounds[r + 1]);
+        // SAFETY: the bond ranges [lo, hi) are disjoint and within the nb entries of
+        // every bond array.
+        let (mut mr, slot) = unsafe {
+            let n = hi - lo;
+            let mr = BondsMut {
+                fn_: pf.slice(lo, n),
+                fs: ps.slice(lo, n),
+                m: pm.slice(lo, n),
+                status: pst.slice(lo, n),
             };
-            let mut w = Work::new();
-            let mut o: BlockOut = [[0.0; BLOCK]; 4];
-            let mut broke = 0;
-            for k in (lo..hi).step_by(BLOCK) {
-                let e = (k + BLOCK).min(hi);
-                let mut s = sub(&mut mr, k - lo..e - lo);
-                let (nbrk, all_intact) = block_best(c, b, k, &mut s, &mut o, &mut w, avx2, true);
-                broke += nbrk;
-                let all = all_intact && nbrk == 0;
-                let dirty = split.dirty[k / BLOCK];
-                for q in k..e {
-                    if !all && s.status[q - k] != INTACT {
-                        continue;
+            (mr, psl.slice(lo, n))
+        };
+        let mut w = Work::new();
+        let mut o: BlockOut = [[0.0; BLOCK]; 4];
+        let mut n_broke = 0;
+        for k in (lo..hi).step_by(BLOCK) {
+            let e = (k + BLOCK).min(hi);
+            let mut s = sub(&mut mr, k - lo..e - lo);
+            let (nbrk, all_intact) = block_best(c, b, k, &mut s, &mut o, &mut w, avx2, true);
+            n_broke += nbrk;
+            let all = all_intact && nbrk == 0;
+            let dirty = split.dirty[k / BLOCK];
+            for q in k..e {
+                if !all && s.status[q - k] != INTACT {
+                    continue;
+                }
+                let v = [o[0][q - k], o[1][q - k], o[2][q - k], o[3][q - k]];
+                let (i, j) = (b.i[q] as usize, b.j[q] as usize);
+                if dirty {
+                    slot[q - lo] = v;
+                }
+                // SAFETY: i, j < nd (the contract); a disc that is not shared is touched
+                // by this range's bonds only, so no other thread accesses it; shared
+                // discs are not written here.
+                unsafe {
+                    if !dirty || !split.shared[i] {
+                        *px.ptr().add(i) -= v[0];
+                        *py.ptr().add(i) -= v[1];
+                        *pt.ptr().add(i) += v[2];
                     }
-                    let v = [o[0][q - k], o[1][q - k], o[2][q - k], o[3][q - k]];
-                    let (i, j) = (b.i[q] as usize, b.j[q] as usize);
-                    if dirty {
-                        slot[q - lo] = v;
-                    }
-                    // SAFETY: i, j < nd (the contract); a disc that is not shared is touched
-                    // by this range's bonds only, so no other thread accesses it; shared
-                    // discs are not written here.
-                    unsafe {
-                        if !dirty || !split.shared[i] {
-                            *px.ptr().add(i) -= v[0];
-                            *py.ptr().add(i) -= v[1];
-                            *pt.ptr().add(i) += v[2];
-                        }
-                        if !dirty || !split.shared[j] {
-                            *px.ptr().add(j) += v[0];
-                            *py.ptr().add(j) += v[1];
-                            *pt.ptr().add(j) += v[3];
-                        }
+                    if !dirty || !split.shared[j] {
+                        *px.ptr().add(j) += v[0];
+                        *py.ptr().add(j) += v[1];
+                        *pt.ptr().add(j) += v[3];
                     }
                 }
             }
-            broke
-        })
-        .sum();
+        }
+        broke.fetch_add(n_broke, Relaxed);
+    });
+    let broke = broke.into_inner();
     // Shared discs: all their bonds' contributions, in bond order.
     incidence.add(&split.shared_list, slot, m.status, fx, fy, tq);
     broke

@@ -32,7 +32,6 @@ pub(crate) struct ListRef<'a> {
     pub rstart: &'a [u32],
     pub rpair: &'a [u32],
 }
-use rayon::prelude::*;
 
 /// The split of the discs into ranges for one list and thread count.
 #[derive(Clone, Debug, Default)]
@@ -524,18 +523,13 @@ unsafe fn copy_out(acc: &mut [Acc4], fx: &mut [f64], fy: &mut [f64], tq: &mut [f
     }
 }
 
-/// Run `f(r)` for every range r in 0..ranges, in parallel. With one range per worker thread
-/// (the usual split) range r runs on worker r at every call (`rayon::broadcast`), so a
-/// worker meets the same discs and pairs in its own caches at every step (measured: +6 %
-/// on the dense lattice on two threads, 10 alternating rounds; the integrator keeps rayon's
-/// dynamic chunks, which balance better on a noisy host than fixed halves did); else on any
-/// worker.
+/// Run `f(r)` for every range r in 0..ranges, in parallel, on the step's team
+/// ([`crate::team`]): with one range per worker thread (the usual split) range r runs on
+/// worker r at every call, so a worker meets the same discs and pairs in its own caches at
+/// every step (measured with `rayon::broadcast`, which also fixes the worker: +6 % on the
+/// dense lattice on two threads, 10 alternating rounds).
 fn for_each_range(ranges: usize, f: impl Fn(usize) + Sync) {
-    if ranges == rayon::current_num_threads() {
-        rayon::broadcast(|ctx| f(ctx.index()));
-    } else {
-        (0..ranges).into_par_iter().for_each(&f);
-    }
+    crate::team::run(ranges, &f);
 }
 
 thread_local! {
