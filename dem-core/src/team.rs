@@ -26,18 +26,23 @@ use std::time::{Duration, Instant};
 /// How long an idle helper spins before parking.
 const SPIN: Duration = Duration::from_micros(200);
 
-/// Run `f(w)` for every `w` in `0..parts` on the calling thread's team (part 0 on the caller
-/// itself; part `w` on helper `w − 1` when `parts` is the team's size, else the parts are
-/// taken in turn by whichever worker is free) and return when all are done. A panic in
-/// any part is raised again here, after every part has finished.
+/// Run `f(p)` for every part `p` in `0..parts` on the calling thread's team and return when
+/// all are done: part 0 on the caller itself, part `w` below the team size always on helper
+/// `w`, any further parts on whichever worker is free. A panic in any part is raised again
+/// here, after every part has finished.
 pub fn run(parts: usize, f: &(dyn Fn(usize) + Sync)) {
     let threads = workers();
-    if parts <= 1 || threads == 1 {
+    // (On a helper: a call from inside a part runs its parts here, in turn.)
+    if parts <= 1 || threads == 1 || HELPER.with(|h| h.get()) {
         (0..parts).for_each(f);
         return;
     }
     TEAM.with(|t| {
-        let mut t = t.borrow_mut();
+        // A call from inside a part on this thread finds its team busy: the same.
+        let Ok(mut t) = t.try_borrow_mut() else {
+            (0..parts).for_each(f);
+            return;
+        };
         if t.as_ref().is_none_or(|t| t.size() != threads) {
             // (Dropping the old team stops its helpers.)
             *t = Some(Team::new(threads));
@@ -57,6 +62,8 @@ pub fn workers() -> usize {
 }
 
 thread_local! {
+    /// Whether this thread is a team helper.
+    static HELPER: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
     /// The team of the threads that step worlds (made on first use, resized with the rayon
     /// thread count).
     static TEAM: std::cell::RefCell<Option<Team>> = const { std::cell::RefCell::new(None) };
@@ -73,9 +80,11 @@ struct Job {
 unsafe impl Send for Job {}
 
 struct Shared {
-    /// Incremented for every job (and at shutdown).
+    /// The number of the latest job (bumped once more at shutdown), polled by idle helpers.
     generation: AtomicUsize,
-    job: Mutex<Option<Job>>,
+    /// The latest job and its number (read together: a helper that had no part in a job and
+    /// looks only after the next one is published must see the next one's number).
+    job: Mutex<(usize, Option<Job>)>,
     /// Next part to take (parts beyond the team size) and parts finished.
     next: AtomicUsize,
     done: AtomicUsize,
@@ -96,7 +105,7 @@ impl Team {
     fn new(size: usize) -> Team {
         let shared = Arc::new(Shared {
             generation: AtomicUsize::new(0),
-            job: Mutex::new(None),
+            job: Mutex::new((0, None)),
             next: AtomicUsize::new(0),
             done: AtomicUsize::new(0),
             panicked: AtomicBool::new(false),
@@ -131,11 +140,16 @@ impl Team {
         // returns (or panics) only after every part is counted done, and no helper touches
         // the job after counting its last part.
         let f_static: &'static (dyn Fn(usize) + Sync) = unsafe { std::mem::transmute(f) };
-        *s.job.lock().unwrap_or_else(|e| e.into_inner()) = Some(Job { f: f_static, parts });
+        let number = {
+            let mut j = s.job.lock().unwrap_or_else(|e| e.into_inner());
+            j.0 += 1;
+            j.1 = Some(Job { f: f_static, parts });
+            j.0
+        };
         s.next.store(self.size(), Relaxed);
         s.done.store(0, Relaxed);
         s.panicked.store(false, Relaxed);
-        s.generation.fetch_add(1, SeqCst);
+        s.generation.store(number, SeqCst);
         if s.sleeping.load(SeqCst) > 0 {
             let _g = s.park.lock().unwrap_or_else(|e| e.into_inner());
             s.wake.notify_all();
@@ -191,14 +205,13 @@ impl Drop for Team {
 /// Helper `w`: wait for a job (spin, then park), run part `w` and any parts left beyond the
 /// team size, count them done.
 fn helper(s: &Shared, w: usize) {
+    HELPER.with(|h| h.set(true));
     let mut seen = 0;
     loop {
         let t0 = Instant::now();
         let mut k = 0u32;
         loop {
-            let g = s.generation.load(Acquire);
-            if g != seen {
-                seen = g;
+            if s.generation.load(Acquire) != seen {
                 break;
             }
             k = k.wrapping_add(1);
@@ -218,16 +231,28 @@ fn helper(s: &Shared, w: usize) {
         if s.shutdown.load(Acquire) {
             return;
         }
-        let job = (*s.job.lock().unwrap_or_else(|e| e.into_inner())).expect("set before the bump");
-        // SAFETY: the caller waits in `Team::run` until this part is counted done.
-        let f = unsafe { &*job.f };
-        run_parts(s, f, w, job.parts);
+        #[cfg(test)]
+        if tests::SLOW_HELPERS.load(Relaxed) {
+            // Widen the window between seeing a new job and reading it (test of the race).
+            std::thread::sleep(Duration::from_micros(300));
+        }
+        let (number, job) = *s.job.lock().unwrap_or_else(|e| e.into_inner());
+        seen = number;
+        if let Some(job) = job {
+            // SAFETY: the caller waits in `Team::run` until every part below `job.parts` is
+            // counted done; with no part here (w >= parts) `f` is not called.
+            let f = unsafe { &*job.f };
+            run_parts(s, f, w, job.parts);
+        }
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Set by the race test: helpers pause between seeing a job and reading it.
+    pub(super) static SLOW_HELPERS: AtomicBool = AtomicBool::new(false);
 
     fn pool(t: usize) -> rayon::ThreadPool {
         rayon::ThreadPoolBuilder::new()
@@ -270,6 +295,40 @@ mod tests {
                     assert_eq!(*f.get_or_insert(me), me, "part {p} moved");
                 });
             }
+        });
+    }
+
+    #[test]
+    fn helpers_without_a_part_never_run_one_later() {
+        // A team of 4 (more than this machine may have cores) with jobs of 2-5 parts in turn,
+        // helpers slowed between seeing a job and reading it: a helper with no part in one
+        // job that reads only after the next is published must run its part of the next one
+        // exactly once.
+        SLOW_HELPERS.store(true, Relaxed);
+        let team = Team::new(4);
+        for round in 0..400 {
+            let parts = 2 + round % 4;
+            let hits: Vec<AtomicUsize> = (0..parts).map(|_| AtomicUsize::new(0)).collect();
+            team.run(parts, &|p| {
+                hits[p].fetch_add(1, Relaxed);
+            });
+            assert!(
+                hits.iter().all(|h| h.load(Relaxed) == 1),
+                "round {round}, {parts} parts"
+            );
+        }
+    }
+
+    #[test]
+    fn a_nested_call_runs_its_parts_in_turn() {
+        pool(2).install(|| {
+            let n = AtomicUsize::new(0);
+            run(2, &|_| {
+                run(3, &|_| {
+                    n.fetch_add(1, Relaxed);
+                });
+            });
+            assert_eq!(n.load(Relaxed), 6);
         });
     }
 
