@@ -94,6 +94,9 @@ struct Shared {
     sleeping: AtomicUsize,
     park: Mutex<()>,
     wake: Condvar,
+    /// Tests: helpers pause between seeing a job and reading it.
+    #[cfg(test)]
+    slow: AtomicBool,
 }
 
 struct Team {
@@ -113,6 +116,8 @@ impl Team {
             sleeping: AtomicUsize::new(0),
             park: Mutex::new(()),
             wake: Condvar::new(),
+            #[cfg(test)]
+            slow: AtomicBool::new(false),
         });
         let mut helpers = Vec::new();
         for w in 1..size {
@@ -232,7 +237,7 @@ fn helper(s: &Shared, w: usize) {
             return;
         }
         #[cfg(test)]
-        if tests::SLOW_HELPERS.load(Relaxed) {
+        if s.slow.load(Relaxed) {
             // Widen the window between seeing a new job and reading it (test of the race).
             std::thread::sleep(Duration::from_micros(300));
         }
@@ -250,9 +255,6 @@ fn helper(s: &Shared, w: usize) {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// Set by the race test: helpers pause between seeing a job and reading it.
-    pub(super) static SLOW_HELPERS: AtomicBool = AtomicBool::new(false);
 
     fn pool(t: usize) -> rayon::ThreadPool {
         rayon::ThreadPoolBuilder::new()
@@ -304,8 +306,8 @@ mod tests {
         // helpers slowed between seeing a job and reading it: a helper with no part in one
         // job that reads only after the next is published must run its part of the next one
         // exactly once.
-        SLOW_HELPERS.store(true, Relaxed);
         let team = Team::new(4);
+        team.shared.slow.store(true, Relaxed);
         for round in 0..400 {
             let parts = 2 + round % 4;
             let hits: Vec<AtomicUsize> = (0..parts).map(|_| AtomicUsize::new(0)).collect();
