@@ -3,9 +3,10 @@
 //! Each parallel stage of a step (the disc–disc pass, the bond stage, the integrator) is one
 //! fork-join region of a few hundred microseconds or less. With rayon, the other workers go
 //! to sleep between regions and are woken through the kernel; on the 2-vCPU development VM
-//! that costs ~10–60 µs per region (measured: two threads sweeping their own halves of an
-//! array, region 100–200 µs long, 1.15–1.35x over one thread with a rayon `broadcast` per
-//! region against 1.35–1.95x with spinning workers; docs/performance.md, ninth round). Here
+//! that cost 10–45 µs more per region than spinning workers (measured: two threads sweeping
+//! their own halves of an array, regions of 110–150 µs, 0.93–1.79x over one thread with a
+//! rayon `broadcast` per region against 1.15–1.95x with a spinning helper, 4 runs;
+//! docs/performance.md, ninth round). Here
 //! the calling thread runs part 0 itself and `T − 1` helper threads, kept per calling thread,
 //! run the others; between regions the helpers spin on a generation counter for up to
 //! [`SPIN`] before parking (so an idle world costs no CPU), and the caller spins until they
