@@ -13,6 +13,7 @@
 use crate::contact::disc_disc::{Dashpot, CHUNK};
 use crate::contact::kernel::Packed;
 use crate::state::Discs;
+use crate::team::SyncPtr;
 use serde::{Deserialize, Serialize};
 
 /// Per-disc integration data, rebuilt with the neighbour list.
@@ -87,11 +88,6 @@ pub struct Kick {
     /// Squared displacement (since the last neighbour build) that calls for a rebuild.
     pub disp2_limit: f64,
 }
-
-#[derive(Clone, Copy)]
-struct Ptr(*mut f64);
-unsafe impl Send for Ptr {}
-unsafe impl Sync for Ptr {}
 
 /// The read-only disc arrays of the pass.
 struct Ro<'a> {
@@ -259,7 +255,7 @@ fn sub_block<const E: bool, const D: bool, const DAMP: bool, const VISC: bool, c
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 unsafe fn chunk<const E: bool, const D: bool, const DAMP: bool, const VISC: bool>(
-    p: &[Ptr; 6],
+    p: &[SyncPtr<f64>; 6],
     d: &Ro,
     c: &DiscCache,
     x0: &[f64],
@@ -307,7 +303,7 @@ unsafe fn chunk<const E: bool, const D: bool, const DAMP: bool, const VISC: bool
             dfy,
             dtq,
         ];
-        let xs = [0, 1, 2, 3, 4, 5].map(|a| std::slice::from_raw_parts_mut(p[a].0.add(b0), n));
+        let xs = [0, 1, 2, 3, 4, 5].map(|a| p[a].slice(b0, n));
         let [x, y, th, vx, vy, w] = xs;
         let fixed = &d.fixed[r];
         exceeded |= if k.gravity != [0.0, 0.0] {
@@ -322,7 +318,7 @@ unsafe fn chunk<const E: bool, const D: bool, const DAMP: bool, const VISC: bool
             // it); p[..] point to arrays of length n_discs >= b1 (the caller's contract),
             // po.len >= b1 (asserted by `integrate_discs`), and no other thread touches
             // indices b0..b1.
-            let sl = |a: usize| std::slice::from_raw_parts(p[a].0.add(b0) as *const f64, n);
+            let sl = |a: usize| std::slice::from_raw_parts(p[a].ptr().add(b0) as *const f64, n);
             let src = crate::contact::kernel::PackSrc {
                 x: sl(0),
                 y: sl(1),
@@ -362,7 +358,7 @@ unsafe fn chunk<const E: bool, const D: bool, const DAMP: bool, const VISC: bool
 #[target_feature(enable = "avx2")]
 #[allow(clippy::too_many_arguments)]
 unsafe fn chunk_avx2<const E: bool, const D: bool, const DAMP: bool, const VISC: bool>(
-    p: &[Ptr; 6],
+    p: &[SyncPtr<f64>; 6],
     d: &Ro,
     c: &DiscCache,
     x0: &[f64],
@@ -378,7 +374,7 @@ unsafe fn chunk_avx2<const E: bool, const D: bool, const DAMP: bool, const VISC:
 /// Dispatch on the instruction set (same bits either way: no FMA contraction).
 #[allow(clippy::too_many_arguments)]
 unsafe fn chunk_best<const E: bool, const D: bool, const DAMP: bool, const VISC: bool>(
-    p: &[Ptr; 6],
+    p: &[SyncPtr<f64>; 6],
     d: &Ro,
     c: &DiscCache,
     x0: &[f64],
@@ -428,12 +424,12 @@ pub fn integrate_discs(
         ..
     } = d;
     let p = [
-        Ptr(x.as_mut_ptr()),
-        Ptr(y.as_mut_ptr()),
-        Ptr(theta.as_mut_ptr()),
-        Ptr(vx.as_mut_ptr()),
-        Ptr(vy.as_mut_ptr()),
-        Ptr(omega.as_mut_ptr()),
+        SyncPtr::of(x),
+        SyncPtr::of(y),
+        SyncPtr::of(theta),
+        SyncPtr::of(vx),
+        SyncPtr::of(vy),
+        SyncPtr::of(omega),
     ];
     let dr = Ro {
         m,
@@ -502,7 +498,7 @@ pub fn integrate_discs(
         // disc–disc pass. Each chunk's sums go to its own slot, added in chunk order.
         parts.clear();
         parts.resize(nchunks, Moved::default());
-        let out = crate::contact::owned::SyncPtr::of(parts);
+        let out = SyncPtr::of(parts);
         crate::team::run(threads, &|w| {
             for ch in w * nchunks / threads..(w + 1) * nchunks / threads {
                 let m = run(ch);

@@ -253,9 +253,51 @@ fn helper(s: &Shared, w: usize) {
     }
 }
 
+/// A raw pointer to an array that the parts of a team job share, each touching its own
+/// disjoint indices (the disc–disc pass's and the bond stage's ranges, the integrator's
+/// chunks).
+pub(crate) struct SyncPtr<T>(*mut T);
+impl<T> Clone for SyncPtr<T> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+impl<T> Copy for SyncPtr<T> {}
+unsafe impl<T> Send for SyncPtr<T> {}
+unsafe impl<T> Sync for SyncPtr<T> {}
+
+impl<T> SyncPtr<T> {
+    pub(crate) fn of(v: &mut [T]) -> SyncPtr<T> {
+        SyncPtr(v.as_mut_ptr())
+    }
+
+    /// The pointer (a method, so that closures capture the whole `SyncPtr`).
+    pub(crate) fn ptr(self) -> *mut T {
+        self.0
+    }
+
+    /// # Safety
+    /// `[a, a + len)` must be in bounds of the array and not aliased by any live reference.
+    pub(crate) unsafe fn slice<'a>(self, a: usize, len: usize) -> &'a mut [T] {
+        if len == 0 {
+            return &mut [];
+        }
+        std::slice::from_raw_parts_mut(self.0.add(a), len)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Whether `go`, given a part function, ran every part of `0..parts` exactly once.
+    fn each_part_once(parts: usize, go: impl FnOnce(&(dyn Fn(usize) + Sync))) -> bool {
+        let hits: Vec<AtomicUsize> = (0..parts).map(|_| AtomicUsize::new(0)).collect();
+        go(&|p| {
+            hits[p].fetch_add(1, Relaxed);
+        });
+        hits.iter().all(|h| h.load(Relaxed) == 1)
+    }
 
     fn pool(t: usize) -> rayon::ThreadPool {
         rayon::ThreadPoolBuilder::new()
@@ -270,15 +312,8 @@ mod tests {
             pool(t).install(|| {
                 for parts in [0, 1, 2, 3, 4, 7, 64] {
                     for _ in 0..50 {
-                        let hits: Vec<AtomicUsize> =
-                            (0..parts).map(|_| AtomicUsize::new(0)).collect();
-                        run(parts, &|p| {
-                            hits[p].fetch_add(1, Relaxed);
-                        });
-                        assert!(
-                            hits.iter().all(|h| h.load(Relaxed) == 1),
-                            "{t} threads, {parts} parts"
-                        );
+                        let once = each_part_once(parts, |f| run(parts, f));
+                        assert!(once, "{t} threads, {parts} parts");
                     }
                 }
             });
@@ -311,14 +346,8 @@ mod tests {
         team.shared.slow.store(true, Relaxed);
         for round in 0..400 {
             let parts = 2 + round % 4;
-            let hits: Vec<AtomicUsize> = (0..parts).map(|_| AtomicUsize::new(0)).collect();
-            team.run(parts, &|p| {
-                hits[p].fetch_add(1, Relaxed);
-            });
-            assert!(
-                hits.iter().all(|h| h.load(Relaxed) == 1),
-                "round {round}, {parts} parts"
-            );
+            let once = each_part_once(parts, |f| team.run(parts, f));
+            assert!(once, "round {round}, {parts} parts");
         }
     }
 

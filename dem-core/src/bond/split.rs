@@ -16,7 +16,7 @@
 
 use super::incidence::Incidence;
 use super::kernel::{block_best, sub, BlockOut, BondsIn, BondsMut, Ctx, Work, BLOCK, INTACT};
-use crate::contact::owned::SyncPtr;
+use crate::team::SyncPtr;
 use std::sync::atomic::{AtomicUsize, Ordering::Relaxed};
 
 /// The cut of the bonds into ranges for one bond list, disc count and range count.

@@ -23,6 +23,7 @@
 
 use super::disc_disc::{PassEnergy, Slots, CHUNK};
 use super::kernel::{at, block, has_avx2, pack, Acc4, Ctx, Packed, PairLaw, Scratch, BLOCK};
+use crate::team::SyncPtr;
 
 /// The parts of the neighbour list the split needs.
 pub(crate) struct ListRef<'a> {
@@ -535,38 +536,6 @@ fn for_each_range(ranges: usize, f: impl Fn(usize) + Sync) {
 thread_local! {
     /// One block scratch per worker thread, allocated once.
     static SCRATCH: std::cell::RefCell<Box<Scratch>> = std::cell::RefCell::new(Box::default());
-}
-
-/// Raw pointer that may be shared across threads; each range touches disjoint index ranges.
-/// (Also used by the bond stage's split, `bond::split`.)
-pub(crate) struct SyncPtr<T>(*mut T);
-impl<T> Clone for SyncPtr<T> {
-    fn clone(&self) -> Self {
-        *self
-    }
-}
-impl<T> Copy for SyncPtr<T> {}
-unsafe impl<T> Send for SyncPtr<T> {}
-unsafe impl<T> Sync for SyncPtr<T> {}
-
-impl<T> SyncPtr<T> {
-    pub(crate) fn of(v: &mut [T]) -> SyncPtr<T> {
-        SyncPtr(v.as_mut_ptr())
-    }
-
-    /// The pointer (a method, so that closures capture the whole `SyncPtr`).
-    pub(crate) fn ptr(self) -> *mut T {
-        self.0
-    }
-
-    /// # Safety
-    /// `[a, a + len)` must be in bounds of the array and not aliased by any live reference.
-    pub(crate) unsafe fn slice<'a>(self, a: usize, len: usize) -> &'a mut [T] {
-        if len == 0 {
-            return &mut [];
-        }
-        std::slice::from_raw_parts_mut(self.0.add(a), len)
-    }
 }
 
 /// The disc arrays the pass writes (length n) and the per-disc dashpot sums (length n when
