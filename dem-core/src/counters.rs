@@ -16,6 +16,9 @@ pub struct Counters {
     /// Disc–disc passes that read disc records packed by the previous step's integrator
     /// (steps inside `World::run_while` after the first, without rigid clumps or a rebuild).
     pub packed_by_integrator: u64,
+    /// Steps whose parallel bonds were evaluated in the disc–disc pass (`bond::fused`; their
+    /// time is then in `contacts`, the bond stage only logs breaks).
+    pub bonds_fused: u64,
 }
 
 impl Counters {
@@ -51,8 +54,8 @@ impl Counters {
             s += &format!("{name:>11}: {t:9.3} s {:5.1} %\n", 100.0 * t / tot);
         }
         s += &format!(
-            "steps {} rebuilds {} reorders {} packed by the integrator {}\n",
-            self.steps, self.rebuilds, self.reorders, self.packed_by_integrator
+            "steps {} rebuilds {} reorders {} packed by the integrator {} bonds fused {}\n",
+            self.steps, self.rebuilds, self.reorders, self.packed_by_integrator, self.bonds_fused
         );
         s
     }

@@ -46,6 +46,17 @@ pub struct Params {
     /// Hertz–Mindlin time-step estimate: the tangent stiffness is taken at the larger of the
     /// current overlap and this fraction of the effective radius R*.
     pub hertz_reference_overlap: f64,
+    /// Evaluate parallel bonds (maximum-stress criterion) in the disc–disc pass, with the
+    /// geometry of their pair, when every intact bond is one and is a listed pair and the
+    /// scene has one linear contact law and does not track energies (see `bond::fused`):
+    /// ~1.4× faster on a bonded lattice; the same physics as the separate bond stage, rounded
+    /// differently. `false` always runs the separate stage.
+    #[serde(default = "yes")]
+    pub fuse_bonds: bool,
+}
+
+fn yes() -> bool {
+    true
 }
 
 impl Params {
@@ -67,6 +78,7 @@ impl Default for Params {
             max_energy_growth: 2.0,
             track_energy: true,
             hertz_reference_overlap: 0.01,
+            fuse_bonds: true,
         }
     }
 }

@@ -137,6 +137,21 @@ impl World {
         let dt = self.dt;
         let img = MinImage::new(&self.state.periodic);
         self.counters.packed_by_integrator += u64::from(self.slots.packed_fresh);
+        // Parallel bonds evaluated with their pairs when they all can be and the pass takes
+        // the uniform linear law without dashpot sums (`bond::fused`).
+        let fuse = self.params.fuse_bonds
+            && self.bonds.is_some()
+            && disc_disc::uniform_linear(&self.state.discs, &self.laws, dash)
+            && self
+                .bonds
+                .as_mut()
+                .is_some_and(|b| b.fused_ready(self.nb.builds, &self.nb.start, &self.nb.nbr));
+        self.counters.bonds_fused += u64::from(fuse);
+        let thickness = self.state.thickness;
+        let fv = match self.bonds.as_mut() {
+            Some(b) if fuse => b.fused_view(thickness),
+            _ => None,
+        };
         // (The contact pass replaces the forces: no clearing needed.)
         let mut e = disc_disc::compute(
             &mut self.state.discs,
@@ -148,6 +163,7 @@ impl World {
             track,
             dash,
             &mut self.slots,
+            fv.as_ref(),
         );
         // The records are good for one pass only (whichever path the pass took).
         self.slots.packed_fresh = false;
@@ -169,7 +185,9 @@ impl World {
             e.add(&ew);
         }
         let t3 = Counters::lap(&mut self.counters.walls, t2);
-        if let Some(b) = self.bonds.as_mut() {
+        if let (true, Some(b)) = (fuse, self.bonds.as_mut()) {
+            b.after_fused(&self.state);
+        } else if let Some(b) = self.bonds.as_mut() {
             // The contact pass's packed records still describe the discs (AVX2 only).
             let pk: &[_] = if self.slots.packed_current {
                 &self.slots.packed

@@ -18,6 +18,7 @@ pub mod bench;
 pub mod breaks;
 pub mod contact_bond;
 pub mod criteria;
+pub(crate) mod fused;
 mod incidence;
 pub mod install;
 mod kernel;

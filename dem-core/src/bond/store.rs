@@ -30,6 +30,11 @@ struct Cache {
     /// Per-bond stress parameters of parallel bonds (see [`kernel::StressParams`]); rebuilt
     /// when bonds are added or reordered.
     stress: Option<kernel::StressParams>,
+    /// The map from listed pairs to bonds of the fused stage (see `fused`); reset with
+    /// `index_bound`, rebuilt for each neighbour-list build.
+    fused: Option<super::fused::Map>,
+    /// Bonds broken in the last fused pass.
+    fused_breaks: super::fused::Breaks,
 }
 
 impl PartialEq for Cache {
@@ -264,6 +269,7 @@ impl Bonds {
         self.j.push(j as u32);
         self.cache.index_bound = None;
         self.cache.incidence = None;
+        self.cache.fused = None;
         self.cache.split = None;
         self.cache.stress = None;
         self.group.push(group);
@@ -345,6 +351,66 @@ impl Bonds {
         if !self.cache.stress.as_ref().is_some_and(|s| s.fits(n)) {
             let s = kernel::StressParams::new(&self.groups, &self.cache.compiled, &self.group);
             self.cache.stress = Some(s);
+        }
+    }
+
+    /// Prepare the fused bond stage for the neighbour list (`builds`, `start`, `nbr`: its
+    /// build count and pairs): whether the disc–disc pass may evaluate the bonds (see
+    /// `fused`). Cheap when nothing changed.
+    pub(crate) fn fused_ready(&mut self, builds: u64, start: &[u32], nbr: &[u32]) -> bool {
+        if self.is_empty() {
+            return false;
+        }
+        self.ensure_cache();
+        if !self
+            .cache
+            .fused
+            .as_ref()
+            .is_some_and(|m| m.fits(builds, nbr.len()))
+        {
+            let par = (self.groups.iter().zip(&self.cache.compiled))
+                .map(|(g, c)| super::fused::group_par(&g.model, c))
+                .collect();
+            let b = super::fused::BondsRef {
+                i: &self.i,
+                j: &self.j,
+                group: &self.group,
+                status: &self.status,
+                par,
+            };
+            self.cache.fused = Some(super::fused::Map::build(builds, start, nbr, &b));
+        }
+        self.cache.fused.as_ref().is_some_and(|m| m.ok())
+    }
+
+    /// The view of the fused bond stage (after [`Bonds::fused_ready`] returned true).
+    pub(crate) fn fused_view(&mut self, thickness: f64) -> Option<super::fused::View<'_>> {
+        self.thickness = thickness;
+        let m = self.cache.fused.as_ref().filter(|m| m.ok())?;
+        Some(m.view(
+            thickness,
+            &self.group,
+            &self.g0,
+            &self.rbar,
+            &mut self.fn_,
+            &mut self.fs,
+            &mut self.m,
+            &mut self.status,
+            &self.cache.fused_breaks,
+        ))
+    }
+
+    /// The fused stage's map (tests).
+    #[cfg(test)]
+    pub(crate) fn fused_map(&self) -> Option<&super::fused::Map> {
+        self.cache.fused.as_ref()
+    }
+
+    /// The bond stage after a fused pass: log the bonds that broke in it.
+    pub(crate) fn after_fused(&mut self, st: &State) {
+        let n = self.cache.fused_breaks.take();
+        if n > 0 {
+            self.log_breaks(st);
         }
     }
 
@@ -512,6 +578,7 @@ impl Bonds {
     pub fn remap(&mut self, new_index_of_old: &[u32]) {
         self.cache.index_bound = None;
         self.cache.incidence = None;
+        self.cache.fused = None;
         self.cache.split = None;
         self.cache.stress = None;
         for k in self.i.iter_mut().chain(self.j.iter_mut()) {

@@ -146,7 +146,7 @@ fn valid(d: &Discs, nb: &Neighbors, minv: &[f64]) -> bool {
 /// pass; the caller passes `false` when no law has a dashpot
 /// ([`ContactLaws::has_dashpots`]), and the sums are then neither reset nor filled.
 #[allow(clippy::too_many_arguments)]
-pub fn compute(
+pub(crate) fn compute(
     d: &mut Discs,
     nb: &mut Neighbors,
     minv: &[f64],
@@ -156,6 +156,7 @@ pub fn compute(
     track_energy: bool,
     dashpots: bool,
     slots: &mut Slots,
+    fused: Option<&crate::bond::fused::View>,
 ) -> PassEnergy {
     assert!(valid(d, nb, minv), "neighbour list out of date");
     if !nb.verified || nb.owner.len() != nb.nbr.len() {
@@ -174,7 +175,7 @@ pub fn compute(
     let uniform =
         d.material.iter().fold(0u16, |a, &m| a | (m ^ m0)) == 0 && laws.rolling(m0, m0).is_none();
     let model = *laws.model(m0, m0);
-    let a = (d, nb, minv, img, dt, (track_energy, dashpots), slots);
+    let a = (d, nb, minv, img, dt, (track_energy, dashpots), slots, fused);
     match (uniform, model) {
         (true, ContactModel::Linear(l)) => match l.damping {
             NormalDamping::Gamma(g) => run(a, &LinearGamma(l, g)),
@@ -185,6 +186,18 @@ pub fn compute(
     }
 }
 
+/// Whether the pass evaluates every pair with one linear spring-dashpot law without dashpot
+/// sums (`dashpots`: energies tracked and some law has a dashpot): the case the four-lane
+/// kernel (`super::linear4`, AVX2) takes, and the one in which parallel bonds are evaluated
+/// with their pairs (`bond::fused`; on every CPU, so that results do not depend on it).
+pub(crate) fn uniform_linear(d: &Discs, laws: &ContactLaws, dashpots: bool) -> bool {
+    let m0 = d.material.first().copied().unwrap_or(0);
+    !dashpots
+        && d.material.iter().fold(0u16, |a, &m| a | (m ^ m0)) == 0
+        && laws.rolling(m0, m0).is_none()
+        && matches!(laws.model(m0, m0), ContactModel::Linear(_))
+}
+
 type Args<'a> = (
     &'a mut Discs,
     &'a mut Neighbors,
@@ -193,10 +206,11 @@ type Args<'a> = (
     f64,
     (bool, bool),
     &'a mut Slots,
+    Option<&'a crate::bond::fused::View<'a>>,
 );
 
 fn run<L: PairLaw>(a: Args, law: &L) -> PassEnergy {
-    let (d, nb, minv, img, dt, track, slots) = a;
+    let (d, nb, minv, img, dt, track, slots, fused) = a;
     let threads = rayon::current_num_threads();
     let ranges = if threads > 1 && nb.nbr.len() >= PAR_MIN_PAIRS {
         threads
@@ -232,6 +246,7 @@ fn run<L: PairLaw>(a: Args, law: &L) -> PassEnergy {
         law,
         img,
         dt,
+        fused,
     };
     let (us, mr) = (&mut nb.us, &mut nb.mr);
     let list = ListRef {

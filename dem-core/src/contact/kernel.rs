@@ -165,6 +165,8 @@ pub(crate) struct Ctx<'a, L: PairLaw> {
     pub(crate) law: &'a L,
     pub(crate) img: MinImage,
     pub(crate) dt: f64,
+    /// Parallel bonds evaluated with their pairs (see `bond::fused`), or none.
+    pub(crate) fused: Option<&'a crate::bond::fused::View<'a>>,
 }
 
 /// Working arrays of one block (inputs gathered per pair, outputs per pair).
@@ -189,8 +191,8 @@ pub struct Scratch {
     pub(crate) fy: [f64; BLOCK],
     pub(crate) ti: [f64; BLOCK],
     pub(crate) tj: [f64; BLOCK],
-    es: [f64; BLOCK],
-    ef: [f64; BLOCK],
+    pub(crate) es: [f64; BLOCK],
+    pub(crate) ef: [f64; BLOCK],
     /// Dashpot force on j and dashpot torques on i, j (energy tracking only).
     pub(crate) dfx: [f64; BLOCK],
     pub(crate) dfy: [f64; BLOCK],
@@ -701,6 +703,63 @@ fn eval_best<const E: bool, const D: bool, const PER: bool, const G0: bool, L: P
     eval::<E, D, PER, G0, L>(c.law, c.dt, &c.img, s, us)
 }
 
+/// Add the forces of the intact parallel bonds of pairs p0..p0 + q to the block's outputs
+/// (`bond::fused::block`, from the gathered columns; compiled for AVX2 when there is one, as
+/// [`eval`] is).
+fn fused_bonds<L: PairLaw>(
+    c: &Ctx<L>,
+    v: &crate::bond::fused::View,
+    p0: usize,
+    q: usize,
+    s: &mut Scratch,
+    avx2: bool,
+) {
+    #[inline(always)]
+    fn go<L: PairLaw>(
+        c: &Ctx<L>,
+        v: &crate::bond::fused::View,
+        p0: usize,
+        q: usize,
+        s: &mut Scratch,
+    ) {
+        let cols = crate::bond::fused::Cols {
+            dx: &s.dx,
+            dy: &s.dy,
+            ri: &s.ri,
+            rj: &s.rj,
+            wi: &s.wi,
+            wj: &s.wj,
+            dvx: &s.dvx,
+            dvy: &s.dvy,
+        };
+        let out = [&mut s.fx, &mut s.fy, &mut s.ti, &mut s.tj];
+        if c.img.is_periodic() {
+            crate::bond::fused::block::<true>(v, &c.img, c.dt, p0, q, &cols, out);
+        } else {
+            crate::bond::fused::block::<false>(v, &c.img, c.dt, p0, q, &cols, out);
+        }
+    }
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn go_avx2<L: PairLaw>(
+        c: &Ctx<L>,
+        v: &crate::bond::fused::View,
+        p0: usize,
+        q: usize,
+        s: &mut Scratch,
+    ) {
+        go(c, v, p0, q, s)
+    }
+    #[cfg(target_arch = "x86_64")]
+    if avx2 {
+        // SAFETY: `avx2` is true only when the CPU reports AVX2 (see `has_avx2`).
+        unsafe { go_avx2(c, v, p0, q, s) };
+        return;
+    }
+    let _ = avx2;
+    go(c, v, p0, q, s)
+}
+
 pub(crate) fn has_avx2() -> bool {
     #[cfg(target_arch = "x86_64")]
     {
@@ -733,18 +792,38 @@ pub(crate) fn block<const E: bool, const D: bool, L: PairLaw>(
     let q = us.len();
     let g0 = !c.g0.is_empty();
     #[cfg(target_arch = "x86_64")]
-    if let (false, false, false, Some(lin)) = (pk.is_empty(), E, g0, c.law.linear4()) {
-        // A uniform linear law without energies or reference gaps: in registers.
+    if let (false, false, Some(lin)) = (pk.is_empty(), D, c.law.linear4()) {
+        // A uniform linear law without dashpot sums: in registers.
         assert!(avx2);
         let per = c.img.is_periodic();
+        // (`FUSED` separately compiled: scenes without fused bonds run the kernel without
+        // the bond hook.)
+        let fz = c.fused.is_some();
+        macro_rules! go {
+            ($($per:literal $ratio:literal $g0:literal $fz:literal),*) => {
+                match (per, lin.ratio, g0, fz) {
+                    $(($per, $ratio, $g0, $fz) => {
+                        linear4::block::<L, $per, $ratio, E, $g0, $fz>(c, &lin, pk, p0, q, gi, us, s)
+                    })*
+                }
+            };
+        }
         // SAFETY: the CPU has AVX2 (`avx2`, see `has_avx2`); `pk` holds one record per disc
         // (asserted by the callee) and the list is valid.
         unsafe {
-            match (per, lin.ratio) {
-                (false, false) => linear4::block::<L, false, false>(c, &lin, pk, p0, q, gi, us, s),
-                (false, true) => linear4::block::<L, false, true>(c, &lin, pk, p0, q, gi, us, s),
-                (true, false) => linear4::block::<L, true, false>(c, &lin, pk, p0, q, gi, us, s),
-                (true, true) => linear4::block::<L, true, true>(c, &lin, pk, p0, q, gi, us, s),
+            go!(
+                false false false false, false true false false, true false false false,
+                true true false false, false false true false, false true true false,
+                true false true false, true true true false, false false false true,
+                false true false true, true false false true, true true false true,
+                false false true true, false true true true, true false true true,
+                true true true true
+            )
+        }
+        if E {
+            for k in 0..q {
+                e.strain += s.es[k];
+                e.fric += s.ef[k];
             }
         }
         return;
@@ -787,6 +866,9 @@ pub(crate) fn block<const E: bool, const D: bool, L: PairLaw>(
     }
     if L::ROLLING {
         mr.copy_from_slice(&s.mr[..q]);
+    }
+    if let Some(v) = c.fused {
+        fused_bonds(c, v, p0, q, s, avx2);
     }
     if E {
         for k in 0..q {

@@ -59,7 +59,14 @@ pub(crate) static BLOCKS: std::sync::atomic::AtomicUsize = std::sync::atomic::At
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 #[allow(clippy::too_many_arguments)]
-pub(crate) unsafe fn block<L: PairLaw, const PER: bool, const RATIO: bool>(
+pub(crate) unsafe fn block<
+    L: PairLaw,
+    const PER: bool,
+    const RATIO: bool,
+    const E: bool,
+    const G0: bool,
+    const FUSED: bool,
+>(
     c: &Ctx<L>,
     lin: &Linear4,
     pk: &[Packed],
@@ -90,6 +97,8 @@ pub(crate) unsafe fn block<L: PairLaw, const PER: bool, const RATIO: bool>(
     );
     // 1/k_s, as `force_cn` forms it.
     let inv_ks = set(if lin.ks > 0.0 { 1.0 / lin.ks } else { 0.0 });
+    // ½k_n, ½k_s of the energies (`force_cn`, `released`; halving is exact).
+    let (hkn, hks) = (set(0.5 * lin.kn), set(0.5 * lin.ks));
     let lt = |a, b| _mm256_cmp_pd::<_CMP_LT_OQ>(a, b);
     let gt = |a, b| _mm256_cmp_pd::<_CMP_GT_OQ>(a, b);
     // `if m { t } else { f }`.
@@ -99,8 +108,9 @@ pub(crate) unsafe fn block<L: PairLaw, const PER: bool, const RATIO: bool>(
     // One group: scratch entries k..k + 4, of which the first m are pairs with discs ii, jj.
     // (A macro, not a closure: expanded at both call sites, so always inlined.)
     macro_rules! group {
-        ($k:expr, $m:expr, $ii:expr, $jj:expr) => {{
+        ($k:expr, $m:expr, $ii:expr, $jj:expr, $pp:expr) => {{
             let (k, m, ii, jj): (usize, usize, [usize; 4], [usize; 4]) = ($k, $m, $ii, $jj);
+            let pp: [usize; 4] = $pp;
             // SAFETY (record loads): every disc index comes from the valid list (< n =
             // pk.len()).
             let ([dx, dy, dvx, dvy], [wi, ri, mi], [wj, rj, mj]) = pair_columns(base, ii, jj);
@@ -119,8 +129,16 @@ pub(crate) unsafe fn block<L: PairLaw, const PER: bool, const RATIO: bool>(
             // `kernel::eval`.
             let d2 = _mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy));
             let rc = _mm256_add_pd(ri, rj);
+            // The reach r_i + r_j + g₀ with reference gaps (the general gather's `reach`); the
+            // arms stay on the geometric overlap (`eval`'s h).
+            let reach = if G0 {
+                let g = pp.map(|p| at!(c.g0, p));
+                _mm256_add_pd(rc, _mm256_loadu_pd(g.as_ptr()))
+            } else {
+                rc
+            };
             let touch = _mm256_and_pd(
-                _mm256_and_pd(lt(d2, _mm256_mul_pd(rc, rc)), gt(rc, zero)),
+                _mm256_and_pd(lt(d2, _mm256_mul_pd(reach, reach)), gt(reach, zero)),
                 gt(ms, zero),
             );
             let dd = _mm256_sqrt_pd(d2);
@@ -134,7 +152,7 @@ pub(crate) unsafe fn block<L: PairLaw, const PER: bool, const RATIO: bool>(
             );
             let rvx = _mm256_add_pd(dvx, _mm256_mul_pd(wr, ny));
             let rvy = _mm256_sub_pd(dvy, _mm256_mul_pd(wr, nx));
-            let delta = _mm256_sub_pd(rc, dd);
+            let delta = _mm256_sub_pd(reach, dd);
             let vn = _mm256_add_pd(_mm256_mul_pd(rvx, nx), _mm256_mul_pd(rvy, ny));
             let vt = _mm256_sub_pd(_mm256_mul_pd(rvy, nx), _mm256_mul_pd(rvx, ny));
             let m_eff = _mm256_div_pd(one, ms);
@@ -168,6 +186,30 @@ pub(crate) unsafe fn block<L: PairLaw, const PER: bool, const RATIO: bool>(
             let us_s = _mm256_mul_pd(_mm256_xor_pd(_mm256_add_pd(ft_s, ctvt), sign), inv_ks);
             let f_t = sel(slip, ft_s, ft0);
             let u1 = sel(slip, us_s, us1);
+            if E {
+                // `force_cn`'s energies: strain ½k_nδ² + ½k_s u², slip work
+                // ½k_s (u⁰ + u_slip)(u¹ − u_slip); a pair that opens releases ½k_s (u⁰)²
+                // (`released`); then `eval`'s selects (and its + 0 of the rolling terms).
+                let e_fric = sel(
+                    slip,
+                    _mm256_mul_pd(
+                        _mm256_mul_pd(hks, _mm256_add_pd(u0, us_s)),
+                        _mm256_sub_pd(us1, us_s),
+                    ),
+                    zero,
+                );
+                let e_strain = _mm256_add_pd(
+                    _mm256_mul_pd(_mm256_mul_pd(hkn, delta), delta),
+                    _mm256_mul_pd(_mm256_mul_pd(hks, u1), u1),
+                );
+                let released = _mm256_mul_pd(_mm256_mul_pd(hks, u0), u0);
+                let st = |a: &mut [f64; BLOCK], v| _mm256_storeu_pd(a.as_mut_ptr().add(k), v);
+                st(
+                    &mut s.es,
+                    _mm256_and_pd(touch, _mm256_add_pd(e_strain, zero)),
+                );
+                st(&mut s.ef, sel(touch, _mm256_add_pd(e_fric, zero), released));
+            }
             // Back in `eval`: a pair not touching drops its history and gives no force.
             let u1 = _mm256_and_pd(touch, u1);
             if m == 4 {
@@ -185,10 +227,29 @@ pub(crate) unsafe fn block<L: PairLaw, const PER: bool, const RATIO: bool>(
             let tj = _mm256_mul_pd(_mm256_xor_pd(aj, sign), f_t);
             // SAFETY (scratch stores): k < q <= BLOCK and k, BLOCK are multiples of 4.
             let st = |a: &mut [f64; BLOCK], v| _mm256_storeu_pd(a.as_mut_ptr().add(k), v);
-            st(&mut s.fx, _mm256_and_pd(touch, fx));
-            st(&mut s.fy, _mm256_and_pd(touch, fy));
-            st(&mut s.ti, _mm256_and_pd(touch, ti));
-            st(&mut s.tj, _mm256_and_pd(touch, tj));
+            let (fx, fy, ti, tj) = (
+                _mm256_and_pd(touch, fx),
+                _mm256_and_pd(touch, fy),
+                _mm256_and_pd(touch, ti),
+                _mm256_and_pd(touch, tj),
+            );
+            if let (true, Some(v)) = (FUSED, c.fused) {
+                // The pairs' parallel bonds (`bond::fused`), from this geometry.
+                let g = [dd, rc, nx, ny, ai, aj, vt, wi, wj];
+                let mut f = [fx, fy, ti, tj];
+                // SAFETY: AVX2 (this function's contract); k + m <= q, pairs p0..p0 + q exist.
+                crate::bond::fused::four(v, p0 + k, m, g, c.dt, &mut f);
+                let [fx, fy, ti, tj] = f;
+                st(&mut s.fx, fx);
+                st(&mut s.fy, fy);
+                st(&mut s.ti, ti);
+                st(&mut s.tj, tj);
+            } else {
+                st(&mut s.fx, fx);
+                st(&mut s.fy, fy);
+                st(&mut s.ti, ti);
+                st(&mut s.tj, tj);
+            }
         }};
     }
     let mut k = 0;
@@ -196,7 +257,7 @@ pub(crate) unsafe fn block<L: PairLaw, const PER: bool, const RATIO: bool>(
         let p = p0 + k;
         let ii = std::array::from_fn(|l| at!(c.owner, p + l) as usize);
         let jj = std::array::from_fn(|l| at!(c.nbr, p + l) as usize);
-        group!(k, 4, ii, jj);
+        group!(k, 4, ii, jj, std::array::from_fn(|l| p + l));
         k += 4;
     }
     if k < q {
@@ -204,7 +265,7 @@ pub(crate) unsafe fn block<L: PairLaw, const PER: bool, const RATIO: bool>(
         let (p, m) = (p0 + k, q - k);
         let ii = std::array::from_fn(|l| at!(c.owner, p + l.min(m - 1)) as usize);
         let jj = std::array::from_fn(|l| at!(c.nbr, p + l.min(m - 1)) as usize);
-        group!(k, m, ii, jj);
+        group!(k, m, ii, jj, std::array::from_fn(|l| p + l.min(m - 1)));
     }
     if q > 0 {
         *gi = at!(c.owner, p0 + q - 1) as usize;
@@ -220,10 +281,22 @@ mod tests {
 
     /// The four-lane kernel gives the bits of the portable path (state, forces, histories)
     /// for both damping forms, periodic and bounded boxes, 1 and 2 threads, on a strongly
-    /// shaken lattice whose contacts open, close and slip, with partial groups of pairs.
+    /// shaken lattice whose contacts open, close and slip, with partial groups of pairs; and,
+    /// with energy tracking (contacts without dashpots, so no dashpot sums), the bits of its
+    /// energies (strain, slip work, the history released by opening contacts); and with
+    /// reference gaps on some pairs.
     #[test]
     fn four_lane_kernel_gives_the_portable_bits() {
-        for (periodic, ratio) in [(true, false), (true, true), (false, false), (false, true)] {
+        for (periodic, ratio, track, offsets) in [
+            (true, false, false, false),
+            (true, true, false, false),
+            (false, false, false, false),
+            (false, true, false, false),
+            (true, false, true, false),
+            (false, true, true, false),
+            (true, false, false, true),
+            (false, true, true, true),
+        ] {
             let mut st = shaken_hex_lattice([15, 9], 7, 0.5, 300.0);
             // Every third disc a little smaller: gaps that open and close.
             for k in (0..st.discs.len()).step_by(3) {
@@ -235,10 +308,11 @@ mod tests {
             let law = LinearSpringDashpot {
                 kn: 1e5,
                 ks: 3e4,
-                damping: if ratio {
-                    NormalDamping::Ratio(0.3)
-                } else {
-                    NormalDamping::Gamma(100.0)
+                damping: match (ratio, track) {
+                    (true, false) => NormalDamping::Ratio(0.3),
+                    (false, false) => NormalDamping::Gamma(100.0),
+                    (true, true) => NormalDamping::Ratio(0.0),
+                    (false, true) => NormalDamping::Gamma(0.0),
                 },
                 shear_damping: 0.5,
                 mu: 0.3,
@@ -252,14 +326,28 @@ mod tests {
                     let params = Params {
                         dt_fixed: Some(2e-7),
                         skin: Some(1e-4),
-                        track_energy: false,
+                        track_energy: track,
                         ..Params::default()
                     };
                     let laws = ContactLaws::uniform(ContactModel::Linear(law));
                     let mut w = World::new(st.clone(), params, laws);
+                    if offsets {
+                        // Discs 2k and 2k + 1 share a lattice cell and touch.
+                        for a in (0..st.discs.len() as u32 - 1).step_by(8) {
+                            w.set_contact_offset(a, a + 1, -2e-6);
+                        }
+                        w.refresh();
+                        assert!(!w.nb.g0.is_empty());
+                    }
                     w.slots.portable = portable;
                     let before = super::BLOCKS.load(Ordering::Relaxed);
-                    w.run(40);
+                    // Energies at every step (strain is that of the step's contacts).
+                    let mut energies = Vec::new();
+                    for _ in 0..40 {
+                        w.run(1);
+                        let e = w.energy();
+                        energies.push([e.strain_contact, e.friction].map(f64::to_bits));
+                    }
                     let ran = super::BLOCKS.load(Ordering::Relaxed) > before;
                     let d = &w.state.discs;
                     let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
@@ -267,10 +355,10 @@ mod tests {
                         &d.x, &d.y, &d.vx, &d.vy, &d.omega, &d.fx, &d.fy, &d.torque, &w.nb.us,
                     ]
                     .map(|v| bits(v));
-                    (out, ran, w.nb.us.clone(), w.n_pairs())
+                    (out, ran, w.nb.us.clone(), w.n_pairs(), energies)
                 })
             };
-            let (want, _, us, np) = run(true, 1);
+            let (want, _, us, np, e_want) = run(true, 1);
             // Open and touching pairs, and a list whose length is not a multiple of four.
             assert!(us.contains(&0.0) && us.iter().any(|&u| u != 0.0));
             assert!(np % 4 != 0, "{np} pairs");
@@ -278,12 +366,12 @@ mod tests {
                 return;
             }
             for threads in [1, 2] {
-                let (got, ran, _, _) = run(false, threads);
+                let (got, ran, _, _, e_got) = run(false, threads);
                 assert!(ran, "four-lane kernel not used");
-                assert!(
-                    got == want,
-                    "periodic {periodic} ratio {ratio} threads {threads}"
-                );
+                let what =
+                    format!("periodic {periodic} ratio {ratio} energy {track} threads {threads}");
+                assert!(got == want, "{what}");
+                assert!(e_got == e_want, "energies, {what}");
             }
         }
     }
