@@ -40,6 +40,7 @@ enum Command {
 }
 
 fn main() -> ExitCode {
+    default_sigpipe();
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Clump(a) => clump::run(a),
@@ -57,3 +58,17 @@ fn main() -> ExitCode {
         }
     }
 }
+
+/// A standard output closed early (`dem bench dense | head -1`) ends the program quietly, as it
+/// does `cat`: Rust programs ignore SIGPIPE, so `println!` would panic on the broken pipe.
+#[cfg(unix)]
+fn default_sigpipe() {
+    // SAFETY: sets the disposition of one signal to the default; called first in `main`,
+    // before any other thread exists.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
+}
+
+#[cfg(not(unix))]
+fn default_sigpipe() {}
