@@ -139,19 +139,18 @@ impl World {
         self.counters.packed_by_integrator += u64::from(self.slots.packed_fresh);
         // Parallel bonds evaluated with their pairs when they all can be and the pass takes
         // the uniform linear law without dashpot sums (`bond::fused`).
-        let fuse = self.params.fuse_bonds
-            && self.bonds.is_some()
-            && disc_disc::uniform_linear(&self.state.discs, &self.laws, dash)
-            && self
-                .bonds
-                .as_mut()
-                .is_some_and(|b| b.fused_ready(self.nb.builds, &self.nb.start, &self.nb.nbr));
-        self.counters.bonds_fused += u64::from(fuse);
-        let thickness = self.state.thickness;
         let fv = match self.bonds.as_mut() {
-            Some(b) if fuse => b.fused_view(thickness),
+            Some(b)
+                if self.params.fuse_bonds
+                    && disc_disc::uniform_linear(&self.state.discs, &self.laws, dash) =>
+            {
+                let nb = &self.nb;
+                b.fused_view(nb.builds, &nb.start, &nb.nbr, self.state.thickness)
+            }
             _ => None,
         };
+        let fuse = fv.is_some();
+        self.counters.bonds_fused += u64::from(fuse);
         // (The contact pass replaces the forces: no clearing needed.)
         let mut e = disc_disc::compute(
             &mut self.state.discs,

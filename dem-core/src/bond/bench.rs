@@ -80,6 +80,27 @@ pub(crate) fn shaken_hex_lattice(cells: [usize; 2], seed: u64, v: f64, w: f64) -
 }
 
 /// The bond group of the benchmark lattice: k̄n = k̄s = KN/Ā with Ā = 2·r·t.
+/// The benchmark group and a second parallel-bond group with the stress criterion, stiffer in
+/// normal, softer in shear, with β̄ = 0.5 and the given strengths (improved ORC's two groups;
+/// discs of thickness `t`).
+#[cfg(test)]
+pub(crate) fn two_groups(t: f64, tensile: f64, cohesion: f64) -> Vec<BondGroup> {
+    let g0 = lattice_bond_group(t);
+    let mut g1 = g0.clone();
+    g1.name = "other".into();
+    if let BondModel::Parallel(p) = &mut g1.model {
+        p.kn *= 1.7;
+        p.ks *= 0.6;
+        p.beta = 0.5;
+    }
+    g1.criterion = Criterion::Stress {
+        tensile,
+        cohesion,
+        friction_angle: 0.3,
+    };
+    vec![g0, g1]
+}
+
 pub fn lattice_bond_group(t: f64) -> BondGroup {
     let area = 2.0 * RADIUS * t;
     BondGroup {

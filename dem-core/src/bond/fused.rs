@@ -680,7 +680,7 @@ unsafe fn finish(
 
 #[cfg(test)]
 mod tests {
-    use crate::bond::bench::{lattice_bond_group, shaken_hex_lattice, KN, RADIUS};
+    use crate::bond::bench::{shaken_hex_lattice, KN, RADIUS};
     use crate::bond::{world_with_bonds, BondGroup, BondModel, BondStatus, Bonds, BreakMode};
     use crate::bond::{Criterion, ParallelBondParams};
     use crate::contact::{LinearSpringDashpot, NormalDamping};
@@ -690,20 +690,7 @@ mod tests {
     /// A strong lattice group and a weak one (improved ORC's two groups), which breaks in
     /// tension and in shear under the shaking below.
     fn groups(t: f64) -> Vec<BondGroup> {
-        let g0 = lattice_bond_group(t);
-        let mut g1 = g0.clone();
-        g1.name = "weak".into();
-        if let BondModel::Parallel(p) = &mut g1.model {
-            p.kn *= 1.7;
-            p.ks *= 0.6;
-            p.beta = 0.5;
-        }
-        g1.criterion = Criterion::Stress {
-            tensile: 2e5,
-            cohesion: 8e4,
-            friction_angle: 0.3,
-        };
-        vec![g0, g1]
+        crate::bond::bench::two_groups(t, 2e5, 8e4)
     }
 
     fn law(gamma: f64) -> ContactModel {

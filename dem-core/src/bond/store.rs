@@ -354,12 +354,18 @@ impl Bonds {
         }
     }
 
-    /// Prepare the fused bond stage for the neighbour list (`builds`, `start`, `nbr`: its
-    /// build count and pairs): whether the disc–disc pass may evaluate the bonds (see
-    /// `fused`). Cheap when nothing changed.
-    pub(crate) fn fused_ready(&mut self, builds: u64, start: &[u32], nbr: &[u32]) -> bool {
+    /// The view of the fused bond stage for the neighbour list (`builds`, `start`, `nbr`: its
+    /// build count and pairs), or `None` when the disc–disc pass may not evaluate the bonds
+    /// (see `fused`). The map is rebuilt only for a new list or new bonds.
+    pub(crate) fn fused_view(
+        &mut self,
+        builds: u64,
+        start: &[u32],
+        nbr: &[u32],
+        thickness: f64,
+    ) -> Option<super::fused::View<'_>> {
         if self.is_empty() {
-            return false;
+            return None;
         }
         self.ensure_cache();
         if !self
@@ -380,13 +386,8 @@ impl Bonds {
             };
             self.cache.fused = Some(super::fused::Map::build(builds, start, nbr, &b));
         }
-        self.cache.fused.as_ref().is_some_and(|m| m.ok())
-    }
-
-    /// The view of the fused bond stage (after [`Bonds::fused_ready`] returned true).
-    pub(crate) fn fused_view(&mut self, thickness: f64) -> Option<super::fused::View<'_>> {
-        self.thickness = thickness;
         let m = self.cache.fused.as_ref().filter(|m| m.ok())?;
+        self.thickness = thickness;
         Some(m.view(
             thickness,
             &self.group,

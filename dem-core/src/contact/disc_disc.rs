@@ -167,23 +167,26 @@ pub(crate) fn compute(
     if dashpots {
         slots.dashpot.reset(d.len());
     }
-    // One law for every listed pair when all discs share one material without rolling
-    // resistance (walls and tools have their own materials but are not in this pass): then
-    // the branch-free uniform path computes exactly what the table path would (same
-    // expressions, see `kernel::PairLaw`), without the per-pair lookups.
-    let m0 = d.material.first().copied().unwrap_or(0);
-    let uniform =
-        d.material.iter().fold(0u16, |a, &m| a | (m ^ m0)) == 0 && laws.rolling(m0, m0).is_none();
-    let model = *laws.model(m0, m0);
+    let model = uniform_model(d, laws);
     let a = (d, nb, minv, img, dt, (track_energy, dashpots), slots, fused);
-    match (uniform, model) {
-        (true, ContactModel::Linear(l)) => match l.damping {
+    match model {
+        Some(ContactModel::Linear(l)) => match l.damping {
             NormalDamping::Gamma(g) => run(a, &LinearGamma(l, g)),
             NormalDamping::Ratio(z) => run(a, &LinearRatio(l, z)),
         },
-        (true, ContactModel::HertzMindlin(h)) => run(a, &h),
-        _ => run(a, laws),
+        Some(ContactModel::HertzMindlin(h)) => run(a, &h),
+        None => run(a, laws),
     }
+}
+
+/// The one law of every listed pair when all discs share one material without rolling
+/// resistance (walls and tools have their own materials but are not in this pass): then the
+/// branch-free uniform path computes exactly what the table path would (same expressions, see
+/// `kernel::PairLaw`), without the per-pair lookups.
+fn uniform_model(d: &Discs, laws: &ContactLaws) -> Option<ContactModel> {
+    let m0 = d.material.first().copied().unwrap_or(0);
+    let one = d.material.iter().fold(0u16, |a, &m| a | (m ^ m0)) == 0;
+    (one && laws.rolling(m0, m0).is_none()).then(|| *laws.model(m0, m0))
 }
 
 /// Whether the pass evaluates every pair with one linear spring-dashpot law without dashpot
@@ -191,11 +194,7 @@ pub(crate) fn compute(
 /// kernel (`super::linear4`, AVX2) takes, and the one in which parallel bonds are evaluated
 /// with their pairs (`bond::fused`; on every CPU, so that results do not depend on it).
 pub(crate) fn uniform_linear(d: &Discs, laws: &ContactLaws, dashpots: bool) -> bool {
-    let m0 = d.material.first().copied().unwrap_or(0);
-    !dashpots
-        && d.material.iter().fold(0u16, |a, &m| a | (m ^ m0)) == 0
-        && laws.rolling(m0, m0).is_none()
-        && matches!(laws.model(m0, m0), ContactModel::Linear(_))
+    !dashpots && matches!(uniform_model(d, laws), Some(ContactModel::Linear(_)))
 }
 
 type Args<'a> = (

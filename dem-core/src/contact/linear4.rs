@@ -233,23 +233,22 @@ pub(crate) unsafe fn block<
                 _mm256_and_pd(touch, ti),
                 _mm256_and_pd(touch, tj),
             );
-            if let (true, Some(v)) = (FUSED, c.fused) {
-                // The pairs' parallel bonds (`bond::fused`), from this geometry.
-                let g = [dd, rc, nx, ny, ai, aj, vt, wi, wj];
-                let mut f = [fx, fy, ti, tj];
-                // SAFETY: AVX2 (this function's contract); k + m <= q, pairs p0..p0 + q exist.
-                crate::bond::fused::four(v, p0 + k, m, g, c.dt, &mut f);
-                let [fx, fy, ti, tj] = f;
-                st(&mut s.fx, fx);
-                st(&mut s.fy, fy);
-                st(&mut s.ti, ti);
-                st(&mut s.tj, tj);
-            } else {
-                st(&mut s.fx, fx);
-                st(&mut s.fy, fy);
-                st(&mut s.ti, ti);
-                st(&mut s.tj, tj);
-            }
+            let (fx, fy, ti, tj) = match (FUSED, c.fused) {
+                (true, Some(v)) => {
+                    // The pairs' parallel bonds (`bond::fused`), from this geometry.
+                    let g = [dd, rc, nx, ny, ai, aj, vt, wi, wj];
+                    let mut f = [fx, fy, ti, tj];
+                    // SAFETY: AVX2 (this function's contract); k + m <= q, pairs p0..p0 + q
+                    // exist.
+                    crate::bond::fused::four(v, p0 + k, m, g, c.dt, &mut f);
+                    (f[0], f[1], f[2], f[3])
+                }
+                _ => (fx, fy, ti, tj),
+            };
+            st(&mut s.fx, fx);
+            st(&mut s.fy, fy);
+            st(&mut s.ti, ti);
+            st(&mut s.tj, tj);
         }};
     }
     let mut k = 0;

@@ -247,23 +247,10 @@ fn whole_against_split(
     masked
 }
 
-/// Two parallel-bond groups with the stress criterion, the second stiffer in normal, softer
-/// in shear, with β̄ = 0.5 and the given strengths.
+/// The bench's two groups (`bench::two_groups`) for the lattice's thickness.
 fn two_groups(tensile: f64, cohesion: f64) -> Vec<super::super::BondGroup> {
-    let g0 = lattice_bond_group(bonded_lattice_state([3, 3]).0.thickness);
-    let mut g1 = g0.clone();
-    g1.name = "other".into();
-    if let BondModel::Parallel(p) = &mut g1.model {
-        p.kn *= 1.7;
-        p.ks *= 0.6;
-        p.beta = 0.5;
-    }
-    g1.criterion = Criterion::Stress {
-        tensile,
-        cohesion,
-        friction_angle: 0.3,
-    };
-    vec![g0, g1]
+    let t = bonded_lattice_state([3, 3]).0.thickness;
+    super::super::bench::two_groups(t, tensile, cohesion)
 }
 
 /// Blocks of intact parallel bonds in two stress-criterion groups (the improved-ORC case)
