@@ -10,6 +10,7 @@ pub mod page;
 pub mod plot;
 pub mod report;
 pub mod stability;
+pub mod study;
 pub mod table1;
 pub mod table2;
 pub mod table2_section;
