@@ -143,6 +143,34 @@ pub fn cell_peak(
     )
 }
 
+/// The seed-averaged peaks at [`PEAK_WIDTH_AP`] of the finished runs in `work/<name>` for
+/// each of `names`, one per cell (N at the runs' thickness); a cell whose window holds no
+/// stretch of that width (a short cut) has none. Errors: a run that cannot be read.
+pub fn seed_averaged(
+    work: &Path,
+    names: &[&str],
+) -> Result<Vec<crate::table2::SeedAveraged>, String> {
+    let runs: Vec<LoadedRun> = names
+        .iter()
+        .map(|n| load_run(&work.join(n)))
+        .collect::<Result<_, _>>()?;
+    let mut out = vec![];
+    for c in cells(&runs) {
+        let p = cell_peak(&c, PEAK_WIDTH_AP).map_err(|e| format!("{}: {e}", c[0].name))?;
+        if let Some(p) = p {
+            out.push(crate::table2::SeedAveraged {
+                method: c[0].method.clone(),
+                depth_mm: c[0].depth_mm,
+                speed_m_s: c[0].speed_m_s,
+                seeds: c.len(),
+                peak_n: p.peak,
+                mean_n: p.mean,
+            });
+        }
+    }
+    Ok(out)
+}
+
 /// One cell of the force-statistics table, N at the runs' thickness unless stated.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct CellStats {

@@ -424,6 +424,8 @@ mod tests {
                         max_overlap_fraction: (m == "orc").then_some(0.1 + 0.01 * s as f64),
                         broken_total: Some(100),
                         broken_intra_grain: Some(if m == "improved" { 20 + s } else { 0 }),
+                        median_n: None,
+                        top5_work_share: None,
                     });
                 }
             }
