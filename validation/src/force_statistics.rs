@@ -42,7 +42,7 @@ pub const FALLBACK_WIDTH_AP: f64 = 1.0;
 pub const PEAK_WIDTH_AP: f64 = 1.0;
 
 /// What the seed-averaged peak is, for the report.
-pub const PEAK_STATISTIC: &str = "seed-averaged moving-mean peak: the seeds' main-force histories resampled onto a 1 µm travel grid (cell means of the linear interpolant) within the steady window [2 a_p, L], averaged cell by cell, then a moving mean over w = 1 a_p of travel, its maximum";
+pub const PEAK_STATISTIC: &str = "the seeds' main-force histories resampled onto a 1 µm travel grid (cell means of the linear interpolant) within the steady window [2 a_p, L], averaged cell by cell, then a moving mean over w = 1 a_p of travel, its maximum";
 
 /// One run's history and window, read back from its folder.
 #[derive(Clone, Debug)]
@@ -445,6 +445,19 @@ pub fn cells_markdown(cells: &[CellStats], scale: f64, paper: &PaperTable2) -> S
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_stated_statistic_names_the_constants() {
+        assert!(PEAK_STATISTIC.contains(&format!("w = {PEAK_WIDTH_AP} a_p")));
+        assert!(PEAK_STATISTIC.contains(&format!("{} µm", GRID_STEP_M * 1e6)));
+        // Every candidate width is a whole number of grid cells at a_p = 1 and 2 mm.
+        for w in WIDTH_CANDIDATES_AP {
+            for ap in [1e-3, 2e-3] {
+                let n = w * ap / GRID_STEP_M;
+                assert!((n - n.round()).abs() < 1e-6, "{w} a_p at {ap} m: {n} cells");
+            }
+        }
+    }
 
     #[test]
     fn run_names() {

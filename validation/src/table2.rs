@@ -562,7 +562,7 @@ impl Table2 {
             s += &format!(
                 "**Force statistics** (S0 does not define its peak; ours are stated before \
                  comparing, docs/cutting.md \"Force statistics\"). Raw peak: the seed mean of \
-                 each run's largest sample. Seed-averaged peak: the {}. Its ratio is to the \
+                 each run's largest sample. Seed-averaged peak: {}. Its ratio is to the \
                  mean of the same averaged history.\n\n",
                 self.peak_statistic
             );
