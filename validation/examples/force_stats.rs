@@ -3,7 +3,8 @@
 //! (defaults `docs/report/table2-runs`, `data`). Prints the width study on the a_p = 1 mm
 //! cells (the rule of `force_statistics::choose_width`), the same study on a_p = 2 mm as a check,
 //! and the cell table at the chosen width (kN at the thickness fitted as Table 2 does), as
-//! markdown; `--json FILE` also writes the figures as JSON.
+//! markdown; `--json FILE` also writes the figures as JSON; `--seeds 6,7,8,9,10` uses only
+//! those seeds (the width is chosen on seeds 1–5 and checked on fresh ones).
 
 use std::path::PathBuf;
 use validation::force_statistics as fs;
@@ -20,13 +21,29 @@ fn main() -> Result<(), String> {
         Some(_) => return Err("--json needs a file".into()),
         None => None,
     };
+    let seeds: Option<Vec<u64>> = match args.iter().position(|a| a == "--seeds") {
+        Some(i) if i + 1 < args.len() => {
+            let list = args.remove(i + 1);
+            args.remove(i);
+            Some(
+                list.split(',')
+                    .map(|x| x.trim().parse().map_err(|e| format!("--seeds `{x}`: {e}")))
+                    .collect::<Result<_, _>>()?,
+            )
+        }
+        Some(_) => return Err("--seeds needs a list".into()),
+        None => None,
+    };
     let dir = PathBuf::from(
         args.first()
             .map_or("docs/report/table2-runs", |s| s.as_str()),
     );
     let data = PathBuf::from(args.get(1).map_or("data", |s| s.as_str()));
     let paper = PaperTable2::read(&data.join("reference/ye_xu_2010_table2.json"))?;
-    let runs = fs::load_runs(&dir)?;
+    let mut runs = fs::load_runs(&dir)?;
+    if let Some(keep) = &seeds {
+        runs.retain(|r| keep.contains(&r.seed));
+    }
     let scale = fs::force_scale(&runs, &paper)?;
     let cells = fs::cells(&runs);
     let study = |d: f64| -> Result<Vec<fs::WidthRow>, String> {
@@ -45,9 +62,10 @@ fn main() -> Result<(), String> {
         .map(|c| fs::cell_stats(c, fs::PEAK_WIDTH_AP))
         .collect::<Result<_, _>>()?;
     println!(
-        "{} runs from {}; kN per N at the runs' thickness: {scale:.4e}\n",
+        "{} runs from {} (seeds {}); kN per N at the runs' thickness: {scale:.4e}\n",
         runs.len(),
-        dir.display()
+        dir.display(),
+        seeds.map_or("all".to_string(), |s| format!("{s:?}"))
     );
     println!("## a_p = 1 mm (choosing)\n");
     println!("{}", fs::width_markdown(&rows1, "the a_p = 1 mm cells"));
