@@ -301,9 +301,8 @@ mod tests {
         (0..=n).map(|i| i as f64 * ds).collect()
     }
 
-    /// A square pulse of `h` on [a, a + l) over baseline `b`, sampled at `s`. With samples on
-    /// a 1/64 grid and the edges on it, the interpolant ramps over one sample spacing at each
-    /// edge; the pulse helpers below sample the edges twice to make the steps exact.
+    /// A square pulse of `h` on [a, a + l) over baseline `b`, sampled at `s`: the interpolant
+    /// ramps over one sample spacing at each edge (`step_pulse` makes the edges exact).
     fn pulse(s: &[f64], b: f64, h: f64, a: f64, l: f64) -> Vec<f64> {
         s.iter()
             .map(|&x| if x >= a && x < a + l { h } else { b })
