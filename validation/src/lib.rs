@@ -6,6 +6,7 @@ pub mod clump_sweep;
 pub mod convergence;
 pub mod cutting_runs;
 pub mod environment;
+pub mod force_statistics;
 pub mod page;
 pub mod plot;
 pub mod report;
