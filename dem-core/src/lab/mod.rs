@@ -29,6 +29,7 @@ pub mod cutting;
 pub mod force_stats;
 pub mod history;
 pub mod model;
+pub mod removal;
 pub mod run;
 pub mod specimens;
 pub mod surface;
