@@ -112,16 +112,14 @@ mod tests {
     #[test]
     fn shares_and_speeds_of_constructed_chips() {
         let mut st = State::default();
-        let mut grain = 0;
-        let mut add = |st: &mut State, x: f64, y: f64, g: u32, vx: f64| {
+        let add = |st: &mut State, x: f64, y: f64, g: u32, vx: f64| {
             st.discs.push_uniform(x, y, 0.5, 1.0, 1.0, 0);
             let k = st.discs.len() - 1;
             st.discs.group[k] = g;
             st.discs.vx[k] = vx;
         };
         for k in 0..6 {
-            add(&mut st, k as f64, 0.0, grain, 0.0);
-            grain += 1;
+            add(&mut st, k as f64, 0.0, k, 0.0);
         }
         add(&mut st, 0.0, 5.0, 100, 2.0); // 6: single-disc chip
         add(&mut st, 3.0, 5.0, 101, 1.0); // 7, 8: one grain, two discs
