@@ -15,7 +15,7 @@
 use super::chips::{self, ChipReport, ResidualCracks};
 use super::history::Table;
 use super::model::{DISC_MATERIAL, WALL_MATERIAL};
-use super::run::{run_scene, write_scene};
+use super::run::{run_scene_with, write_scene};
 use super::surface::{self, Surface};
 use super::tool::{CutGeometry, CLEARANCE, RAKE};
 use super::{analysis, LabError, LabModel};
@@ -108,6 +108,16 @@ pub struct CuttingTest {
         skip_serializing_if = "is_default_max_overlap"
     )]
     pub max_overlap_fraction: f64,
+    /// Delete detached fragments once they are above the nominal surface and clear of the
+    /// tool (rules in [`super::debris`], checked on every history row; docs/cutting.md,
+    /// "Deleting fragments"). Default false. Left out of the serialised test (and so of the
+    /// run keys) when false.
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub delete_fragments: bool,
+}
+
+fn is_false(v: &bool) -> bool {
+    !*v
 }
 
 /// Default of [`CuttingTest::max_overlap_fraction`].
@@ -142,6 +152,7 @@ impl Default for CuttingTest {
             snapshots: 0,
             max_energy_growth: 2.0,
             max_overlap_fraction: DEFAULT_MAX_OVERLAP,
+            delete_fragments: false,
         }
     }
 }
@@ -543,6 +554,10 @@ pub struct CuttingResult {
     pub run: RunFigures,
     /// Files written (scene, history, result, forces, breaks, summary).
     pub files: Vec<String>,
+    /// Fragments deleted during the run ([`CuttingTest::delete_fragments`]); absent when
+    /// deletion was off.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub deleted: Option<super::debris::DeletedFragments>,
 }
 
 /// Schema tag of [`CuttingResult`].
@@ -619,6 +634,10 @@ pub fn analyze(
         for v in b.iter() {
             total[v.group as usize] += 1;
         }
+        // (Bonds that went with deleted fragments, see `CuttingTest::delete_fragments`.)
+        for (t, d) in total.iter_mut().zip(b.dropped_counts()) {
+            *t += d as usize;
+        }
         for ((grp, c), n) in b.groups().iter().zip(b.broken_counts()).zip(total) {
             broken_bonds.push(BrokenBonds {
                 group: grp.name.clone(),
@@ -672,6 +691,9 @@ pub fn analyze(
         residual_cracks: cracks,
         run,
         files: Vec::new(),
+        deleted: test
+            .delete_fragments
+            .then(|| super::debris::DeletedFragments::from_totals(world.removal_totals(), 0)),
     };
     Ok((result, f))
 }
@@ -752,6 +774,19 @@ pub fn run_with(
     let steps = (g.duration / dt).ceil().max(1.0) as u64;
     let every = steps.div_ceil(test.history_rows).max(1);
     let mut s = scene(test, model, &spec, every)?;
+    let debris = test.delete_fragments.then_some(super::debris::DebrisRule {
+        nominal_y: g.nominal_y,
+        top_y: spec.extent[3],
+    });
+    if debris.is_some() {
+        // (So a run with deletion never resumes one without, nor the other way round.)
+        let text = s["description"].as_str().unwrap_or_default().to_string();
+        s["description"] = json!(format!(
+            "{text} Detached fragments deleted on every history row (dem test cutting \
+             --delete-fragments; dem run does not delete them)."
+        ));
+    }
+    let hook = || debris.map(|r| super::debris::hook(every, r));
     if ro.checkpoints > 0 {
         // On history rows, about `checkpoints` over the run.
         let n = steps.div_ceil(every).div_ceil(ro.checkpoints).max(1) * every;
@@ -771,12 +806,12 @@ pub fn run_with(
         restart,
         max_steps: ro.max_steps,
     };
-    let lab = match run_scene(&s, &scene_file, &opts, progress) {
+    let lab = match run_scene_with(&s, &scene_file, &opts, progress, hook()) {
         Err(LabError::Run(crate::output::driver::RunError::Checkpoint(_)))
             if opts.restart.is_some() =>
         {
             opts.restart = None;
-            run_scene(&s, &scene_file, &opts, progress)?
+            run_scene_with(&s, &scene_file, &opts, progress, hook())?
         }
         r => r?,
     };
@@ -798,6 +833,9 @@ pub fn run_with(
         &lab.world,
     )?;
     result.run.history_every = every;
+    if let Some(d) = result.deleted.as_mut() {
+        d.check_every = every;
+    }
     result.run.threads = lab.summary.threads;
     let sm = &lab.summary;
     // (The driver always records the totals; a summary without them is this invocation.)

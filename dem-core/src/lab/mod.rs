@@ -25,6 +25,7 @@ pub mod calibrate;
 pub mod chips;
 pub mod common;
 pub mod cutting;
+pub mod debris;
 pub mod history;
 pub mod model;
 pub mod run;
