@@ -97,6 +97,11 @@ pub struct CuttingArgs {
     /// VTK snapshots over the run (default 0).
     #[arg(long)]
     pub snapshots: Option<u64>,
+    /// Delete detached fragments once they are above the nominal surface and clear of the
+    /// tool and the workpiece (checked on every history row; docs/cutting.md, "Deleting
+    /// fragments").
+    #[arg(long)]
+    pub delete_fragments: bool,
     /// A LabModel JSON (density, thickness, r_mean, micro; `dem calibrate` writes one) to run
     /// with instead of the specimen's own micro-parameters.
     #[arg(long)]
@@ -166,6 +171,9 @@ impl CuttingArgs {
         }
         if let Some(v) = self.snapshots {
             t.snapshots = v;
+        }
+        if self.delete_fragments {
+            t.delete_fragments = true;
         }
         t.validate().map_err(|e| e.to_string())?;
         Ok(t)
@@ -351,6 +359,13 @@ pub fn report(r: &CuttingResult) -> String {
             f.mean_deviation * 1e6,
             f.profile.len(),
             f.bin_width * 1e3
+        );
+    }
+    if let Some(d) = &r.deleted {
+        let _ = writeln!(
+            s,
+            "  deleted fragments  {} ({} discs, {} bonds, {:.4e} kg; kinetic {:.4e} J, all {:.4e} J; checked every {} steps)",
+            d.fragments, d.discs, d.bonds, d.mass, d.kinetic_energy, d.energy, d.check_every
         );
     }
     let k = &r.residual_cracks;

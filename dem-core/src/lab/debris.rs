@@ -13,10 +13,11 @@
 //!    one mean disc radius of the current assembly;
 //! 3. every disc is clear of the tool: its centre is farther than r + m from both tool faces
 //!    (so it touches neither, nor will it within the next checks at cutting speed);
-//! 4. it touches no workpiece disc, or every disc centre lies above the specimen's initial top
-//!    y_top: a fragment lying on the uncut surface is debris, but one touching the workpiece
-//!    lower down may be uncut material cracked free in place, which the tool still has to cut
-//!    (deleting it would remove resistance the papers' runs have);
+//! 4. it is clear of the workpiece (every gap to a workpiece disc > m), or every disc centre
+//!    lies above the specimen's initial top y_top: a fragment lying on the uncut surface is
+//!    debris, but one touching the workpiece lower down, or lifted off it by less than m, may
+//!    be uncut material cracked free in place (or about to settle back), which the tool still
+//!    has to cut (deleting it would remove resistance the papers' runs have);
 //! 5. it has no fixed disc.
 //!
 //! The check runs on every history row (`history_every` steps) through the run driver's
@@ -77,9 +78,9 @@ pub fn deletable(
         tool.iter()
             .all(|w| distance_to_segment(w, d.x[k], d.y[k]) > d.r[k] + margin)
     };
-    // Workpiece discs by x, for the touch test (built when first needed).
+    // Workpiece discs by x, for the clearance test (built when first needed).
     let mut by_x: Option<(Vec<(f64, usize)>, f64)> = None;
-    let mut touches_work = |f: &Fragment| {
+    let mut near_work = |f: &Fragment| {
         let (list, rmax) = by_x.get_or_insert_with(|| {
             let mut v: Vec<(f64, usize)> = work.discs.iter().map(|&k| (d.x[k], k)).collect();
             v.sort_by(|a, b| a.0.total_cmp(&b.0));
@@ -87,14 +88,14 @@ pub fn deletable(
             (v, rmax)
         });
         f.discs.iter().any(|&k| {
-            let reach = d.r[k] + *rmax;
+            let reach = d.r[k] + *rmax + margin;
             let lo = list.partition_point(|e| e.0 < d.x[k] - reach);
             list[lo..]
                 .iter()
                 .take_while(|e| e.0 <= d.x[k] + reach)
                 .any(|&(_, j)| {
                     let gap = (d.x[j] - d.x[k]).hypot(d.y[j] - d.y[k]) - d.r[j] - d.r[k];
-                    gap < 0.0
+                    gap <= margin
                 })
         })
     };
@@ -102,7 +103,7 @@ pub fn deletable(
         .into_iter()
         .filter(|f| {
             f.discs.iter().all(|&k| above(k) && clear(k) && !d.fixed[k])
-                && (f.discs.iter().all(|&k| d.y[k] > rule.top_y) || !touches_work(f))
+                && (f.discs.iter().all(|&k| d.y[k] > rule.top_y) || !near_work(f))
         })
         .collect()
 }
@@ -185,7 +186,9 @@ mod tests {
     /// - 46: a loose disc touching the block's top row from the side, centre above y_n + R but
     ///   below y_top (maybe uncut material cracked free): kept;
     /// - 47: a loose disc resting on the top row (centre above y_top): deleted;
-    /// - 48: a loose disc 0.3 R from the rake face (not touching, inside the clearance): kept.
+    /// - 48: a loose disc 0.3 R from the rake face (not touching, inside the clearance): kept;
+    /// - 49: a loose disc about 0.5 R off the block's left end (not touching, inside the
+    ///   clearance), centre below y_top: kept.
     fn scene() -> (State, Bonds, DebrisRule) {
         let mut st = State {
             thickness: 1e-3,
@@ -214,6 +217,7 @@ mod tests {
         push(19.0 * R + 1.98 * R, top_row + 0.2 * R); // 46: beside disc 39 (x = 19R)
         push(10.0 * R, top_row + 0.995 * h); // 47: on 34 and 35 (x = 9R, 11R)
         push(-2e-3 + 1.3 * R, 6e-3); // 48
+        push(-1.5 * R, top_row + 0.3 * R); // 49: left of disc 30 (x = R, y = 3h)
         st.walls = vec![
             Wall::new(RAKE, [-2e-3, 1.5e-3], [-2e-3, 9e-3], 1),
             Wall::new(CLEARANCE, [-2e-3, 1.5e-3], [-6e-3, 2e-3], 1),
@@ -250,6 +254,9 @@ mod tests {
         assert!(gap(47, 34) < 0.0 && gap(47, 35) < 0.0 && d.y[47] > rule.top_y);
         assert!(gap(45, 31) < 0.0 && d.y[45] > rule.nominal_y + R);
         assert!(d.y[44] < rule.nominal_y);
+        let g49 = gap(49, 30);
+        assert!(g49 > 0.0 && g49 < R && d.y[49] > rule.nominal_y + R && d.y[49] < rule.top_y);
+        assert!((0..40).all(|k| gap(49, k) > 0.0));
         let tool: Vec<&Wall> = st.walls.iter().collect();
         assert!(
             distance_to_segment(tool[0], d.x[42], d.y[42]) < R,
@@ -266,7 +273,8 @@ mod tests {
         let gone = deletable(&st, Some(&b), &[&far[0]], &rule);
         assert_eq!(
             ids(&st, &gone),
-            vec![vec![40, 41], vec![42, 43], vec![47], vec![48]]
+            vec![vec![40, 41], vec![42, 43], vec![47], vec![48]],
+            "49 stays: it is within one radius of the workpiece"
         );
     }
 
@@ -287,7 +295,7 @@ mod tests {
         for id in [40, 41, 47] {
             assert_eq!(w.index_of_id(id), None);
         }
-        assert_eq!(w.state.discs.len(), 46);
+        assert_eq!(w.state.discs.len(), 47);
         assert_eq!(w.bonds.as_ref().unwrap().len(), n_bonds - 1);
         let m = 2500.0 * 1e-3 * std::f64::consts::PI * R * R;
         let r = DeletedFragments::from_totals(t, 7);
