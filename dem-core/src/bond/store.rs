@@ -627,7 +627,7 @@ impl Bonds {
     /// keep their ids, forces and state, in the order [`Bonds::remap`] gives. Returns the
     /// number of bonds dropped and the strain energy the intact ones held (J).
     pub fn drop_discs(&mut self, new_of_old: &[u32]) -> (usize, f64) {
-        let gone = |k: u32| new_of_old.get(k as usize).map_or(true, |&n| n == u32::MAX);
+        let gone = |k: u32| new_of_old.get(k as usize).is_none_or(|&n| n == u32::MAX);
         let keep: Vec<u32> = (0..self.len() as u32)
             .filter(|&b| !gone(self.i[b as usize]) && !gone(self.j[b as usize]))
             .collect();

@@ -108,7 +108,10 @@ impl World {
             let mut count = 0;
             let range = cl.member_range(c);
             for &id in &cl.members[range.clone()] {
-                count += usize::from(self.index_of_id(id).is_some_and(|k| gone[k]));
+                count += usize::from(
+                    self.index_of_id(id)
+                        .is_some_and(|k| gone.get(k) == Some(&true)),
+                );
             }
             if count > 0 && count < range.len() {
                 return Err(WorldError::Clump {
@@ -158,7 +161,7 @@ impl World {
         self.loads.retain(|l| !is_gone(l.id));
         self.offsets
             .retain(|&key, _| !(is_gone((key >> 32) as u32) || is_gone(key as u32)));
-        if self.params.track_energy && self.energy.initial.is_some() {
+        if self.books_removal() {
             self.energy.removed += out.energy;
         }
         let t = &mut self.removed;
@@ -245,7 +248,9 @@ impl World {
         }
         let wp = &nb.walls;
         for q in 0..wp.wall.len() {
-            let (w, k) = (&st.walls[wp.wall[q] as usize], wp.disc[q] as usize);
+            let (Some(w), k) = (st.walls.get(wp.wall[q] as usize), wp.disc[q] as usize) else {
+                continue;
+            };
             // (Fixed discs do not touch walls, see `contact::disc_segment`.)
             if k >= d.len() || !gone[k] || d.fixed[k] {
                 continue;
@@ -265,11 +270,19 @@ impl World {
         out.strain += sc;
         out.gravity = gp;
         out.energy = kt + kr + sc + gp;
-        let a = &mut self.energy;
-        a.kin_trans -= kt;
-        a.kin_rot -= kr;
-        a.strain_contact -= sc;
-        a.grav_pot -= gp;
+        if self.books_removal() {
+            let a = &mut self.energy;
+            a.kin_trans -= kt;
+            a.kin_rot -= kr;
+            a.strain_contact -= sc;
+            a.grav_pot -= gp;
+        }
+    }
+
+    /// Whether a deletion now is booked in the energy balance: it tracks energy and has
+    /// started (the first step sets the initial energy).
+    fn books_removal(&self) -> bool {
+        self.params.track_energy && self.energy.initial.is_some()
     }
 
     /// Delete the clumps marked `gone` (their members are already gone) and renumber the
@@ -337,7 +350,7 @@ fn drop_pairs(nb: &mut Neighbors, new_of_old: &[u32], n_new: usize) {
         let mut w = 0;
         for (i, &a) in new_of_old.iter().enumerate() {
             for p in nb.start[i] as usize..nb.start[i + 1] as usize {
-                let b = new_of_old[nb.nbr[p] as usize];
+                let b = new_of_old.get(nb.nbr[p] as usize).copied().unwrap_or(GONE);
                 if a == GONE || b == GONE {
                     continue;
                 }
