@@ -224,6 +224,11 @@ fn the_energy_balance_books_the_deleted_energy() {
     assert!(e2.balance_error.abs() < 1e-3, "{e2:?}");
     // Without the booking the balance would be off by the cluster's share.
     let unbooked = (e2.balance_error * balance_scale(&e2) - e2.removed) / balance_scale(&e2);
+    eprintln!(
+        "deleted {gone:?}; balance before {:e}, right after {:e}, 1000 steps on {:e}, \
+         unbooked {unbooked:e}",
+        e0.balance_error, e1.balance_error, e2.balance_error
+    );
     assert!(unbooked.abs() > 20.0 * e2.balance_error.abs(), "{unbooked}");
 }
 
@@ -241,8 +246,15 @@ fn balance_scale(e: &dem_core::EnergyReport) -> f64 {
 fn a_checkpoint_after_a_deletion_restores_bit_identically() {
     let mut w = scene(true, None);
     w.run(200);
-    w.remove_discs(&[96, 97, 98, 99, 100, 101, 5, 40]).unwrap();
+    let e0 = w.energy().balance_error;
+    // The cluster and two bonded, touching discs of the block (their bond and contact
+    // strain is booked too).
+    let gone = w.remove_discs(&[96, 97, 98, 99, 100, 101, 5, 40]).unwrap();
+    assert!(gone.strain > 0.0 && gone.bonds > 9, "{gone:?}");
     w.run(50);
+    let e1 = w.energy().balance_error;
+    eprintln!("deleted {gone:?}: balance {e0:e} before, {e1:e} 50 steps after");
+    assert!(e1.abs() < 1e-3 && (e1 - e0).abs() < 1e-4, "{e0} -> {e1}");
     let text = serde_json::to_string(&w).unwrap();
     let mut back: World = serde_json::from_str(&text).unwrap();
     assert_eq!(serde_json::to_string(&back).unwrap(), text);

@@ -5,6 +5,8 @@
 //! runs every `guard_every` steps and before every output; a history row every `history_every`
 //! steps; a VTK snapshot every `vtk_every` steps (and at step 0 of a fresh run); a checkpoint
 //! every `checkpoint_every` steps; `ckpt-final.json`, the break log and the summary at the end.
+//! A [`StepHook`] set by the caller (e.g. the cutting test's fragment deletion) runs every
+//! `hook.every` steps, before that step's guard and outputs.
 //! When the guard fails, the run stops: the last state that passed is written to
 //! `last-good-state.json`, the history (all rows passed the guard) and the summary are written,
 //! and the error names the step, the disc and the likely cause. No output ever holds a NaN.
