@@ -8,6 +8,7 @@ use crate::specimen::{parse_length, read_material};
 use crate::test::{progress_bar, LabArgs};
 use clap::Args;
 use dem_core::lab::cutting::{self, CuttingResult, CuttingTest};
+use dem_core::lab::tool::ToolModel;
 use dem_core::lab::LabModel;
 use dem_core::specimen::io;
 use indicatif::{ProgressBar, ProgressStyle};
@@ -79,9 +80,21 @@ pub struct CuttingArgs {
     /// Clearance angle in degrees (default 7).
     #[arg(long)]
     pub clearance_angle: Option<f64>,
-    /// Tool stiffness as a multiple of the disc contact k_n (default 10).
+    /// Tool model: rigid (default: one polyline body, one contact per disc, PFC's series
+    /// stiffness for tool and slot walls) | segments (the earlier two separate faces, direct
+    /// stiffness).
+    #[arg(long)]
+    pub tool: Option<String>,
+    /// Cutting-edge radius of the rigid tool with unit (default 0: sharp).
+    #[arg(long)]
+    pub edge_radius: Option<String>,
+    /// Tool stiffness as a multiple of the disc's (PFC's wall/ball ratio with the rigid tool,
+    /// default 10).
     #[arg(long)]
     pub tool_stiffness: Option<f64>,
+    /// Critical damping ratio of viscous disc-disc contact dashpots (default 0: none).
+    #[arg(long)]
+    pub contact_damping: Option<f64>,
     /// Tool-disc friction coefficient (default 0).
     #[arg(long)]
     pub tool_friction: Option<f64>,
@@ -135,10 +148,30 @@ impl CuttingArgs {
             Some(p) => {
                 let text =
                     std::fs::read_to_string(p).map_err(|e| format!("{}: {e}", p.display()))?;
-                serde_json::from_str(&text).map_err(|e| format!("{}: {e}", p.display()))?
+                let given: serde_json::Value =
+                    serde_json::from_str(&text).map_err(|e| format!("{}: {e}", p.display()))?;
+                // The file's fields over today's defaults (a field the file leaves out is the
+                // default, not the value an old result without that field stood for).
+                let mut v = serde_json::to_value(CuttingTest::default())
+                    .map_err(|e| format!("{}: {e}", p.display()))?;
+                match (given, &mut v) {
+                    (serde_json::Value::Object(g), serde_json::Value::Object(d)) => d.extend(g),
+                    _ => return Err(format!("{}: not a JSON object", p.display())),
+                }
+                serde_json::from_value(v).map_err(|e| format!("{}: {e}", p.display()))?
             }
             None => CuttingTest::default(),
         };
+        if let Some(s) = &self.tool {
+            t.tool = match s.as_str() {
+                "rigid" => ToolModel::Rigid,
+                "segments" => ToolModel::Segments,
+                _ => return Err(format!("--tool: {s:?} is not rigid or segments")),
+            };
+        }
+        if let Some(v) = self.contact_damping {
+            t.contact_damping = v;
+        }
         if let Some(s) = &self.depth {
             t.depth = parse_length(s, "--depth")?;
         }
@@ -171,6 +204,10 @@ impl CuttingArgs {
         }
         if let Some(v) = self.snapshots {
             t.snapshots = v;
+        }
+        // After --depth: the test stores the radius as a multiple of a_p.
+        if let Some(s) = &self.edge_radius {
+            t.edge_radius = parse_length(s, "--edge-radius")? / t.depth;
         }
         if self.delete_fragments {
             t.delete_fragments = true;
@@ -266,15 +303,27 @@ pub fn run(a: CuttingArgs) -> Result<ExitCode, String> {
         .build()
         .map_err(|e| e.to_string())?;
     println!(
-        "cutting {}: a_p {} mm, v {} m/s, L {} mm, rake {}°, clearance {}°, tool {}× k_n, local damping {}, dt factor {}",
+        "cutting {}: a_p {} mm, v {} m/s, L {} mm, rake {}°, clearance {}°, tool {} ({}), local damping {}, contact damping {}, dt factor {}",
         specimen.display(),
         test.depth * 1e3,
         test.speed,
         test.length * 1e3,
         test.rake_angle.to_degrees(),
         test.clearance_angle.to_degrees(),
-        test.tool_stiffness,
+        match test.tool {
+            ToolModel::Rigid => "rigid",
+            ToolModel::Segments => "segments",
+        },
+        match test.tool {
+            ToolModel::Rigid => format!(
+                "{}× the ball stiffness in series: contact {:.3}× k_n",
+                test.tool_stiffness,
+                2.0 * test.tool_stiffness / (1.0 + test.tool_stiffness)
+            ),
+            ToolModel::Segments => format!("{}× k_n", test.tool_stiffness),
+        },
         test.local_damping,
+        test.contact_damping,
         test.dt_factor
     );
     let bar = if std::io::stderr().is_terminal() {

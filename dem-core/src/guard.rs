@@ -2,7 +2,7 @@
 //! and the kinetic energy has not grown beyond the energy supplied. [`World::guard`] keeps a
 //! copy of the last state that passed ([`World::last_good`]) so a failed run can save it.
 
-use crate::neighbors::{closest_on_segment, MinImage};
+use crate::neighbors::{closest_on_wall, MinImage};
 use crate::pipeline::World;
 
 /// Why the guard stopped a run. Each names the step, the disc (stable id) and a likely cause.
@@ -192,7 +192,7 @@ impl World {
             if i >= d.len() {
                 continue;
             }
-            let (_, _, dist) = closest_on_segment(&st.walls[w], d.x[i], d.y[i], &img);
+            let (_, _, dist) = closest_on_wall(&st.walls[w], d.x[i], d.y[i], &img);
             keep((d.r[i] - dist) / d.r[i], d.id[i], u32::MAX, Some(w));
         }
         best

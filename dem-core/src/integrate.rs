@@ -522,14 +522,18 @@ pub fn advance_walls(walls: &mut [crate::state::Wall], dt: f64) {
     for w in walls {
         if w.omega != 0.0 {
             let (s, c) = (w.omega * dt).sin_cos();
-            for p in [&mut w.a, &mut w.b] {
-                let (rx, ry) = (p[0] - w.center[0], p[1] - w.center[1]);
-                p[0] = w.center[0] + c * rx - s * ry;
-                p[1] = w.center[1] + s * rx + c * ry;
+            let center = w.center;
+            for p in [&mut w.a, &mut w.b].into_iter().chain(w.via.iter_mut()) {
+                let (rx, ry) = (p[0] - center[0], p[1] - center[1]);
+                p[0] = center[0] + c * rx - s * ry;
+                p[1] = center[1] + s * rx + c * ry;
             }
         }
         if w.v != [0.0, 0.0] {
-            for p in [&mut w.a, &mut w.b, &mut w.center] {
+            for p in [&mut w.a, &mut w.b, &mut w.center]
+                .into_iter()
+                .chain(w.via.iter_mut())
+            {
                 p[0] += w.v[0] * dt;
                 p[1] += w.v[1] * dt;
             }

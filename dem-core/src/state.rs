@@ -179,14 +179,21 @@ impl Clumps {
     }
 }
 
-/// A straight wall segment from `a` to `b`. Walls move rigidly with velocity `v` and angular
-/// velocity `omega` about `center`; they are not integrated (prescribed motion) and record the
-/// reaction (the sum of the forces discs exert on them) and its moment about `center`.
+/// A wall: a straight segment from `a` to `b`, or a polyline a → `via[0]` → … → b (a rigid
+/// body of several faces, e.g. a cutting tool). Walls move rigidly with velocity `v` and
+/// angular velocity `omega` about `center`; they are not integrated (prescribed motion) and
+/// record the reaction (the sum of the forces discs exert on them) and its moment about
+/// `center`. A disc has at most one contact with a wall, at the wall's point nearest to it
+/// ([`crate::neighbors::closest_on_wall`]): at a convex corner of a polyline the contact
+/// is with the vertex, not with both faces.
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 pub struct Wall {
     pub name: String,
     pub a: [f64; 2],
     pub b: [f64; 2],
+    /// Inner vertices of a polyline wall, in order from `a` to `b` (empty: a segment).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub via: Vec<[f64; 2]>,
     pub v: [f64; 2],
     pub omega: f64,
     pub center: [f64; 2],
@@ -205,6 +212,7 @@ impl Wall {
             name: name.to_string(),
             a,
             b,
+            via: Vec::new(),
             v: [0.0; 2],
             omega: 0.0,
             center: [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])],
@@ -213,6 +221,13 @@ impl Wall {
             moment: 0.0,
             work: 0.0,
         }
+    }
+
+    /// The wall's vertices in order: a, the `via` points, b.
+    pub fn vertices(&self) -> impl Iterator<Item = [f64; 2]> + '_ {
+        std::iter::once(self.a)
+            .chain(self.via.iter().copied())
+            .chain(std::iter::once(self.b))
     }
 }
 

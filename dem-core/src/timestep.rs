@@ -18,7 +18,7 @@
 use crate::bond::Bonds;
 use crate::contact::ContactLaws;
 use crate::integrate::DiscCache;
-use crate::neighbors::{closest_on_segment, MinImage, Neighbors};
+use crate::neighbors::{closest_on_wall, MinImage, Neighbors};
 use crate::params::Params;
 use crate::state::State;
 
@@ -66,7 +66,7 @@ pub fn disc_stiffness(
             &st.walls[nb.walls.wall[q] as usize],
             nb.walls.disc[q] as usize,
         );
-        let (_, _, dist) = closest_on_segment(w, d.x[i], d.y[i], &img);
+        let (_, _, dist) = closest_on_wall(w, d.x[i], d.y[i], &img);
         let (k, ks, krr) = pair_k(d.material[i], w.material, d.r[i], (d.r[i] - dist).max(0.0));
         kt[i] += k;
         kr[i] += ks * d.r[i] * d.r[i] + krr;

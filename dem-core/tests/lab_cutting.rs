@@ -1,10 +1,12 @@
 //! The cutting test: a short cut of a small traditional specimen (forces, chips, broken bonds,
 //! result file, tool path clear of the slot), and the tool force on a single disc against the
-//! linear contact law's closed form.
+//! linear contact law's closed form (on a face, and on the edge of the rigid tool: one
+//! contact, PFC's series stiffness).
 
 use dem_core::lab::cutting::{self, CuttingTest, ForceHistory, SpecimenInfo};
 use dem_core::lab::history::Table;
-use dem_core::lab::tool::{segment_polygon_distance, CutGeometry};
+use dem_core::lab::model::series_wall_stiffness;
+use dem_core::lab::tool::{segment_polygon_distance, CutGeometry, ToolModel};
 use dem_core::lab::LabModel;
 use dem_core::specimen::{generate, io, Method, SpecimenParams};
 use std::path::PathBuf;
@@ -112,7 +114,10 @@ fn short_cut_of_a_small_specimen() {
     assert!(g.slot_clearance() > 0.1 * test.depth);
     let scene = dem_core::scene::load(&out.join(cutting::SCENE_FILE)).unwrap();
     let world = dem_core::scene::build(&scene).unwrap();
-    assert_eq!(world.state.walls.len(), 5);
+    // Three slot walls and one rigid tool (a polyline: clearance end, edge, rake end).
+    assert_eq!(world.state.walls.len(), 4);
+    assert_eq!(g.tool.len(), 1);
+    assert_eq!(world.state.walls[3].via.len(), 1);
     for w in world
         .state
         .walls
@@ -121,12 +126,15 @@ fn short_cut_of_a_small_specimen() {
     {
         for t in &g.tool {
             let dx = g.travel_end - g.travel_start;
-            let quad = [t.a, t.b, [t.b[0] + dx, t.b[1]], [t.a[0] + dx, t.a[1]]];
-            assert!(
-                segment_polygon_distance(w.a, w.b, &quad) > 0.0,
-                "{}",
-                w.name
-            );
+            for f in t.vertices().windows(2) {
+                let (a, b) = (f[0], f[1]);
+                let quad = [a, b, [b[0] + dx, b[1]], [a[0] + dx, a[1]]];
+                assert!(
+                    segment_polygon_distance(w.a, w.b, &quad) > 0.0,
+                    "{}",
+                    w.name
+                );
+            }
         }
     }
 
@@ -187,6 +195,7 @@ fn tool_force_on_a_single_disc() {
     let test = CuttingTest {
         window_start: 0.0,
         local_damping: 0.0,
+        tool: ToolModel::Segments,
         ..CuttingTest::new(1.2 * r, 1.0, 0.5 * r)
     };
     let info = SpecimenInfo::read(&spec_path).unwrap();
@@ -259,6 +268,103 @@ fn tool_force_on_a_single_disc() {
     assert!(fh.main.iter().all(|&m| m >= 0.0));
     assert!(fh.vertical.iter().all(|&v| v == 0.0));
     assert_eq!(fh.main[0], 0.0);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// One disc pressed on the cutting edge (its centre in the exterior wedge where the edge vertex
+/// is the tool's nearest point, overlap δ): the rigid tool gives one contact, along the line
+/// from the edge to the disc centre, with the closed-form force K δ, K = 2 K_dd f/(1 + f)
+/// (PFC's series stiffness, f = 10: 1.82 K_dd); the tool feels minus that force. The earlier
+/// two-segment tool gives two contacts at the same point: 2 f K_dd δ, 11× the rigid tool's.
+#[test]
+fn a_disc_on_the_tool_edge_gets_one_contact() {
+    let dir = tmp("edge");
+    let r = 0.1e-3;
+    let spec_path = dir.join("one.json");
+    let spec = serde_json::json!({"schema": "dem.specimen/1", "units": "m",
+        "discs": [{"material": "Si3N4", "discs": [[r, r, r]]}]});
+    std::fs::write(&spec_path, spec.to_string()).unwrap();
+    let p = SpecimenParams::new(
+        Method::Traditional,
+        4e-3,
+        2e-3,
+        r,
+        r,
+        3200.0,
+        310e9,
+        800e6,
+        1,
+    );
+    let model = LabModel::from_params(&p);
+    let info = SpecimenInfo::read(&spec_path).unwrap();
+    let kdd = model.contact_kn();
+    let mut forces = vec![];
+    for tool in [ToolModel::Rigid, ToolModel::Segments] {
+        let test = CuttingTest {
+            local_damping: 0.0,
+            window_start: 0.0,
+            tool,
+            ..CuttingTest::new(1.2 * r, 1.0, 0.5 * r)
+        };
+        let mut scene = cutting::scene(&test, &model, &info, 1).unwrap();
+        // Keep the tool alone, at rest.
+        let walls: Vec<serde_json::Value> = scene["walls"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|w| !w["name"].as_str().unwrap().starts_with("slot"))
+            .map(|w| {
+                let mut w = w.clone();
+                w["velocity"] = serde_json::json!([0.0, 0.0]);
+                w
+            })
+            .collect();
+        scene["walls"] = serde_json::Value::Array(walls);
+        let file = dir.join(format!("{tool:?}.scene.json"));
+        std::fs::write(&file, scene.to_string()).unwrap();
+        let mut w = dem_core::scene::build(&dem_core::scene::load(&file).unwrap()).unwrap();
+        let g = CutGeometry::new(&test, info.extent).unwrap();
+        let e = g.edge_start;
+        // Below and ahead of the edge, 40° under the horizontal: outside both faces' normal
+        // strips (rake face up, clearance face back at 7°), so the edge is the nearest point.
+        let u = [40f64.to_radians().cos(), -(40f64.to_radians().sin())];
+        let delta = 0.01 * r;
+        w.state.discs.x[0] = e[0] + u[0] * (r - delta);
+        w.state.discs.y[0] = e[1] + u[1] * (r - delta);
+        w.refresh();
+        w.step();
+        let d = &w.state.discs;
+        let f = [d.fx[0], d.fy[0]];
+        let fw = w
+            .state
+            .walls
+            .iter()
+            .fold([0.0, 0.0], |s, w| [s[0] + w.force[0], s[1] + w.force[1]]);
+        // Equal and opposite, along u (the disc is pushed away from the edge).
+        assert!(
+            (f[0] + fw[0]).abs() <= 1e-12 * f[0].abs()
+                && (f[1] + fw[1]).abs() <= 1e-12 * f[0].abs()
+        );
+        let mag = f[0].hypot(f[1]);
+        assert!(
+            (f[0] / mag - u[0]).abs() < 1e-9 && (f[1] / mag - u[1]).abs() < 1e-9,
+            "{f:?}"
+        );
+        forces.push(mag / delta);
+    }
+    let k_rigid = series_wall_stiffness(kdd, 10.0);
+    assert!((k_rigid / kdd - 20.0 / 11.0).abs() < 1e-12);
+    assert!(
+        (forces[0] - k_rigid).abs() <= 1e-6 * k_rigid,
+        "rigid: {} vs {k_rigid}",
+        forces[0]
+    );
+    let k_two = 2.0 * 10.0 * kdd;
+    assert!(
+        (forces[1] - k_two).abs() <= 1e-6 * k_two,
+        "segments: {} vs {k_two}",
+        forces[1]
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
 

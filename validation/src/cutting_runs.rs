@@ -359,6 +359,7 @@ pub fn run_jobs(
         *n += 1;
         match r {
             Ok(res) => {
+                let hist = HistoryStats::read(&dir, &res, job.specimen.grain_size);
                 progress(&format!(
                     "[{}/{total}] {}: peak {:.4e} N, mean {:.4e} N, {} steps, {:.1} s{}",
                     *n,
@@ -396,7 +397,7 @@ pub fn run_jobs(
                         steps: res.run.steps,
                         wall_time_s: res.run.wall_time_s,
                         cpu_time_s: cpu,
-                        peak_avg_n: averaged_peak(&dir, &res, job.specimen.grain_size),
+                        peak_avg_n: hist.peak_avg_n,
                         max_overlap_fraction: res.run.max_overlap_fraction,
                         broken_total: Some(res.broken_total),
                         broken_intra_grain: Some(
@@ -406,6 +407,8 @@ pub fn run_jobs(
                                 .map(|b| b.tension + b.shear)
                                 .sum(),
                         ),
+                        median_n: hist.run.map(|s| s.median),
+                        top5_work_share: hist.run.and_then(|s| s.top5_work_share),
                     },
                     result_file: dir.join(cutting::RESULT_FILE).display().to_string(),
                     resumed,
@@ -435,11 +438,36 @@ pub fn run_jobs(
     }
 }
 
-/// Peak of the main force averaged over `width` of tool travel within the run's steady
-/// window ([`crate::table2::PEAK_AVERAGING`]), read from the run's `cutting.forces.csv`.
-fn averaged_peak(dir: &Path, res: &CuttingResult, width: f64) -> Option<f64> {
-    let (x, f) = main_force(&dir.join(cutting::FORCES_FILE))?;
-    dem_core::lab::analysis::moving_mean_peak(&x, &f, res.window[0], res.window[1], width)
+/// Statistics of a run's main-force history (`cutting.forces.csv`) over its steady window.
+#[derive(Clone, Copy, Debug, Default)]
+struct HistoryStats {
+    /// Peak of the force averaged over one grain of tool travel
+    /// ([`crate::table2::PEAK_AVERAGING`]).
+    peak_avg_n: Option<f64>,
+    /// Travel-weighted mean, median, raw and moving-mean peak, top-5 % work share on the
+    /// [`crate::force_statistics`] grid and width.
+    run: Option<dem_core::lab::force_stats::RunStats>,
+}
+
+impl HistoryStats {
+    /// `None` fields where the file cannot be read or the window holds no sample.
+    fn read(dir: &Path, res: &CuttingResult, grain: f64) -> HistoryStats {
+        let Some((x, f)) = main_force(&dir.join(cutting::FORCES_FILE)) else {
+            return HistoryStats::default();
+        };
+        let [from, to] = res.window;
+        HistoryStats {
+            peak_avg_n: dem_core::lab::analysis::moving_mean_peak(&x, &f, from, to, grain),
+            run: dem_core::lab::force_stats::run_stats(
+                (&x, &f),
+                res.window,
+                crate::force_statistics::GRID_STEP_M,
+                crate::force_statistics::PEAK_WIDTH_AP * res.test.depth,
+            )
+            .ok()
+            .flatten(),
+        }
+    }
 }
 
 /// Tool travel (m) and main force (N) of a run's `cutting.forces.csv`.

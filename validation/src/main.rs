@@ -41,10 +41,39 @@ struct Args {
     /// output folder and list the others as not run (a report of the runs done so far).
     #[arg(long)]
     finished_only: bool,
+    /// Run a cutting study (`data/studies/*.json`: variants of the cutting test on the Table 2
+    /// specimens) into <out>/<study name>/ instead of the report; finished runs are read back.
+    #[arg(long)]
+    study: Option<PathBuf>,
 }
 
 fn main() -> ExitCode {
     let a = Args::parse();
+    if let Some(f) = &a.study {
+        let progress = |m: &str| eprintln!("{m}");
+        let r = validation::study::StudySpec::read(f)
+            .and_then(|s| validation::study::run(&s, &a.data, &a.out, &progress).map(|r| (s, r)));
+        return match r {
+            Ok((s, (rows, errors))) => {
+                eprintln!(
+                    "study {}: {} runs, {} errors; {}",
+                    s.name,
+                    rows.len(),
+                    errors.len(),
+                    a.out.join(&s.name).join("study.md").display()
+                );
+                if errors.is_empty() {
+                    ExitCode::SUCCESS
+                } else {
+                    ExitCode::FAILURE
+                }
+            }
+            Err(e) => {
+                eprintln!("error: {e}");
+                ExitCode::from(2)
+            }
+        };
+    }
     let mut methods = vec![];
     for m in &a.methods {
         match dem_core::specimen::Method::parse(m) {

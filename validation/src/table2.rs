@@ -85,6 +85,25 @@ pub struct RunRecord {
     pub broken_total: Option<u64>,
     #[serde(default)]
     pub broken_intra_grain: Option<u64>,
+    /// Travel-weighted median of the main force over the window (N) and the share of the
+    /// window's work done over its top 5 % of travel
+    /// ([`dem_core::lab::force_stats::RunStats`]); `None` in records written before them.
+    #[serde(default)]
+    pub median_n: Option<f64>,
+    #[serde(default)]
+    pub top5_work_share: Option<f64>,
+}
+
+/// The seed-averaged moving-mean peak of one cell ([`crate::force_statistics`]), N at the
+/// runs' thickness: the peak and the travel-weighted mean of the same seed-averaged history.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SeedAveraged {
+    pub method: String,
+    pub depth_mm: f64,
+    pub speed_m_s: f64,
+    pub seeds: usize,
+    pub peak_n: f64,
+    pub mean_n: f64,
 }
 
 /// What the averaged peak ([`RunRecord::peak_avg_n`]) averages over. Our raw peak is the
@@ -121,6 +140,21 @@ pub struct Cell {
     pub peak_avg_sd_kN: Option<f64>,
     #[serde(default)]
     pub peak_avg_rel_err: Option<f64>,
+    /// Standard error of the mean over the seeds (sd/√n).
+    #[serde(default)]
+    pub mean_se_kN: Option<f64>,
+    /// Seed mean of the runs' travel-weighted medians; `None` when a run lacks one.
+    #[serde(default)]
+    pub median_kN: Option<f64>,
+    /// The seed-averaged moving-mean peak ([`crate::force_statistics::PEAK_STATISTIC`]), its
+    /// ratio to the same averaged history's mean (beside the paper's peak/mean) and
+    /// (ours − paper peak)/paper peak; `None` when not computed.
+    #[serde(default)]
+    pub peak_seed_avg_kN: Option<f64>,
+    #[serde(default)]
+    pub peak_seed_avg_over_mean: Option<f64>,
+    #[serde(default)]
+    pub peak_seed_avg_rel_err: Option<f64>,
 }
 
 /// The fitted constant.
@@ -160,6 +194,14 @@ pub struct Table2 {
     pub peak_avg_within_20_percent: usize,
     #[serde(default)]
     pub peak_avg_numbers: usize,
+    /// What the seed-averaged peak is, and how many are within ±20 % of the paper's peaks
+    /// (of how many cells have one).
+    #[serde(default)]
+    pub peak_statistic: String,
+    #[serde(default)]
+    pub peak_seed_avg_within_20_percent: usize,
+    #[serde(default)]
+    pub peak_seed_avg_numbers: usize,
 }
 
 fn mean_sd(v: &[f64]) -> (f64, f64) {
@@ -173,9 +215,20 @@ fn mean_sd(v: &[f64]) -> (f64, f64) {
     (m, sd)
 }
 
-/// Builds the table from the runs. Fails when the fitting cell (traditional, 1 mm, 1 m/s) has
-/// no run or a non-positive mean force, or the runs use different thicknesses.
+/// Builds the table from the runs, without seed-averaged peaks ([`assemble_with`]).
 pub fn assemble(runs: &[RunRecord], paper: &PaperTable2) -> Result<Table2, String> {
+    assemble_with(runs, paper, &[])
+}
+
+/// Builds the table from the runs and the cells' seed-averaged peaks (`seed_avg`, N at the
+/// runs' thickness; cells without one have none). Fails when the fitting cell (traditional,
+/// 1 mm, 1 m/s) has no run or a non-positive mean force, or the runs use different
+/// thicknesses.
+pub fn assemble_with(
+    runs: &[RunRecord],
+    paper: &PaperTable2,
+    seed_avg: &[SeedAveraged],
+) -> Result<Table2, String> {
     let t0 = runs.first().ok_or("no cutting runs")?.thickness_m;
     if runs.iter().any(|r| r.thickness_m != t0) {
         return Err("runs with different thicknesses cannot share one fitted constant".into());
@@ -223,7 +276,12 @@ pub fn assemble(runs: &[RunRecord], paper: &PaperTable2) -> Result<Table2, Strin
                 .expect("method known");
             let avg: Option<Vec<f64>> =
                 rs.iter().map(|r| r.peak_avg_n.map(|v| v * scale)).collect();
-            let avg = avg.map(|v| mean_sd(&v));
+            let avg = avg.map(|a| mean_sd(&a));
+            let median: Option<Vec<f64>> =
+                rs.iter().map(|r| r.median_n.map(|v| v * scale)).collect();
+            let sa = seed_avg.iter().find(|a| {
+                a.method == m && a.depth_mm == pc.depth_mm && a.speed_m_s == pc.speed_m_s
+            });
             cells.push(Cell {
                 method: m.into(),
                 depth_mm: pc.depth_mm,
@@ -240,6 +298,11 @@ pub fn assemble(runs: &[RunRecord], paper: &PaperTable2) -> Result<Table2, Strin
                 peak_avg_kN: avg.map(|a| a.0),
                 peak_avg_sd_kN: avg.map(|a| a.1),
                 peak_avg_rel_err: avg.map(|a| a.0 / p[0] - 1.0),
+                mean_se_kN: Some(mn_sd / (rs.len() as f64).sqrt()),
+                median_kN: median.map(|v| mean_sd(&v).0),
+                peak_seed_avg_kN: sa.map(|a| a.peak_n * scale),
+                peak_seed_avg_over_mean: sa.filter(|a| a.mean_n > 0.0).map(|a| a.peak_n / a.mean_n),
+                peak_seed_avg_rel_err: sa.map(|a| a.peak_n * scale / p[0] - 1.0),
             });
         }
     }
@@ -249,6 +312,10 @@ pub fn assemble(runs: &[RunRecord], paper: &PaperTable2) -> Result<Table2, Strin
         .map(|c| (c.peak_rel_err.abs() <= 0.2) as usize + (c.mean_rel_err.abs() <= 0.2) as usize)
         .sum();
     let avg_errs: Vec<f64> = cells.iter().filter_map(|c| c.peak_avg_rel_err).collect();
+    let sa_errs: Vec<f64> = cells
+        .iter()
+        .filter_map(|c| c.peak_seed_avg_rel_err)
+        .collect();
     let claims = claims(&cells);
     Ok(Table2 {
         source: paper.source.clone(),
@@ -266,6 +333,13 @@ pub fn assemble(runs: &[RunRecord], paper: &PaperTable2) -> Result<Table2, Strin
         peak_averaging: PEAK_AVERAGING.into(),
         peak_avg_within_20_percent: avg_errs.iter().filter(|e| e.abs() <= 0.2).count(),
         peak_avg_numbers: avg_errs.len(),
+        peak_statistic: if sa_errs.is_empty() {
+            String::new()
+        } else {
+            crate::force_statistics::PEAK_STATISTIC.into()
+        },
+        peak_seed_avg_within_20_percent: sa_errs.iter().filter(|e| e.abs() <= 0.2).count(),
+        peak_seed_avg_numbers: sa_errs.len(),
     })
 }
 
@@ -484,6 +558,41 @@ impl Table2 {
                 self.peak_avg_within_20_percent, self.peak_avg_numbers
             );
         }
+        if self.cells.iter().any(|c| c.peak_seed_avg_kN.is_some()) {
+            s += &format!(
+                "**Force statistics** (S0 does not define its peak; ours are stated before \
+                 comparing, docs/cutting.md \"Force statistics\"). Raw peak: the seed mean of \
+                 each run's largest sample. Seed-averaged peak: {}. Its ratio is to the \
+                 mean of the same averaged history.\n\n",
+                self.peak_statistic
+            );
+            s += "| a_p (mm) | v (m/s) | method | mean ± SE | median | raw peak | seed-avg peak | peak paper | err | raw peak / mean | seed-avg peak / mean | paper peak / mean |\n";
+            s += "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+            let o = |x: Option<f64>, d: usize| x.map_or("—".to_string(), |v| format!("{v:.d$}"));
+            for c in &self.cells {
+                s += &format!(
+                    "| {} | {} | {} | {:.2} ± {} | {} | {:.1} | {} | {:.1} | {} | {:.1} | {} | {:.2} |\n",
+                    c.depth_mm,
+                    c.speed_m_s,
+                    c.method,
+                    c.mean_kN,
+                    o(c.mean_se_kN, 2),
+                    o(c.median_kN, 2),
+                    c.peak_kN,
+                    o(c.peak_seed_avg_kN, 2),
+                    c.paper_peak_kN,
+                    c.peak_seed_avg_rel_err
+                        .map_or("—".to_string(), |e| format!("{:+.0} %", 100.0 * e)),
+                    c.peak_kN / c.mean_kN,
+                    o(c.peak_seed_avg_over_mean, 2),
+                    c.paper_peak_kN / c.paper_mean_kN
+                );
+            }
+            s += &format!(
+                "\n{} of {} seed-averaged peaks within ±20 % of the paper's peaks.\n\n",
+                self.peak_seed_avg_within_20_percent, self.peak_seed_avg_numbers
+            );
+        }
         s += "### The paper's claims\n\n";
         for c in &self.claims {
             let verdict = match (c.details.is_empty(), c.holds) {
@@ -534,6 +643,8 @@ mod tests {
                         max_overlap_fraction: None,
                         broken_total: None,
                         broken_intra_grain: None,
+                        median_n: Some(mn * 400.0 * f),
+                        top5_work_share: None,
                     });
                 }
             }
@@ -570,6 +681,72 @@ mod tests {
         for c in &t.claims {
             assert!(c.holds, "{}: {:?}", c.claim, c.details);
         }
+    }
+
+    /// Seed-averaged peaks at 1.1 × the paper's peaks, over a history whose mean is the
+    /// paper's mean: errors +10 %, ratio 1.1 × the paper's; medians and SEs per cell.
+    #[test]
+    fn seed_averaged_peaks_beside_the_raw_ones() {
+        let p = paper();
+        let pr = &p;
+        let runs = runs_like_paper(5);
+        // t = 2 t₀: kN at t = N at t₀ / 500.
+        let sa: Vec<SeedAveraged> = p
+            .cells
+            .iter()
+            .flat_map(|c| {
+                METHODS.iter().map(move |m| {
+                    let [pk, mn] = pr.value(m, c.depth_mm, c.speed_m_s).unwrap();
+                    SeedAveraged {
+                        method: (*m).into(),
+                        depth_mm: c.depth_mm,
+                        speed_m_s: c.speed_m_s,
+                        seeds: 5,
+                        peak_n: 1.1 * pk * 500.0,
+                        mean_n: mn * 500.0,
+                    }
+                })
+            })
+            .filter(|a| a.method != "orc" || a.depth_mm == 1.0)
+            .collect();
+        let t = assemble_with(&runs, &p, &sa).unwrap();
+        for c in &t.cells {
+            let paper_ratio = c.paper_peak_kN / c.paper_mean_kN;
+            match c.peak_seed_avg_rel_err {
+                Some(e) => {
+                    assert!((e - 0.1).abs() < 1e-12);
+                    assert!((c.peak_seed_avg_over_mean.unwrap() / paper_ratio - 1.1).abs() < 1e-12);
+                }
+                None => assert!(c.method == "orc" && c.depth_mm == 2.0),
+            }
+            // Medians at 0.8 of the means; SE = sd/√5.
+            assert!((c.median_kN.unwrap() / c.mean_kN - 0.8).abs() < 1e-12);
+            assert!((c.mean_se_kN.unwrap() - c.mean_sd_kN / 5f64.sqrt()).abs() < 1e-12);
+            // The raw peak is untouched.
+            assert!(c.peak_rel_err.abs() < 1e-12);
+        }
+        assert_eq!(
+            (t.peak_seed_avg_within_20_percent, t.peak_seed_avg_numbers),
+            (10, 10)
+        );
+        assert!(t.peak_statistic.contains("moving mean over w = 1 a_p"));
+        let md = t.markdown();
+        assert!(md.contains("10 of 10 seed-averaged peaks"));
+        assert!(md.contains("| 2 | 1 | orc |") && md.contains("| — | 22.7 | — |"));
+        // Without them: no statistic, no table.
+        let t = assemble(&runs, &p).unwrap();
+        assert!(t.peak_statistic.is_empty() && t.cells[0].peak_seed_avg_kN.is_none());
+        assert!(!t.markdown().contains("seed-averaged peaks within"));
+    }
+
+    /// The committed table (written before the seed-averaged peak) still loads.
+    #[test]
+    fn the_committed_table_loads() {
+        let t: Table2 =
+            serde_json::from_str(include_str!("../../docs/report/table2.json")).unwrap();
+        assert_eq!(t.cells.len(), 12);
+        assert!(t.cells.iter().all(|c| c.peak_seed_avg_kN.is_none()));
+        assert_eq!(t.peak_seed_avg_numbers, 0);
     }
 
     #[test]

@@ -124,10 +124,15 @@ pub fn section(
     let work = out.join("table2-runs");
     let outcome = run_plan(&plan, &work, missing, &|l| eprintln!("  {l}"));
     let reused = outcome.reused();
-    let (runs, errors, not_run) = (outcome.finished, outcome.errors, outcome.missing);
+    let (runs, mut errors, not_run) = (outcome.finished, outcome.errors, outcome.missing);
     let partial = !subset.methods.is_empty() || !subset.seeds.is_empty() || !not_run.is_empty();
     let records: Vec<_> = runs.iter().map(|r| r.record.clone()).collect();
-    let t = table2::assemble(&records, &paper)?;
+    let names: Vec<&str> = runs.iter().map(|r| r.name.as_str()).collect();
+    let seed_avg = crate::force_statistics::seed_averaged(&work, &names).unwrap_or_else(|e| {
+        errors.push(format!("seed-averaged peaks: {e}"));
+        vec![]
+    });
+    let t = table2::assemble_with(&records, &paper, &seed_avg)?;
     let scale = t.constant.value / t.constant.run_value / 1e3;
     // Bars: mean force per case and method, ours and the paper's.
     let mut cats = vec![];

@@ -111,6 +111,19 @@ pub fn findings(
             let (alo, ahi) = range(&avg);
             line += &format!(", averaged over one grain {a:.1} ({alo:.1}–{ahi:.1})");
         }
+        let sa: Vec<f64> = t
+            .cells
+            .iter()
+            .filter(|c| c.method == *m)
+            .filter_map(|c| c.peak_seed_avg_over_mean)
+            .collect();
+        if !sa.is_empty() {
+            let (slo, shi) = range(&sa);
+            line += &format!(
+                ", seed-averaged histories over one a_p {slo:.2}–{shi:.2} ({} cells)",
+                sa.len()
+            );
+        }
         line += &format!("; paper {plo:.2}–{phi:.2}");
         ev.push(line);
     }
@@ -424,6 +437,8 @@ mod tests {
                         max_overlap_fraction: (m == "orc").then_some(0.1 + 0.01 * s as f64),
                         broken_total: Some(100),
                         broken_intra_grain: Some(if m == "improved" { 20 + s } else { 0 }),
+                        median_n: None,
+                        top5_work_share: None,
                     });
                 }
             }
@@ -441,6 +456,27 @@ mod tests {
         assert_eq!(topics.len(), 4, "{topics:?}");
         // Peaks: raw peak / mean is 20 for every run, the averaged one the paper's ratio.
         assert!(f[0].evidence[0].starts_with("orc: raw peak / mean 20 (median of 20 runs"));
+        assert!(!f[0].evidence[0].contains("seed-averaged"));
+        // With the cells' seed-averaged peaks at twice their means, the range is given.
+        let sa: Vec<crate::table2::SeedAveraged> = t
+            .cells
+            .iter()
+            .map(|c| crate::table2::SeedAveraged {
+                method: c.method.clone(),
+                depth_mm: c.depth_mm,
+                speed_m_s: c.speed_m_s,
+                seeds: 5,
+                peak_n: 2.0,
+                mean_n: 1.0,
+            })
+            .collect();
+        let t2 = crate::table2::assemble_with(&r, &p, &sa).unwrap();
+        let f2 = findings(&r, &t2, &p, 0.86);
+        assert!(
+            f2[0].evidence[0].contains("seed-averaged histories over one a_p 2.00–2.00 (4 cells)"),
+            "{}",
+            f2[0].evidence[0]
+        );
         // The paper's means fall with speed on every same-seed pair.
         let speed = f.iter().find(|x| x.topic.contains("speed")).unwrap();
         assert!(

@@ -9,7 +9,7 @@
 
 use super::disc_disc::{Dashpot, PassEnergy};
 use super::{ContactLaws, PairKin};
-use crate::neighbors::{closest_on_segment, MinImage, WallPairs};
+use crate::neighbors::{closest_on_wall, MinImage, WallPairs};
 use crate::state::{Discs, Wall};
 
 /// Add disc–wall forces to discs and record wall reactions (serial: walls are few and the
@@ -45,7 +45,7 @@ pub fn compute(
             continue;
         }
         let (x, y, r) = (d.x[k], d.y[k], d.r[k]);
-        let (px, py, dist) = closest_on_segment(w, x, y, &img);
+        let (px, py, dist) = closest_on_wall(w, x, y, &img);
         let delta = r - dist;
         if dist <= 0.0 {
             wp.us[q] = 0.0;

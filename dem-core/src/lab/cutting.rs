@@ -1,6 +1,7 @@
 //! The orthogonal cutting test (S0 Ye & Xu 2010; S4 Tan et al.): a bonded specimen in a slot of
-//! three fixed frictionless walls, cut by a tool of two wall segments (rake and clearance face)
-//! much stiffer than the discs, moving horizontally at speed v with its edge a depth a_p below
+//! three fixed frictionless walls, cut by a rigid tool (one polyline wall: clearance face,
+//! edge, rake face; one contact per disc, PFC's series contact stiffness) much stiffer than
+//! the discs, moving horizontally at speed v with its edge a depth a_p below
 //! the specimen top, over a cut length L. `docs/cutting.md` describes the set-up, the outputs
 //! and the measured figures.
 //!
@@ -14,10 +15,11 @@
 
 use super::chips::{self, ChipReport, ResidualCracks};
 use super::history::Table;
+use super::model::series_wall_stiffness;
 use super::model::{DISC_MATERIAL, WALL_MATERIAL};
 use super::run::{run_scene_with, write_scene};
 use super::surface::{self, Surface};
-use super::tool::{CutGeometry, CLEARANCE, RAKE};
+use super::tool::{CutGeometry, ToolModel, CLEARANCE, RAKE, TOOL};
 use super::{analysis, LabError, LabModel};
 use crate::output::driver::RunOptions;
 use crate::output::write_atomic;
@@ -60,10 +62,13 @@ pub struct CuttingTest {
     /// Gap between the tool's foremost point and the specimen at the start (× a_p). Default
     /// 0.1: long enough to show a zero force before contact, short because travel costs steps.
     pub approach: f64,
-    /// Tool normal (and shear) stiffness as a multiple of the disc-disc k_n ("much stiffer
-    /// than the discs", S4). Default 10. The automatic time step is bounded by the stiffest
-    /// contact a disc can make, tool contacts included, so the step scales as 1/√(factor)
-    /// once the tool dominates a disc's stiffness sum (measured in docs/cutting.md).
+    /// Tool normal (and shear) stiffness as a multiple of the disc's ("much stiffer than the
+    /// discs", S4). Default 10. With [`ToolModel::Rigid`] it is PFC's wall stiffness as a
+    /// multiple of the ball stiffness, combined with the disc's in series (tool contact
+    /// 2·f/(1+f) × the disc–disc k_n: 1.82× at 10, [`series_wall_stiffness`]); with
+    /// [`ToolModel::Segments`] the tool contact is f × the disc–disc k_n directly. The
+    /// automatic time step is bounded by the stiffest contact a disc can make, tool contacts
+    /// included.
     pub tool_stiffness: f64,
     /// Tool-disc friction coefficient. Default 0 (frictionless walls, as PFC's default; S0 and
     /// S4 do not state it).
@@ -108,12 +113,34 @@ pub struct CuttingTest {
         skip_serializing_if = "is_default_max_overlap"
     )]
     pub max_overlap_fraction: f64,
+    /// How the tool is modelled: one rigid polyline body with PFC's series contact stiffness
+    /// (default), or the earlier two segments with direct stiffness (`segments`). A test
+    /// written without the field (results and run keys before 2026-11-26) is the earlier
+    /// model, and `segments` is left out when serialised, so those keys stay as they were.
+    #[serde(
+        default = "ToolModel::legacy",
+        skip_serializing_if = "ToolModel::is_legacy"
+    )]
+    pub tool: ToolModel,
+    /// Cutting-edge radius r_e (× a_p) of the rigid tool; 0 (default) = a sharp edge. S0 does
+    /// not state one.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub edge_radius: f64,
+    /// Viscous contact damping of the disc–disc contacts: the critical damping ratio of the
+    /// linear law's dashpots (PFC's `ball damping`; 0 = none, the default: PFC2D's default is
+    /// local damping only). For the speed and damping study (docs/cutting.md).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub contact_damping: f64,
     /// Delete detached fragments once they are above the nominal surface and clear of the
     /// tool (rules in [`super::debris`], checked on every history row; docs/cutting.md,
     /// "Deleting fragments"). Default false. Left out of the serialised test (and so of the
     /// run keys) when false.
     #[serde(default, skip_serializing_if = "is_false")]
     pub delete_fragments: bool,
+}
+
+fn is_zero(v: &f64) -> bool {
+    *v == 0.0
 }
 
 fn is_false(v: &bool) -> bool {
@@ -152,6 +179,9 @@ impl Default for CuttingTest {
             snapshots: 0,
             max_energy_growth: 2.0,
             max_overlap_fraction: DEFAULT_MAX_OVERLAP,
+            tool: ToolModel::Rigid,
+            edge_radius: 0.0,
+            contact_damping: 0.0,
             delete_fragments: false,
         }
     }
@@ -220,6 +250,24 @@ impl CuttingTest {
         }
         if !(self.tool_friction >= 0.0 && self.tool_friction.is_finite()) {
             return bad("tool_friction", "must be ≥ 0".into());
+        }
+        if !(self.edge_radius >= 0.0 && self.edge_radius.is_finite()) {
+            return bad("edge_radius", format!("{} must be ≥ 0", self.edge_radius));
+        }
+        if self.edge_radius > 0.0 && self.tool == ToolModel::Segments {
+            return bad(
+                "edge_radius",
+                "an edge radius needs the rigid tool (tool = \"rigid\")".into(),
+            );
+        }
+        if self.edge_radius >= self.clearance_face.min(self.rake_face) {
+            return bad(
+                "edge_radius",
+                "the rounded edge must be shorter than both faces".into(),
+            );
+        }
+        if !(0.0..=1.0).contains(&self.contact_damping) {
+            return bad("contact_damping", "must lie in [0, 1]".into());
         }
         if !(0.0..1.0).contains(&self.local_damping) {
             return bad("local_damping", "must lie in [0, 1)".into());
@@ -356,10 +404,12 @@ pub fn model_from_specimen(path: &Path) -> Result<LabModel, LabError> {
 }
 
 /// The cutting scene (plain `dem.scene/1` JSON): the model's materials (disc material renamed
-/// to the specimen's), a `tool` material with its disc pair (k_n = `tool_stiffness` × disc k_n,
-/// friction `tool_friction`), the specimen at offset 0, the slot walls (frictionless `wall`
-/// material), the tool walls `rake` and `clearance` moving at (v, 0), duration, time-step
-/// factor, local damping, and outputs in the scene's folder with a history row every
+/// to the specimen's), a `tool` material with its disc pair (stiffness from `tool_stiffness`
+/// by the test's [`ToolModel`], friction `tool_friction`), the specimen at offset 0, the slot
+/// walls (frictionless `wall` material; with the rigid tool their disc pair is PFC's series
+/// stiffness of the model's `wall_stiffness_factor`), the tool — one polyline wall `tool`, or
+/// the walls `rake` and `clearance` — moving at (v, 0), duration, time-step factor, local
+/// damping, contact damping, and outputs in the scene's folder with a history row every
 /// `history_every` steps.
 pub fn scene(
     test: &CuttingTest,
@@ -370,9 +420,13 @@ pub fn scene(
     let g = CutGeometry::new(test, spec.extent)?;
     let file = spec.file.display().to_string();
     let mut s = model.scene_base("cutting", &file, [0.0, 0.0]);
+    let walls_named = match test.tool {
+        ToolModel::Rigid => "one rigid tool wall `tool`",
+        ToolModel::Segments => "tool walls `rake` and `clearance`",
+    };
     s["description"] = json!(format!(
         "Orthogonal cutting (dem test cutting): a_p = {} mm, v = {} m/s, L = {} mm, rake {}°, \
-         clearance {}°; tool walls `rake` and `clearance`, slot walls `slot_*`.",
+         clearance {}°; {walls_named}, slot walls `slot_*`.",
         test.depth * 1e3,
         test.speed,
         test.length * 1e3,
@@ -381,12 +435,22 @@ pub fn scene(
     ));
     let kn = model.contact_kn();
     let ks = kn / model.micro.stiffness_ratio;
-    let (ktool, kstool) = (test.tool_stiffness * kn, test.tool_stiffness * ks);
+    let (ft, fw) = (test.tool_stiffness, model.micro.wall_stiffness_factor);
+    let ((ktool, kstool), slot) = match test.tool {
+        ToolModel::Rigid => (
+            (series_wall_stiffness(kn, ft), series_wall_stiffness(ks, ft)),
+            Some((series_wall_stiffness(kn, fw), series_wall_stiffness(ks, fw))),
+        ),
+        ToolModel::Segments => ((ft * kn, ft * ks), None),
+    };
     let mat = spec.material.as_str();
     if let Some(ms) = s["materials"].as_array_mut() {
         for m in ms.iter_mut() {
             if m["name"] == DISC_MATERIAL {
                 m["name"] = json!(mat);
+                if test.contact_damping > 0.0 {
+                    m["damping_ratio"] = json!(test.contact_damping);
+                }
             }
         }
         ms.push(json!({"name": TOOL_MATERIAL, "kn": ktool, "ks": kstool,
@@ -395,6 +459,10 @@ pub fn scene(
     if let Some(ps) = s["contact"]["pairs"].as_array_mut() {
         for p in ps.iter_mut() {
             p["materials"] = json!([mat, WALL_MATERIAL]);
+            if let Some((kw, ksw)) = slot {
+                p["kn"] = json!(kw);
+                p["ks"] = json!(ksw);
+            }
         }
         ps.push(
             json!({"materials": [mat, TOOL_MATERIAL], "law": "linear_spring_dashpot",
@@ -408,10 +476,12 @@ pub fn scene(
         .map(|w| json!({"name": w.name, "a": w.a, "b": w.b, "material": WALL_MATERIAL}))
         .collect();
     for w in &g.tool {
-        walls.push(
-            json!({"name": w.name, "a": w.a, "b": w.b, "material": TOOL_MATERIAL,
-                          "velocity": g.velocity, "center": g.edge_start}),
-        );
+        let mut j = json!({"name": w.name, "a": w.a, "b": w.b, "material": TOOL_MATERIAL,
+                          "velocity": g.velocity, "center": g.edge_start});
+        if !w.via.is_empty() {
+            j["via"] = json!(w.via);
+        }
+        walls.push(j);
     }
     s["walls"] = json!(walls);
     if test.local_damping > 0.0 {
@@ -448,18 +518,24 @@ impl ForceHistory {
     pub fn from_table(h: &Table, g: &CutGeometry, file: &str) -> Result<ForceHistory, LabError> {
         let time = h.column("time", file)?;
         let col = |w: &str, c: &str| h.column(&format!("{w}_{c}"), file);
-        let (rx, ry) = (col(RAKE, "fx")?, col(RAKE, "fy")?);
-        let (cx, cy) = (col(CLEARANCE, "fx")?, col(CLEARANCE, "fy")?);
+        // The tool's force: the one rigid tool wall, or the two faces of the earlier model.
+        let (fx, fy) = if g.tool.len() == 1 {
+            (col(TOOL, "fx")?, col(TOOL, "fy")?)
+        } else {
+            let sum = |a: Vec<f64>, b: Vec<f64>| a.iter().zip(&b).map(|(p, q)| p + q).collect();
+            (
+                sum(col(RAKE, "fx")?, col(CLEARANCE, "fx")?),
+                sum(col(RAKE, "fy")?, col(CLEARANCE, "fy")?),
+            )
+        };
         let v = g.velocity;
         let speed = (v[0] * v[0] + v[1] * v[1]).sqrt();
         let (ux, uy) = (v[0] / speed, v[1] / speed);
         let n = time.len();
         Ok(ForceHistory {
             travel: time.iter().map(|&t| g.travel(t)).collect(),
-            main: (0..n)
-                .map(|k| -((rx[k] + cx[k]) * ux + (ry[k] + cy[k]) * uy))
-                .collect(),
-            vertical: (0..n).map(|k| ry[k] + cy[k]).collect(),
+            main: (0..n).map(|k| -(fx[k] * ux + fy[k] * uy)).collect(),
+            vertical: fy,
             time,
         })
     }

@@ -11,8 +11,9 @@
 //! 1. it is not the workpiece (so it has no intact bond to it);
 //! 2. every disc centre lies above y_n + m, y_n the nominal machined surface and the margin m
 //!    one mean disc radius of the current assembly;
-//! 3. every disc is clear of the tool: its centre is farther than r + m from both tool faces
-//!    (so it touches neither, nor will it within the next checks at cutting speed);
+//! 3. every disc is clear of the tool: its centre is farther than r + m from the tool (the
+//!    polyline wall `tool`, or the faces `rake` and `clearance` of the two-segment model), so
+//!    it does not touch it, nor will it within the next checks at cutting speed;
 //! 4. it is clear of the workpiece (every gap to a workpiece disc > m), or every disc centre
 //!    lies above the specimen's initial top y_top: a fragment lying on the uncut surface is
 //!    debris, but one touching the workpiece lower down, or lifted off it by less than m, may
@@ -25,8 +26,9 @@
 //! deletes the same fragments at the same steps.
 
 use super::chips::{self, Fragment};
-use super::tool::{CLEARANCE, RAKE};
+use super::tool::{CLEARANCE, RAKE, TOOL};
 use crate::bond::Bonds;
+use crate::neighbors::{closest_on_wall, MinImage};
 use crate::output::driver::StepHook;
 use crate::pipeline::RemovalTotals;
 use crate::state::{State, Wall};
@@ -42,21 +44,9 @@ pub struct DebrisRule {
     pub top_y: f64,
 }
 
-/// Distance from (x, y) to the segment `w` (no periodic images: the cutting scene has none).
-fn distance_to_segment(w: &Wall, x: f64, y: f64) -> f64 {
-    let (ex, ey) = (w.b[0] - w.a[0], w.b[1] - w.a[1]);
-    let (rx, ry) = (x - w.a[0], y - w.a[1]);
-    let l2 = ex * ex + ey * ey;
-    let s = if l2 > 0.0 {
-        ((rx * ex + ry * ey) / l2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    (rx - s * ex).hypot(ry - s * ey)
-}
-
 /// The fragments to delete from `st` (with `bonds`), by the module's rules, with the tool
-/// faces `tool`; in [`chips::fragments`] order. A pure function of its arguments.
+/// walls `tool` (segments or polylines); in [`chips::fragments`] order. A pure function of its
+/// arguments.
 pub fn deletable(
     st: &State,
     bonds: Option<&Bonds>,
@@ -68,16 +58,16 @@ pub fn deletable(
         return Vec::new();
     }
     let margin = d.r.iter().sum::<f64>() / d.len() as f64;
+    let img = MinImage::new(&st.periodic);
+    // (The contact pass's distance: a disc touches a wall when this is below its radius.)
+    let distance = |w: &Wall, k: usize| closest_on_wall(w, d.x[k], d.y[k], &img).2;
     let mut frags = chips::fragments(st, bonds);
     if frags.len() < 2 {
         return Vec::new();
     }
     let work = frags.remove(0);
     let above = |k: usize| d.y[k] > rule.nominal_y + margin;
-    let clear = |k: usize| {
-        tool.iter()
-            .all(|w| distance_to_segment(w, d.x[k], d.y[k]) > d.r[k] + margin)
-    };
+    let clear = |k: usize| tool.iter().all(|w| distance(w, k) > d.r[k] + margin);
     // Workpiece discs by x, for the clearance test (built when first needed).
     let mut by_x: Option<(Vec<(f64, usize)>, f64)> = None;
     let mut near_work = |f: &Fragment| {
@@ -108,7 +98,7 @@ pub fn deletable(
         .collect()
 }
 
-/// Delete the [`deletable`] fragments of `world` (tool faces: the walls named `rake` and
+/// Delete the [`deletable`] fragments of `world` (the tool: the walls named `tool`, `rake` and
 /// `clearance`), one [`World::remove_discs`] call per fragment, so the world's count of
 /// removals is the count of fragments deleted. Returns the number deleted.
 pub fn delete_fragments(world: &mut World, rule: &DebrisRule) -> Result<usize, String> {
@@ -116,7 +106,7 @@ pub fn delete_fragments(world: &mut World, rule: &DebrisRule) -> Result<usize, S
     let tool: Vec<&Wall> = st
         .walls
         .iter()
-        .filter(|w| w.name == RAKE || w.name == CLEARANCE)
+        .filter(|w| [TOOL, RAKE, CLEARANCE].contains(&w.name.as_str()))
         .collect();
     let ids: Vec<Vec<u32>> = deletable(st, world.bonds.as_ref(), &tool, rule)
         .iter()
@@ -258,15 +248,19 @@ mod tests {
         assert!(g49 > 0.0 && g49 < R && d.y[49] > rule.nominal_y + R && d.y[49] < rule.top_y);
         assert!((0..40).all(|k| gap(49, k) > 0.0));
         let tool: Vec<&Wall> = st.walls.iter().collect();
-        assert!(
-            distance_to_segment(tool[0], d.x[42], d.y[42]) < R,
-            "42 touches the rake"
-        );
-        let d48 = distance_to_segment(tool[0], d.x[48], d.y[48]);
+        let img = MinImage::new(&st.periodic);
+        let dist = |w: &Wall, k: usize| closest_on_wall(w, d.x[k], d.y[k], &img).2;
+        assert!(dist(tool[0], 42) < R, "42 touches the rake");
+        let d48 = dist(tool[0], 48);
         assert!(d48 > R && d48 < 2.0 * R, "48 is near the rake, not on it");
         let frags = chips::fragments(&st, Some(&b));
         assert_eq!(frags[0].discs.len(), 41, "the block and disc 45");
         let gone = deletable(&st, Some(&b), &tool, &rule);
+        assert_eq!(ids(&st, &gone), vec![vec![40, 41], vec![47]]);
+        // The same tool as one rigid polyline wall (clearance end, edge, rake end).
+        let mut one = Wall::new(TOOL, st.walls[1].b, st.walls[0].b, 1);
+        one.via = vec![st.walls[0].a];
+        let gone = deletable(&st, Some(&b), &[&one], &rule);
         assert_eq!(ids(&st, &gone), vec![vec![40, 41], vec![47]]);
         // Without the tool nearby the pair 42-43 and disc 48 would go too.
         let far = [Wall::new(RAKE, [-50e-3, 0.0], [-50e-3, 1e-3], 1)];
@@ -280,7 +274,11 @@ mod tests {
 
     #[test]
     fn the_world_deletes_one_fragment_per_removal() {
-        let (st, b, rule) = scene();
+        let (mut st, b, rule) = scene();
+        // The rigid tool of the cutting test: one polyline wall named `tool`.
+        let mut one = Wall::new(TOOL, st.walls[1].b, st.walls[0].b, 1);
+        one.via = vec![st.walls[0].a];
+        st.walls = vec![one];
         let laws = crate::ContactLaws::new(
             2,
             crate::ContactModel::Linear(crate::LinearSpringDashpot::elastic(1e5, 4e4, 0.5)),

@@ -6,6 +6,7 @@
 //! run       write the test's scene file (plain, editable, `dem run` runs it), run it, read history
 //! history   history.csv back as named columns
 //! analysis  the standard formulas: E, ν, UCS; σ_t = 2F/(πDt); σ_f = 3FL/(2bh²); K_IC; force stats
+//! force_stats cutting-force statistics: resampled histories, seed-averaged moving-mean peak
 //! specimens test specimens (the user's parameters, the test's shape; Brazilian disc carved),
 //!           saved beside the scene and reused when their key file matches
 //! common    quasi-static loading rule and run settings shared by the tests, result files
@@ -26,6 +27,7 @@ pub mod chips;
 pub mod common;
 pub mod cutting;
 pub mod debris;
+pub mod force_stats;
 pub mod history;
 pub mod model;
 pub mod run;

@@ -109,6 +109,23 @@ impl LabModel {
     }
 }
 
+/// Disc–wall contact stiffness in PFC's linear contact model, where the contact stiffness is
+/// that of the two entities' springs in series, K = k_A k_B/(k_A + k_B) (Potyondy & Cundall
+/// 2004, §2.2, eq. 4; Itasca PFC2D manual, linear contact model; a wall is an entity with its
+/// own stiffness). Two equal discs of stiffness k_ball touch with K_dd = k_ball/2, so a disc
+/// has k_ball = 2 K_dd; a wall of stiffness f·k_ball (PFC users give walls as a multiple of
+/// the ball stiffness) touches a disc with
+///
+/// K_w = k_ball · f k_ball / (k_ball + f k_ball) = 2 K_dd · f / (1 + f),
+///
+/// e.g. 1.818 K_dd for f = 10 and 1.333 K_dd for f = 2 (→ 2 K_dd as f → ∞: a rigid wall
+/// meets the disc's own spring only). `k_pair` is the disc–disc contact stiffness K_dd (normal
+/// or shear: both combine the same way).
+pub fn series_wall_stiffness(k_pair: f64, factor: f64) -> f64 {
+    let k_ball = 2.0 * k_pair;
+    k_ball * (factor * k_ball) / (k_ball + factor * k_ball)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -139,5 +156,21 @@ mod tests {
         assert_eq!(g[1]["tensile_strength"], 1000e6);
         let c = m.contact();
         assert_eq!(c["pairs"][0]["kn"], 2.0 * 2.0 * 300e9);
+    }
+
+    #[test]
+    fn wall_and_disc_springs_combine_in_series() {
+        let k = 6e11;
+        // A wall as stiff as a disc: k_ball k_ball/(2 k_ball) = k_ball/2 = the disc-disc K.
+        assert!((series_wall_stiffness(k, 1.0) - k).abs() <= 1e-15 * k);
+        // The audit's figure: a wall 10× the ball gives 2·10/11 = 1.818 K_dd.
+        assert!((series_wall_stiffness(k, 10.0) - k * 20.0 / 11.0).abs() <= 1e-15 * k);
+        assert!((series_wall_stiffness(k, 2.0) - k * 4.0 / 3.0).abs() <= 1e-15 * k);
+        // Series springs: softer than either spring, approaching the disc's own 2K when rigid.
+        for f in [0.1, 1.0, 10.0, 1e6] {
+            let kw = series_wall_stiffness(k, f);
+            assert!(kw < 2.0 * k && kw < f * 2.0 * k, "{f}");
+        }
+        assert!((series_wall_stiffness(k, 1e12) - 2.0 * k).abs() < 1e-9 * k);
     }
 }

@@ -129,6 +129,9 @@ pub struct Neighbors {
     pub x0: Vec<f64>,
     pub y0: Vec<f64>,
     pub wall0: Vec<[f64; 4]>,
+    /// The `via` vertices of polyline walls at the last build, all walls in order.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub wall0_via: Vec<[f64; 2]>,
     pub walls: WallPairs,
     /// Number of builds so far.
     pub builds: u64,
@@ -174,9 +177,12 @@ impl Neighbors {
         m
     }
 
-    /// Largest displacement of a wall end point since the last build.
+    /// Largest displacement of a wall vertex since the last build (walls move rigidly, so no
+    /// point of a wall moved further than its farthest-moved vertex: the displacement of a
+    /// rigid motion is affine in the point, its length convex).
     pub fn max_wall_disp(&self, walls: &[Wall]) -> f64 {
-        if self.wall0.len() != walls.len() {
+        let n_via: usize = walls.iter().map(|w| w.via.len()).sum();
+        if self.wall0.len() != walls.len() || self.wall0_via.len() != n_via {
             return f64::INFINITY;
         }
         let mut m = 0.0f64;
@@ -184,6 +190,10 @@ impl Neighbors {
             let da = (w.a[0] - r[0]).hypot(w.a[1] - r[1]);
             let db = (w.b[0] - r[2]).hypot(w.b[1] - r[3]);
             m = m.max(da).max(db);
+        }
+        let via = walls.iter().flat_map(|w| w.via.iter());
+        for (p, r) in via.zip(&self.wall0_via) {
+            m = m.max((p[0] - r[0]).hypot(p[1] - r[1]));
         }
         m
     }
@@ -264,6 +274,11 @@ impl Neighbors {
             .iter()
             .map(|w| [w.a[0], w.a[1], w.b[0], w.b[1]])
             .collect();
+        self.wall0_via = st
+            .walls
+            .iter()
+            .flat_map(|w| w.via.iter().copied())
+            .collect();
         self.skin = skin;
         self.builds += 1;
         self.set_owner();
@@ -288,7 +303,7 @@ impl Neighbors {
         let mut o = 0;
         for (wi, wall) in st.walls.iter().enumerate() {
             for k in 0..d.len() {
-                let (_, _, dist) = closest_on_segment(wall, d.x[k], d.y[k], img);
+                let (_, _, dist) = closest_on_wall(wall, d.x[k], d.y[k], img);
                 if dist < d.r[k] + skin {
                     let key = ((wi as u64) << 32) | k as u64;
                     w.wall.push(wi as u32);
@@ -356,12 +371,41 @@ impl Neighbors {
     }
 }
 
-/// Closest point of wall segment `w` to (x, y) (minimum image) and the distance:
+/// Closest point of wall `w` (a segment or a polyline) to (x, y) (minimum image) and the
+/// distance: returns (px, py, dist) with (px, py) on the wall, in the image nearest the point.
+/// On a polyline the nearest of its segments wins (the first of equals: at a vertex shared by
+/// two faces, the face that comes first from `a`; both give the vertex itself), so a disc gets
+/// one contact per wall, with its nearest feature (face or vertex). A plain segment takes
+/// exactly the arithmetic of [`closest_on_segment`].
+#[inline]
+pub fn closest_on_wall(w: &Wall, x: f64, y: f64, img: &MinImage) -> (f64, f64, f64) {
+    if w.via.is_empty() {
+        return closest_on_segment(w.a, w.b, x, y, img);
+    }
+    let mut best = (0.0, 0.0, f64::INFINITY);
+    let mut a = w.a;
+    for b in w.via.iter().copied().chain(std::iter::once(w.b)) {
+        let c = closest_on_segment(a, b, x, y, img);
+        if c.2 < best.2 {
+            best = c;
+        }
+        a = b;
+    }
+    best
+}
+
+/// Closest point of the segment from `a` to `b` to (x, y) (minimum image) and the distance:
 /// returns (px, py, dist) with (px, py) on the segment, in the image nearest the point.
 #[inline]
-pub fn closest_on_segment(w: &Wall, x: f64, y: f64, img: &MinImage) -> (f64, f64, f64) {
-    let (rx, ry) = img.delta(x - w.a[0], y - w.a[1]);
-    let (ex, ey) = (w.b[0] - w.a[0], w.b[1] - w.a[1]);
+pub fn closest_on_segment(
+    a: [f64; 2],
+    b: [f64; 2],
+    x: f64,
+    y: f64,
+    img: &MinImage,
+) -> (f64, f64, f64) {
+    let (rx, ry) = img.delta(x - a[0], y - a[1]);
+    let (ex, ey) = (b[0] - a[0], b[1] - a[1]);
     let l2 = ex * ex + ey * ey;
     let s = if l2 > 0.0 {
         ((rx * ex + ry * ey) / l2).clamp(0.0, 1.0)

@@ -151,9 +151,9 @@ pub fn write_walls(path: &Path, walls: &[Wall]) -> Result<(), OutputError> {
         path: path.to_path_buf(),
     };
     x.s.push_str(HEAD);
+    let points: usize = walls.iter().map(|w| w.via.len() + 2).sum();
     x.s.push_str(&format!(
-        "    <Piece NumberOfPoints=\"{}\" NumberOfVerts=\"0\" NumberOfLines=\"{n}\" NumberOfStrips=\"0\" NumberOfPolys=\"0\">\n",
-        2 * n
+        "    <Piece NumberOfPoints=\"{points}\" NumberOfVerts=\"0\" NumberOfLines=\"{n}\" NumberOfStrips=\"0\" NumberOfPolys=\"0\">\n"
     ));
     x.s.push_str("      <CellData Vectors=\"force\">\n");
     x.floats(
@@ -174,11 +174,23 @@ pub fn write_walls(path: &Path, walls: &[Wall]) -> Result<(), OutputError> {
         3,
         walls
             .iter()
-            .flat_map(|w| [w.a[0], w.a[1], 0.0, w.b[0], w.b[1], 0.0]),
+            .flat_map(|w| w.vertices().flat_map(|p| [p[0], p[1], 0.0])),
     )?;
+    // One line cell per wall: a polyline wall is one cell through all its vertices.
     x.s.push_str("      </Points>\n      <Lines>\n");
-    x.ints("Int64", "connectivity", 0..2 * n);
-    x.ints("Int64", "offsets", (1..=n).map(|k| 2 * k));
+    let ends: Vec<usize> = walls
+        .iter()
+        .scan(0, |end, w| {
+            *end += w.via.len() + 2;
+            Some(*end)
+        })
+        .collect();
+    x.ints(
+        "Int64",
+        "connectivity",
+        0..ends.last().copied().unwrap_or(0),
+    );
+    x.ints("Int64", "offsets", ends.iter().copied());
     x.s.push_str("      </Lines>\n");
     x.s.push_str(TAIL);
     write_atomic(path, x.s.as_bytes())

@@ -21,7 +21,7 @@
 
 use super::World;
 use crate::contact::ContactModel;
-use crate::neighbors::{closest_on_segment, MinImage, Neighbors};
+use crate::neighbors::{closest_on_wall, MinImage, Neighbors};
 use crate::state::FREE;
 use crate::validate::WorldError;
 use serde::{Deserialize, Serialize};
@@ -255,7 +255,7 @@ impl World {
             if k >= d.len() || !gone[k] || d.fixed[k] {
                 continue;
             }
-            let (_, _, dist) = closest_on_segment(w, d.x[k], d.y[k], &img);
+            let (_, _, dist) = closest_on_wall(w, d.x[k], d.y[k], &img);
             let (r, delta) = (d.r[k], d.r[k] - dist);
             if delta <= 0.0 || dist <= 0.0 {
                 continue;

@@ -155,6 +155,7 @@ pub fn build(scene: &Scene) -> Result<World, SceneError> {
     }
     for w in &scene.walls {
         let mut wall = Wall::new(&w.name, w.a, w.b, w.material);
+        wall.via.clone_from(&w.via);
         wall.v = w.velocity;
         wall.omega = w.angular_velocity;
         wall.center = w.center;

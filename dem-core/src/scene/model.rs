@@ -151,6 +151,8 @@ pub struct WallInit {
     pub name: String,
     pub a: [f64; 2],
     pub b: [f64; 2],
+    /// Inner vertices of a polyline wall (empty: a segment).
+    pub via: Vec<[f64; 2]>,
     pub material: u16,
     pub velocity: [f64; 2],
     pub angular_velocity: f64,

@@ -497,8 +497,25 @@ impl Resolver {
                     ])
                 };
                 let (a, b) = (p("a", w.a)?, p("b", w.b)?);
-                if a == b {
+                let via = (w.via.iter().enumerate())
+                    .map(|(k, &q)| p(&format!("via[{k}]"), q))
+                    .collect::<Result<Vec<_>, _>>()?;
+                // Consecutive vertices must differ (a zero-length face has no direction).
+                let mut prev = ("a".to_string(), a);
+                for (k, &q) in via.iter().enumerate() {
+                    if q == prev.1 {
+                        return Err(ck.err(
+                            f(&format!("via[{k}]")),
+                            format!("the vertex repeats {}", prev.0),
+                        ));
+                    }
+                    prev = (format!("via[{k}]"), q);
+                }
+                if a == b && via.is_empty() {
                     return Err(ck.err(f("b"), "the wall's end points coincide"));
+                }
+                if b == prev.1 {
+                    return Err(ck.err(f("b"), format!("the vertex repeats {}", prev.0)));
                 }
                 let center = match w.center {
                     Some(c) => p("center", c)?,
@@ -508,6 +525,7 @@ impl Resolver {
                     name: w.name.clone(),
                     a,
                     b,
+                    via,
                     material: self.material(ck, &f("material"), &w.material)?,
                     velocity: p("velocity", w.velocity)?,
                     angular_velocity: ck.finite(&f("angular_velocity"), w.angular_velocity)?,

@@ -384,13 +384,18 @@ pub struct AutoBondSpec {
     pub materials: Vec<String>,
 }
 
-/// A straight wall segment with prescribed motion.
+/// A wall with prescribed motion: a straight segment from `a` to `b`, or a polyline
+/// a → `via` → b moving as one rigid body (a disc gets one contact with it, at its nearest
+/// point).
 #[derive(Debug, Clone, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct WallSpec {
     pub name: String,
     pub a: [f64; 2],
     pub b: [f64; 2],
+    /// Inner vertices of a polyline wall, in order from `a` to `b`.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub via: Vec<[f64; 2]>,
     pub material: String,
     /// Translation velocity (length unit / s).
     #[serde(default)]

@@ -1,0 +1,386 @@
+//! Cutting studies: variants of the cutting test (tool model, damping, speed, ...) run on the
+//! Table 2 specimens, reduced so that one command decides a model change on two cores (issue
+//! 19's inner loop: e.g. L = 5 mm, a_p = 1 mm, 2 seeds). A study file
+//! (`data/studies/*.json`) names the variants, each a set of [`CuttingTest`] fields (SI, as in
+//! `cutting.result.json`) laid over the test's defaults, and optionally [`SpecimenParams`]
+//! fields laid over the full Table 2 plan's specimen; every variant runs on every method,
+//! depth, speed and seed. Runs go through [`crate::cutting_runs::run_jobs`], so a finished run
+//! is read back, not run again, and a failed one does not stop the others.
+//!
+//! Per run the study reports what the issue's decisions need: the mean main force over the
+//! steady window and over its first and second half (does the force grow along the cut?), the
+//! raw peak and the peak of a moving mean over one a_p of travel, the energy split of the
+//! tool's work (local/viscous damping, friction, bond breakage, kinetic energy left), the
+//! machined surface and residual cracks, chips, time step, steps and CPU time.
+
+use crate::cutting_runs::{run_jobs, Job, Missing};
+use dem_core::lab::analysis::moving_mean_peak;
+use dem_core::lab::cutting::{CuttingResult, CuttingTest};
+use dem_core::specimen::{Method, SpecimenParams};
+use serde::{Deserialize, Serialize};
+use serde_json::{Map, Value};
+use std::fmt::Write as _;
+use std::path::Path;
+
+/// A study file.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StudySpec {
+    pub name: String,
+    #[serde(default)]
+    pub description: String,
+    /// Cut length L (mm).
+    pub length_mm: f64,
+    pub depths_mm: Vec<f64>,
+    pub speeds_m_s: Vec<f64>,
+    /// traditional | orc | improved.
+    pub methods: Vec<String>,
+    pub seeds: Vec<u64>,
+    pub variants: Vec<Variant>,
+}
+
+/// One variant: fields laid over the cutting test's defaults and over the plan's specimen.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Variant {
+    pub name: String,
+    #[serde(default)]
+    pub test: Map<String, Value>,
+    #[serde(default)]
+    pub specimen: Map<String, Value>,
+}
+
+/// One finished run of a study.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Row {
+    pub variant: String,
+    pub method: String,
+    pub depth_mm: f64,
+    pub speed_m_s: f64,
+    pub seed: u64,
+    pub discs: usize,
+    /// Mean main force over the window, and over its first and second half (N, scene t).
+    pub mean_n: f64,
+    pub mean_first_half_n: f64,
+    pub mean_second_half_n: f64,
+    /// Largest sample, and the largest moving mean over one a_p of travel (N).
+    pub peak_raw_n: f64,
+    pub peak_ap_n: Option<f64>,
+    /// Energies at the end (J): the walls' work on the discs (tool and slot), local and
+    /// viscous damping, friction, bond breakage, kinetic energy left.
+    pub work_j: f64,
+    pub damping_j: f64,
+    pub friction_j: f64,
+    pub bond_break_j: f64,
+    pub kinetic_j: f64,
+    pub broken_bonds: u64,
+    pub chips: usize,
+    pub chip_discs: usize,
+    pub loose_below: usize,
+    /// Machined surface: mean deviation from y_n and Ra (m).
+    pub surface_mean_dev_m: Option<f64>,
+    pub surface_ra_m: Option<f64>,
+    pub residual_cracks: usize,
+    pub deepest_crack_m: f64,
+    pub max_overlap_fraction: Option<f64>,
+    pub dt_s: f64,
+    pub steps: u64,
+    pub cpu_s: Option<f64>,
+    pub wall_s: f64,
+}
+
+impl StudySpec {
+    pub fn read(path: &Path) -> Result<StudySpec, String> {
+        let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+        let s: StudySpec =
+            serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
+        let f = |field: &str, why: &str| Err(format!("{}: {field}: {why}", path.display()));
+        if s.name.is_empty() || s.name.contains(['/', '\\']) {
+            return f("name", "must be a plain folder name");
+        }
+        if !(s.length_mm > 0.0 && s.length_mm.is_finite()) {
+            return f("length_mm", "must be positive");
+        }
+        for (k, v) in [
+            ("depths_mm", s.depths_mm.len()),
+            ("speeds_m_s", s.speeds_m_s.len()),
+            ("methods", s.methods.len()),
+            ("seeds", s.seeds.len()),
+            ("variants", s.variants.len()),
+        ] {
+            if v == 0 {
+                return f(k, "is empty");
+            }
+        }
+        for m in &s.methods {
+            if Method::parse(m).is_none() {
+                return f("methods", &format!("unknown method {m:?}"));
+            }
+        }
+        let mut names = std::collections::BTreeSet::new();
+        for v in &s.variants {
+            if !names.insert(&v.name) || v.name.contains(['/', '\\']) || v.name.is_empty() {
+                return f(
+                    "variants",
+                    &format!("{:?}: names must be distinct folder names", v.name),
+                );
+            }
+        }
+        Ok(s)
+    }
+
+    /// The jobs: variants × methods × depths × speeds × seeds, on the full Table 2 plan's
+    /// specimens and model.
+    pub fn jobs(&self, data: &Path) -> Result<Vec<Job>, String> {
+        let plan = crate::table2_section::plan(data, false)?;
+        let mut jobs = vec![];
+        for v in &self.variants {
+            // The variant's fields over a base (unknown fields are refused by the types'
+            // `deny_unknown_fields`).
+            let over =
+                |base: &dyn erased::Ser, add: &Map<String, Value>| -> Result<Value, String> {
+                    let mut b = base.value()?;
+                    if let Value::Object(o) = &mut b {
+                        o.extend(add.clone());
+                    }
+                    Ok(b)
+                };
+            for m in &self.methods {
+                let method = Method::parse(m).expect("checked by read");
+                for &d in &self.depths_mm {
+                    for &sp in &self.speeds_m_s {
+                        for &seed in &self.seeds {
+                            let mut spec = plan.specimen.clone();
+                            spec.method = method;
+                            spec.seed = seed;
+                            let spec: SpecimenParams =
+                                serde_json::from_value(over(&spec, &v.specimen)?)
+                                    .map_err(|e| format!("variant {}: specimen: {e}", v.name))?;
+                            let base = CuttingTest::new(d * 1e-3, sp, self.length_mm * 1e-3);
+                            let test: CuttingTest =
+                                serde_json::from_value(over(&base, &v.test)?)
+                                    .map_err(|e| format!("variant {}: test: {e}", v.name))?;
+                            test.validate()
+                                .map_err(|e| format!("variant {}: {e}", v.name))?;
+                            jobs.push(Job {
+                                name: format!(
+                                    "{}-{}-d{}-v{}-s{seed}",
+                                    v.name,
+                                    method.name(),
+                                    d,
+                                    sp
+                                ),
+                                specimen: spec,
+                                model: plan.model.clone(),
+                                test,
+                            });
+                        }
+                    }
+                }
+            }
+        }
+        Ok(jobs)
+    }
+}
+
+mod erased {
+    /// A value serialised to JSON (object-safe, for the variant overlay).
+    pub trait Ser {
+        fn value(&self) -> Result<serde_json::Value, String>;
+    }
+    impl<T: serde::Serialize> Ser for T {
+        fn value(&self) -> Result<serde_json::Value, String> {
+            serde_json::to_value(self).map_err(|e| e.to_string())
+        }
+    }
+}
+
+/// Mean of `f` over samples with abscissa in [a, b].
+fn window_mean(x: &[f64], f: &[f64], a: f64, b: f64) -> f64 {
+    let (mut s, mut n) = (0.0, 0usize);
+    for (xi, fi) in x.iter().zip(f) {
+        if *xi >= a && *xi <= b {
+            s += fi;
+            n += 1;
+        }
+    }
+    if n == 0 {
+        0.0
+    } else {
+        s / n as f64
+    }
+}
+
+/// The row of one finished run in `dir`.
+pub fn row(variant: &str, job: &Job, res: &CuttingResult, dir: &Path, cpu: Option<f64>) -> Row {
+    let (x, f) = crate::cutting_runs::main_force(&dir.join(dem_core::lab::cutting::FORCES_FILE))
+        .unwrap_or_default();
+    let [a, b] = res.window;
+    let mid = 0.5 * (a + b);
+    let energy = std::fs::read_to_string(dir.join("summary.json"))
+        .ok()
+        .and_then(|t| serde_json::from_str::<Value>(&t).ok())
+        .map(|v| v["energy"].clone())
+        .unwrap_or(Value::Null);
+    let e = |k: &str| energy[k].as_f64().unwrap_or(f64::NAN);
+    Row {
+        variant: variant.into(),
+        method: job.specimen.method.name().into(),
+        depth_mm: job.test.depth * 1e3,
+        speed_m_s: job.test.speed,
+        seed: job.specimen.seed,
+        discs: res.discs,
+        mean_n: res.main_force.mean,
+        mean_first_half_n: window_mean(&x, &f, a, mid),
+        mean_second_half_n: window_mean(&x, &f, mid, b),
+        peak_raw_n: res.main_force.peak,
+        peak_ap_n: moving_mean_peak(&x, &f, a, b, job.test.depth),
+        work_j: e("boundary_work"),
+        damping_j: e("damping"),
+        friction_j: e("friction"),
+        bond_break_j: e("bond_break"),
+        kinetic_j: e("kinetic_translation") + e("kinetic_rotation"),
+        broken_bonds: res.broken_total,
+        chips: res.chips.chips.count,
+        chip_discs: res.chips.chips.discs,
+        loose_below: res.chips.loose_below_surface.count,
+        surface_mean_dev_m: res.surface.as_ref().map(|s| s.mean_deviation),
+        surface_ra_m: res.surface.as_ref().map(|s| s.ra),
+        residual_cracks: res.residual_cracks.count,
+        deepest_crack_m: res.residual_cracks.deepest,
+        max_overlap_fraction: res.run.max_overlap_fraction,
+        dt_s: res.run.dt,
+        steps: res.run.steps,
+        cpu_s: cpu,
+        wall_s: res.run.wall_time_s,
+    }
+}
+
+/// Runs a study into `out/<name>/` and writes `study.json` (rows) and `study.md` (per variant,
+/// method, depth and speed: seed means and standard errors). Returns the rows and the errors.
+pub fn run(
+    spec: &StudySpec,
+    data: &Path,
+    out: &Path,
+    progress: &(dyn Fn(&str) + Sync),
+) -> Result<(Vec<Row>, Vec<String>), String> {
+    let jobs = spec.jobs(data)?;
+    let dir = out.join(&spec.name);
+    let work = dir.join("runs");
+    progress(&format!(
+        "study {}: {} runs into {}",
+        spec.name,
+        jobs.len(),
+        work.display()
+    ));
+    let o = run_jobs(&jobs, &work, Missing::Run, progress);
+    let mut rows = vec![];
+    for fin in &o.finished {
+        let Some(job) = jobs.iter().find(|j| j.name == fin.name) else {
+            continue;
+        };
+        let variant = spec
+            .variants
+            .iter()
+            .find(|v| fin.name.starts_with(&format!("{}-", v.name)))
+            .map_or("?", |v| v.name.as_str());
+        rows.push(row(
+            variant,
+            job,
+            &fin.result,
+            &work.join(&fin.name),
+            fin.record.cpu_time_s,
+        ));
+    }
+    let json = serde_json::to_string_pretty(&serde_json::json!({
+        "study": spec, "rows": rows, "errors": o.errors}))
+    .map_err(|e| e.to_string())?;
+    crate::page::write(&dir, "study.json", &json)?;
+    crate::page::write(&dir, "study.md", &markdown(spec, &rows, &o.errors))?;
+    Ok((rows, o.errors))
+}
+
+/// Mean and standard error of the mean.
+fn mean_se(v: &[f64]) -> (f64, f64) {
+    let n = v.len() as f64;
+    let m = v.iter().sum::<f64>() / n;
+    if v.len() < 2 {
+        return (m, f64::NAN);
+    }
+    let var = v.iter().map(|x| (x - m) * (x - m)).sum::<f64>() / (n - 1.0);
+    (m, (var / n).sqrt())
+}
+
+/// The study's table: one line per variant, method, depth and speed.
+pub fn markdown(spec: &StudySpec, rows: &[Row], errors: &[String]) -> String {
+    let mut s = format!(
+        "# Study `{}`\n\n{}\n\nL = {} mm; seeds {:?}; forces in kN/m (scene thickness 1 m \
+         would read kN: the runs use the calibrated model's t, stated per run in \
+         `runs/*/cutting.result.json`). Energies as shares of the walls' work W. Means over \
+         the seeds ± standard error.\n\n",
+        spec.name, spec.description, spec.length_mm, spec.seeds
+    );
+    s.push_str(
+        "| variant | method | a_p | v | runs | mean (N) | 2nd/1st half | raw peak/mean | \
+         a_p-peak/mean | damping/W | friction/W | breakage/W | kinetic/W | broken | surface \
+         dev (mm) | Ra (mm) | cracks | max overlap | dt (ns) | steps (M) | CPU (s) |\n",
+    );
+    s.push_str(&"|---".repeat(21));
+    s.push_str("|\n");
+    let mut keys: Vec<(String, String, f64, f64)> = vec![];
+    for r in rows {
+        let k = (r.variant.clone(), r.method.clone(), r.depth_mm, r.speed_m_s);
+        if !keys.contains(&k) {
+            keys.push(k);
+        }
+    }
+    for (v, m, d, sp) in keys {
+        let g: Vec<&Row> = rows
+            .iter()
+            .filter(|r| r.variant == v && r.method == m && r.depth_mm == d && r.speed_m_s == sp)
+            .collect();
+        let col = |f: &dyn Fn(&Row) -> f64| -> Vec<f64> {
+            g.iter().map(|r| f(r)).filter(|x| x.is_finite()).collect()
+        };
+        let ms = |f: &dyn Fn(&Row) -> f64, scale: f64, digits: usize| {
+            let v = col(f);
+            if v.is_empty() {
+                return "–".to_string();
+            }
+            let (m, se) = mean_se(&v);
+            if se.is_finite() {
+                format!("{:.*} ± {:.*}", digits, m * scale, digits, se * scale)
+            } else {
+                format!("{:.*}", digits, m * scale)
+            }
+        };
+        let _ = writeln!(
+            s,
+            "| {v} | {m} | {d} | {sp} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
+            g.len(),
+            ms(&|r| r.mean_n, 1.0, 0),
+            ms(&|r| r.mean_second_half_n / r.mean_first_half_n, 1.0, 2),
+            ms(&|r| r.peak_raw_n / r.mean_n, 1.0, 1),
+            ms(&|r| r.peak_ap_n.unwrap_or(f64::NAN) / r.mean_n, 1.0, 2),
+            ms(&|r| r.damping_j / r.work_j, 1.0, 2),
+            ms(&|r| r.friction_j / r.work_j, 1.0, 2),
+            ms(&|r| r.bond_break_j / r.work_j, 1.0, 3),
+            ms(&|r| r.kinetic_j / r.work_j, 1.0, 3),
+            ms(&|r| r.broken_bonds as f64, 1.0, 0),
+            ms(&|r| r.surface_mean_dev_m.unwrap_or(f64::NAN), 1e3, 2),
+            ms(&|r| r.surface_ra_m.unwrap_or(f64::NAN), 1e3, 2),
+            ms(&|r| r.residual_cracks as f64, 1.0, 1),
+            ms(&|r| r.max_overlap_fraction.unwrap_or(f64::NAN), 1.0, 3),
+            ms(&|r| r.dt_s, 1e9, 2),
+            ms(&|r| r.steps as f64, 1e-6, 2),
+            ms(&|r| r.cpu_s.unwrap_or(f64::NAN), 1.0, 0),
+        );
+    }
+    if !errors.is_empty() {
+        s.push_str("\nErrors:\n\n");
+        for e in errors {
+            let _ = writeln!(s, "- {e}");
+        }
+    }
+    s
+}
