@@ -392,6 +392,19 @@ pub fn report(r: &CuttingResult) -> String {
         c.loose_below_surface.count,
         c.loose_below_surface.discs
     );
+    if let Some(m) = &r.removal {
+        let _ = writeln!(
+            s,
+            "  removal mode       {:.0} % of chip discs in single-grain chips, {:.0} % in chips of ≤ {} grains (largest {}); chip speed mean {:.3} m/s, max {:.3} m/s (tool {} m/s)",
+            100.0 * m.single_grain_share,
+            100.0 * m.small_chip_share,
+            dem_core::lab::removal::SMALL_CHIP_GRAINS,
+            m.largest_chip_grains,
+            m.chip_speed_mean,
+            m.chip_speed_max,
+            m.tool_speed
+        );
+    }
     for b in &r.broken_bonds {
         let _ = writeln!(
             s,

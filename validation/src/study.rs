@@ -82,6 +82,11 @@ pub struct Row {
     pub surface_ra_m: Option<f64>,
     pub residual_cracks: usize,
     pub deepest_crack_m: f64,
+    /// Removal mode: share of chip discs in single-grain chips, chips' mean and largest
+    /// mass-centre speed (m/s) ([`dem_core::lab::removal`]).
+    pub single_grain_share: Option<f64>,
+    pub chip_speed_mean: Option<f64>,
+    pub chip_speed_max: Option<f64>,
     pub max_overlap_fraction: Option<f64>,
     pub dt_s: f64,
     pub steps: u64,
@@ -248,6 +253,9 @@ pub fn row(variant: &str, job: &Job, res: &CuttingResult, dir: &Path, cpu: Optio
         surface_ra_m: res.surface.as_ref().map(|s| s.ra),
         residual_cracks: res.residual_cracks.count,
         deepest_crack_m: res.residual_cracks.deepest,
+        single_grain_share: res.removal.as_ref().map(|m| m.single_grain_share),
+        chip_speed_mean: res.removal.as_ref().map(|m| m.chip_speed_mean),
+        chip_speed_max: res.removal.as_ref().map(|m| m.chip_speed_max),
         max_overlap_fraction: res.run.max_overlap_fraction,
         dt_s: res.run.dt,
         steps: res.run.steps,
@@ -296,8 +304,124 @@ pub fn run(
         "study": spec, "rows": rows, "errors": o.errors}))
     .map_err(|e| e.to_string())?;
     crate::page::write(&dir, "study.json", &json)?;
-    crate::page::write(&dir, "study.md", &markdown(spec, &rows, &o.errors))?;
+    let mut md = markdown(spec, &rows, &o.errors);
+    for (file, svg) in plots(spec, &rows, &work)? {
+        crate::page::write(&dir, &file, &svg)?;
+        let _ = writeln!(md, "\n![{file}]({file})");
+    }
+    crate::page::write(&dir, "study.md", &md)?;
     Ok((rows, o.errors))
+}
+
+/// Moving mean of `f` over `w` of travel, centred, at every sample (for readable plots).
+fn smooth(x: &[f64], f: &[f64], w: f64) -> Vec<(f64, f64)> {
+    let (mut lo, mut hi, mut sum) = (0usize, 0usize, 0.0);
+    let mut out = Vec::with_capacity(x.len());
+    for k in 0..x.len() {
+        while hi < x.len() && x[hi] <= x[k] + 0.5 * w {
+            sum += f[hi];
+            hi += 1;
+        }
+        while x[lo] < x[k] - 0.5 * w {
+            sum -= f[lo];
+            lo += 1;
+        }
+        out.push((x[k], sum / (hi - lo) as f64));
+    }
+    out
+}
+
+/// The study's pictures: per method, depth and speed the main force of the first seed
+/// against travel (moving mean over a_p), one line per variant (`forces-<method>-d<a_p>-v<v>.svg`);
+/// with several speeds, the seed-mean window force against speed, one line per variant and
+/// method (`speed.svg`).
+pub fn plots(spec: &StudySpec, rows: &[Row], work: &Path) -> Result<Vec<(String, String)>, String> {
+    use crate::plot::{lines, Series};
+    let mut out = vec![];
+    let seed = spec.seeds[0];
+    for m in &spec.methods {
+        let Some(method) = Method::parse(m) else {
+            continue;
+        };
+        for &d in &spec.depths_mm {
+            for &v in &spec.speeds_m_s {
+                let mut series = vec![];
+                for var in &spec.variants {
+                    let run = format!("{}-{}-d{}-v{}-s{seed}", var.name, method.name(), d, v);
+                    let file = work.join(&run).join(dem_core::lab::cutting::FORCES_FILE);
+                    if let Some((x, f)) = crate::cutting_runs::main_force(&file) {
+                        let pts = smooth(&x, &f, d * 1e-3)
+                            .into_iter()
+                            .map(|(a, b)| (a * 1e3, b * 1e-3))
+                            .collect();
+                        series.push(Series {
+                            name: var.name.clone(),
+                            points: pts,
+                        });
+                    }
+                }
+                if series.is_empty() {
+                    continue;
+                }
+                let title = format!(
+                    "{}: {}, a_p = {d} mm, v = {v} m/s, seed {seed} (moving mean over a_p)",
+                    spec.name,
+                    method.name()
+                );
+                let svg = lines(
+                    &title,
+                    "tool travel (mm)",
+                    "main force (kN/m)",
+                    &series,
+                    false,
+                    false,
+                )?;
+                out.push((format!("forces-{}-d{d}-v{v}.svg", method.name()), svg));
+            }
+        }
+    }
+    if spec.speeds_m_s.len() > 1 {
+        let mut series = vec![];
+        for var in &spec.variants {
+            for m in &spec.methods {
+                let Some(method) = Method::parse(m) else {
+                    continue;
+                };
+                let mut pts = vec![];
+                for &v in &spec.speeds_m_s {
+                    let g: Vec<f64> = rows
+                        .iter()
+                        .filter(|r| {
+                            r.variant == var.name && r.method == method.name() && r.speed_m_s == v
+                        })
+                        .map(|r| r.mean_n * 1e-3)
+                        .collect();
+                    if !g.is_empty() {
+                        pts.push((v, g.iter().sum::<f64>() / g.len() as f64));
+                    }
+                }
+                if !pts.is_empty() {
+                    series.push(Series {
+                        name: format!("{} {}", var.name, method.name()),
+                        points: pts,
+                    });
+                }
+            }
+        }
+        let svg = lines(
+            &format!(
+                "{}: mean main force against cutting speed (seed mean)",
+                spec.name
+            ),
+            "cutting speed (m/s)",
+            "mean main force (kN/m)",
+            &series,
+            true,
+            false,
+        )?;
+        out.push(("speed.svg".into(), svg));
+    }
+    Ok(out)
 }
 
 /// Mean and standard error of the mean.
@@ -314,18 +438,19 @@ fn mean_se(v: &[f64]) -> (f64, f64) {
 /// The study's table: one line per variant, method, depth and speed.
 pub fn markdown(spec: &StudySpec, rows: &[Row], errors: &[String]) -> String {
     let mut s = format!(
-        "# Study `{}`\n\n{}\n\nL = {} mm; seeds {:?}; forces in kN/m (scene thickness 1 m \
-         would read kN: the runs use the calibrated model's t, stated per run in \
-         `runs/*/cutting.result.json`). Energies as shares of the walls' work W. Means over \
-         the seeds ± standard error.\n\n",
+        "# Study `{}`\n\n{}\n\nL = {} mm; seeds {:?}. Forces in N at the runs' thickness (the \
+         calibrated model's t, 1 m: N per metre of thickness; Table 2's fitted t scales them \
+         afterwards). Energies as shares of the walls' work W (tool and slot). Means over the \
+         seeds ± standard error.\n\n",
         spec.name, spec.description, spec.length_mm, spec.seeds
     );
     s.push_str(
         "| variant | method | a_p | v | runs | mean (N) | 2nd/1st half | raw peak/mean | \
          a_p-peak/mean | damping/W | friction/W | breakage/W | kinetic/W | broken | surface \
-         dev (mm) | Ra (mm) | cracks | max overlap | dt (ns) | steps (M) | CPU (s) |\n",
+         dev (mm) | Ra (mm) | cracks | single-grain chip share | chip speed / v | max overlap | \
+         dt (ns) | steps (M) | CPU (s) |\n",
     );
-    s.push_str(&"|---".repeat(21));
+    s.push_str(&"|---".repeat(23));
     s.push_str("|\n");
     let mut keys: Vec<(String, String, f64, f64)> = vec![];
     for r in rows {
@@ -356,7 +481,7 @@ pub fn markdown(spec: &StudySpec, rows: &[Row], errors: &[String]) -> String {
         };
         let _ = writeln!(
             s,
-            "| {v} | {m} | {d} | {sp} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
+            "| {v} | {m} | {d} | {sp} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
             g.len(),
             ms(&|r| r.mean_n, 1.0, 0),
             ms(&|r| r.mean_second_half_n / r.mean_first_half_n, 1.0, 2),
@@ -370,6 +495,8 @@ pub fn markdown(spec: &StudySpec, rows: &[Row], errors: &[String]) -> String {
             ms(&|r| r.surface_mean_dev_m.unwrap_or(f64::NAN), 1e3, 2),
             ms(&|r| r.surface_ra_m.unwrap_or(f64::NAN), 1e3, 2),
             ms(&|r| r.residual_cracks as f64, 1.0, 1),
+            ms(&|r| r.single_grain_share.unwrap_or(f64::NAN), 1.0, 2),
+            ms(&|r| r.chip_speed_mean.unwrap_or(f64::NAN) / r.speed_m_s, 1.0, 2),
             ms(&|r| r.max_overlap_fraction.unwrap_or(f64::NAN), 1.0, 3),
             ms(&|r| r.dt_s, 1e9, 2),
             ms(&|r| r.steps as f64, 1e-6, 2),

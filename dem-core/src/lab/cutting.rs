@@ -17,6 +17,7 @@ use super::chips::{self, ChipReport, ResidualCracks};
 use super::history::Table;
 use super::model::series_wall_stiffness;
 use super::model::{DISC_MATERIAL, WALL_MATERIAL};
+use super::removal::{removal_mode, RemovalMode};
 use super::run::{run_scene_with, write_scene};
 use super::surface::{self, Surface};
 use super::tool::{CutGeometry, ToolModel, CLEARANCE, RAKE, TOOL};
@@ -630,6 +631,11 @@ pub struct CuttingResult {
     pub run: RunFigures,
     /// Files written (scene, history, result, forces, breaks, summary).
     pub files: Vec<String>,
+    /// How the material left (S0's terms: single grains or chunks, chip speeds); `None` in
+    /// results written before it was recorded. (Fragments deleted during the run, see
+    /// `deleted`, are not in it.)
+    #[serde(default)]
+    pub removal: Option<RemovalMode>,
     /// Fragments deleted during the run ([`CuttingTest::delete_fragments`]); absent when
     /// deletion was off.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -686,6 +692,7 @@ pub fn analyze(
     let bonds = world.bonds.as_ref();
     let frags = chips::fragments(st, bonds);
     let chips = chips::classify(&frags, g.nominal_y);
+    let removal = removal_mode(st, &frags, g.nominal_y, test.speed);
     let [x0, _, y0, _] = spec.extent;
     let cracks = frags.first().map_or_else(ResidualCracks::default, |w| {
         chips::residual_cracks(st, bonds, w, g.nominal_y, x0, x0 + test.length)
@@ -767,6 +774,7 @@ pub fn analyze(
         residual_cracks: cracks,
         run,
         files: Vec::new(),
+        removal: Some(removal),
         deleted: test
             .delete_fragments
             .then(|| super::debris::DeletedFragments::from_totals(world.removal_totals(), 0)),

@@ -30,6 +30,7 @@ pub mod debris;
 pub mod force_stats;
 pub mod history;
 pub mod model;
+pub mod removal;
 pub mod run;
 pub mod specimens;
 pub mod surface;
