@@ -110,6 +110,11 @@ pub struct CuttingArgs {
     /// VTK snapshots over the run (default 0).
     #[arg(long)]
     pub snapshots: Option<u64>,
+    /// Delete detached fragments once they are above the nominal surface and clear of the
+    /// tool and the workpiece (checked on every history row; docs/cutting.md, "Deleting
+    /// fragments").
+    #[arg(long)]
+    pub delete_fragments: bool,
     /// A LabModel JSON (density, thickness, r_mean, micro; `dem calibrate` writes one) to run
     /// with instead of the specimen's own micro-parameters.
     #[arg(long)]
@@ -203,6 +208,9 @@ impl CuttingArgs {
         // After --depth: the test stores the radius as a multiple of a_p.
         if let Some(s) = &self.edge_radius {
             t.edge_radius = parse_length(s, "--edge-radius")? / t.depth;
+        }
+        if self.delete_fragments {
+            t.delete_fragments = true;
         }
         t.validate().map_err(|e| e.to_string())?;
         Ok(t)
@@ -413,6 +421,13 @@ pub fn report(r: &CuttingResult) -> String {
             f.mean_deviation * 1e6,
             f.profile.len(),
             f.bin_width * 1e3
+        );
+    }
+    if let Some(d) = &r.deleted {
+        let _ = writeln!(
+            s,
+            "  deleted fragments  {} ({} discs, {} bonds, {:.4e} kg; kinetic {:.4e} J, all {:.4e} J; checked every {} steps)",
+            d.fragments, d.discs, d.bonds, d.mass, d.kinetic_energy, d.energy, d.check_every
         );
     }
     let k = &r.residual_cracks;

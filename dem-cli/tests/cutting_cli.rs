@@ -144,3 +144,50 @@ fn bad_arguments_are_messages() {
     assert!(text(&o).contains("missing.json"), "{}", text(&o));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `--delete-fragments`: the test records it, the summary and the result say what went.
+#[test]
+fn cutting_with_deleted_fragments_reports_them() {
+    let dir = tmp("delete");
+    let out = dir.join("cut");
+    let o = dem(&[
+        "test",
+        "cutting",
+        "--width",
+        "3mm",
+        "--height",
+        "1.5mm",
+        "--r-min",
+        "0.1mm",
+        "--r-max",
+        "0.16mm",
+        "--material",
+        &material(),
+        "--seed",
+        "2",
+        "--depth",
+        "0.4mm",
+        "--speed",
+        "10m/s",
+        "--length",
+        "1mm",
+        "--history-rows",
+        "200",
+        "--delete-fragments",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let t = text(&o);
+    assert!(o.status.success(), "{t}");
+    assert!(t.contains("deleted fragments"), "{t}");
+    let r: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("cutting.result.json")).unwrap())
+            .unwrap();
+    assert_eq!(r["test"]["delete_fragments"], serde_json::json!(true));
+    let d = &r["deleted"];
+    for k in ["fragments", "discs", "bonds", "check_every"] {
+        assert!(d[k].is_u64(), "deleted.{k}: {d}");
+    }
+    assert!(d["mass"].as_f64().unwrap() >= 0.0);
+    let _ = std::fs::remove_dir_all(&dir);
+}

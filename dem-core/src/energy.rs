@@ -3,7 +3,7 @@
 //! gravitational potential, boundary work (walls and prescribed-velocity discs), dissipation
 //! by damping and friction, and strain energy released at bond breaks. The balance
 //!
-//! E_now + dissipated + released − E_0 − W_boundary ≈ 0
+//! E_now + dissipated + released + removed − E_0 − W_boundary ≈ 0
 //!
 //! is reported relative to the largest of its terms. Values refer to time t of the last step
 //! (the one before `State::time`): strain from the forces at t, kinetic from the mean of the
@@ -12,6 +12,10 @@
 //! −F_d · v̄ Δt (per disc, [`crate::contact::disc_disc::Dashpot`]), local and viscous damping
 //! likewise, so the balance error is O(Δt²). Friction: the slip work of the tangential spring
 //! (trapezoid of its force times the slip), plus the spring energy of contacts that open.
+//! `removed` is the energy carried out by discs deleted from a running world
+//! ([`crate::World::remove_discs`]): their kinetic energy, the strain of their contacts and
+//! bonds and their gravity potential at the moment of deletion (a sink, like dissipation;
+//! 0 and left out of the serialised forms in runs that delete nothing).
 
 use serde::{Deserialize, Serialize};
 
@@ -35,6 +39,13 @@ pub struct EnergyAcc {
     /// Total energy after the first step, and its gravity part.
     pub initial: Option<f64>,
     pub initial_grav: f64,
+    /// Cumulative energy carried out by deleted discs (see the module doc).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub removed: f64,
+}
+
+fn is_zero(v: &f64) -> bool {
+    *v == 0.0
 }
 
 /// Energies of the world (J), see [`crate::World::energy`].
@@ -50,10 +61,14 @@ pub struct EnergyReport {
     pub damping: f64,
     pub friction: f64,
     pub bond_break: f64,
+    /// Energy carried out by deleted discs, cumulative (J; see the module doc).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub removed: f64,
     /// Kinetic + strain + gravity potential now, and at the first step.
     pub total: f64,
     pub initial: f64,
-    /// (E_now + dissipated + released − E_0 − W) / max(|E_0|, |E_now|, dissipated, |W|).
+    /// (E_now + dissipated + released + removed − E_0 − W) /
+    /// max(|E_0|, |E_now|, dissipated, |W|, |removed|).
     pub balance_error: f64,
 }
 
@@ -65,12 +80,13 @@ impl EnergyReport {
         let w = wall_work + acc.fixed_work;
         let damping = acc.damp_contact + acc.damp_body;
         let dissipated = damping + acc.friction;
-        let err = total + dissipated + bond_break - initial - w;
+        let err = total + dissipated + bond_break + acc.removed - initial - w;
         let scale = initial
             .abs()
             .max(total.abs())
             .max(dissipated)
             .max(w.abs())
+            .max(acc.removed.abs())
             .max(f64::MIN_POSITIVE);
         EnergyReport {
             kinetic_translation: acc.kin_trans,
@@ -82,6 +98,7 @@ impl EnergyReport {
             damping,
             friction: acc.friction,
             bond_break,
+            removed: acc.removed,
             total,
             initial,
             balance_error: err / scale,

@@ -18,6 +18,9 @@ use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::time::Instant;
 
+mod removal;
+pub use removal::{RemovalTotals, Removed};
+
 /// The automatic step is raised only when the new estimate exceeds the current step by this
 /// factor (it is lowered at once).
 pub const DT_RAISE: f64 = 2.0;
@@ -64,6 +67,9 @@ pub struct World {
     pub(crate) clump_trig: clump::TrigCache,
     #[serde(skip)]
     pub(crate) last_good: Option<Box<State>>,
+    /// Discs deleted so far ([`World::remove_discs`]); left out of checkpoints while none.
+    #[serde(default, skip_serializing_if = "RemovalTotals::is_empty")]
+    pub(crate) removed: RemovalTotals,
 }
 
 impl World {
@@ -102,6 +108,7 @@ impl World {
             parts: Vec::new(),
             clump_trig: Vec::new(),
             last_good: None,
+            removed: RemovalTotals::default(),
         };
         w.rebuild_index();
         w.rebuild();

@@ -71,6 +71,10 @@ pub struct Bonds {
     /// Strain energy released at breaks, cumulative (J).
     released: f64,
     log: BreakLog,
+    /// Bonds (intact or broken) dropped with deleted discs, per group (empty until a
+    /// deletion; see [`Bonds::drop_discs`]).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    dropped: Vec<u64>,
     #[serde(skip)]
     cache: Cache,
 }
@@ -132,6 +136,7 @@ impl Bonds {
             broken: vec![[0; 2]; n],
             released: 0.0,
             log: BreakLog::default(),
+            dropped: Vec::new(),
             cache: Cache::default(),
         })
     }
@@ -607,5 +612,59 @@ impl Bonds {
         p(&mut self.fs, &order);
         p(&mut self.m, &order);
         p(&mut self.status, &order);
+    }
+    /// Bonds dropped with deleted discs per group, indexed like [`Bonds::groups`] (all 0
+    /// when nothing was deleted).
+    pub fn dropped_counts(&self) -> Vec<u64> {
+        let mut v = self.dropped.clone();
+        v.resize(self.groups.len(), 0);
+        v
+    }
+
+    /// Drop the bonds of deleted discs and renumber the others' discs: `new_of_old[old]` is
+    /// the disc's new index, or `u32::MAX` when it is deleted. Bonds with a deleted disc leave
+    /// the store (their ids are not reused; the crack record keeps their breaks); the others
+    /// keep their ids, forces and state, in the order [`Bonds::remap`] gives. Returns the
+    /// number of bonds dropped and the strain energy the intact ones held (J).
+    pub fn drop_discs(&mut self, new_of_old: &[u32]) -> (usize, f64) {
+        let gone = |k: u32| new_of_old.get(k as usize).is_none_or(|&n| n == u32::MAX);
+        let keep: Vec<u32> = (0..self.len() as u32)
+            .filter(|&b| !gone(self.i[b as usize]) && !gone(self.j[b as usize]))
+            .collect();
+        let n_drop = self.len() - keep.len();
+        if n_drop == 0 {
+            self.remap(new_of_old);
+            return (0, 0.0);
+        }
+        self.dropped.resize(self.groups.len(), 0);
+        let mut energy = 0.0;
+        let mut kept = keep.iter().peekable();
+        for b in 0..self.len() {
+            if kept.peek() == Some(&&(b as u32)) {
+                kept.next();
+                continue;
+            }
+            if self.status[b] == INTACT {
+                energy += self.bond_energy(b);
+            }
+            self.dropped[self.group[b] as usize] += 1;
+        }
+        fn p<T: Copy>(v: &mut Vec<T>, order: &[u32]) {
+            let old = std::mem::take(v);
+            *v = order.iter().map(|&k| old[k as usize]).collect();
+        }
+        p(&mut self.id, &keep);
+        p(&mut self.i, &keep);
+        p(&mut self.j, &keep);
+        p(&mut self.group, &keep);
+        p(&mut self.g0, &keep);
+        p(&mut self.rbar, &keep);
+        p(&mut self.fn_, &keep);
+        p(&mut self.fs, &keep);
+        p(&mut self.m, &keep);
+        p(&mut self.status, &keep);
+        // (`remap` resets the caches that depend on the bonds.)
+        self.remap(new_of_old);
+        (n_drop, energy)
     }
 }

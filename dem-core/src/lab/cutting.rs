@@ -18,7 +18,7 @@ use super::history::Table;
 use super::model::series_wall_stiffness;
 use super::model::{DISC_MATERIAL, WALL_MATERIAL};
 use super::removal::{removal_mode, RemovalMode};
-use super::run::{run_scene, write_scene};
+use super::run::{run_scene_with, write_scene};
 use super::surface::{self, Surface};
 use super::tool::{CutGeometry, ToolModel, CLEARANCE, RAKE, TOOL};
 use super::{analysis, LabError, LabModel};
@@ -132,10 +132,20 @@ pub struct CuttingTest {
     /// local damping only). For the speed and damping study (docs/cutting.md).
     #[serde(default, skip_serializing_if = "is_zero")]
     pub contact_damping: f64,
+    /// Delete detached fragments once they are above the nominal surface and clear of the
+    /// tool (rules in [`super::debris`], checked on every history row; docs/cutting.md,
+    /// "Deleting fragments"). Default false. Left out of the serialised test (and so of the
+    /// run keys) when false.
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub delete_fragments: bool,
 }
 
 fn is_zero(v: &f64) -> bool {
     *v == 0.0
+}
+
+fn is_false(v: &bool) -> bool {
+    !*v
 }
 
 /// Default of [`CuttingTest::max_overlap_fraction`].
@@ -173,6 +183,7 @@ impl Default for CuttingTest {
             tool: ToolModel::Rigid,
             edge_radius: 0.0,
             contact_damping: 0.0,
+            delete_fragments: false,
         }
     }
 }
@@ -621,9 +632,14 @@ pub struct CuttingResult {
     /// Files written (scene, history, result, forces, breaks, summary).
     pub files: Vec<String>,
     /// How the material left (S0's terms: single grains or chunks, chip speeds); `None` in
-    /// results written before it was recorded.
+    /// results written before it was recorded. (Fragments deleted during the run, see
+    /// `deleted`, are not in it.)
     #[serde(default)]
     pub removal: Option<RemovalMode>,
+    /// Fragments deleted during the run ([`CuttingTest::delete_fragments`]); absent when
+    /// deletion was off.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub deleted: Option<super::debris::DeletedFragments>,
 }
 
 /// Schema tag of [`CuttingResult`].
@@ -701,6 +717,10 @@ pub fn analyze(
         for v in b.iter() {
             total[v.group as usize] += 1;
         }
+        // (Bonds that went with deleted fragments, see `CuttingTest::delete_fragments`.)
+        for (t, d) in total.iter_mut().zip(b.dropped_counts()) {
+            *t += d as usize;
+        }
         for ((grp, c), n) in b.groups().iter().zip(b.broken_counts()).zip(total) {
             broken_bonds.push(BrokenBonds {
                 group: grp.name.clone(),
@@ -755,6 +775,9 @@ pub fn analyze(
         run,
         files: Vec::new(),
         removal: Some(removal),
+        deleted: test
+            .delete_fragments
+            .then(|| super::debris::DeletedFragments::from_totals(world.removal_totals(), 0)),
     };
     Ok((result, f))
 }
@@ -835,6 +858,19 @@ pub fn run_with(
     let steps = (g.duration / dt).ceil().max(1.0) as u64;
     let every = steps.div_ceil(test.history_rows).max(1);
     let mut s = scene(test, model, &spec, every)?;
+    let debris = test.delete_fragments.then_some(super::debris::DebrisRule {
+        nominal_y: g.nominal_y,
+        top_y: spec.extent[3],
+    });
+    if debris.is_some() {
+        // (So a run with deletion never resumes one without, nor the other way round.)
+        let text = s["description"].as_str().unwrap_or_default().to_string();
+        s["description"] = json!(format!(
+            "{text} Detached fragments deleted on every history row (dem test cutting \
+             --delete-fragments; dem run does not delete them)."
+        ));
+    }
+    let hook = || debris.map(|r| super::debris::hook(every, r));
     if ro.checkpoints > 0 {
         // On history rows, about `checkpoints` over the run.
         let n = steps.div_ceil(every).div_ceil(ro.checkpoints).max(1) * every;
@@ -854,12 +890,12 @@ pub fn run_with(
         restart,
         max_steps: ro.max_steps,
     };
-    let lab = match run_scene(&s, &scene_file, &opts, progress) {
+    let lab = match run_scene_with(&s, &scene_file, &opts, progress, hook()) {
         Err(LabError::Run(crate::output::driver::RunError::Checkpoint(_)))
             if opts.restart.is_some() =>
         {
             opts.restart = None;
-            run_scene(&s, &scene_file, &opts, progress)?
+            run_scene_with(&s, &scene_file, &opts, progress, hook())?
         }
         r => r?,
     };
@@ -881,6 +917,9 @@ pub fn run_with(
         &lab.world,
     )?;
     result.run.history_every = every;
+    if let Some(d) = result.deleted.as_mut() {
+        d.check_every = every;
+    }
     result.run.threads = lab.summary.threads;
     let sm = &lab.summary;
     // (The driver always records the totals; a summary without them is this invocation.)

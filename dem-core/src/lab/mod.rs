@@ -26,6 +26,7 @@ pub mod calibrate;
 pub mod chips;
 pub mod common;
 pub mod cutting;
+pub mod debris;
 pub mod force_stats;
 pub mod history;
 pub mod model;

@@ -4,7 +4,7 @@
 
 use super::history::Table;
 use super::LabError;
-use crate::output::driver::{RunOptions, Simulation};
+use crate::output::driver::{RunOptions, Simulation, StepHook};
 use crate::output::summary::RunSummary;
 use crate::output::write_atomic;
 use crate::World;
@@ -32,9 +32,23 @@ pub fn run_scene(
     opts: &RunOptions,
     progress: &mut dyn FnMut(u64, u64),
 ) -> Result<LabRun, LabError> {
+    run_scene_with(scene, scene_file, opts, progress, None)
+}
+
+/// [`run_scene`] with a function run between steps (see [`StepHook`]).
+pub fn run_scene_with(
+    scene: &Value,
+    scene_file: &Path,
+    opts: &RunOptions,
+    progress: &mut dyn FnMut(u64, u64),
+    hook: Option<StepHook>,
+) -> Result<LabRun, LabError> {
     write_scene(scene, scene_file)?;
     let loaded = crate::scene::load(scene_file)?;
     let mut sim = Simulation::new(loaded, opts)?;
+    if let Some(h) = hook {
+        sim.set_hook(h);
+    }
     let out_dir = sim.out_dir().to_path_buf();
     let (summary, _) = sim.run(progress)?;
     let hist = out_dir.join("history.csv");

@@ -5,6 +5,8 @@
 //! runs every `guard_every` steps and before every output; a history row every `history_every`
 //! steps; a VTK snapshot every `vtk_every` steps (and at step 0 of a fresh run); a checkpoint
 //! every `checkpoint_every` steps; `ckpt-final.json`, the break log and the summary at the end.
+//! A [`StepHook`] set by the caller (e.g. the cutting test's fragment deletion) runs every
+//! `hook.every` steps, before that step's guard and outputs.
 //! When the guard fails, the run stops: the last state that passed is written to
 //! `last-good-state.json`, the history (all rows passed the guard) and the summary are written,
 //! and the error names the step, the disc and the likely cause. No output ever holds a NaN.
@@ -36,6 +38,16 @@ pub struct RunOptions {
     pub max_steps: Option<u64>,
 }
 
+/// A function run on the world between steps: every `every` steps (counted by the world, so a
+/// restarted run keeps the rhythm), after the step and before the guard and the outputs of
+/// that step (so they see what it did). It must be a function of the world alone for a
+/// restarted run to continue bit-identically. An error stops the run ([`RunError::Hook`]).
+pub struct StepHook {
+    pub every: u64,
+    #[allow(clippy::type_complexity)]
+    pub run: Box<dyn FnMut(&mut World) -> Result<(), String>>,
+}
+
 /// Why a run did not complete.
 #[derive(Debug, thiserror::Error)]
 pub enum RunError {
@@ -45,6 +57,8 @@ pub enum RunError {
     Output(#[from] OutputError),
     #[error(transparent)]
     Checkpoint(#[from] CheckpointError),
+    #[error("step hook at step {step}: {reason}")]
+    Hook { step: u64, reason: String },
     #[error("run stopped by the blow-up guard: {error}; the last good state (step {good_step}) is in {saved}")]
     Guard {
         error: GuardError,
@@ -91,6 +105,8 @@ pub struct Simulation {
     /// Start of this invocation's stepping: wall clock and the driving thread's CPU time.
     started: Instant,
     cpu_started: Option<f64>,
+    /// Run between steps (see [`StepHook`]); none by default.
+    hook: Option<StepHook>,
 }
 
 /// The numbered checkpoints `ckpt-<step>.json` in `dir`, by increasing step.
@@ -240,7 +256,13 @@ impl Simulation {
             before,
             started: Instant::now(),
             cpu_started: thread_cpu_s(),
+            hook: None,
         })
+    }
+
+    /// Run `hook` between steps (replaces an earlier one).
+    pub fn set_hook(&mut self, hook: StepHook) {
+        self.hook = Some(hook);
     }
 
     /// The output folder.
@@ -313,11 +335,13 @@ impl Simulation {
             // run ends: the same steps and checks as stepping one at a time.
             let s0 = self.world.state.step;
             let to_next = |n: u64| s0.checked_div(n).map_or(u64::MAX, |q| (q + 1) * n - s0);
+            let hook_every = self.hook.as_ref().map_or(0, |h| h.every);
             let batch = [
                 o.history_every,
                 o.vtk_every,
                 o.checkpoint_every,
                 o.guard_every,
+                hook_every,
             ]
             .map(to_next)
             .into_iter()
@@ -331,6 +355,9 @@ impl Simulation {
             });
             self.dt_range = dr;
             let s = self.world.state.step;
+            if let Some(h) = self.hook.as_mut().filter(|_| every(hook_every, s)) {
+                (h.run)(&mut self.world).map_err(|reason| RunError::Hook { step: s, reason })?;
+            }
             let (h, v, c) = (
                 every(o.history_every, s),
                 every(o.vtk_every, s),
