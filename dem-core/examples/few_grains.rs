@@ -23,7 +23,20 @@ fn main() {
         p.template_r_min = 0.08e-3;
         p.grains = GrainMode::Few(FewGrains::s0(&p));
         let t0 = Instant::now();
-        match generate(&p, &mut |_| {}) {
+        let mut last = String::new();
+        let verbose = std::env::var("FEW_VERBOSE").is_ok();
+        let mut report = |pr: dem_core::specimen::Progress| {
+            if verbose && pr.stage != last {
+                println!(
+                    "  {:>7.1} s  {} {}",
+                    t0.elapsed().as_secs_f64(),
+                    pr.stage,
+                    pr.message
+                );
+                last = pr.stage.to_string();
+            }
+        };
+        match generate(&p, &mut report) {
             Ok(s) => {
                 println!(
                     "seed {seed} {}: {} discs, {:.1} s",
