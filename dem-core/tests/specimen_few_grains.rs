@@ -179,6 +179,7 @@ fn improved_grains_have_the_outlines_mass_centroid_and_inertia() {
             .sum::<usize>();
     assert_eq!(m0, irr.packing_discs - irr.replaced_discs());
     let mut seen_intra = 0;
+    let mut worst: f64 = 0.0;
     for (g, grain) in irr.grains.iter().enumerate() {
         let t = &grain.template;
         assert!(t.discs.len() <= p.template_max_discs);
@@ -186,46 +187,59 @@ fn improved_grains_have_the_outlines_mass_centroid_and_inertia() {
             .filter(|&k| d.group[k] == (m0 + g) as u32)
             .collect();
         assert_eq!(idx.len(), t.discs.len(), "grain {g}");
-        // The outline's own mass properties (ρ t × area, centroid, polar second moment).
+        // S0's consistency equations (1)-(3) in the template frame (about the outline's
+        // centroid): Σm_i = ρtA, Σm_i x_i = 0, Σ m_i (r_i²/2 + |x_i|²) = ρt J, J the outline's
+        // polar second moment of area about its centroid.
         let pr = polygon_props(&grain.outline);
         let mass = RHO * p.thickness * pr.area;
         let inertia = RHO * p.thickness * (pr.ixx + pr.iyy);
-        let m: f64 = idx.iter().map(|&k| d.m[k]).sum();
-        assert!(
-            (m - mass).abs() <= 1e-9 * mass,
-            "grain {g}: mass {m} vs {mass}"
-        );
-        // Centroid: the template discs' mass centre is the outline's centroid (template
-        // frame, before any motion).
         let size = 0.5 * p.grain_size;
-        let (mut sx, mut sy) = (0.0, 0.0);
+        let (mut tm, mut sx, mut sy, mut ti) = (0.0, 0.0, 0.0, 0.0);
         for q in &t.discs {
+            tm += q.m;
             sx += q.m * q.x;
             sy += q.m * q.y;
+            ti += q.m * (0.5 * q.r * q.r + q.x * q.x + q.y * q.y);
         }
+        assert!((tm - mass).abs() <= 1e-9 * mass, "grain {g}: mass {tm} vs {mass}");
         assert!(
             (sx / mass).abs() <= 1e-9 * size && (sy / mass).abs() <= 1e-9 * size,
             "grain {g}: centroid off by ({:e}, {:e}) m",
             sx / mass,
             sy / mass
         );
+        assert!(
+            (ti - inertia).abs() <= 1e-9 * inertia,
+            "grain {g}: inertia {ti:e} vs {inertia:e}"
+        );
         let c = grain.centroid;
         assert!(
             (c[0] - pr.centroid[0]).abs() <= 1e-9 * size
                 && (c[1] - pr.centroid[1]).abs() <= 1e-9 * size
         );
-        // Inertia about the mass centre of the relaxed grain: Σ (m_i r_i²/2 + m_i d_i²). The
-        // grain moved as a bonded body; its members strain by ~σ/E (8 MPa / 310 GPa ≈ 3e-5,
-        // 2e-5 - 1e-4 locally), which changes the inertia by about twice that: 1e-3 bounds it.
+        // In the specimen the members carry the template's masses (ids in template order).
+        let mut by_id = idx.clone();
+        by_id.sort_by_key(|&k| d.id[k]);
+        for (&k, q) in by_id.iter().zip(&t.discs) {
+            assert_eq!(d.r[k], q.r);
+            assert!((d.m[k] - q.m).abs() <= 1e-12 * q.m);
+        }
+        let m: f64 = idx.iter().map(|&k| d.m[k]).sum();
+        assert!((m - mass).abs() <= 1e-9 * mass);
+        // The relaxed grain is the template moved and slightly strained: a bonded grain
+        // deforms under the load of the insertion (bond bending; its bonds are re-installed
+        // force-free at bonding). Its inertia about its mass centre stays within 1 % of the
+        // template's (seed 1: at most 0.42 %).
         let cx = idx.iter().map(|&k| d.m[k] * d.x[k]).sum::<f64>() / m;
         let cy = idx.iter().map(|&k| d.m[k] * d.y[k]).sum::<f64>() / m;
         let i: f64 = idx
             .iter()
             .map(|&k| d.inertia[k] + d.m[k] * ((d.x[k] - cx).powi(2) + (d.y[k] - cy).powi(2)))
             .sum();
+        worst = worst.max((i - inertia).abs() / inertia);
         assert!(
-            (i - inertia).abs() <= 1e-3 * inertia,
-            "grain {g}: inertia {i:e} vs {inertia:e}"
+            (i - inertia).abs() <= 1e-2 * inertia,
+            "grain {g}: relaxed inertia {i:e} vs {inertia:e}"
         );
         // Members are bonded among themselves (intra group), to nothing else by that group.
         for v in b.iter().filter(|v| v.group == INTRA) {
@@ -237,6 +251,7 @@ fn improved_grains_have_the_outlines_mass_centroid_and_inertia() {
         }
     }
     assert!(seen_intra >= irr.grains.len());
+    eprintln!("largest relative change of a grain's inertia: {worst:.2e}");
     // The other discs are the packing's, each its own grain.
     for k in 0..d.len() {
         if (d.group[k] as usize) < m0 {

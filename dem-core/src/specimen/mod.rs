@@ -11,6 +11,9 @@
 //!            improved:    each grain's cell filled with a clumpgen template (≤ 9 discs, solved
 //!                         masses), placed as a bonded clump (intra-grain bond group), packed
 //!                         by servo-controlled walls to σ0, grain-boundary bonds between grains
+//!            few:         (`GrainMode::Few`, few.rs) ORC and improved from the traditional
+//!                         packing of the seed with a few synthetic irregular grains (S0:
+//!                         "the irregular grains are few"), as many as S0's disc counts ask
 //!            all three:   walls removed, relaxed with local damping until the kinetic energy
 //!                         is below `ke_ratio` × the stored strain energy
 //! summary    discs, grains, porosity, coordination, bonds, residual kinetic energy, stresses
