@@ -201,7 +201,10 @@ fn improved_grains_have_the_outlines_mass_centroid_and_inertia() {
             sy += q.m * q.y;
             ti += q.m * (0.5 * q.r * q.r + q.x * q.x + q.y * q.y);
         }
-        assert!((tm - mass).abs() <= 1e-9 * mass, "grain {g}: mass {tm} vs {mass}");
+        assert!(
+            (tm - mass).abs() <= 1e-9 * mass,
+            "grain {g}: mass {tm} vs {mass}"
+        );
         assert!(
             (sx / mass).abs() <= 1e-9 * size && (sy / mass).abs() <= 1e-9 * size,
             "grain {g}: centroid off by ({:e}, {:e}) m",
@@ -312,7 +315,8 @@ fn bad_few_values_are_errors_naming_the_field() {
     let GrainMode::Few(f0) = base.grains.clone() else {
         unreachable!()
     };
-    let cases: Vec<(&str, Box<dyn Fn(&mut FewGrains)>)> = vec![
+    type Edit = Box<dyn Fn(&mut FewGrains)>;
+    let cases: Vec<(&str, Edit)> = vec![
         ("grains.few.diameter", Box::new(|f| f.diameter = -1e-3)),
         ("grains.few.diameter", Box::new(|f| f.diameter = 0.5)),
         ("grains.few.aspect_min", Box::new(|f| f.aspect_min = 0.5)),

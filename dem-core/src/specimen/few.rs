@@ -70,8 +70,11 @@ pub const RAMP_STEPS: u64 = 500;
 /// Candidates drawn in a row without one being kept before giving up (the box is full).
 const MAX_MISSES: usize = 20_000;
 
-/// Candidates whose templates are made in one parallel batch.
+/// Candidates whose templates are made in one parallel batch, and the misses in a row after
+/// which a batch is closed early. Batches do not change the grains: every outline kept on
+/// geometry keeps its place whatever its template, and the grains are taken in the order drawn.
 const BATCH: usize = 16;
+const BATCH_MISSES: usize = 200;
 
 /// One irregular grain.
 #[derive(Clone, Debug)]
@@ -223,7 +226,13 @@ pub fn choose(
     }
     loop {
         let mut batch: Vec<Candidate> = Vec::new();
-        while batch.len() < BATCH {
+        let size = match f.count {
+            IrregularCount::Count(c) => (c - out.grains.len()).min(BATCH),
+            IrregularCount::DiscRatio(_) => BATCH,
+        };
+        // A batch is also closed when outlines stop fitting (a full box): its templates may
+        // be all that is needed.
+        while batch.len() < size && !(misses >= BATCH_MISSES && !batch.is_empty()) {
             if misses >= MAX_MISSES {
                 return Err(SpecimenError::Irregular(format!(
                     "{} grains placed, then {MAX_MISSES} outlines in a row did not fit \

@@ -282,17 +282,17 @@ impl FewGrains {
         if !(self.aspect_max >= self.aspect_min && self.aspect_max.is_finite()) {
             return bad("aspect_max", self.aspect_max, "must be at least aspect_min");
         }
-        if !(self.roughness >= 0.0 && self.roughness < 1.0) {
+        if !(0.0..1.0).contains(&self.roughness) {
             return bad("roughness", self.roughness, "must lie in [0, 1)");
         }
-        if !(self.concavity >= 0.0 && self.concavity < 1.0) {
+        if !(0.0..1.0).contains(&self.concavity) {
             return bad("concavity", self.concavity, "must lie in [0, 1)");
         }
         if !(8..=4096).contains(&self.vertices) {
             return bad("vertices", self.vertices as f64, "must lie in [8, 4096]");
         }
         if let IrregularCount::DiscRatio(r) = self.count {
-            if !(r >= 1.0 && r < 10.0) {
+            if !(1.0..10.0).contains(&r) {
                 return bad("count.disc_ratio", r, "must lie in [1, 10)");
             }
         }
