@@ -3,8 +3,9 @@
 //! r_min 0.08 mm): S0's disc counts (989 / 989 / 1576) for two seeds, rigid non-overlapping ORC
 //! grains, exact improved grains, one grain set per seed, and the parameter JSON.
 //!
-//! The full-size specimens take a while (docs/specimen.md: traditional and ORC ~15-30 s,
-//! improved ~2-3 min each on one free core); they are built once per test binary and shared.
+//! The full-size specimens take a while: built once per test binary and shared, the six of
+//! them (seeds 1 and 2) took 15.6 min on the 2-core machine shared with other jobs (load
+//! average 5-11; traditional and ORC 37-75 s each, improved 322-574 s; docs/specimen.md).
 
 use clumpgen::polygon_props;
 use dem_core::bond::BondStatus;
