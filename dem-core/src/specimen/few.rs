@@ -232,7 +232,7 @@ pub fn choose(
         };
         // A batch is also closed when outlines stop fitting (a full box): its templates may
         // be all that is needed.
-        while batch.len() < size && !(misses >= BATCH_MISSES && !batch.is_empty()) {
+        while batch.len() < size && (misses < BATCH_MISSES || batch.is_empty()) {
             if misses >= MAX_MISSES {
                 return Err(SpecimenError::Irregular(format!(
                     "{} grains placed, then {MAX_MISSES} outlines in a row did not fit \
