@@ -4,8 +4,9 @@
 //! grains, exact improved grains, one grain set per seed, and the parameter JSON.
 //!
 //! The full-size specimens take a while: built once per test binary and shared, the six of
-//! them (seeds 1 and 2) took 15.6 min on the 2-core machine shared with other jobs (load
-//! average 5-11; traditional and ORC 37-75 s each, improved 322-574 s; docs/specimen.md).
+//! them (seeds 1 and 2) took 10.2 and 15.6 min in two runs on the 2-core machine shared with
+//! other jobs (load average 5-11; traditional and ORC 33-75 s each, improved 250-574 s;
+//! docs/specimen.md).
 
 use clumpgen::polygon_props;
 use dem_core::bond::BondStatus;
