@@ -2,7 +2,9 @@
 //! write it as a `dem.specimen/1` file with a summary JSON beside it (`docs/specimen.md`).
 
 use clap::Args;
-use dem_core::specimen::{self, io, Method, Progress, RadiusDist, SpecimenParams};
+use dem_core::specimen::{
+    self, io, FewGrains, GrainMode, IrregularCount, Method, Progress, RadiusDist, SpecimenParams,
+};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
 use std::path::PathBuf;
@@ -58,6 +60,19 @@ pub struct SpecimenArgs {
     /// Smallest template disc radius (improved), with unit; default r_min/2.
     #[arg(long)]
     template_r_min: Option<String>,
+    /// Which grains are irregular (orc, improved): `all` (every cell of a Voronoi
+    /// tessellation of --grain-size) or `few` (S0: a few synthetic grains of --grain-size in
+    /// the traditional packing of the seed, as many as give the improved specimen S0's
+    /// 1576/989 discs per packing disc; docs/specimen.md, "Few irregular grains (S0)").
+    #[arg(long, default_value = "all")]
+    irregular: String,
+    /// With `--irregular few`: this many irregular grains instead of S0's disc ratio.
+    #[arg(long)]
+    irregular_count: Option<usize>,
+    /// With `--irregular few`: equivalent diameter of the irregular grains, with unit;
+    /// default --grain-size.
+    #[arg(long)]
+    irregular_size: Option<String>,
     /// Largest number of discs per improved-ORC grain (9 in the paper).
     #[arg(long, default_value_t = 9)]
     max_discs: usize,
@@ -158,6 +173,36 @@ pub fn method_and_dist(method: &str, dist: &str) -> Result<(Method, RadiusDist),
     Ok((m, d))
 }
 
+/// `--irregular`, `--irregular-count`, `--irregular-size` (the others need `few`).
+pub fn grain_mode(
+    p: &SpecimenParams,
+    mode: &str,
+    count: Option<usize>,
+    size: Option<&str>,
+) -> Result<GrainMode, String> {
+    match mode {
+        "all" => {
+            if count.is_some() || size.is_some() {
+                return Err(
+                    "--irregular-count and --irregular-size need --irregular few".to_string(),
+                );
+            }
+            Ok(GrainMode::All)
+        }
+        "few" => {
+            let mut f = FewGrains::s0(p);
+            if let Some(n) = count {
+                f.count = IrregularCount::Count(n);
+            }
+            if let Some(s) = size {
+                f.diameter = parse_length(s, "--irregular-size")?;
+            }
+            Ok(GrainMode::Few(f))
+        }
+        m => Err(format!("--irregular {m:?}: use all or few")),
+    }
+}
+
 /// Material name, density, E and tensile strength: the flags, else the `--material` file.
 pub fn material_values(
     material: Option<&PathBuf>,
@@ -222,6 +267,12 @@ pub fn run(a: SpecimenArgs) -> Result<ExitCode, String> {
     if let Some(s) = &a.template_r_min {
         p.template_r_min = parse_length(s, "--template-r-min")?;
     }
+    p.grains = grain_mode(
+        &p,
+        &a.irregular,
+        a.irregular_count,
+        a.irregular_size.as_deref(),
+    )?;
     p.validate().map_err(|e| e.to_string())?;
     let material = a.material_name.unwrap_or(mat_name);
     let pool = rayon::ThreadPoolBuilder::new()

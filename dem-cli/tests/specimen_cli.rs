@@ -141,3 +141,57 @@ fn bad_arguments_are_messages() {
     assert!(!out.exists());
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn irregular_few_flags_build_few_rigid_grains() {
+    let dir = tmp("few");
+    let out = dir.join("orc.json");
+    let base = [
+        "specimen",
+        "--method",
+        "orc",
+        "--width",
+        "3mm",
+        "--height",
+        "1.5mm",
+        "--r-min",
+        "0.1mm",
+        "--r-max",
+        "0.16mm",
+        "--grain-size",
+        "0.5mm",
+        "--seed",
+        "5",
+    ];
+    let mut args: Vec<&str> = base.to_vec();
+    let (m, o_) = (material(), out.to_str().unwrap().to_string());
+    args.extend(["--material", &m, "--out", &o_]);
+    let mut few = args.clone();
+    few.extend(["--irregular", "few", "--irregular-count", "2"]);
+    let o = dem(&few);
+    assert!(o.status.success(), "{}", text(&o));
+    let spec: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    assert_eq!(spec["rigid_clumps"].as_array().unwrap().len(), 2);
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("orc.summary.json")).unwrap())
+            .unwrap();
+    assert_eq!(summary["irregular"]["grains"], 2);
+    assert!(text(&o).contains("irregular grains"), "{}", text(&o));
+    // Bad values are messages naming the flag.
+    let mut bad = args.clone();
+    bad.extend(["--irregular", "some"]);
+    let o = dem(&bad);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(text(&o).contains("--irregular"), "{}", text(&o));
+    let mut bad = args.clone();
+    bad.extend(["--irregular-count", "3"]);
+    let o = dem(&bad);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(text(&o).contains("need --irregular few"), "{}", text(&o));
+    let mut bad = args;
+    bad.extend(["--irregular", "few", "--irregular-size", "5mm"]);
+    let o = dem(&bad);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(text(&o).contains("grains.few.diameter"), "{}", text(&o));
+}

@@ -65,6 +65,19 @@ pub fn cell_template_with(
     p: &SpecimenParams,
     mass_floor: f64,
 ) -> Result<(Template, bool), SpecimenError> {
+    outline_template(gi, cell, format!("voronoi cell {gi}"), p, mass_floor)
+}
+
+/// Template of grain `gi` with the outline `cell` (m, in the box) described as `source`;
+/// r_min is halved (up to twice) when the outline is too small. Returns the template and
+/// whether r_min had to be reduced.
+pub fn outline_template(
+    gi: usize,
+    cell: &[[f64; 2]],
+    source: String,
+    p: &SpecimenParams,
+    mass_floor: f64,
+) -> Result<(Template, bool), SpecimenError> {
     let size = cell
         .iter()
         .map(|q| q[0].abs().max(q[1].abs()))
@@ -84,7 +97,7 @@ pub fn cell_template_with(
     }
     let outline = Outline {
         name: format!("grain-{gi}"),
-        source: format!("voronoi cell {gi}"),
+        source,
         sha256: String::new(),
         units: Units::M,
         origin: [0.0, 0.0],
@@ -219,10 +232,21 @@ pub fn compact(
     let mut steps = generator::servo_with(w, p, high, 0.5, progress, |w, eps| {
         contract(w, 1.0 / (1.0 + eps))
     })?;
-    steps += generator::servo_with(w, p, p.iso_stress, p.iso_tolerance, progress, |w, eps| {
-        contract(w, 1.0 / (1.0 + eps))
-    })?;
+    steps += compact_to(w, p, p.iso_stress, progress)?;
     Ok(steps)
+}
+
+/// The servo of [`compact`] to the stress `s0` alone (tolerance `iso_tolerance`). Returns the
+/// steps taken.
+pub fn compact_to(
+    w: &mut World,
+    p: &SpecimenParams,
+    s0: f64,
+    progress: &mut dyn FnMut(Progress),
+) -> Result<u64, SpecimenError> {
+    generator::servo_with(w, p, s0, p.iso_tolerance, progress, |w, eps| {
+        contract(w, 1.0 / (1.0 + eps))
+    })
 }
 
 /// Scale grain mass-centre positions and the walls by `f` about the centre of the walls' box.

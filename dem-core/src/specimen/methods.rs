@@ -2,6 +2,7 @@
 //! module docs of [`super`]. Disc groups ([`crate::Discs::group`]) are grain ids: a disc's own
 //! index for the traditional method, the grain index otherwise.
 
+use super::few::{self, Irregular, IrregularStats};
 use super::generator::{self, PackStats};
 use super::grains::{self, Grains};
 use super::improved;
@@ -9,7 +10,9 @@ use super::orc::make_rigid_clump;
 use super::relax::{self, DISC};
 use super::rng::Rng;
 use super::summary::{self, Summary};
-use super::{Method, Progress, SpecimenError, SpecimenParams, GRAIN_BOUNDARY, INTRA_GRAIN};
+use super::{
+    GrainMode, Method, Progress, SpecimenError, SpecimenParams, GRAIN_BOUNDARY, INTRA_GRAIN,
+};
 use crate::bond::{BondGroup, BondModel, Bonds, Criterion, ParallelBondParams};
 use crate::state::{State, FREE};
 use crate::World;
@@ -28,8 +31,10 @@ pub struct Specimen {
     /// Contact reference gaps registered with the world (disc ids a, b, g0 < 0): overlapping
     /// members of improved-ORC grains.
     pub offsets: Vec<(u32, u32, f64)>,
-    /// Grain tessellation (ORC and improved).
+    /// Grain tessellation (ORC and improved, [`GrainMode::All`]).
     pub grains: Option<Grains>,
+    /// Irregular grains (ORC and improved, [`GrainMode::Few`]).
+    pub irregular: Option<Irregular>,
     pub summary: Summary,
 }
 
@@ -77,8 +82,9 @@ pub fn generate(
     // Grains come from their own stream, so ORC and improved specimens of one seed share them.
     let mut grain_rng = Rng::new(p.seed ^ 0x5bd1_e995_7f4a_7c15);
     let mut stats = Stats::default();
-    let (mut world, grains, offsets) = match p.method {
-        Method::Traditional => {
+    let mut irregular = None;
+    let (mut world, grains, offsets) = match (p.method, &p.grains) {
+        (Method::Traditional, _) => {
             let (mut w, pack) = generator::pack(p, &mut rng, progress)?;
             for k in 0..w.state.discs.len() {
                 w.state.discs.group[k] = w.state.discs.id[k];
@@ -87,20 +93,26 @@ pub fn generate(
             bond_and_release(&mut w, p, &mut stats, |_, _| Some(GB))?;
             (w, None, Vec::new())
         }
-        Method::Orc => {
+        (Method::Orc, GrainMode::All) => {
             let (w, pack) = generator::pack(p, &mut rng, progress)?;
             stats.pack = pack;
             let g = tessellation(p, &mut grain_rng)?;
             let mut w = clump_grains(w, &g, p)?;
-            stats.pack.steps += generator::settle(&mut w, "clumps", p, progress)?;
-            stats.pack.wall_stress = relax::wall_stress(&w.state);
-            let body = w.state.discs.body.clone();
-            bond_and_release(&mut w, p, &mut stats, move |i, j| {
-                (body[i] != body[j] || body[i] == FREE).then_some(GB)
-            })?;
+            orc_bond(&mut w, p, &mut stats, progress)?;
             (w, Some(g), Vec::new())
         }
-        Method::Improved => {
+        (Method::Orc, GrainMode::Few(f)) => {
+            // The traditional packing of this seed, a few of its disc groups merged.
+            let (w, pack) = generator::pack(p, &mut rng, progress)?;
+            stats.pack = pack;
+            let irr = few::choose(p, f, &w.state, &mut grain_rng, progress)?;
+            let mut w = clump_irregular(w, &irr, p)?;
+            stats.irregular = Some(irr.stats());
+            irregular = Some(irr);
+            orc_bond(&mut w, p, &mut stats, progress)?;
+            (w, None, Vec::new())
+        }
+        (Method::Improved, GrainMode::All) => {
             let g = tessellation(p, &mut grain_rng)?;
             let (mut w, offsets, tstats) = improved::build(p, &g, progress)?;
             stats.templates = Some(tstats);
@@ -111,6 +123,24 @@ pub fn generate(
                 (group[i] != group[j]).then_some(GB)
             })?;
             (w, Some(g), offsets)
+        }
+        (Method::Improved, GrainMode::Few(f)) => {
+            let (w, pack) = generator::pack(p, &mut rng, progress)?;
+            stats.pack = pack;
+            let irr = few::choose(p, f, &w.state, &mut grain_rng, progress)?;
+            let (mut w, offsets, tstats, free_area, steps) =
+                few::build_improved(p, &w, &irr, progress)?;
+            stats.templates = Some(tstats);
+            stats.free_area = free_area;
+            stats.pack.steps += steps;
+            stats.pack.wall_stress = relax::wall_stress(&w.state);
+            stats.irregular = Some(irr.stats());
+            irregular = Some(irr);
+            let group = w.state.discs.group.clone();
+            bond_and_release(&mut w, p, &mut stats, move |i, j| {
+                (group[i] != group[j]).then_some(GB)
+            })?;
+            (w, None, offsets)
         }
     };
     let (steps, ke, u) = relax::relax(&mut world, p.ke_ratio, p.max_stage_steps, progress)?;
@@ -132,6 +162,7 @@ pub fn generate(
         world,
         offsets,
         grains,
+        irregular,
         summary,
     })
 }
@@ -144,6 +175,26 @@ pub struct Stats {
     pub bonded_box: [f64; 4],
     pub relax_steps: u64,
     pub templates: Option<improved::TemplateStats>,
+    /// Σπr² of the discs outside templated grains (m²): the packing discs kept in an
+    /// improved specimen with few irregular grains; 0 otherwise.
+    pub free_area: f64,
+    pub irregular: Option<IrregularStats>,
+}
+
+/// ORC: settle the clumps (contacts inside a clump vanish), then bond pairs of different
+/// bodies.
+fn orc_bond(
+    w: &mut World,
+    p: &SpecimenParams,
+    stats: &mut Stats,
+    progress: &mut dyn FnMut(Progress),
+) -> Result<(), SpecimenError> {
+    stats.pack.steps += generator::settle(w, "clumps", p, progress)?;
+    stats.pack.wall_stress = relax::wall_stress(&w.state);
+    let body = w.state.discs.body.clone();
+    bond_and_release(w, p, stats, move |i, j| {
+        (body[i] != body[j] || body[i] == FREE).then_some(GB)
+    })
 }
 
 fn tessellation(p: &SpecimenParams, rng: &mut Rng) -> Result<Grains, SpecimenError> {
@@ -151,8 +202,8 @@ fn tessellation(p: &SpecimenParams, rng: &mut Rng) -> Result<Grains, SpecimenErr
     Ok(grains::tessellate(&seeds, p.width, p.height))
 }
 
-/// A new world whose discs (in id order) are grouped into one rigid ORC clump per grain.
-fn clump_grains(w: World, g: &Grains, p: &SpecimenParams) -> Result<World, SpecimenError> {
+/// The packing's discs in id order (index = position in id order), walls kept.
+fn in_id_order(w: &World) -> State {
     let d = &w.state.discs;
     let mut order: Vec<usize> = (0..d.len()).collect();
     order.sort_by_key(|&k| d.id[k]);
@@ -172,6 +223,27 @@ fn clump_grains(w: World, g: &Grains, p: &SpecimenParams) -> Result<World, Speci
             0,
         );
     }
+    st
+}
+
+/// Make each non-empty member list (indices into `st`) one rigid ORC clump whose discs get
+/// the group `groups[g]`.
+fn clump_lists(st: &mut State, members: &[Vec<usize>], groups: &[u32]) {
+    for (gi, m) in members.iter().enumerate() {
+        if m.is_empty() {
+            continue;
+        }
+        for &k in m {
+            st.discs.group[k] = groups[gi];
+        }
+        // Cannot fail: the members are distinct free discs.
+        make_rigid_clump(st, m, &format!("grain-{gi}"));
+    }
+}
+
+/// A new world whose discs (in id order) are grouped into one rigid ORC clump per grain.
+fn clump_grains(w: World, g: &Grains, p: &SpecimenParams) -> Result<World, SpecimenError> {
+    let mut st = in_id_order(&w);
     let pts: Vec<[f64; 2]> = (0..st.discs.len())
         .map(|k| [st.discs.x[k], st.discs.y[k]])
         .collect();
@@ -180,16 +252,32 @@ fn clump_grains(w: World, g: &Grains, p: &SpecimenParams) -> Result<World, Speci
     for (k, &o) in owner.iter().enumerate() {
         members[o].push(k);
     }
-    for (gi, m) in members.iter().enumerate() {
-        if m.is_empty() {
-            continue;
-        }
-        for &k in m {
-            st.discs.group[k] = gi as u32;
-        }
-        // Cannot fail: the members are distinct free discs.
-        make_rigid_clump(&mut st, m, &format!("grain-{gi}"));
+    let groups: Vec<u32> = (0..members.len() as u32).collect();
+    clump_lists(&mut st, &members, &groups);
+    Ok(World::try_new(st, w.params.clone(), relax::laws(p, 0.0))?)
+}
+
+/// A new world (discs in id order) in which the packing discs of every irregular grain are one
+/// rigid ORC clump. Groups: disc k alone the group k, grain g the group N + g (N discs).
+fn clump_irregular(w: World, irr: &Irregular, p: &SpecimenParams) -> Result<World, SpecimenError> {
+    let mut st = in_id_order(&w);
+    let n = st.discs.len();
+    let index: std::collections::HashMap<u32, usize> = {
+        let d = &w.state.discs;
+        let mut ids: Vec<u32> = d.id.clone();
+        ids.sort_unstable();
+        ids.into_iter().enumerate().map(|(k, id)| (id, k)).collect()
+    };
+    for k in 0..n {
+        st.discs.group[k] = k as u32;
     }
+    let members: Vec<Vec<usize>> = irr
+        .grains
+        .iter()
+        .map(|g| g.packing_discs.iter().map(|id| index[id]).collect())
+        .collect();
+    let groups: Vec<u32> = (0..members.len()).map(|g| (n + g) as u32).collect();
+    clump_lists(&mut st, &members, &groups);
     Ok(World::try_new(st, w.params.clone(), relax::laws(p, 0.0))?)
 }
 

@@ -11,6 +11,9 @@
 //!            improved:    each grain's cell filled with a clumpgen template (≤ 9 discs, solved
 //!                         masses), placed as a bonded clump (intra-grain bond group), packed
 //!                         by servo-controlled walls to σ0, grain-boundary bonds between grains
+//!            few:         (`GrainMode::Few`, few.rs) ORC and improved from the traditional
+//!                         packing of the seed with a few synthetic irregular grains (S0:
+//!                         "the irregular grains are few"), as many as S0's disc counts ask
 //!            all three:   walls removed, relaxed with local damping until the kinetic energy
 //!                         is below `ke_ratio` × the stored strain energy
 //! summary    discs, grains, porosity, coordination, bonds, residual kinetic energy, stresses
@@ -20,6 +23,7 @@
 //! Everything is deterministic per seed (own RNG, [`rng`]; the engine is bit-identical for any
 //! thread count).
 
+pub mod few;
 pub mod generator;
 pub mod grains;
 pub mod improved;
@@ -175,6 +179,125 @@ pub struct SpecimenParams {
     pub ke_ratio: f64,
     /// Cap on the steps of any one stage.
     pub max_stage_steps: u64,
+    /// Which grains are irregular (ORC, improved): every grain cell (the default, and what a
+    /// parameter set without this key means) or a few grains in the traditional packing
+    /// ([`few`]). Left out of the JSON when `All`, so existing parameter sets keep their JSON
+    /// (and the hashes that name cached specimens).
+    #[serde(default, skip_serializing_if = "GrainMode::is_all")]
+    pub grains: GrainMode,
+}
+
+/// Which grains of an ORC or improved-ORC specimen are irregular.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum GrainMode {
+    /// Every cell of a Voronoi grain tessellation ([`grains`], grain size `grain_size`) is an
+    /// irregular grain: the whole specimen is clumps.
+    #[default]
+    All,
+    /// A few irregular grains in the traditional packing of the same seed (S0, Ye & Xu 2010:
+    /// in Si3N4 "the irregular grains are few"; Fig. 4a): see [`few`].
+    Few(FewGrains),
+}
+
+impl GrainMode {
+    pub fn is_all(&self) -> bool {
+        matches!(self, GrainMode::All)
+    }
+}
+
+/// How many irregular grains a [`GrainMode::Few`] specimen gets.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum IrregularCount {
+    /// This many.
+    Count(usize),
+    /// As many as it takes for the improved-ORC specimen to have this many times the discs of
+    /// the packing (Σ over the grains of template discs − replaced packing discs ≥
+    /// (ratio − 1) × packing discs). S0's Si3N4 specimens: 1576 / 989
+    /// ([`FewGrains::S0_DISC_RATIO`]).
+    DiscRatio(f64),
+}
+
+/// The irregular grains of a [`GrainMode::Few`] specimen: synthetic outlines
+/// (`clumpgen::synth::synth_grain`) of one size and shape family; see [`few`].
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct FewGrains {
+    pub count: IrregularCount,
+    /// Equivalent diameter of every outline (m): area π d²/4.
+    pub diameter: f64,
+    /// Inertia aspect ratio √(I_max/I_min) of each outline, uniform in [min, max].
+    pub aspect_min: f64,
+    pub aspect_max: f64,
+    /// RMS relative amplitude of the outline's Fourier roughness and depth of its dents
+    /// (`SynthParams::roughness`, `SynthParams::concavity`).
+    pub roughness: f64,
+    pub concavity: f64,
+    /// Vertices per outline.
+    pub vertices: usize,
+    /// Largest template disc radius (m) of these grains (the template fill's r_max; the
+    /// smallest is `template_r_min`, the cover and disc cap `template_cover`,
+    /// `template_max_discs`).
+    pub template_r_max: f64,
+}
+
+impl FewGrains {
+    /// Improved-ORC discs over traditional discs in S0's Si3N4 specimens: 1576 / 989.
+    pub const S0_DISC_RATIO: f64 = 1576.0 / 989.0;
+
+    /// S0's specimens for parameters `p` (the choices are explained in [`few`]): as many
+    /// grains as S0's disc ratio asks; outlines of equivalent diameter `p.grain_size` from
+    /// clumpgen's "rough" family (roughness 0.10, concavity 0.2, aspect 1.2–1.8, 64 vertices;
+    /// `data/outlines/README.md`); template discs no larger than the packing's smallest disc
+    /// (`p.r_min`).
+    pub fn s0(p: &SpecimenParams) -> FewGrains {
+        FewGrains {
+            count: IrregularCount::DiscRatio(Self::S0_DISC_RATIO),
+            diameter: p.grain_size,
+            aspect_min: 1.2,
+            aspect_max: 1.8,
+            roughness: 0.10,
+            concavity: 0.2,
+            vertices: 64,
+            template_r_max: p.r_min,
+        }
+    }
+
+    /// Check every value; errors name the field.
+    pub fn validate(&self) -> Result<(), SpecimenError> {
+        let bad = |name: &str, v: f64, what: &str| {
+            Err(SpecimenError::Param(format!(
+                "grains.few.{name} = {v} {what}"
+            )))
+        };
+        if !(self.diameter > 0.0 && self.diameter.is_finite()) {
+            return bad("diameter", self.diameter, "must be positive");
+        }
+        if !(self.template_r_max > 0.0 && self.template_r_max.is_finite()) {
+            return bad("template_r_max", self.template_r_max, "must be positive");
+        }
+        if !(self.aspect_min >= 1.0 && self.aspect_min.is_finite()) {
+            return bad("aspect_min", self.aspect_min, "must be at least 1");
+        }
+        if !(self.aspect_max >= self.aspect_min && self.aspect_max.is_finite()) {
+            return bad("aspect_max", self.aspect_max, "must be at least aspect_min");
+        }
+        if !(0.0..1.0).contains(&self.roughness) {
+            return bad("roughness", self.roughness, "must lie in [0, 1)");
+        }
+        if !(0.0..1.0).contains(&self.concavity) {
+            return bad("concavity", self.concavity, "must lie in [0, 1)");
+        }
+        if !(8..=4096).contains(&self.vertices) {
+            return bad("vertices", self.vertices as f64, "must lie in [8, 4096]");
+        }
+        if let IrregularCount::DiscRatio(r) = self.count {
+            if !(1.0..10.0).contains(&r) {
+                return bad("count.disc_ratio", r, "must lie in [1, 10)");
+            }
+        }
+        Ok(())
+    }
 }
 
 impl SpecimenParams {
@@ -218,6 +341,7 @@ impl SpecimenParams {
             template_r_max: 4.0 * r_max,
             ke_ratio: 1e-6,
             max_stage_steps: 2_000_000,
+            grains: GrainMode::All,
         }
     }
 
@@ -306,6 +430,21 @@ impl SpecimenParams {
         if self.max_stage_steps == 0 {
             return Err(SpecimenError::Param("max_stage_steps must be ≥ 1".into()));
         }
+        if let GrainMode::Few(f) = &self.grains {
+            f.validate()?;
+            if f.template_r_max < self.template_r_min {
+                return Err(SpecimenError::Param(format!(
+                    "grains.few.template_r_max = {} m is below template_r_min = {} m",
+                    f.template_r_max, self.template_r_min
+                )));
+            }
+            if f.diameter >= self.width.min(self.height) {
+                return Err(SpecimenError::Param(format!(
+                    "grains.few.diameter = {} m does not fit in the {} × {} m box",
+                    f.diameter, self.width, self.height
+                )));
+            }
+        }
         Ok(())
     }
 }
@@ -338,6 +477,8 @@ pub enum SpecimenError {
         steps: u64,
         detail: String,
     },
+    #[error("irregular grains: {0}")]
+    Irregular(String),
     #[error("grain {grain}: clump template: {source}")]
     Template {
         grain: usize,

@@ -1,6 +1,7 @@
 //! The specimen summary: counts, porosity, coordination, bonds, residual kinetic energy and
 //! stresses, written as JSON beside the specimen file and printed by `dem specimen`.
 
+use super::few::IrregularStats;
 use super::grains::Grains;
 use super::improved::TemplateStats;
 use super::methods::Stats;
@@ -69,6 +70,10 @@ pub struct Summary {
     /// Discs with no neighbour within the bond gap, removed before bonding.
     pub loose_removed: usize,
     pub templates: Option<TemplateStats>,
+    /// Irregular grains of a few-grains specimen ([`super::GrainMode::Few`]); absent
+    /// otherwise.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub irregular: Option<IrregularStats>,
     pub steps_packing: u64,
     pub steps_relax: u64,
     pub wall_time_s: f64,
@@ -97,7 +102,7 @@ pub fn summarize(
     let _ = grains;
     let sizes: Vec<usize> = per.values().copied().collect();
     let solid = match &s.templates {
-        Some(t) => t.union_area,
+        Some(t) => t.union_area + s.free_area,
         None => d.r.iter().map(|r| std::f64::consts::PI * r * r).sum(),
     };
     let touching = install::pairs_within_gap(st, 0.0)
@@ -180,6 +185,7 @@ pub fn summarize(
         floaters_left: s.pack.floaters_left,
         loose_removed: s.pack.loose_removed,
         templates: s.templates.clone(),
+        irregular: s.irregular.clone(),
         steps_packing: s.pack.steps,
         steps_relax: s.relax_steps,
         wall_time_s,
@@ -262,6 +268,22 @@ impl Summary {
                 format!(
                     "{} grains, {}-{} discs (mean {:.2}), cover {:.3}, max residual {:.1e}, r_min reduced {}",
                     t.grains, t.discs_min, t.discs_max, t.discs_mean, t.cover_mean, t.max_residual, t.r_min_reduced
+                ),
+            );
+        }
+        if let Some(g) = &self.irregular {
+            line(
+                "irregular grains",
+                format!(
+                    "{} ({} packing discs inside, mean {:.2}; {} template discs, mean {:.2}; \
+                     {} outlines drawn, {} templates failed)",
+                    g.grains,
+                    g.replaced_discs,
+                    g.replaced_mean,
+                    g.template_discs,
+                    g.template_mean,
+                    g.candidates,
+                    g.template_failures
                 ),
             );
         }
