@@ -64,6 +64,7 @@ impl Plan {
                 sp.method = m;
                 sp.seed = s;
                 sp.micro = self.model.micro.clone();
+                normalize_grains(&mut sp);
                 for &d in &self.depths_mm {
                     for &v in &self.speeds_m_s {
                         jobs.push(Job {
@@ -77,6 +78,15 @@ impl Plan {
             }
         }
         jobs
+    }
+}
+
+/// A traditional specimen has no irregular grains: its parameters carry the default grain
+/// mode, so it keeps one key (and one cached specimen) whatever mode the plan gives ORC and
+/// improved ORC.
+pub fn normalize_grains(sp: &mut SpecimenParams) {
+    if sp.method == Method::Traditional {
+        sp.grains = dem_core::specimen::GrainMode::All;
     }
 }
 

@@ -158,6 +158,7 @@ impl StudySpec {
                             let mut spec = plan.specimen.clone();
                             spec.method = method;
                             spec.seed = seed;
+                            crate::cutting_runs::normalize_grains(&mut spec);
                             let spec: SpecimenParams =
                                 serde_json::from_value(over(&spec, &v.specimen)?)
                                     .map_err(|e| format!("variant {}: specimen: {e}", v.name))?;

@@ -8,7 +8,7 @@ use crate::page::{json, Figure, Section};
 use crate::plot::{self, Series};
 use crate::table2::{self, PaperTable2, METHODS};
 use dem_core::lab::LabModel;
-use dem_core::specimen::{Method, SpecimenParams};
+use dem_core::specimen::{FewGrains, GrainMode, Method, SpecimenParams};
 use std::path::Path;
 
 /// The calibrated Si3N4 model (`data/models/si3n4.model.json`, written by `dem calibrate`).
@@ -65,6 +65,12 @@ pub fn plan(data: &Path, quick: bool) -> Result<Plan, String> {
     );
     sp.grain_size = grain;
     sp.template_r_min = tmin;
+    if !quick {
+        // S0's specimens: a few irregular grains in the traditional packing, as many as give
+        // S0's 1576 improved-ORC discs for 989 (docs/specimen.md, "Few irregular grains").
+        // The quick smoke test keeps every grain a clump (its small specimen holds few cells).
+        sp.grains = GrainMode::Few(FewGrains::s0(&sp));
+    }
     sp.micro = model.micro.clone();
     Ok(Plan {
         specimen: sp,
