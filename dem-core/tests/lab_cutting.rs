@@ -166,14 +166,9 @@ fn short_cut_of_a_small_specimen() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// One disc of radius r pushed by the tool's rake face (slot walls removed from the scene):
-/// in every step of contact the force on the tool is minus the force on the disc and equals the
-/// linear law k_tool·δ (δ = r − distance from the disc centre to the rake face), along −x; the
-/// main force read from the wall columns is +k_tool·δ.
-#[test]
-fn tool_force_on_a_single_disc() {
-    let dir = tmp("single");
-    let r = 0.1e-3;
+/// A specimen file of one disc of radius r at (r, r) in `dir`, and Si3N4's model (E 310 GPa,
+/// 800 MPa bonds, radius r).
+fn one_disc(dir: &std::path::Path, r: f64) -> (PathBuf, LabModel) {
     let spec_path = dir.join("one.json");
     let spec = serde_json::json!({"schema": "dem.specimen/1", "units": "m",
         "discs": [{"material": "Si3N4", "discs": [[r, r, r]]}]});
@@ -189,7 +184,18 @@ fn tool_force_on_a_single_disc() {
         800e6,
         1,
     );
-    let model = LabModel::from_params(&p);
+    (spec_path, LabModel::from_params(&p))
+}
+
+/// One disc of radius r pushed by the tool's rake face (slot walls removed from the scene):
+/// in every step of contact the force on the tool is minus the force on the disc and equals the
+/// linear law k_tool·δ (δ = r − distance from the disc centre to the rake face), along −x; the
+/// main force read from the wall columns is +k_tool·δ.
+#[test]
+fn tool_force_on_a_single_disc() {
+    let dir = tmp("single");
+    let r = 0.1e-3;
+    let (spec_path, model) = one_disc(&dir, r);
     // a_p = 1.2 r: the edge is 0.2 r below the disc centre, so the disc touches the rake
     // face (not the edge) and the clearance face stays clear for overlaps below 0.02 r.
     let test = CuttingTest {
@@ -280,22 +286,7 @@ fn tool_force_on_a_single_disc() {
 fn a_disc_on_the_tool_edge_gets_one_contact() {
     let dir = tmp("edge");
     let r = 0.1e-3;
-    let spec_path = dir.join("one.json");
-    let spec = serde_json::json!({"schema": "dem.specimen/1", "units": "m",
-        "discs": [{"material": "Si3N4", "discs": [[r, r, r]]}]});
-    std::fs::write(&spec_path, spec.to_string()).unwrap();
-    let p = SpecimenParams::new(
-        Method::Traditional,
-        4e-3,
-        2e-3,
-        r,
-        r,
-        3200.0,
-        310e9,
-        800e6,
-        1,
-    );
-    let model = LabModel::from_params(&p);
+    let (spec_path, model) = one_disc(&dir, r);
     let info = SpecimenInfo::read(&spec_path).unwrap();
     let kdd = model.contact_kn();
     let mut forces = vec![];
