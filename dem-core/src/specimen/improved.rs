@@ -56,7 +56,7 @@ fn cell_template(
     cell_template_with(gi, cell, p, MASS_FLOOR)
 }
 
-/// [`cell_template`] with another lower bound of the solved masses (a fraction of the
+/// `cell_template` with another lower bound of the solved masses (a fraction of the
 /// uniform-disc prior), for studies of the time step (`examples/template_dt.rs`). Returns the
 /// template and whether r_min had to be reduced.
 pub fn cell_template_with(
@@ -137,7 +137,7 @@ pub fn outline_template(
 }
 
 /// Templates for every cell (in parallel, collected in cell order), placed as bonded clumps in
-/// the box walls. Returns the world (bond groups of [`bond_groups`], intra bonds installed),
+/// the box walls. Returns the world (bond groups of [`super::methods::bond_groups`], intra bonds installed),
 /// the registered contact offsets and the template figures.
 #[allow(clippy::type_complexity)]
 pub fn build(
