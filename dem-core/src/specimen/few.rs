@@ -399,11 +399,7 @@ pub fn build_improved(
     let m = order.len();
     let mut bonds = Bonds::new(bond_groups_with(p, true))?;
     let mut offsets = Vec::new();
-    let mut ts = TemplateStats {
-        grains: irr.grains.len(),
-        discs_min: if irr.grains.is_empty() { 0 } else { usize::MAX },
-        ..TemplateStats::default()
-    };
+    let mut ts = TemplateStats::default();
     for (gi, g) in irr.grains.iter().enumerate() {
         let t = &g.template;
         let placed = place_bonded_clump_in(
@@ -421,19 +417,9 @@ pub fn build_improved(
             },
         )?;
         offsets.extend(placed.offsets);
-        let k = t.discs.len();
-        ts.discs_min = ts.discs_min.min(k);
-        ts.discs_max = ts.discs_max.max(k);
-        ts.discs_mean += k as f64;
-        ts.cover_mean += t.cover.value;
-        ts.union_area += t.cover.union_area;
-        ts.max_residual = ts.max_residual.max(t.residuals.max());
-        ts.r_min_reduced += g.r_min_reduced as usize;
+        ts.add(t, g.r_min_reduced);
     }
-    if !irr.grains.is_empty() {
-        ts.discs_mean /= irr.grains.len() as f64;
-        ts.cover_mean /= irr.grains.len() as f64;
-    }
+    ts.finish();
     // Overlaps between template discs and packing discs (or other grains' discs): gap < 0.
     let ramp: Vec<(u32, u32, f64)> = crate::bond::install::pairs_within_gap(&st, 0.0)
         .into_iter()

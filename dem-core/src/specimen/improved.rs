@@ -47,6 +47,33 @@ pub struct TemplateStats {
     pub r_min_reduced: usize,
 }
 
+impl TemplateStats {
+    /// Count one grain's template (`reduced`: its r_min had to be reduced).
+    pub fn add(&mut self, t: &Template, reduced: bool) {
+        let k = t.discs.len();
+        self.discs_min = if self.grains == 0 {
+            k
+        } else {
+            self.discs_min.min(k)
+        };
+        self.grains += 1;
+        self.discs_max = self.discs_max.max(k);
+        self.discs_mean += k as f64;
+        self.cover_mean += t.cover.value;
+        self.union_area += t.cover.union_area;
+        self.max_residual = self.max_residual.max(t.residuals.max());
+        self.r_min_reduced += reduced as usize;
+    }
+
+    /// Turn the sums of [`TemplateStats::add`] into means.
+    pub fn finish(&mut self) {
+        if self.grains > 0 {
+            self.discs_mean /= self.grains as f64;
+            self.cover_mean /= self.grains as f64;
+        }
+    }
+}
+
 /// Template of one grain cell; r_min is halved (up to twice) when the cell is too small.
 fn cell_template(
     gi: usize,
@@ -170,11 +197,7 @@ pub fn build(
     };
     let mut bonds = Bonds::new(bond_groups_with(p, true))?;
     let mut offsets = Vec::new();
-    let mut ts = TemplateStats {
-        grains: n,
-        discs_min: usize::MAX,
-        ..TemplateStats::default()
-    };
+    let mut ts = TemplateStats::default();
     for (gi, (t, reduced)) in templates.iter().enumerate() {
         let [cx, cy] = t.source.centroid_m;
         let placed = place_bonded_clump_in(
@@ -192,19 +215,9 @@ pub fn build(
             },
         )?;
         offsets.extend(placed.offsets);
-        let k = t.discs.len();
-        ts.discs_min = ts.discs_min.min(k);
-        ts.discs_max = ts.discs_max.max(k);
-        ts.discs_mean += k as f64;
-        ts.cover_mean += t.cover.value;
-        ts.union_area += t.cover.union_area;
-        ts.max_residual = ts.max_residual.max(t.residuals.max());
-        ts.r_min_reduced += *reduced as usize;
+        ts.add(t, *reduced);
     }
-    if n > 0 {
-        ts.discs_mean /= n as f64;
-        ts.cover_mean /= n as f64;
-    }
+    ts.finish();
     let w = crate::bond::attach::world_with_bonds(
         st,
         relax::params(),
