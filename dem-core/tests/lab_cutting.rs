@@ -8,38 +8,16 @@ use dem_core::lab::history::Table;
 use dem_core::lab::model::series_wall_stiffness;
 use dem_core::lab::tool::{segment_polygon_distance, CutGeometry, ToolModel};
 use dem_core::lab::LabModel;
-use dem_core::specimen::{generate, io, Method, SpecimenParams};
+use dem_core::specimen::{Method, SpecimenParams};
 use std::path::PathBuf;
+
+mod lab_common;
 
 fn tmp(name: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("dem-cut-{}-{name}", std::process::id()));
     let _ = std::fs::remove_dir_all(&d);
     std::fs::create_dir_all(&d).unwrap();
     d
-}
-
-/// Traditional specimen, 5 × 2.5 mm, radii 0.10-0.16 mm (about 200 discs), Si3N4's density
-/// and E but bonds of 3 GPa: a short test must cut fast (10 m/s), and the regime of a cut is set
-/// by the impact strain v/c (c = √(E/ρ) ≈ 9.8 km/s) against the failure strain σ_t/E: with
-/// 800 MPa bonds 10 m/s shatters a specimen this small (v/c ≈ 0.4 σ_t/E: 160 of 346 bonds
-/// broke, the largest piece kept 60 of 198 discs), with 3 GPa it cuts (v/c ≈ 0.1 σ_t/E; the
-/// full-size runs at 1 m/s and 800 MPa have 0.04).
-fn small_specimen(dir: &std::path::Path) -> (PathBuf, LabModel) {
-    let p = SpecimenParams::new(
-        Method::Traditional,
-        5e-3,
-        2.5e-3,
-        0.10e-3,
-        0.16e-3,
-        3200.0,
-        310e9,
-        3e9,
-        3,
-    );
-    let s = generate(&p, &mut |_| {}).unwrap_or_else(|e| panic!("{e}"));
-    let path = dir.join("small.json");
-    io::save(&s, "Si3N4", &path).unwrap();
-    (path, LabModel::from_params(&p))
 }
 
 /// a_p = 0.6 mm (about 2.3 mean disc diameters), L = 1.5 mm, v = 10 m/s (a short run: 1e5
@@ -55,7 +33,7 @@ fn short_test() -> CuttingTest {
 #[test]
 fn short_cut_of_a_small_specimen() {
     let dir = tmp("short");
-    let (spec, model) = small_specimen(&dir);
+    let (spec, model) = lab_common::cut_specimen(&dir);
     let out = dir.join("cut");
     let test = short_test();
     let mut calls = 0;
@@ -396,7 +374,7 @@ fn an_interrupted_cut_resumes_bit_identically() {
     use dem_core::lab::cutting::CuttingRunOptions;
     use dem_core::lab::LabError;
     let dir = tmp("resume");
-    let (spec, model) = small_specimen(&dir);
+    let (spec, model) = lab_common::cut_specimen(&dir);
     let test = CuttingTest {
         history_rows: 200,
         window_start: 1.0,

@@ -4,35 +4,16 @@
 //! keys of a test without deletion unchanged.
 
 use dem_core::lab::cutting::{self, CuttingRunOptions, CuttingTest};
-use dem_core::lab::{LabError, LabModel};
-use dem_core::specimen::{generate, io, Method, SpecimenParams};
+use dem_core::lab::LabError;
 use std::path::{Path, PathBuf};
+
+mod lab_common;
 
 fn tmp(name: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("dem-debris-{}-{name}", std::process::id()));
     let _ = std::fs::remove_dir_all(&d);
     std::fs::create_dir_all(&d).unwrap();
     d
-}
-
-/// The small specimen of `lab_cutting.rs` (traditional, 5 × 2.5 mm, radii 0.10-0.16 mm,
-/// Si3N4's density and E, 3 GPa bonds: it cuts at 10 m/s).
-fn small_specimen(dir: &Path) -> (PathBuf, LabModel) {
-    let p = SpecimenParams::new(
-        Method::Traditional,
-        5e-3,
-        2.5e-3,
-        0.10e-3,
-        0.16e-3,
-        3200.0,
-        310e9,
-        3e9,
-        3,
-    );
-    let s = generate(&p, &mut |_| {}).unwrap_or_else(|e| panic!("{e}"));
-    let path = dir.join("small.json");
-    io::save(&s, "Si3N4", &path).unwrap();
-    (path, LabModel::from_params(&p))
 }
 
 /// a_p = 0.6 mm, L = 1.5 mm, v = 10 m/s, 400 history rows (the `lab_cutting.rs` short cut).
@@ -66,7 +47,7 @@ fn same_files(a: &Path, b: &Path) {
 #[test]
 fn a_cut_with_deletion_deletes_debris_and_is_thread_independent() {
     let dir = tmp("threads");
-    let (spec, model) = small_specimen(&dir);
+    let (spec, model) = lab_common::cut_specimen(&dir);
     let run = |delete: bool, threads: usize, out: &str| {
         let out = dir.join(out);
         let t = short_test(delete);
@@ -129,7 +110,7 @@ fn a_cut_with_deletion_deletes_debris_and_is_thread_independent() {
 #[test]
 fn an_interrupted_cut_with_deletion_resumes_bit_identically() {
     let dir = tmp("resume");
-    let (spec, model) = small_specimen(&dir);
+    let (spec, model) = lab_common::cut_specimen(&dir);
     let test = CuttingTest {
         history_rows: 200,
         ..short_test(true)

@@ -8,6 +8,7 @@
 //! running again. A long report (the full Table 2 is ~60 runs) can therefore be stopped and
 //! continued, or built up over several sessions.
 
+use crate::force_statistics::main_force;
 use crate::table2::RunRecord;
 use dem_core::lab::cutting::{self, CuttingResult, CuttingTest};
 use dem_core::lab::LabModel;
@@ -478,12 +479,6 @@ impl HistoryStats {
             .flatten(),
         }
     }
-}
-
-/// Tool travel (m) and main force (N) of a run's `cutting.forces.csv`.
-pub fn main_force(file: &Path) -> Option<(Vec<f64>, Vec<f64>)> {
-    let t = dem_core::lab::history::Table::read(file).ok()?;
-    Some((t.column("travel_m", "").ok()?, t.column("main_N", "").ok()?))
 }
 
 /// Runs `f` on a one-thread rayon pool (the engine's inner parallel loops then run serially).

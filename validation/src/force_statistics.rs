@@ -44,6 +44,12 @@ pub const PEAK_WIDTH_AP: f64 = 1.0;
 /// What the seed-averaged peak is, for the report.
 pub const PEAK_STATISTIC: &str = "the seeds' main-force histories resampled onto a 1 µm travel grid (cell means of the linear interpolant) within the steady window [2 a_p, L], averaged cell by cell, then a moving mean over w = 1 a_p of travel, its maximum";
 
+/// Tool travel (m) and main force (N) of a run's `cutting.forces.csv`.
+pub fn main_force(file: &Path) -> Option<(Vec<f64>, Vec<f64>)> {
+    let t = dem_core::lab::history::Table::read(file).ok()?;
+    Some((t.column("travel_m", "").ok()?, t.column("main_N", "").ok()?))
+}
+
 /// One run's history and window, read back from its folder.
 #[derive(Clone, Debug)]
 pub struct LoadedRun {
@@ -97,8 +103,7 @@ pub fn load_run(dir: &Path) -> Result<LoadedRun, String> {
         .as_f64()
         .ok_or_else(|| format!("{}: no main_force.mean", rf.display()))?;
     let ff = dir.join(dem_core::lab::cutting::FORCES_FILE);
-    let (travel, force) = crate::cutting_runs::main_force(&ff)
-        .ok_or_else(|| format!("{}: unreadable", ff.display()))?;
+    let (travel, force) = main_force(&ff).ok_or_else(|| format!("{}: unreadable", ff.display()))?;
     Ok(LoadedRun {
         name: name.into(),
         method,
@@ -315,20 +320,11 @@ pub fn width_row(runs: &[&LoadedRun]) -> Result<WidthRow, String> {
 pub fn choose_width(rows: &[WidthRow]) -> (Option<f64>, Vec<Option<f64>>) {
     let medians: Vec<Option<f64>> = (0..WIDTH_CANDIDATES_AP.len())
         .map(|k| {
-            let mut v: Vec<f64> = rows
+            let v: Vec<f64> = rows
                 .iter()
                 .filter_map(|r| r.drop_on_doubling.get(k).copied().flatten())
                 .collect();
-            if v.is_empty() {
-                return None;
-            }
-            v.sort_by(f64::total_cmp);
-            let n = v.len();
-            Some(if n % 2 == 1 {
-                v[n / 2]
-            } else {
-                0.5 * (v[n / 2 - 1] + v[n / 2])
-            })
+            (!v.is_empty()).then(|| clumpgen::batch::median(v))
         })
         .collect();
     let chosen = WIDTH_CANDIDATES_AP

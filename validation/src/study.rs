@@ -140,16 +140,6 @@ impl StudySpec {
         let plan = crate::table2_section::plan(data, false)?;
         let mut jobs = vec![];
         for v in &self.variants {
-            // The variant's fields over a base (unknown fields are refused by the types'
-            // `deny_unknown_fields`).
-            let over =
-                |base: &dyn erased::Ser, add: &Map<String, Value>| -> Result<Value, String> {
-                    let mut b = base.value()?;
-                    if let Value::Object(o) = &mut b {
-                        o.extend(add.clone());
-                    }
-                    Ok(b)
-                };
             for m in &self.methods {
                 let method = Method::parse(m).expect("checked by read");
                 for &d in &self.depths_mm {
@@ -160,11 +150,11 @@ impl StudySpec {
                             spec.seed = seed;
                             crate::cutting_runs::normalize_grains(&mut spec);
                             let spec: SpecimenParams =
-                                serde_json::from_value(over(&spec, &v.specimen)?)
+                                serde_json::from_value(overlay(&spec, &v.specimen)?)
                                     .map_err(|e| format!("variant {}: specimen: {e}", v.name))?;
                             let base = CuttingTest::new(d * 1e-3, sp, self.length_mm * 1e-3);
                             let test: CuttingTest =
-                                serde_json::from_value(over(&base, &v.test)?)
+                                serde_json::from_value(overlay(&base, &v.test)?)
                                     .map_err(|e| format!("variant {}: test: {e}", v.name))?;
                             test.validate()
                                 .map_err(|e| format!("variant {}: {e}", v.name))?;
@@ -189,16 +179,14 @@ impl StudySpec {
     }
 }
 
-mod erased {
-    /// A value serialised to JSON (object-safe, for the variant overlay).
-    pub trait Ser {
-        fn value(&self) -> Result<serde_json::Value, String>;
+/// `base` as JSON with the variant's fields `add` laid over it (unknown fields are refused
+/// when the result is read back: the types deny unknown fields).
+fn overlay<T: Serialize>(base: &T, add: &Map<String, Value>) -> Result<Value, String> {
+    let mut b = serde_json::to_value(base).map_err(|e| e.to_string())?;
+    if let Value::Object(o) = &mut b {
+        o.extend(add.clone());
     }
-    impl<T: serde::Serialize> Ser for T {
-        fn value(&self) -> Result<serde_json::Value, String> {
-            serde_json::to_value(self).map_err(|e| e.to_string())
-        }
-    }
+    Ok(b)
 }
 
 /// Mean of `f` over samples with abscissa in [a, b].
@@ -219,8 +207,9 @@ fn window_mean(x: &[f64], f: &[f64], a: f64, b: f64) -> f64 {
 
 /// The row of one finished run in `dir`.
 pub fn row(variant: &str, job: &Job, res: &CuttingResult, dir: &Path, cpu: Option<f64>) -> Row {
-    let (x, f) = crate::cutting_runs::main_force(&dir.join(dem_core::lab::cutting::FORCES_FILE))
-        .unwrap_or_default();
+    let (x, f) =
+        crate::force_statistics::main_force(&dir.join(dem_core::lab::cutting::FORCES_FILE))
+            .unwrap_or_default();
     let [a, b] = res.window;
     let mid = 0.5 * (a + b);
     let energy = std::fs::read_to_string(dir.join("summary.json"))
@@ -350,7 +339,7 @@ pub fn plots(spec: &StudySpec, rows: &[Row], work: &Path) -> Result<Vec<(String,
                 for var in &spec.variants {
                     let run = format!("{}-{}-d{}-v{}-s{seed}", var.name, method.name(), d, v);
                     let file = work.join(&run).join(dem_core::lab::cutting::FORCES_FILE);
-                    if let Some((x, f)) = crate::cutting_runs::main_force(&file) {
+                    if let Some((x, f)) = crate::force_statistics::main_force(&file) {
                         let pts = smooth(&x, &f, d * 1e-3)
                             .into_iter()
                             .map(|(a, b)| (a * 1e3, b * 1e-3))

@@ -88,7 +88,7 @@ pub fn plan(data: &Path, quick: bool) -> Result<Plan, String> {
 
 /// Reads `cutting.forces.csv` (travel, time, main, vertical) as (travel mm, main kN × scale).
 fn force_series(file: &Path, scale: f64) -> Option<Vec<(f64, f64)>> {
-    let (x, f) = crate::cutting_runs::main_force(file)?;
+    let (x, f) = crate::force_statistics::main_force(file)?;
     Some(
         x.iter()
             .zip(&f)
