@@ -1,6 +1,6 @@
 //! Force statistics of finished Table 2 runs, read back (no run is made):
 //! `cargo run --release -p validation --example force_stats -- [runs dir] [data dir]`
-//! (defaults `docs/report/table2-runs`, `data`). Prints the width study on the a_p = 1 mm
+//! (defaults `docs/report/table2-runs-2026-11-25`, `data`). Prints the width study on the a_p = 1 mm
 //! cells (the rule of `force_statistics::choose_width`), the same study on a_p = 2 mm as a check,
 //! and the cell table at the chosen width (kN at the thickness fitted as Table 2 does), as
 //! markdown; `--json FILE` also writes the figures as JSON; `--seeds 6,7,8,9,10` uses only
@@ -36,7 +36,7 @@ fn main() -> Result<(), String> {
     };
     let dir = PathBuf::from(
         args.first()
-            .map_or("docs/report/table2-runs", |s| s.as_str()),
+            .map_or("docs/report/table2-runs-2026-11-25", |s| s.as_str()),
     );
     let data = PathBuf::from(args.get(1).map_or("data", |s| s.as_str()));
     let paper = PaperTable2::read(&data.join("reference/ye_xu_2010_table2.json"))?;

@@ -170,10 +170,38 @@ pub fn seed_averaged(
                 seeds: c.len(),
                 peak_n: p.peak,
                 mean_n: p.mean,
+                peak_se_n: jackknife_se(&c, PEAK_WIDTH_AP)
+                    .map_err(|e| format!("{}: {e}", c[0].name))?,
             });
         }
     }
     Ok(out)
+}
+
+/// Jackknife standard error of the seed-averaged peak of one cell's runs: the peak with each
+/// run left out in turn, θ₋ᵢ, and SE² = (n−1)/n Σ (θ₋ᵢ − θ̄)² (Efron & Tibshirani 1993,
+/// *An Introduction to the Bootstrap*, §11.2); `None` for fewer than two runs.
+pub fn jackknife_se(runs: &[&LoadedRun], width_ap: f64) -> Result<Option<f64>, ForceStatsError> {
+    let n = runs.len();
+    if n < 2 {
+        return Ok(None);
+    }
+    let mut theta = Vec::with_capacity(n);
+    for i in 0..n {
+        let rest: Vec<&LoadedRun> = runs
+            .iter()
+            .enumerate()
+            .filter(|&(j, _)| j != i)
+            .map(|(_, r)| *r)
+            .collect();
+        match cell_peak(&rest, width_ap)? {
+            Some(p) => theta.push(p.peak),
+            None => return Ok(None),
+        }
+    }
+    let m = theta.iter().sum::<f64>() / n as f64;
+    let ss: f64 = theta.iter().map(|t| (t - m) * (t - m)).sum();
+    Ok(Some(((n as f64 - 1.0) / n as f64 * ss).sqrt()))
 }
 
 /// One cell of the force-statistics table, N at the runs' thickness unless stated.
@@ -200,7 +228,8 @@ pub struct CellStats {
     pub top5_work_share: Option<f64>,
 }
 
-fn mean_se(v: &[f64]) -> (f64, f64) {
+/// Mean and standard error (sd/√n, sample sd; 0 for one value) of a non-empty list.
+pub fn mean_se(v: &[f64]) -> (f64, f64) {
     let n = v.len() as f64;
     let m = v.iter().sum::<f64>() / n;
     let se = if v.len() > 1 {
@@ -453,6 +482,31 @@ mod tests {
                 assert!((n - n.round()).abs() < 1e-6, "{w} a_p at {ap} m: {n} cells");
             }
         }
+    }
+
+    /// Constant histories f₁…fₙ: the seed-averaged history is their mean, so is its peak,
+    /// and the jackknife SE of a mean is sd/√n exactly.
+    #[test]
+    fn jackknife_se_of_constant_runs_is_the_se_of_their_mean() {
+        let f = [10.0, 13.0, 7.0, 12.0, 9.5];
+        let runs: Vec<LoadedRun> = f
+            .iter()
+            .enumerate()
+            .map(|(i, &b)| run(i as u64 + 1, b, b, 0.0, 0.0))
+            .collect();
+        let refs: Vec<&LoadedRun> = runs.iter().collect();
+        let n = f.len() as f64;
+        let m = f.iter().sum::<f64>() / n;
+        let sd = (f.iter().map(|x| (x - m) * (x - m)).sum::<f64>() / (n - 1.0)).sqrt();
+        let se = jackknife_se(&refs, 1.0).unwrap().unwrap();
+        assert!(
+            (se - sd / n.sqrt()).abs() < 1e-9 * sd,
+            "{se} vs {}",
+            sd / n.sqrt()
+        );
+        assert!((cell_peak(&refs, 1.0).unwrap().unwrap().peak - m).abs() < 1e-9 * m);
+        // One run: no SE.
+        assert_eq!(jackknife_se(&refs[..1], 1.0).unwrap(), None);
     }
 
     #[test]

@@ -9,6 +9,7 @@ pub mod environment;
 pub mod force_statistics;
 pub mod page;
 pub mod plot;
+pub mod removal_table;
 pub mod report;
 pub mod stability;
 pub mod study;

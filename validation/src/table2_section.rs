@@ -19,7 +19,7 @@ pub fn si3n4_model(data: &Path) -> Result<LabModel, String> {
 }
 
 /// Full: 20 × 10 mm, radii 0.175–0.285 mm (989 discs in the paper, 993 ours), grains 0.86 mm,
-/// template discs from 0.08 mm, seeds 1–5, L = 10 mm, the cutting test's defaults. Quick (a
+/// template discs from 0.08 mm, seeds 1–10 (1–5 for choosing, 6–10 to check), L = 10 mm, the cutting test's defaults. Quick (a
 /// smoke test, not comparable with the paper): a 10 × 5 mm specimen, radii 0.3–0.5 mm (a
 /// depth of 1 mm is 2.5 mean radii, so the tool cuts material rather than pushing single
 /// discs: with radii 0.6–1.0 mm the ORC mean force was 0), grains 1.4 mm, template discs from
@@ -47,7 +47,7 @@ pub fn plan(data: &Path, quick: bool) -> Result<Plan, String> {
             0.285e-3,
             0.86e-3,
             0.08e-3,
-            vec![1, 2, 3, 4, 5],
+            (1..=10).collect(),
             10e-3,
         )
     };
@@ -97,6 +97,14 @@ fn force_series(file: &Path, scale: f64) -> Option<Vec<(f64, f64)>> {
     )
 }
 
+/// The seeds that check the claims: the model was chosen on seeds 1–5 (docs/cutting.md,
+/// "Decision log").
+pub const CHECK_SEEDS: std::ops::RangeInclusive<u64> = 6..=10;
+
+/// The table before issue 19 in the report folder (earlier model, 5 seeds): its cells are
+/// shown beside the new ones.
+pub const PREVIOUS_FILE: &str = "table2-previous.json";
+
 /// Which part of the plan to run: all of it by default; a subset of the methods or seeds lets
 /// the full table be built up piece by piece (finished runs are read back, see
 /// [`crate::cutting_runs`]).
@@ -138,7 +146,48 @@ pub fn section(
         errors.push(format!("seed-averaged peaks: {e}"));
         vec![]
     });
-    let t = table2::assemble_with(&records, &paper, &seed_avg)?;
+    let mut t = table2::assemble_with(&records, &paper, &seed_avg)?;
+    // The claims on the check seeds (not used to choose the model), beside those on every seed.
+    let check: Vec<_> = runs
+        .iter()
+        .filter(|r| CHECK_SEEDS.contains(&r.record.seed))
+        .collect();
+    if !quick && !check.is_empty() && check.len() < runs.len() {
+        let recs: Vec<_> = check.iter().map(|r| r.record.clone()).collect();
+        let names: Vec<&str> = check.iter().map(|r| r.name.as_str()).collect();
+        match crate::force_statistics::seed_averaged(&work, &names)
+            .and_then(|sa| table2::assemble_with(&recs, &paper, &sa))
+        {
+            Ok(c) => {
+                t.claims_all_seeds = std::mem::replace(&mut t.claims, c.claims);
+                t.claims_on = format!(
+                    "the check seeds {}–{} only (not used to choose the model; the seeds \
+                     1–5 were)",
+                    CHECK_SEEDS.start(),
+                    CHECK_SEEDS.end()
+                );
+            }
+            Err(e) => errors.push(format!("claims on the check seeds: {e}")),
+        }
+    }
+    // Each cell's value in the table before issue 19, where it is kept.
+    if let Ok(text) = std::fs::read_to_string(out.join(PREVIOUS_FILE)) {
+        match serde_json::from_str::<table2::Table2>(&text) {
+            Ok(prev) => {
+                for c in &mut t.cells {
+                    if let Some(p) = prev.cells.iter().find(|p| {
+                        p.method == c.method
+                            && p.depth_mm == c.depth_mm
+                            && p.speed_m_s == c.speed_m_s
+                    }) {
+                        c.previous_mean_kN = Some(p.mean_kN);
+                        c.previous_peak_kN = Some(p.peak_kN);
+                    }
+                }
+            }
+            Err(e) => errors.push(format!("{}: {e}", out.join(PREVIOUS_FILE).display())),
+        }
+    }
     let scale = t.constant.value / t.constant.run_value / 1e3;
     // Bars: mean force per case and method, ours and the paper's.
     let mut cats = vec![];
@@ -194,6 +243,47 @@ pub fn section(
         total_time
     );
     md += &t.markdown().replacen("## Table 2", "### Table 2", 1);
+    // The removal mode against S0's description, and its picture.
+    let (removal, removal_checks) = match crate::removal_table::cells(&work, &names) {
+        Ok(c) => {
+            let k = crate::removal_table::checks(&c);
+            (c, k)
+        }
+        Err(e) => {
+            errors.push(format!("removal mode: {e}"));
+            (vec![], vec![])
+        }
+    };
+    md += "\n";
+    md += &crate::removal_table::markdown(&removal, &removal_checks);
+    let mut cases: Vec<(f64, f64)> = removal.iter().map(|c| (c.depth_mm, c.speed_m_s)).collect();
+    cases.sort_by(|a, b| a.partial_cmp(b).unwrap());
+    cases.dedup();
+    let shares: Vec<(String, Vec<f64>)> = METHODS
+        .iter()
+        .map(|m| {
+            let v = cases
+                .iter()
+                .map(|&(d, v)| {
+                    removal
+                        .iter()
+                        .find(|c| c.method == *m && c.depth_mm == d && c.speed_m_s == v)
+                        .and_then(|c| c.single_grain_share)
+                        .map_or(0.0, |s| 100.0 * s.mean)
+                })
+                .collect();
+            (m.to_string(), v)
+        })
+        .collect();
+    let removal_bars = plot::bars(
+        "Share of the chip discs that leave in single-grain chips (seed mean)",
+        "%",
+        &cases
+            .iter()
+            .map(|(d, v)| format!("a_p {d} mm, v {v} m/s"))
+            .collect::<Vec<_>>(),
+        &shares,
+    )?;
     // Where ours disagrees, the most likely cause (not for the quick mode's toy runs).
     let why = if quick {
         vec![]
@@ -201,6 +291,8 @@ pub fn section(
         crate::table2_why::findings(&records, &t, &paper, plan.specimen.grain_size * 1e3)
     };
     md += "\n";
+    let per_cell = crate::table2_why::per_cell(&t);
+    md += &crate::table2_why::per_cell_markdown(&per_cell);
     md += &crate::table2_why::markdown(&why);
     if !not_run.is_empty() {
         md += &format!(
@@ -227,6 +319,11 @@ pub fn section(
                 svg: bars,
             },
             Figure {
+                file: "table2_removal.svg".into(),
+                caption: "Removal mode: share of the chip discs that leave as single-grain chips, per case and method (S0: traditional chips leave as single discs)".into(),
+                svg: removal_bars,
+            },
+            Figure {
                 file: "cutting_forces.svg".into(),
                 caption: "Main cutting force against tool travel for the three specimen types, a_p = 1 mm, v = 1 m/s".into(),
                 svg: hist,
@@ -236,7 +333,14 @@ pub fn section(
             ("table2.json".into(), json(&t)),
             ("table2_runs.json".into(), json(&runs)),
             ("table2_not_run.json".into(), json(&not_run)),
-            ("table2_why.json".into(), json(&why)),
+            (
+                "table2_why.json".into(),
+                json(&serde_json::json!({"findings": why, "per_cell": per_cell})),
+            ),
+            (
+                "table2_removal.json".into(),
+                json(&serde_json::json!({"cells": removal, "checks": removal_checks})),
+            ),
         ],
     };
     Ok((section, scale, reused))

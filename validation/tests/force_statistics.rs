@@ -1,12 +1,12 @@
 //! The documented peak width is what the stated rule gives on the committed Table 2 runs
-//! (docs/report/table2-runs, a_p = 1 mm cells only), and the statistic reads all 60 runs.
+//! (docs/report/table2-runs-2026-11-25, a_p = 1 mm cells only), and the statistic reads all 60 runs.
 
 use std::path::Path;
 use validation::force_statistics as fs;
 
 #[test]
 fn the_committed_runs_give_the_documented_width() {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/report/table2-runs");
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/report/table2-runs-2026-11-25");
     let runs = fs::load_runs(&dir).unwrap();
     assert_eq!(runs.len(), 60);
     let cells = fs::cells(&runs);
