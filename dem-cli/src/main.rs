@@ -59,6 +59,16 @@ fn main() -> ExitCode {
     }
 }
 
+/// `--threads N`: a count of at least 1 (leaving the flag out means all cores; 0 used to
+/// mean that too, silently).
+pub(crate) fn parse_threads(s: &str) -> Result<usize, String> {
+    match s.trim().parse::<usize>() {
+        Ok(0) => Err("must be at least 1 (leave the flag out for all cores)".into()),
+        Ok(n) => Ok(n),
+        Err(e) => Err(format!("{e} (a count of worker threads, at least 1)")),
+    }
+}
+
 /// A standard output closed early (`dem bench dense | head -1`) ends the program quietly, as it
 /// does `cat`: Rust programs ignore SIGPIPE, so `println!` would panic on the broken pipe.
 #[cfg(unix)]
