@@ -18,8 +18,8 @@ pub struct RunArgs {
     /// Continue from a checkpoint written by a run of the same scene.
     #[arg(long)]
     restart: Option<PathBuf>,
-    /// Worker threads (default: all cores); results do not depend on it.
-    #[arg(long)]
+    /// Worker threads, at least 1 (default: all cores); results do not depend on it.
+    #[arg(long, value_parser = crate::parse_threads)]
     threads: Option<usize>,
     /// Stop when the world reaches this step (overrides the scene's run.max_steps).
     #[arg(long)]

@@ -123,8 +123,8 @@ pub struct CuttingArgs {
     /// cutting.result.json.
     #[arg(long)]
     pub out: PathBuf,
-    /// Worker threads (default: all cores); results do not depend on it.
-    #[arg(long)]
+    /// Worker threads, at least 1 (default: all cores); results do not depend on it.
+    #[arg(long, value_parser = crate::parse_threads)]
     pub threads: Option<usize>,
 }
 

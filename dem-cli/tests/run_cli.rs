@@ -220,3 +220,43 @@ fn bench_prints_the_figure_last() {
     let o = dem(&["bench", "dense", "--steps", "0"]);
     assert_eq!(o.status.code(), Some(2));
 }
+
+/// `--threads 0` is a usage error (exit 2), not "all cores" in silence.
+#[test]
+fn threads_zero_is_a_usage_error() {
+    let dir = tmp("threads");
+    let scene = tiny_scene(&dir);
+    let out = dir.join("out");
+    let o = dem(&[
+        "run",
+        scene.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--threads",
+        "0",
+    ]);
+    let t = text(&o);
+    assert_eq!(o.status.code(), Some(2), "{t}");
+    assert!(t.contains("--threads") && t.contains("at least 1"), "{t}");
+    assert!(!out.join("summary.json").exists());
+    let o = dem(&[
+        "specimen",
+        "--method",
+        "traditional",
+        "--width",
+        "1mm",
+        "--height",
+        "1mm",
+        "--r-min",
+        "0.1mm",
+        "--r-max",
+        "0.16mm",
+        "--out",
+        dir.join("s.json").to_str().unwrap(),
+        "--threads",
+        "0",
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    assert!(text(&o).contains("--threads"), "{}", text(&o));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
