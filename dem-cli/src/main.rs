@@ -8,6 +8,7 @@ mod bench;
 mod calibrate;
 mod clump;
 mod run;
+mod run_lock;
 mod specimen;
 mod test;
 mod test_cutting;
