@@ -18,42 +18,181 @@ pub struct Input {
     pub relative: PathBuf,
 }
 
-/// Expands files and folders (recursively, sorted) into inputs. A folder's files keep their
-/// path below it, so two folders holding `grain-000.csv` do not collide.
+/// Expands files and folders (recursively, sorted) into inputs. Each input keeps its place
+/// below the folder common to all inputs, so no two inputs of different folders share a
+/// template: one folder's files keep their path below it (`grain-000.csv`); files of one
+/// folder keep their names; `coll/a/g.csv coll/b/g.csv` (or the folders `coll/a coll/b`) become
+/// `a/g.csv` and `b/g.csv`. A file given twice (also through a folder) is read once. Inputs
+/// that still map to one template (`g.csv` and `g.json` in one folder) are found by
+/// [`clashes`].
 pub fn collect_inputs(paths: &[PathBuf]) -> std::io::Result<Vec<Input>> {
-    fn walk(dir: &Path, base: &Path, out: &mut Vec<Input>) -> std::io::Result<()> {
-        let mut entries: Vec<PathBuf> = std::fs::read_dir(dir)?
+    fn walk(dir: &Path, base: &Path, prefix: &Path, out: &mut Vec<Input>) -> std::io::Result<()> {
+        let mut entries: Vec<PathBuf> = std::fs::read_dir(dir)
+            .map_err(|e| named(dir, e))?
             .map(|e| e.map(|e| e.path()))
-            .collect::<Result<_, _>>()?;
+            .collect::<Result<_, _>>()
+            .map_err(|e| named(dir, e))?;
         entries.sort();
         for p in entries {
             if p.is_dir() {
-                walk(&p, base, out)?;
+                walk(&p, base, prefix, out)?;
             } else if is_outline(&p) {
-                let relative = p.strip_prefix(base).unwrap_or(&p).to_path_buf();
+                let relative = prefix.join(p.strip_prefix(base).unwrap_or(&p));
                 out.push(Input { path: p, relative });
             }
         }
         Ok(())
     }
-    let mut out = Vec::new();
+    // Each input's folder: the folder itself, or a file's folder (canonical: `..`, `.` and
+    // links resolved, so the common folder is a real one).
+    let mut roots = Vec::with_capacity(paths.len());
     for p in paths {
-        if p.is_dir() {
-            walk(p, p, &mut out)?;
-        } else if p.exists() {
-            let relative = PathBuf::from(p.file_name().unwrap_or_default());
-            out.push(Input {
-                path: p.clone(),
-                relative,
-            });
-        } else {
+        if !p.exists() {
             return Err(std::io::Error::new(
                 std::io::ErrorKind::NotFound,
                 format!("{}: no such file or folder", p.display()),
             ));
         }
+        let c = std::fs::canonicalize(p).map_err(|e| named(p, e))?;
+        let root = if p.is_dir() {
+            c
+        } else {
+            c.parent().map_or(c.clone(), Path::to_path_buf)
+        };
+        roots.push(root);
     }
-    Ok(out)
+    let common = common_folder(&roots);
+    let mut out = Vec::new();
+    for (p, root) in paths.iter().zip(&roots) {
+        let prefix = root.strip_prefix(&common).unwrap_or(Path::new(""));
+        if p.is_dir() {
+            walk(p, p, prefix, &mut out)?;
+        } else {
+            let relative = prefix.join(p.file_name().unwrap_or_default());
+            out.push(Input {
+                path: p.clone(),
+                relative,
+            });
+        }
+    }
+    // The same file twice (given twice, or as a file and within a folder): once.
+    let mut seen = std::collections::HashSet::new();
+    let mut unique = Vec::with_capacity(out.len());
+    for i in out {
+        let key = std::fs::canonicalize(&i.path).unwrap_or_else(|_| i.path.clone());
+        if seen.insert(key) {
+            unique.push(i);
+        }
+    }
+    Ok(unique)
+}
+
+/// An I/O error with the path it concerns.
+fn named(p: &Path, e: std::io::Error) -> std::io::Error {
+    std::io::Error::new(e.kind(), format!("{}: {e}", p.display()))
+}
+
+/// The deepest folder containing all `paths` (absolute); `/` at worst, empty for none.
+fn common_folder(paths: &[PathBuf]) -> PathBuf {
+    let Some(first) = paths.first() else {
+        return PathBuf::new();
+    };
+    let mut common = first.clone();
+    for p in &paths[1..] {
+        while !p.starts_with(&common) {
+            if !common.pop() {
+                return PathBuf::new();
+            }
+        }
+    }
+    common
+}
+
+/// The template file of an input: `<out>/<relative with .json>`.
+pub fn template_path(out: &Path, input: &Input) -> PathBuf {
+    out.join(input.relative.with_extension("json"))
+}
+
+/// The batch summary's file in the output folder.
+pub const SUMMARY_FILE: &str = "summary.json";
+
+/// An input whose template cannot be written: it shares its template file with another input,
+/// or the template (or the batch summary) would overwrite an input file.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Clash {
+    /// The inputs (indices into the input list) not to be written.
+    pub inputs: Vec<usize>,
+    /// What clashes, naming the paths and the way out.
+    pub message: String,
+}
+
+/// The clashes of a batch into `out` (none: every input gets its own template and no input
+/// file is overwritten). [`run_batch`] writes no template of a clashing input; `dem clump`
+/// refuses the whole batch.
+pub fn clashes(inputs: &[Input], out: &Path) -> Vec<Clash> {
+    let mut found = Vec::new();
+    let canonical = |p: &Path| std::fs::canonicalize(p).ok();
+    let input_files: std::collections::HashMap<PathBuf, usize> = inputs
+        .iter()
+        .enumerate()
+        .filter_map(|(k, i)| canonical(&i.path).map(|c| (c, k)))
+        .collect();
+    let summary = out.join(SUMMARY_FILE);
+    let mut by_template: std::collections::HashMap<PathBuf, usize> =
+        std::collections::HashMap::new();
+    for (k, inp) in inputs.iter().enumerate() {
+        let t = template_path(out, inp);
+        if let Some(&first) = by_template.get(&t) {
+            found.push(Clash {
+                inputs: vec![first, k],
+                message: format!(
+                    "{} and {} would both be written as {}: rename one of them, or clump them \
+                     into different --out folders",
+                    inputs[first].path.display(),
+                    inp.path.display(),
+                    t.display()
+                ),
+            });
+            continue;
+        }
+        by_template.insert(t.clone(), k);
+        if t == summary {
+            found.push(Clash {
+                inputs: vec![k],
+                message: format!(
+                    "{}: its template would be {}, the batch summary: rename the file",
+                    inp.path.display(),
+                    t.display()
+                ),
+            });
+        } else if let Some(&victim) = canonical(&t).and_then(|c| input_files.get(&c)) {
+            let whose = if victim == k {
+                "this outline itself".to_string()
+            } else {
+                format!("the input {}", inputs[victim].path.display())
+            };
+            found.push(Clash {
+                inputs: vec![k],
+                message: format!(
+                    "{}: its template {} would overwrite {whose}: choose an --out folder that \
+                     holds no outlines",
+                    inp.path.display(),
+                    t.display(),
+                ),
+            });
+        }
+    }
+    if let Some(&victim) = canonical(&summary).and_then(|c| input_files.get(&c)) {
+        found.push(Clash {
+            inputs: vec![victim],
+            message: format!(
+                "the batch summary {} would overwrite the input {}: choose another --out folder",
+                summary.display(),
+                inputs[victim].path.display()
+            ),
+        });
+    }
+    found
 }
 
 fn is_outline(p: &Path) -> bool {
@@ -91,16 +230,27 @@ pub struct BatchReport {
 }
 
 /// Runs the batch on the current rayon pool. `tick` is called once per finished grain (for a
-/// progress bar). Templates are written atomically as `<out>/<relative>.json`.
+/// progress bar). Templates are written atomically as `<out>/<relative>.json`
+/// ([`template_path`]); an input in one of the batch's [`clashes`] fails with the clash's
+/// message and nothing is written for it.
 pub fn run_batch(inputs: &[Input], o: &BatchOptions, tick: &(dyn Fn() + Sync)) -> BatchReport {
     let t0 = Instant::now();
+    let mut refused: Vec<Option<String>> = vec![None; inputs.len()];
+    for c in clashes(inputs, &o.out) {
+        for k in c.inputs {
+            refused[k].get_or_insert_with(|| c.message.clone());
+        }
+    }
     let items = inputs
         .par_iter()
-        .map(|inp| {
+        .zip(&refused)
+        .map(|(inp, refused)| {
             let t = Instant::now();
-            let dest = o.out.join(inp.relative.with_extension("json"));
-            let result = read_outline(&inp.path, &o.read)
-                .map_err(|e| e.to_string())
+            let dest = template_path(&o.out, inp);
+            let result = refused
+                .clone()
+                .map_or(Ok(()), Err)
+                .and_then(|()| read_outline(&inp.path, &o.read).map_err(|e| e.to_string()))
                 .and_then(|ol| make_template(&ol, &o.params).map_err(|e| e.to_string()))
                 .and_then(|tpl| {
                     tpl.save(&dest).map_err(|e| e.to_string())?;
@@ -181,5 +331,91 @@ impl BatchReport {
     pub fn save(&self, path: &Path) -> std::io::Result<()> {
         let text = serde_json::to_string_pretty(self).map_err(std::io::Error::other)?;
         crate::io::write_atomic(path, text.as_bytes())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn tmp(name: &str) -> PathBuf {
+        let d = std::env::temp_dir().join(format!("clumpgen-batch-{}-{name}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&d);
+        std::fs::create_dir_all(&d).unwrap();
+        d
+    }
+
+    const SQUARE: &str = "0 0\n10 0\n10 10\n0 10\n";
+
+    #[test]
+    fn inputs_keep_their_place_below_the_common_folder() {
+        let d = tmp("common");
+        for f in ["a/g.csv", "b/g.csv", "b/sub/h.csv", "one.csv"] {
+            std::fs::create_dir_all(d.join(f).parent().unwrap()).unwrap();
+            std::fs::write(d.join(f), SQUARE).unwrap();
+        }
+        let rel = |paths: &[PathBuf]| -> Vec<String> {
+            collect_inputs(paths)
+                .unwrap()
+                .iter()
+                .map(|i| i.relative.display().to_string())
+                .collect()
+        };
+        // One folder, or files of one folder: paths below it, as before.
+        assert_eq!(rel(&[d.join("b")]), ["g.csv", "sub/h.csv"]);
+        assert_eq!(rel(&[d.join("a/g.csv")]), ["g.csv"]);
+        // Files or folders of several folders: below their common folder.
+        assert_eq!(
+            rel(&[d.join("a/g.csv"), d.join("b/g.csv")]),
+            ["a/g.csv", "b/g.csv"]
+        );
+        assert_eq!(
+            rel(&[d.join("a"), d.join("b"), d.join("one.csv")]),
+            ["a/g.csv", "b/g.csv", "b/sub/h.csv", "one.csv"]
+        );
+        // A file also reached through its folder is read once.
+        assert_eq!(
+            rel(&[d.join("b"), d.join("b/g.csv")]),
+            ["g.csv", "sub/h.csv"]
+        );
+        std::fs::remove_dir_all(&d).unwrap();
+    }
+
+    #[test]
+    fn clashing_inputs_are_not_written() {
+        let d = tmp("clash");
+        std::fs::write(d.join("g.csv"), SQUARE).unwrap();
+        std::fs::write(d.join("g.txt"), SQUARE).unwrap();
+        std::fs::write(d.join("k.csv"), SQUARE).unwrap();
+        let inputs = collect_inputs(std::slice::from_ref(&d)).unwrap();
+        let out = d.join("out");
+        let c = clashes(&inputs, &out);
+        assert_eq!(c.len(), 1, "{c:?}");
+        assert_eq!(c[0].inputs, [0, 1]);
+        let o = BatchOptions {
+            read: ReadOptions::default(),
+            params: ClumpParams::default(),
+            out: out.clone(),
+        };
+        let r = run_batch(&inputs, &o, &|| {});
+        assert!(r.items[0]
+            .error
+            .as_deref()
+            .unwrap()
+            .contains("both be written"));
+        assert!(r.items[1].error.is_some() && r.items[2].error.is_none());
+        assert!(!out.join("g.json").exists() && out.join("k.json").exists());
+        // Into the input folder itself: k.json is then an input that its template overwrites.
+        std::fs::remove_file(d.join("g.txt")).unwrap();
+        std::fs::rename(out.join("k.json"), d.join("g.json")).unwrap();
+        std::fs::remove_file(d.join("g.csv")).unwrap();
+        let inputs = collect_inputs(std::slice::from_ref(&d)).unwrap();
+        let c = clashes(&inputs, &d);
+        assert_eq!(c.len(), 1, "{c:?}");
+        assert!(
+            c[0].message.contains("overwrite this outline itself"),
+            "{c:?}"
+        );
+        std::fs::remove_dir_all(&d).unwrap();
     }
 }

@@ -98,29 +98,70 @@ impl From<crate::error::OutlineError> for ClumpError {
     }
 }
 
+/// A parameter of [`ClumpParams`] out of its range.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{name} {value}: {reason}")]
+pub struct ParamError {
+    /// The parameter, named as the `dem clump` flag (`cover`, `density`, `thickness`,
+    /// `max-discs`, `rmin`, `rmax`) or the field (`mass_floor`, `tolerance`).
+    pub name: &'static str,
+    pub value: String,
+    pub reason: String,
+}
+
+impl ClumpParams {
+    /// Checks the values that do not depend on the grain, so a batch can refuse bad
+    /// parameters once instead of failing every grain.
+    pub fn check(&self) -> Result<(), ParamError> {
+        let bad = |name, value: &dyn std::fmt::Display, reason: &str| {
+            Err(ParamError {
+                name,
+                value: value.to_string(),
+                reason: reason.to_string(),
+            })
+        };
+        let positive = |v: f64| v.is_finite() && v > 0.0;
+        if !positive(self.density) {
+            return bad("density", &self.density, "must be positive");
+        }
+        if !positive(self.thickness) {
+            return bad("thickness", &self.thickness, "must be positive");
+        }
+        if !(self.cover > 0.0 && self.cover < 1.0) {
+            return bad("cover", &self.cover, "must be in (0, 1)");
+        }
+        if self.max_discs == 0 {
+            return bad("max-discs", &self.max_discs, "must be at least 1");
+        }
+        if !(self.mass_floor > 0.0 && self.mass_floor < 1.0) {
+            return bad("mass_floor", &self.mass_floor, "must be in (0, 1)");
+        }
+        if !positive(self.tolerance) {
+            return bad("tolerance", &self.tolerance, "must be positive");
+        }
+        for (name, l) in [("rmin", self.r_min), ("rmax", self.r_max)] {
+            let (Length::Metres(v) | Length::OfReq(v)) = l;
+            if !positive(v) {
+                return bad(name, &v, "must be positive");
+            }
+        }
+        // Of one kind the two radii compare for every grain; mixed, per grain.
+        match (self.r_min, self.r_max) {
+            (Length::Metres(a), Length::Metres(b)) | (Length::OfReq(a), Length::OfReq(b))
+                if a > b =>
+            {
+                bad("rmin", &a, &format!("larger than rmax {b}"))
+            }
+            _ => Ok(()),
+        }
+    }
+}
+
 fn check_params(p: &ClumpParams, file: &str) -> Result<(), ClumpError> {
-    let bad = |reason: &str| {
-        Err(ClumpError::Params {
-            file: file.to_string(),
-            reason: reason.to_string(),
-        })
-    };
-    if !(p.density.is_finite() && p.density > 0.0) {
-        return bad("density must be positive");
-    }
-    if !(p.thickness.is_finite() && p.thickness > 0.0) {
-        return bad("thickness must be positive");
-    }
-    if !(p.cover > 0.0 && p.cover < 1.0) {
-        return bad("cover must be in (0, 1)");
-    }
-    if p.max_discs == 0 {
-        return bad("max-discs must be at least 1");
-    }
-    if !(p.mass_floor > 0.0 && p.mass_floor < 1.0) {
-        return bad("mass floor must be in (0, 1)");
-    }
-    Ok(())
+    p.check().map_err(|e| ClumpError::Params {
+        file: file.to_string(),
+        reason: e.to_string(),
+    })
 }
 
 /// Mass properties of discs with masses `m`, about the grain centroid (the frame's origin).

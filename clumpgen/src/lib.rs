@@ -33,7 +33,7 @@ pub mod synth;
 pub mod template;
 pub mod units;
 
-pub use clump::{make_template, ClumpError, ClumpParams, Length};
+pub use clump::{make_template, ClumpError, ClumpParams, Length, ParamError};
 pub use descriptors::{convex_hull, shape_descriptors, ShapeDescriptors};
 pub use error::OutlineError;
 pub use outline::{

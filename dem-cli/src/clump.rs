@@ -1,7 +1,7 @@
 //! `dem clump`: a batch of outlines to templates, in parallel, one failure never stopping the rest.
 
 use clap::Args;
-use clumpgen::batch::{collect_inputs, run_batch, BatchItem, BatchOptions};
+use clumpgen::batch::{clashes, collect_inputs, run_batch, BatchItem, BatchOptions, SUMMARY_FILE};
 use clumpgen::{ClumpParams, Length, Method, ReadOptions, Units};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::PathBuf;
@@ -12,7 +12,9 @@ pub struct ClumpArgs {
     /// Outline files (CSV/whitespace `x y` or JSON) or folders searched recursively.
     #[arg(required = true)]
     inputs: Vec<PathBuf>,
-    /// Output folder; templates mirror the input folders, one `<name>.json` per grain.
+    /// Output folder; templates mirror the input folders below their common folder, one
+    /// `<name>.json` per grain. Refused if two inputs would share a template or a template
+    /// would overwrite an input.
     #[arg(long)]
     out: PathBuf,
     /// Target area cover A_r.
@@ -50,8 +52,8 @@ pub struct ClumpArgs {
     /// is too coarse to reach the cover).
     #[arg(long, default_value_t = ClumpParams::default().raster)]
     raster: usize,
-    /// Worker threads (default: all cores).
-    #[arg(long)]
+    /// Worker threads, at least 1 (default: all cores).
+    #[arg(long, value_parser = crate::parse_threads)]
     threads: Option<usize>,
 }
 
@@ -78,11 +80,11 @@ pub fn run(a: ClumpArgs) -> Result<ExitCode, String> {
         "orc" => Method::Orc,
         m => return Err(format!("--method {m:?}: expected improved or orc")),
     };
-    let units = a
-        .units
-        .as_deref()
-        .map(|u| Units::parse(u, a.px_scale).map_err(|e| e.to_string()))
-        .transpose()?;
+    let units = match (a.units.as_deref(), a.px_scale) {
+        (None, Some(_)) => return Err("--px-scale is for --units px; give --units px".into()),
+        (Some(u), s) => Some(Units::parse(u, s).map_err(|e| units_message(u, &e))?),
+        (None, None) => None,
+    };
     let params = ClumpParams {
         method,
         density: a.density,
@@ -94,6 +96,23 @@ pub fn run(a: ClumpArgs) -> Result<ExitCode, String> {
         raster: a.raster,
         ..ClumpParams::default()
     };
+    // Errors of the batch's own flags are one usage error, not one failure per grain.
+    params.check().map_err(|e| {
+        let value = match e.name {
+            "rmin" => a.rmin.clone(),
+            "rmax" => a.rmax.clone(),
+            _ => e.value.clone(),
+        };
+        format!("--{} {value}: {}", e.name, e.reason)
+    })?;
+    if a.raster == 0 {
+        return Err("--raster 0: must be at least 1".into());
+    }
+    if let Some(n) = a.resample.filter(|&n| n < 3) {
+        return Err(format!(
+            "--resample {n}: an outline needs at least 3 points"
+        ));
+    }
     let opts = BatchOptions {
         read: ReadOptions {
             units,
@@ -105,6 +124,19 @@ pub fn run(a: ClumpArgs) -> Result<ExitCode, String> {
     let inputs = collect_inputs(&a.inputs).map_err(|e| e.to_string())?;
     if inputs.is_empty() {
         return Err("no outline files found (looked for .csv, .txt, .xy, .dat, .json)".into());
+    }
+    // Outputs never collide: two inputs for one template, or a template (or the summary)
+    // over an input, refuse the batch before anything is written.
+    let clash = clashes(&inputs, &a.out);
+    if !clash.is_empty() {
+        let list: Vec<String> = clash.iter().map(|c| format!("  {}", c.message)).collect();
+        return Err(format!(
+            "{} of {} inputs cannot be written into {} (nothing written):\n{}",
+            clash.iter().map(|c| c.inputs.len()).sum::<usize>(),
+            inputs.len(),
+            a.out.display(),
+            list.join("\n")
+        ));
     }
     let bar = ProgressBar::new(inputs.len() as u64);
     bar.set_style(
@@ -119,7 +151,7 @@ pub fn run(a: ClumpArgs) -> Result<ExitCode, String> {
     bar.finish_and_clear();
     let failed: Vec<&BatchItem> = report.items.iter().filter(|i| i.error.is_some()).collect();
     println!("{}", report.summary_table());
-    if let Err(e) = report.save(&a.out.join("summary.json")) {
+    if let Err(e) = report.save(&a.out.join(SUMMARY_FILE)) {
         eprintln!("error: {e}");
     }
     if failed.is_empty() {
@@ -130,5 +162,21 @@ pub fn run(a: ClumpArgs) -> Result<ExitCode, String> {
             eprintln!("  {}", f.error.as_deref().unwrap_or(""));
         }
         Ok(ExitCode::from(1))
+    }
+}
+
+/// A `--units`/`--px-scale` error as a flag message (the library's names no file here).
+fn units_message(u: &str, e: &clumpgen::OutlineError) -> String {
+    match e {
+        clumpgen::OutlineError::PxWithoutScale { .. } => {
+            format!("--units {u}: give the pixel size with --px-scale M_PER_PX")
+        }
+        clumpgen::OutlineError::BadScale { value, .. } => {
+            format!("--px-scale {value}: must be finite and > 0")
+        }
+        clumpgen::OutlineError::UnknownUnits { text, .. } => {
+            format!("--units {text:?}: expected m, mm, um, µm, micron or px")
+        }
+        e => format!("--units {u}: {e}"),
     }
 }

@@ -8,6 +8,7 @@ mod bench;
 mod calibrate;
 mod clump;
 mod run;
+mod run_lock;
 mod specimen;
 mod test;
 mod test_cutting;
@@ -56,6 +57,16 @@ fn main() -> ExitCode {
             eprintln!("error: {e}");
             ExitCode::from(2)
         }
+    }
+}
+
+/// `--threads N`: a count of at least 1 (leaving the flag out means all cores; 0 used to
+/// mean that too, silently).
+pub(crate) fn parse_threads(s: &str) -> Result<usize, String> {
+    match s.trim().parse::<usize>() {
+        Ok(0) => Err("must be at least 1 (leave the flag out for all cores)".into()),
+        Ok(n) => Ok(n),
+        Err(e) => Err(format!("{e} (a count of worker threads, at least 1)")),
     }
 }
 

@@ -1,5 +1,7 @@
 //! `dem run`: runs a scene file (`docs/scene-schema.md`) with a progress bar; prints the active
-//! stages at the start and the summary at the end. Errors are messages (exit code 2).
+//! stages at the start and the summary at the end. Errors are messages (exit code 2). The
+//! output folder is locked to the scene (`run_lock`): another scene's run into it is refused
+//! unless `--force`.
 
 use clap::Args;
 use dem_core::output::driver::{Ending, RunOptions, Simulation};
@@ -13,27 +15,39 @@ pub struct RunArgs {
     /// Scene file (JSON, schema dem.scene/1).
     scene: PathBuf,
     /// Output folder (default: the scene's `outputs.dir`, else `<scene stem>.out` beside it).
+    /// It is locked to the scene (`run.lock`: scene, scene hash, pid, host).
     #[arg(long)]
     out: Option<PathBuf>,
     /// Continue from a checkpoint written by a run of the same scene.
     #[arg(long)]
     restart: Option<PathBuf>,
-    /// Worker threads (default: all cores); results do not depend on it.
-    #[arg(long)]
+    /// Worker threads, at least 1 (default: all cores); results do not depend on it.
+    #[arg(long, value_parser = crate::parse_threads)]
     threads: Option<usize>,
     /// Stop when the world reaches this step (overrides the scene's run.max_steps).
     #[arg(long)]
     max_steps: Option<u64>,
+    /// Run into the output folder even if it holds another scene's run, or its lock is held
+    /// by a process that still runs (or runs on another host); the lock is taken over.
+    #[arg(long)]
+    force: bool,
 }
 
 pub fn run(a: RunArgs) -> Result<ExitCode, String> {
     let scene = dem_core::scene::load(&a.scene).map_err(|e| e.to_string())?;
+    // (The folder `Simulation::new` writes into.)
+    let out = a.out.clone().unwrap_or_else(|| scene.outputs.dir.clone());
+    let (_lock, notes) =
+        crate::run_lock::acquire(&out, &scene.file, &scene.physics_hash(), a.force)?;
+    for n in notes {
+        eprintln!("note: {n}");
+    }
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(a.threads.unwrap_or(0))
         .build()
         .map_err(|e| e.to_string())?;
     let opts = RunOptions {
-        out_dir: a.out,
+        out_dir: Some(out),
         restart: a.restart,
         max_steps: a.max_steps,
     };

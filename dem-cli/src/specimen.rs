@@ -87,8 +87,8 @@ pub struct SpecimenArgs {
     /// scene that loads the specimen with its generation micro-parameters to <stem>.scene.json.
     #[arg(long)]
     out: PathBuf,
-    /// Worker threads (default: all cores); results do not depend on it.
-    #[arg(long)]
+    /// Worker threads, at least 1 (default: all cores); results do not depend on it.
+    #[arg(long, value_parser = crate::parse_threads)]
     threads: Option<usize>,
 }
 

@@ -88,8 +88,8 @@ pub struct LabArgs {
     /// and `<test>.result.json`.
     #[arg(long)]
     pub out: PathBuf,
-    /// Worker threads (default: all cores); results do not depend on it.
-    #[arg(long)]
+    /// Worker threads, at least 1 (default: all cores); results do not depend on it.
+    #[arg(long, value_parser = crate::parse_threads)]
     pub threads: Option<usize>,
     /// Safety factor of the automatic time step (default: the test's).
     #[arg(long)]

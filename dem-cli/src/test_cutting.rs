@@ -123,9 +123,15 @@ pub struct CuttingArgs {
     /// cutting.result.json.
     #[arg(long)]
     pub out: PathBuf,
-    /// Worker threads (default: all cores); results do not depend on it.
-    #[arg(long)]
+    /// Worker threads, at least 1 (default: all cores); results do not depend on it.
+    #[arg(long, value_parser = crate::parse_threads)]
     pub threads: Option<usize>,
+}
+
+/// Metres as millimetres, up to 4 decimals without trailing zeros (`10`, `0.5`).
+fn fmt_mm(v: f64) -> String {
+    let t = format!("{:.4}", v * 1e3);
+    t.trim_end_matches('0').trim_end_matches('.').to_string()
 }
 
 /// `1`, `2.5`, `1m/s`, `1 m/s` → m/s.
@@ -216,6 +222,36 @@ impl CuttingArgs {
         Ok(t)
     }
 
+    /// [`cutting::check_geometry`] with the error naming the flag and its value (or where
+    /// the value came from: `--params` or the default) and the specimen `what`.
+    fn check_geometry(
+        &self,
+        test: &CuttingTest,
+        extent: [f64; 4],
+        what: &str,
+    ) -> Result<(), String> {
+        cutting::check_geometry(test, extent).map_err(|e| match e {
+            dem_core::lab::LabError::Param { field, reason } => {
+                let (given, value) = match field.as_str() {
+                    "length" => (&self.length, test.length),
+                    "depth" => (&self.depth, test.depth),
+                    _ => return format!("{what}: {reason}"),
+                };
+                let flag = match (given, &self.params) {
+                    (Some(v), _) => format!("--{field} {v}"),
+                    (None, Some(p)) => format!(
+                        "--{field} ({} mm, from --params {} or the default)",
+                        fmt_mm(value),
+                        p.display()
+                    ),
+                    (None, None) => format!("--{field} (default {}mm)", fmt_mm(value)),
+                };
+                format!("{flag}: {reason} ({what})")
+            }
+            e => e.to_string(),
+        })
+    }
+
     /// The model: `--model`, else the specimen's own.
     pub fn model(&self, specimen: &std::path::Path) -> Result<LabModel, String> {
         match &self.model {
@@ -295,8 +331,23 @@ impl CuttingArgs {
 
 pub fn run(a: CuttingArgs) -> Result<ExitCode, String> {
     let test = a.test()?;
+    if a.specimen.is_none() {
+        // The specimen to be generated is --width × --height: check before generating it.
+        let w = parse_length(&a.width, "--width")?;
+        let h = parse_length(&a.height, "--height")?;
+        let what = format!(
+            "the specimen to be generated, --width {} --height {}",
+            a.width, a.height
+        );
+        a.check_geometry(&test, [0.0, w, 0.0, h], &what)?;
+    }
     let specimen = a.specimen_file()?;
-    cutting::SpecimenInfo::read(&specimen).map_err(|e| e.to_string())?;
+    let info = cutting::SpecimenInfo::read(&specimen).map_err(|e| e.to_string())?;
+    a.check_geometry(
+        &test,
+        info.extent,
+        &format!("specimen {}", specimen.display()),
+    )?;
     let model = a.model(&specimen)?;
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(a.threads.unwrap_or(0))

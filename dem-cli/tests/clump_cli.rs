@@ -36,3 +36,163 @@ fn batch_with_a_bad_file_keeps_the_others() {
     assert!(out.join("summary.json").exists());
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+fn tmp(name: &str) -> std::path::PathBuf {
+    let d = std::env::temp_dir().join(format!("dem-clump-cli-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn dem(args: &[&std::path::Path]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_dem"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+fn text(o: &std::process::Output) -> String {
+    format!(
+        "{}\n{}",
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr)
+    )
+}
+
+const SQUARE: &str = "x,y\n0,0\n10,0\n10,10\n0,10\n";
+const TRIANGLE: &str = "0 0\n12 0\n0 9\n";
+
+/// Two files of one name in two folders, given as files: each gets its own template, in the
+/// folders below their common folder (before: one `g.json`, the second overwriting the first).
+#[test]
+fn same_named_files_in_two_folders_get_two_templates() {
+    let dir = tmp("two-folders");
+    let (a, b, out) = (dir.join("coll/a"), dir.join("coll/b"), dir.join("o"));
+    std::fs::create_dir_all(&a).unwrap();
+    std::fs::create_dir_all(&b).unwrap();
+    std::fs::write(a.join("g.csv"), SQUARE).unwrap();
+    std::fs::write(b.join("g.csv"), TRIANGLE).unwrap();
+    let c = std::path::Path::new("clump");
+    let o = dem(&[
+        c,
+        &a.join("g.csv"),
+        &b.join("g.csv"),
+        std::path::Path::new("--out"),
+        &out,
+    ]);
+    let t = text(&o);
+    assert_eq!(o.status.code(), Some(0), "{t}");
+    let ta = clumpgen::Template::load(&out.join("a/g.json")).unwrap();
+    let tb = clumpgen::Template::load(&out.join("b/g.json")).unwrap();
+    // The square (100 mm²) and the triangle (54 mm²) each in their own template.
+    assert!((ta.shape.area - 100e-6).abs() < 1e-12, "{}", ta.shape.area);
+    assert!((tb.shape.area - 54e-6).abs() < 1e-12, "{}", tb.shape.area);
+    assert!(!out.join("g.json").exists());
+    // Two folders given as folders keep their names too.
+    let out2 = dir.join("o2");
+    let o = dem(&[c, &a, &b, std::path::Path::new("--out"), &out2]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    assert!(out2.join("a/g.json").exists() && out2.join("b/g.json").exists());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// `g.csv` and `g.json` in one folder map to one template: refused before anything is
+/// written, exit 2, both inputs named.
+#[test]
+fn two_inputs_for_one_template_are_refused() {
+    let dir = tmp("clash");
+    let (input, out) = (dir.join("in"), dir.join("o"));
+    std::fs::create_dir_all(&input).unwrap();
+    std::fs::write(input.join("g.csv"), SQUARE).unwrap();
+    std::fs::write(
+        input.join("g.json"),
+        r#"{"units": "mm", "points": [[0, 0], [12, 0], [0, 9]]}"#,
+    )
+    .unwrap();
+    let o = dem(&[
+        std::path::Path::new("clump"),
+        &input,
+        std::path::Path::new("--out"),
+        &out,
+    ]);
+    let t = text(&o);
+    assert_eq!(o.status.code(), Some(2), "{t}");
+    assert!(
+        t.contains(&input.join("g.csv").display().to_string())
+            && t.contains(&input.join("g.json").display().to_string())
+            && t.contains(&out.join("g.json").display().to_string()),
+        "{t}"
+    );
+    assert_eq!(t.matches("error").count(), 1, "{t}");
+    assert!(!out.join("g.json").exists() && !out.join("summary.json").exists());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// `dem clump dir --out dir` with JSON outlines in dir: the templates would overwrite the
+/// outlines; refused, exit 2, the outline untouched.
+#[test]
+fn templates_never_overwrite_an_input() {
+    let dir = tmp("overwrite");
+    let outline = r#"{"units": "mm", "points": [[0, 0], [12, 0], [0, 9]]}"#;
+    std::fs::write(dir.join("h.json"), outline).unwrap();
+    std::fs::write(dir.join("k.csv"), SQUARE).unwrap();
+    let o = dem(&[
+        std::path::Path::new("clump"),
+        &dir,
+        std::path::Path::new("--out"),
+        &dir,
+    ]);
+    let t = text(&o);
+    assert_eq!(o.status.code(), Some(2), "{t}");
+    assert!(
+        t.contains(&dir.join("h.json").display().to_string()) && t.contains("overwrite"),
+        "{t}"
+    );
+    assert_eq!(
+        std::fs::read_to_string(dir.join("h.json")).unwrap(),
+        outline
+    );
+    assert!(!dir.join("k.json").exists());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A bad global flag is one usage error (exit 2, said once), not one failure per grain.
+#[test]
+fn a_bad_global_flag_is_one_usage_error() {
+    let dir = tmp("flags");
+    let (input, out) = (dir.join("in"), dir.join("o"));
+    std::fs::create_dir_all(&input).unwrap();
+    for k in 0..3 {
+        std::fs::write(input.join(format!("g{k}.csv")), SQUARE).unwrap();
+    }
+    let run = |extra: &[&str]| {
+        let mut args = vec![
+            "clump".to_string(),
+            input.display().to_string(),
+            "--out".into(),
+            out.display().to_string(),
+        ];
+        args.extend(extra.iter().map(|s| s.to_string()));
+        Command::new(env!("CARGO_BIN_EXE_dem"))
+            .args(&args)
+            .output()
+            .unwrap()
+    };
+    for (flags, flag) in [
+        (&["--cover", "1.5"][..], "--cover"),
+        (&["--density=-1"][..], "--density"),
+        (&["--max-discs", "0"][..], "--max-discs"),
+        (&["--rmin", "0.5", "--rmax", "0.1"][..], "--rmin"),
+        (&["--resample", "2"][..], "--resample"),
+        (&["--units", "px"][..], "--px-scale"),
+        (&["--threads", "0"][..], "--threads"),
+    ] {
+        let o = run(flags);
+        let t = text(&o);
+        assert_eq!(o.status.code(), Some(2), "{flags:?}: {t}");
+        assert_eq!(t.matches(flag).count(), 1, "{flags:?}: {t}");
+        assert!(!t.contains("panicked"), "{t}");
+        assert!(!out.join("summary.json").exists(), "{flags:?}");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}

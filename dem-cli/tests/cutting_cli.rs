@@ -191,3 +191,96 @@ fn cutting_with_deleted_fragments_reports_them() {
     assert!(d["mass"].as_f64().unwrap() >= 0.0);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A 3 × 1.5 mm specimen file of 18 discs (no summary beside it: the geometry is checked
+/// before the model is read).
+fn small_specimen(dir: &std::path::Path) -> PathBuf {
+    let mut discs = Vec::new();
+    for i in 0..6 {
+        for j in 0..3 {
+            discs.push([0.25 + 0.5 * i as f64, 0.25 + 0.5 * j as f64, 0.25]);
+        }
+    }
+    let spec = serde_json::json!({
+        "schema": "dem.specimen/1",
+        "units": "mm",
+        "discs": [{"material": "si3n4", "discs": discs}]
+    });
+    let p = dir.join("small.json");
+    std::fs::write(&p, spec.to_string()).unwrap();
+    p
+}
+
+/// A cut longer than the specimen, or deeper than it allows, is an error naming the flag, the
+/// value and the specimen's extent (exit 2), before any run (before: a run of a 100 mm cut on
+/// a 5 mm specimen with a meaningless "steady window").
+#[test]
+fn cut_geometry_outside_the_specimen_is_refused() {
+    let dir = tmp("geometry");
+    let out = dir.join("cut");
+    let spec = small_specimen(&dir);
+    let (s, o) = (spec.to_str().unwrap(), out.to_str().unwrap());
+    let r = dem(&[
+        "test",
+        "cutting",
+        "--specimen",
+        s,
+        "--length",
+        "100mm",
+        "--out",
+        o,
+    ]);
+    let t = text(&r);
+    assert_eq!(r.status.code(), Some(2), "{t}");
+    assert!(
+        t.contains("--length 100mm") && t.contains("3 mm wide") && t.contains("small.json"),
+        "{t}"
+    );
+    let r = dem(&[
+        "test",
+        "cutting",
+        "--specimen",
+        s,
+        "--depth",
+        "1.2mm",
+        "--length",
+        "2.5mm",
+        "--out",
+        o,
+    ]);
+    let t = text(&r);
+    assert_eq!(r.status.code(), Some(2), "{t}");
+    assert!(
+        t.contains("--depth 1.2mm") && t.contains("1.5 mm high"),
+        "{t}"
+    );
+    // The default length (10 mm) is named as the default.
+    let r = dem(&["test", "cutting", "--specimen", s, "--out", o]);
+    let t = text(&r);
+    assert_eq!(r.status.code(), Some(2), "{t}");
+    assert!(t.contains("--length") && t.contains("default"), "{t}");
+    // A specimen to be generated is checked against --width/--height before generating it.
+    let r = dem(&[
+        "test",
+        "cutting",
+        "--width",
+        "3mm",
+        "--height",
+        "1.5mm",
+        "--r-min",
+        "0.1mm",
+        "--r-max",
+        "0.16mm",
+        "--material",
+        &material(),
+        "--length",
+        "5mm",
+        "--out",
+        o,
+    ]);
+    let t = text(&r);
+    assert_eq!(r.status.code(), Some(2), "{t}");
+    assert!(t.contains("--length 5mm") && t.contains("--width"), "{t}");
+    assert!(!out.join("specimen.json").exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -220,3 +220,138 @@ fn bench_prints_the_figure_last() {
     let o = dem(&["bench", "dense", "--steps", "0"]);
     assert_eq!(o.status.code(), Some(2));
 }
+
+/// The run folder's lock: a second scene into the same folder is refused (naming the folder
+/// and the other scene) unless `--force`; the same scene again is allowed; a lock left by a
+/// process that is gone (same host) is taken over with a note; a live one is refused.
+#[test]
+fn run_folder_is_locked_to_its_scene() {
+    let dir = tmp("lock");
+    let scene = tiny_scene(&dir);
+    let out = dir.join("out");
+    let (s, o) = (scene.to_str().unwrap(), out.to_str().unwrap());
+    let first = dem(&["run", s, "--out", o, "--threads", "1"]);
+    assert_eq!(first.status.code(), Some(0), "{}", text(&first));
+    let summary = std::fs::read_to_string(out.join("summary.json")).unwrap();
+
+    // Another scene (the discs faster) into the same folder: refused, nothing touched.
+    let mut v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&scene).unwrap()).unwrap();
+    v["bodies"]["discs"][0]["velocity"] = serde_json::json!([600, 0]);
+    let other = dir.join("other.json");
+    std::fs::write(&other, v.to_string()).unwrap();
+    let ot = other.to_str().unwrap();
+    let r = dem(&["run", ot, "--out", o, "--threads", "1"]);
+    let t = text(&r);
+    assert_eq!(r.status.code(), Some(2), "{t}");
+    assert!(
+        t.contains(o) && t.contains("tiny.json") && t.contains("--force"),
+        "{t}"
+    );
+    assert_eq!(
+        std::fs::read_to_string(out.join("summary.json")).unwrap(),
+        summary
+    );
+
+    let read_lock = || -> serde_json::Value {
+        serde_json::from_str(&std::fs::read_to_string(out.join("run.lock")).unwrap()).unwrap()
+    };
+    let lock = read_lock();
+    assert!(lock["scene_hash"].as_str().unwrap().len() == 64, "{lock}");
+    assert!(
+        lock["host"].as_str().is_some_and(|h| !h.is_empty()),
+        "{lock}"
+    );
+    assert!(lock["pid"].is_null(), "released after the run: {lock}");
+    assert!(
+        lock["scene"].as_str().unwrap().ends_with("tiny.json"),
+        "{lock}"
+    );
+
+    // The same scene again, and a restart of it into the folder: allowed.
+    let r = dem(&["run", s, "--out", o, "--threads", "1"]);
+    assert_eq!(r.status.code(), Some(0), "{}", text(&r));
+    let ck = out.join("ckpt-000000200.json");
+    let r = dem(&["run", s, "--out", o, "--restart", ck.to_str().unwrap()]);
+    assert_eq!(r.status.code(), Some(0), "{}", text(&r));
+
+    // A lock held by a live process (this test's) on this host: refused even for the scene.
+    let mut held = read_lock();
+    held["pid"] = std::process::id().into();
+    std::fs::write(out.join("run.lock"), held.to_string()).unwrap();
+    let r = dem(&["run", s, "--out", o, "--threads", "1"]);
+    let t = text(&r);
+    assert_eq!(r.status.code(), Some(2), "{t}");
+    assert!(
+        t.contains(&std::process::id().to_string()) && t.contains(o),
+        "{t}"
+    );
+
+    // A lock of a process that has ended (kill -9 of a run): taken over with a note.
+    let mut child = Command::new("true").spawn().unwrap();
+    let dead = child.id();
+    child.wait().unwrap();
+    held["pid"] = dead.into();
+    std::fs::write(out.join("run.lock"), held.to_string()).unwrap();
+    let r = dem(&["run", s, "--out", o, "--threads", "1"]);
+    let t = text(&r);
+    assert_eq!(r.status.code(), Some(0), "{t}");
+    assert!(t.contains("stale") && t.contains(&dead.to_string()), "{t}");
+
+    // --force: the other scene replaces this one.
+    let r = dem(&["run", ot, "--out", o, "--threads", "1", "--force"]);
+    assert_eq!(r.status.code(), Some(0), "{}", text(&r));
+    assert_ne!(read_lock()["scene_hash"], lock["scene_hash"]);
+    assert!(read_lock()["scene"]
+        .as_str()
+        .unwrap()
+        .ends_with("other.json"));
+    // The same scene file, edited (its physics changed): a fresh run, with a note.
+    v["bodies"]["discs"][0]["velocity"] = serde_json::json!([700, 0]);
+    std::fs::write(&other, v.to_string()).unwrap();
+    let r = dem(&["run", ot, "--out", o, "--threads", "1"]);
+    let t = text(&r);
+    assert_eq!(r.status.code(), Some(0), "{t}");
+    assert!(t.contains("other.json changed since its run"), "{t}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// `--threads 0` is a usage error (exit 2), not "all cores" in silence.
+#[test]
+fn threads_zero_is_a_usage_error() {
+    let dir = tmp("threads");
+    let scene = tiny_scene(&dir);
+    let out = dir.join("out");
+    let o = dem(&[
+        "run",
+        scene.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--threads",
+        "0",
+    ]);
+    let t = text(&o);
+    assert_eq!(o.status.code(), Some(2), "{t}");
+    assert!(t.contains("--threads") && t.contains("at least 1"), "{t}");
+    assert!(!out.join("summary.json").exists());
+    let o = dem(&[
+        "specimen",
+        "--method",
+        "traditional",
+        "--width",
+        "1mm",
+        "--height",
+        "1mm",
+        "--r-min",
+        "0.1mm",
+        "--r-max",
+        "0.16mm",
+        "--out",
+        dir.join("s.json").to_str().unwrap(),
+        "--threads",
+        "0",
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    assert!(text(&o).contains("--threads"), "{}", text(&o));
+    std::fs::remove_dir_all(&dir).unwrap();
+}

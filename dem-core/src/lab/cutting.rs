@@ -289,6 +289,69 @@ impl CuttingTest {
     }
 }
 
+/// Millimetres for messages: up to 4 decimals, trailing zeros dropped (`3`, `1.5`, `0.125`).
+fn mm(v: f64) -> String {
+    let t = format!("{:.4}", v * 1e3);
+    let t = t.trim_end_matches('0').trim_end_matches('.');
+    if t == "-0" {
+        "0".into()
+    } else {
+        t.into()
+    }
+}
+
+/// Checks the test's geometry against the specimen's bounding box `extent` = `[x0, x1, y0,
+/// y1]` (m), before any run: the cut length L must stay on the specimen (L ≤ its width; the
+/// steady window ends at L, so a longer cut reports forces of the tool in the air), and the
+/// depth must leave room for the cut and the slot's side walls (1.5 a_p < its height, as
+/// [`CutGeometry::new`] needs). The error names the field (`length`, `depth`) and gives the
+/// value and the specimen's extent. Run-time only: the test's serialised form is unchanged.
+pub fn check_geometry(test: &CuttingTest, extent: [f64; 4]) -> Result<(), LabError> {
+    let [x0, x1, y0, y1] = extent;
+    let (w, h) = (x1 - x0, y1 - y0);
+    if !(w > 0.0 && h > 0.0 && extent.iter().all(|v| v.is_finite())) {
+        return Err(LabError::Param {
+            field: "specimen".into(),
+            reason: format!("its extent {extent:?} (m) is not a box"),
+        });
+    }
+    let span = format!(
+        "x from {} to {} mm, y from {} to {} mm",
+        mm(x0),
+        mm(x1),
+        mm(y0),
+        mm(y1)
+    );
+    // (A relative allowance of rounding: L equal to the width, written in other units.)
+    if test.length > w * (1.0 + 1e-9) {
+        return Err(LabError::Param {
+            field: "length".into(),
+            reason: format!(
+                "the cut length L = {} mm runs past the specimen, which is {} mm wide ({span}); \
+                 the tool would cut air and the steady window would end outside the specimen: \
+                 L must be at most {} mm",
+                mm(test.length),
+                mm(w),
+                mm(w)
+            ),
+        });
+    }
+    if 1.5 * test.depth >= h {
+        return Err(LabError::Param {
+            field: "depth".into(),
+            reason: format!(
+                "the depth of cut a_p = {} mm is too deep for the specimen, which is {} mm high \
+                 ({span}); the cut and the slot's side walls below it need 1.5 a_p below the \
+                 height: a_p must be below {} mm",
+                mm(test.depth),
+                mm(h),
+                mm(h / 1.5)
+            ),
+        });
+    }
+    Ok(())
+}
+
 /// What the cutting test needs to know about a specimen file.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct SpecimenInfo {
@@ -844,6 +907,7 @@ pub fn run_with(
 ) -> Result<CuttingResult, LabError> {
     test.validate()?;
     let spec = SpecimenInfo::read(specimen)?;
+    check_geometry(test, spec.extent)?;
     let scene_file = out_dir.join(SCENE_FILE);
     // The scene of an earlier run in this folder (read before the probe overwrites it).
     let earlier: Option<Value> = std::fs::read_to_string(&scene_file)
@@ -960,4 +1024,45 @@ pub fn run_with(
     })?;
     write_atomic(&result_file, text.as_bytes())?;
     Ok(result)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{check_geometry, CuttingTest};
+    use crate::lab::LabError;
+
+    fn field(r: Result<(), LabError>) -> Option<(String, String)> {
+        match r {
+            Ok(()) => None,
+            Err(LabError::Param { field, reason }) => Some((field, reason)),
+            Err(e) => panic!("{e}"),
+        }
+    }
+
+    #[test]
+    fn cut_geometry_must_fit_the_specimen() {
+        // A 5 × 2 mm specimen whose box starts at x = 1 mm.
+        let ext = [1e-3, 6e-3, 0.0, 2e-3];
+        assert!(field(check_geometry(&CuttingTest::new(0.5e-3, 1.0, 5e-3), ext)).is_none());
+        let (f, r) = field(check_geometry(&CuttingTest::new(0.5e-3, 1.0, 100e-3), ext)).unwrap();
+        assert_eq!(f, "length");
+        assert!(
+            r.contains("L = 100 mm") && r.contains("5 mm wide") && r.contains("x from 1 to 6 mm"),
+            "{r}"
+        );
+        // 1.5 a_p must stay below the height: 1.3 mm passes, 1.4 mm does not.
+        assert!(field(check_geometry(&CuttingTest::new(1.3e-3, 1.0, 5e-3), ext)).is_none());
+        let (f, r) = field(check_geometry(&CuttingTest::new(1.4e-3, 1.0, 5e-3), ext)).unwrap();
+        assert_eq!(f, "depth");
+        assert!(
+            r.contains("2 mm high") && r.contains("below 1.3333 mm"),
+            "{r}"
+        );
+        let (f, _) = field(check_geometry(
+            &CuttingTest::default(),
+            [0.0, 0.0, 0.0, 1.0],
+        ))
+        .unwrap();
+        assert_eq!(f, "specimen");
+    }
 }

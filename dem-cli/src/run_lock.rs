@@ -1,0 +1,318 @@
+//! The run folder's lock, `<out>/run.lock` (JSON: scene file, scene hash, pid, host, start
+//! time). It says which scene the folder's outputs belong to and which process writes them
+//! now, so two runs never mix their checkpoints, snapshots and `snapshots.pvd` in one folder:
+//!
+//! * no lock: the run takes the folder;
+//! * a lock of the same scene (the same physics hash, `Scene::physics_hash`, so run control
+//!   and outputs may differ; or the same scene file, edited since, with a note) whose process
+//!   has ended: taken; a run that ended normally cleared its pid, one killed (kill -9, a
+//!   crash) left it, and that stale lock is taken over with a note;
+//! * a lock of another scene (another file and other physics): refused, naming the folder
+//!   and the other scene, unless `--force`;
+//! * a lock whose process is still running (checked on this host; a lock of another host
+//!   counts as running, there is no way to tell): refused unless `--force`.
+//!
+//! The lock stays in the folder after the run with its pid cleared (it records whose outputs
+//! the folder holds). A fresh lock is created exclusively (`create_new`), so of two runs
+//! starting together one wins; taking over an existing lock is a plain atomic replace.
+
+use serde_json::{json, Value};
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+/// The lock's file name in the output folder.
+pub const LOCK_FILE: &str = "run.lock";
+const SCHEMA: &str = "dem.run-lock/1";
+
+/// What a lock file records.
+#[derive(Clone, Debug, PartialEq)]
+struct Record {
+    scene: String,
+    scene_hash: String,
+    /// The process writing the folder now; none once its run has ended.
+    pid: Option<u32>,
+    host: String,
+    started: u64,
+}
+
+impl Record {
+    fn to_json(&self) -> String {
+        let v = json!({
+            "schema": SCHEMA,
+            "scene": self.scene,
+            "scene_hash": self.scene_hash,
+            "pid": self.pid,
+            "host": self.host,
+            "started_unix_s": self.started,
+        });
+        serde_json::to_string_pretty(&v).unwrap_or_default() + "\n"
+    }
+
+    fn parse(text: &str) -> Result<Record, String> {
+        let v: Value = serde_json::from_str(text).map_err(|e| e.to_string())?;
+        if v["schema"] != SCHEMA {
+            return Err(format!("schema is not {SCHEMA:?}"));
+        }
+        let s = |k: &str| {
+            v[k].as_str()
+                .map(str::to_string)
+                .ok_or_else(|| format!("no text field {k:?}"))
+        };
+        let pid = match &v["pid"] {
+            Value::Null => None,
+            p => Some(
+                p.as_u64()
+                    .and_then(|p| u32::try_from(p).ok())
+                    .filter(|&p| p > 0)
+                    .ok_or_else(|| format!("pid {p} is not a process id"))?,
+            ),
+        };
+        Ok(Record {
+            scene: s("scene")?,
+            scene_hash: s("scene_hash")?,
+            pid,
+            host: s("host")?,
+            started: v["started_unix_s"].as_u64().unwrap_or(0),
+        })
+    }
+
+    /// Whether the recorded process may still be running (always, for another host).
+    fn running(&self) -> bool {
+        self.pid
+            .is_some_and(|p| self.host != host_name() || process_alive(p))
+    }
+
+    fn who(&self) -> String {
+        match self.pid {
+            Some(p) => format!("pid {p} on host {}", self.host),
+            None => format!("host {}", self.host),
+        }
+    }
+}
+
+/// A held run lock: its pid is cleared when dropped (the run has ended, however).
+#[derive(Debug)]
+pub struct RunLock {
+    path: PathBuf,
+    record: Record,
+}
+
+impl Drop for RunLock {
+    fn drop(&mut self) {
+        // Only if it is still ours (a `--force` run may have taken it meanwhile).
+        let ours = std::fs::read_to_string(&self.path)
+            .ok()
+            .and_then(|t| Record::parse(&t).ok())
+            .is_some_and(|r| r == self.record);
+        if ours {
+            let released = Record {
+                pid: None,
+                ..self.record.clone()
+            };
+            let _ = clumpgen::io::write_atomic(&self.path, released.to_json().as_bytes());
+        }
+    }
+}
+
+/// Takes the lock of the output folder `out` (created if missing) for `scene` with physics
+/// hash `hash`; `force` takes it in every case. Returns the lock and notes to print (a stale
+/// lock taken over, a forced take-over). The error names the folder and, for a lock of
+/// another scene or a running one, that scene and process.
+pub fn acquire(
+    out: &Path,
+    scene: &Path,
+    hash: &str,
+    force: bool,
+) -> Result<(RunLock, Vec<String>), String> {
+    std::fs::create_dir_all(out)
+        .map_err(|e| format!("{}: cannot create the output folder: {e}", out.display()))?;
+    let path = out.join(LOCK_FILE);
+    let scene = std::fs::canonicalize(scene).unwrap_or_else(|_| scene.to_path_buf());
+    let me = Record {
+        scene: scene.display().to_string(),
+        scene_hash: hash.to_string(),
+        pid: Some(std::process::id()),
+        host: host_name(),
+        started: std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .map_or(0, |d| d.as_secs()),
+    };
+    let lock = RunLock {
+        path: path.clone(),
+        record: me.clone(),
+    };
+    let text = match std::fs::read_to_string(&path) {
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            match std::fs::OpenOptions::new()
+                .write(true)
+                .create_new(true)
+                .open(&path)
+            {
+                Ok(mut f) => {
+                    f.write_all(me.to_json().as_bytes()).map_err(|e| {
+                        format!("{}: cannot write the run lock: {e}", path.display())
+                    })?;
+                    return Ok((lock, Vec::new()));
+                }
+                // Another run created it since: read what it wrote.
+                Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {
+                    std::fs::read_to_string(&path)
+                        .map_err(|e| format!("{}: cannot read the run lock: {e}", path.display()))?
+                }
+                Err(e) => {
+                    return Err(format!(
+                        "{}: cannot write the run lock: {e}",
+                        path.display()
+                    ))
+                }
+            }
+        }
+        Err(e) => return Err(format!("{}: cannot read the run lock: {e}", path.display())),
+        Ok(t) => t,
+    };
+    let mut notes = Vec::new();
+    match Record::parse(&text) {
+        Err(reason) if !force => {
+            return Err(format!(
+                "{}: not a run lock ({reason}); if no run writes into {} now, remove it or use \
+                 --force",
+                path.display(),
+                out.display()
+            ))
+        }
+        Err(reason) => notes.push(format!(
+            "--force: replacing {}, which is not a run lock ({reason})",
+            path.display()
+        )),
+        Ok(old) => {
+            let running = old.running();
+            if old.scene_hash != hash && old.scene == me.scene {
+                // The same scene file, edited: a fresh run replaces its outputs.
+                notes.push(format!(
+                    "{} changed since its run in {}; that run's outputs are replaced",
+                    old.scene,
+                    out.display()
+                ));
+            }
+            if old.scene_hash != hash && old.scene != me.scene {
+                let now = if running {
+                    format!(", being run now by {}", old.who())
+                } else {
+                    String::new()
+                };
+                if !force {
+                    return Err(format!(
+                        "{}: the folder holds the run of another scene, {} (scene hash {}){now}; \
+                         give another --out, or --force to replace its outputs",
+                        out.display(),
+                        old.scene,
+                        &old.scene_hash[..old.scene_hash.len().min(12)]
+                    ));
+                }
+                notes.push(format!(
+                    "--force: {} held the run of {}{now}; its outputs are replaced",
+                    out.display(),
+                    old.scene
+                ));
+            } else if running {
+                if !force {
+                    return Err(format!(
+                        "{}: scene {} is being run into this folder now by {}; wait for it to \
+                         end, or use --force if that process is gone",
+                        out.display(),
+                        old.scene,
+                        old.who()
+                    ));
+                }
+                notes.push(format!(
+                    "--force: took the lock of {} from {}",
+                    out.display(),
+                    old.who()
+                ));
+            } else if old.pid.is_some() {
+                notes.push(format!(
+                    "{}: took over the stale lock of {} (no such process: that run was \
+                     stopped before its end)",
+                    out.display(),
+                    old.who()
+                ));
+            }
+        }
+    }
+    clumpgen::io::write_atomic(&path, me.to_json().as_bytes())
+        .map_err(|e| format!("{}: cannot write the run lock: {e}", path.display()))?;
+    Ok((lock, notes))
+}
+
+/// This machine's host name (`unknown-host` if it cannot be read).
+fn host_name() -> String {
+    #[cfg(unix)]
+    {
+        let mut buf = [0u8; 256];
+        // SAFETY: writes at most `buf.len()` bytes into `buf`.
+        let r = unsafe { libc::gethostname(buf.as_mut_ptr().cast(), buf.len()) };
+        if r == 0 {
+            let end = buf.iter().position(|&b| b == 0).unwrap_or(buf.len());
+            let name = String::from_utf8_lossy(&buf[..end]).trim().to_string();
+            if !name.is_empty() {
+                return name;
+            }
+        }
+    }
+    std::env::var("HOSTNAME")
+        .ok()
+        .filter(|h| !h.is_empty())
+        .unwrap_or_else(|| "unknown-host".into())
+}
+
+/// Whether process `pid` of this host exists (this process's own pid: the recorded one has
+/// ended, since the id is ours now).
+fn process_alive(pid: u32) -> bool {
+    if pid == std::process::id() {
+        return false;
+    }
+    #[cfg(unix)]
+    {
+        let Ok(p) = libc::pid_t::try_from(pid) else {
+            return false;
+        };
+        // SAFETY: signal 0 sends nothing; it only checks that the process exists.
+        if unsafe { libc::kill(p, 0) } == 0 {
+            return true;
+        }
+        std::io::Error::last_os_error().raw_os_error() == Some(libc::EPERM)
+    }
+    #[cfg(not(unix))]
+    {
+        true
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn records_round_trip_and_bad_ones_are_named() {
+        let r = Record {
+            scene: "/a/s.json".into(),
+            scene_hash: "ab".repeat(32),
+            pid: Some(7),
+            host: "h".into(),
+            started: 3,
+        };
+        assert_eq!(Record::parse(&r.to_json()).unwrap(), r);
+        let released = Record { pid: None, ..r };
+        assert_eq!(Record::parse(&released.to_json()).unwrap(), released);
+        assert!(Record::parse("{}").unwrap_err().contains("schema"));
+        let zero = released.to_json().replace("null", "0");
+        assert!(Record::parse(&zero).unwrap_err().contains("pid"), "{zero}");
+    }
+
+    #[test]
+    fn own_pid_is_not_a_running_other_process() {
+        assert!(!process_alive(std::process::id()));
+        #[cfg(unix)]
+        assert!(process_alive(1), "init runs");
+    }
+}
