@@ -206,7 +206,7 @@ pub fn acquire(
                          give another --out, or --force to replace its outputs",
                         out.display(),
                         old.scene,
-                        &old.scene_hash[..old.scene_hash.len().min(12)]
+                        old.scene_hash.chars().take(12).collect::<String>()
                     ));
                 }
                 notes.push(format!(

@@ -288,7 +288,13 @@ pub fn section(
     let why = if quick {
         vec![]
     } else {
-        crate::table2_why::findings(&records, &t, &paper, plan.specimen.grain_size * 1e3)
+        crate::table2_why::findings(
+            &records,
+            &t,
+            &paper,
+            plan.specimen.grain_size * 1e3,
+            &removal,
+        )
     };
     md += "\n";
     let per_cell = crate::table2_why::per_cell(&t);

@@ -56,12 +56,13 @@ fn diff(t: &Table2, m: &str, a: (f64, f64), b: (f64, f64)) -> Option<(f64, bool)
 }
 
 /// The diagnostics for our table `t` built from `runs`, against the `paper`'s table;
-/// `grain_mm` is the specimens' grain size.
+/// `grain_mm` is the specimens' grain size, `removal` the cells' removal figures.
 pub fn findings(
     runs: &[RunRecord],
     t: &Table2,
     paper: &PaperTable2,
     grain_mm: f64,
+    removal: &[crate::removal_table::RemovalCell],
 ) -> Vec<Finding> {
     let mut out = vec![];
     let present: Vec<&str> = METHODS
@@ -318,6 +319,62 @@ pub fn findings(
         });
     }
 
+    // 3b. Depth: the ratio of the means at 2 and 1 mm, ours against the paper's.
+    let mut ev = vec![];
+    let (mut ratios, mut paper_ratios) = (vec![], vec![]);
+    for m in &present {
+        for v in [1.0, 2.0] {
+            let cell = |d: f64| {
+                t.cells
+                    .iter()
+                    .find(|c| c.method == *m && c.depth_mm == d && c.speed_m_s == v)
+            };
+            if let (Some(a), Some(b)) = (cell(1.0), cell(2.0)) {
+                if a.mean_kN > 0.0 {
+                    let (r, pr) = (b.mean_kN / a.mean_kN, b.paper_mean_kN / a.paper_mean_kN);
+                    ratios.push(r / pr);
+                    paper_ratios.push(pr);
+                    ev.push(format!(
+                        "{m}, v {v} m/s: mean at 2 mm / at 1 mm = {r:.2} (paper {pr:.2})"
+                    ));
+                }
+            }
+        }
+    }
+    let surf: Vec<String> = [1.0, 2.0]
+        .iter()
+        .filter_map(|&d| {
+            let dev: Vec<f64> = removal
+                .iter()
+                .filter(|c| c.method == "traditional" && c.depth_mm == d)
+                .filter_map(|c| c.surface_dev_mm.map(|x| x.mean))
+                .collect();
+            median(dev).map(|x| format!("{x:+.2} mm at a_p = {d} mm"))
+        })
+        .collect();
+    if !ratios.is_empty() && ratios.iter().any(|q| (q - 1.0).abs() > 0.2) {
+        let (lo, hi) = range(&ratios);
+        let (plo, phi) = range(&paper_ratios);
+        out.push(Finding {
+            topic: format!(
+                "Force against depth: our 2 mm / 1 mm ratio is {lo:.2}–{hi:.2}× the paper's"
+            ),
+            evidence: ev,
+            likely_cause: format!(
+                "not established by these runs. What they show: the machined surface ends \
+                 below the nominal one ({}; traditional, median over speeds), so the layer \
+                 actually removed is thicker than a_p at both depths and the force follows \
+                 the slabs broken off, not a_p alone (removal-mode table above). The paper's \
+                 ratios ({plo:.2}–{phi:.2}) grow less than in proportion to a_p.",
+                if surf.is_empty() {
+                    "no surface recorded".to_string()
+                } else {
+                    surf.join(", ")
+                }
+            ),
+        });
+    }
+
     // 4. Order improved > traditional: within the scatter?
     let mut ev = vec![];
     let (mut unresolved, mut cases) = (0, 0);
@@ -562,7 +619,7 @@ mod tests {
         let p = paper();
         let mut r = runs(&p);
         let t = crate::table2::assemble(&r, &p).unwrap();
-        let f = findings(&r, &t, &p, 0.86);
+        let f = findings(&r, &t, &p, 0.86, &[]);
         let topics: Vec<&str> = f.iter().map(|x| x.topic.as_str()).collect();
         assert_eq!(topics.len(), 4, "{topics:?}");
         // Peaks: raw peak / mean is 20 for every run, the averaged one the paper's ratio.
@@ -583,7 +640,7 @@ mod tests {
             })
             .collect();
         let t2 = crate::table2::assemble_with(&r, &p, &sa).unwrap();
-        let f2 = findings(&r, &t2, &p, 0.86);
+        let f2 = findings(&r, &t2, &p, 0.86, &[]);
         assert!(
             f2[0].evidence[0].contains("seed-averaged histories over one a_p 2.00–2.00 (4 cells)"),
             "{}",
@@ -612,7 +669,7 @@ mod tests {
             x.mean_n *= 3.0;
         }
         let t = crate::table2::assemble(&r, &p).unwrap();
-        let f = findings(&r, &t, &p, 0.86);
+        let f = findings(&r, &t, &p, 0.86, &[]);
         let speed = f.iter().find(|x| x.topic.contains("speed")).unwrap();
         assert!(speed.likely_cause.contains("in 30 of 30 pairs"));
         assert!(markdown(&f).starts_with("### Why ours disagrees"));
