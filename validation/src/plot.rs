@@ -37,6 +37,25 @@ fn range(v: impl Iterator<Item = f64>, log: bool) -> (f64, f64) {
     }
 }
 
+/// A tick label with at most three significant digits (log axes' ticks otherwise print as
+/// `0.6000000000000001`); scientific notation outside [1e-3, 1e5).
+fn tick(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() {
+        return format!("{v}");
+    }
+    let a = v.abs();
+    if !(1e-3..1e5).contains(&a) {
+        return format!("{v:.1e}");
+    }
+    let decimals = (2 - a.log10().floor() as i32).max(0) as usize;
+    let t = format!("{v:.decimals$}");
+    if t.contains('.') {
+        t.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        t
+    }
+}
+
 fn err<E: std::fmt::Display>(e: E) -> String {
     format!("plot: {e}")
 }
@@ -74,6 +93,8 @@ pub fn lines(
                     .configure_mesh()
                     .x_desc(x_label)
                     .y_desc(y_label)
+                    .x_label_formatter(&|v| tick(*v))
+                    .y_label_formatter(&|v| tick(*v))
                     .draw()
                     .map_err(err)?;
                 for (k, s) in series.iter().enumerate() {
@@ -192,6 +213,17 @@ pub fn bars(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn tick_labels_are_short() {
+        assert_eq!(tick(0.6000000000000001), "0.6");
+        assert_eq!(tick(100.0), "100");
+        assert_eq!(tick(90.0), "90");
+        assert_eq!(tick(0.25), "0.25");
+        assert_eq!(tick(12.345), "12.3");
+        assert_eq!(tick(2.5e-9), "2.5e-9");
+        assert_eq!(tick(0.0), "0");
+    }
 
     #[test]
     fn line_and_bar_charts_are_svg() {

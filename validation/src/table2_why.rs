@@ -250,12 +250,12 @@ pub fn findings(
             likely_cause: format!(
                 "ORC grains are rigid clumps that never break (only the bonds between grains \
                  do), about as large as the cut is deep (grain size {grain_mm:.2} mm, a_p 1–2 \
-                 mm): a grain caught under the cutting edge is pushed out whole, and the force \
-                 of such events depends on how many irregular grains lie on the tool's path. \
-                 The paper's ORC mean is {plo:.2}–{phi:.2}× its traditional; ours is \
-                 {olo:.1}–{ohi:.1}× (the seed scatter and deepest overlaps above show how much \
-                 of it is jamming). The paper does not give its grains' size distribution or \
-                 where they sit."
+                 mm). With few irregular grains (S0's disc counts) most of what the tool meets \
+                 is the traditional packing, so our ORC mean stays close to the traditional \
+                 one: {olo:.1}–{ohi:.1}× it, the paper's {plo:.2}–{phi:.2}×; the grains show \
+                 in the ORC seed scatter (above), where a grain on the tool's path is pushed \
+                 out whole. The paper does not give its grains' size distribution or where \
+                 they sit."
             ),
         });
     }
