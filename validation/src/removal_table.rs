@@ -18,7 +18,7 @@ use dem_core::lab::cutting::{CuttingResult, RESULT_FILE};
 use serde::Serialize;
 use std::path::Path;
 
-/// Seed mean and standard error (sd/√n; 0 for one value).
+/// Seed mean and standard error (sd/√n; infinite for one value).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
 pub struct MeanSe {
     pub mean: f64,
@@ -31,6 +31,8 @@ impl MeanSe {
             return None;
         }
         let (mean, se) = crate::force_statistics::mean_se(v);
+        // One run has no spread: an unknown SE resolves no comparison (as `table2::Cell`).
+        let se = if v.len() > 1 { se } else { f64::INFINITY };
         Some(MeanSe { mean, se })
     }
 
@@ -345,6 +347,7 @@ mod tests {
         let m = MeanSe::of(&[1.0, 2.0, 3.0]).unwrap();
         assert!((m.mean - 2.0).abs() < 1e-15 && (m.se - (1.0f64 / 3.0).sqrt()).abs() < 1e-15);
         assert_eq!(MeanSe::of(&[]), None);
+        assert_eq!(MeanSe::of(&[2.0]).unwrap().se, f64::INFINITY);
         assert_eq!(MeanSe::of(&[1.0, f64::NAN]), None);
     }
 
