@@ -41,8 +41,9 @@ pub const FALLBACK_WIDTH_AP: f64 = 1.0;
 /// committed runs (seeds 1–5), docs/cutting.md "Decision log".
 pub const PEAK_WIDTH_AP: f64 = 1.0;
 
-/// What the seed-averaged peak is, for the report.
-pub const PEAK_STATISTIC: &str = "the seeds' main-force histories resampled onto a 1 µm travel grid (cell means of the linear interpolant) within the steady window [2 a_p, L], averaged cell by cell, then a moving mean over w = 1 a_p of travel, its maximum";
+/// What the seed-averaged peak is, for the report (defined beside the table that states it,
+/// so the table needs nothing from this module).
+pub use crate::table2::PEAK_STATISTIC;
 
 /// Tool travel (m) and main force (N) of a run's `cutting.forces.csv`.
 pub fn main_force(file: &Path) -> Option<(Vec<f64>, Vec<f64>)> {

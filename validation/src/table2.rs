@@ -96,7 +96,8 @@ pub struct RunRecord {
     pub top5_work_share: Option<f64>,
 }
 
-/// The seed-averaged moving-mean peak of one cell ([`crate::force_statistics`]), N at the
+/// The seed-averaged moving-mean peak of one cell ([`PEAK_STATISTIC`], computed by the
+/// `force_statistics` module), N at the
 /// runs' thickness: the peak and the travel-weighted mean of the same seed-averaged history.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct SeedAveraged {
@@ -120,6 +121,11 @@ pub struct SeedAveraged {
 /// for every method so they stay comparable) is the load that breaks material off, fixed
 /// before looking at the paper's numbers and not fitted to them.
 pub const PEAK_AVERAGING: &str = "moving mean of the main force over one grain size of tool travel (the specimens' grain size, 0.86 mm in the full plan)";
+
+/// What the seed-averaged peak is: the statistic of `force_statistics` at its grid step
+/// (`GRID_STEP_M`, 1 µm) and width (`PEAK_WIDTH_AP`, 1 a_p); that module's test checks the
+/// text names both.
+pub const PEAK_STATISTIC: &str = "the seeds' main-force histories resampled onto a 1 µm travel grid (cell means of the linear interpolant) within the steady window [2 a_p, L], averaged cell by cell, then a moving mean over w = 1 a_p of travel, its maximum";
 
 /// One cell of our table (the issue's `table2.json` record).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -153,7 +159,7 @@ pub struct Cell {
     /// Seed mean of the runs' travel-weighted medians; `None` when a run lacks one.
     #[serde(default)]
     pub median_kN: Option<f64>,
-    /// The seed-averaged moving-mean peak ([`crate::force_statistics::PEAK_STATISTIC`]), its
+    /// The seed-averaged moving-mean peak ([`PEAK_STATISTIC`]), its
     /// ratio to the same averaged history's mean (beside the paper's peak/mean) and
     /// (ours − paper peak)/paper peak; `None` when not computed.
     #[serde(default)]
@@ -174,7 +180,7 @@ pub struct Cell {
 }
 
 impl Cell {
-    /// The reported peak: the seed-averaged peak ([`crate::force_statistics::PEAK_STATISTIC`])
+    /// The reported peak: the seed-averaged peak ([`PEAK_STATISTIC`])
     /// with its SE where the cell has one, else the seed mean of the raw peaks with its SE.
     /// With one seed the SE is unknown: infinite, so no comparison with it is resolved.
     pub fn peak(&self) -> (f64, f64) {
@@ -449,7 +455,7 @@ pub fn assemble_with(
         peak_statistic: if sa_errs.is_empty() {
             String::new()
         } else {
-            crate::force_statistics::PEAK_STATISTIC.into()
+            PEAK_STATISTIC.into()
         },
         peak_seed_avg_within_20_percent: sa_errs.iter().filter(|e| e.abs() <= 0.2).count(),
         peak_seed_avg_numbers: sa_errs.len(),
