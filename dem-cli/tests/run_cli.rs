@@ -124,6 +124,7 @@ fn run_writes_history_snapshots_and_summary() {
         let mut v: serde_json::Value =
             serde_json::from_slice(&std::fs::read(d.join("ckpt-final.json")).unwrap()).unwrap();
         let run = v["run"].take();
+        v["checksum"].take(); // over the run totals too
         (v.to_string(), run)
     };
     let ((a, ra), (b, rb)) = (ckpt(&out), ckpt(&out2));
@@ -135,6 +136,36 @@ fn run_writes_history_snapshots_and_summary() {
     assert_eq!(
         hist,
         std::fs::read_to_string(out2.join("history.csv")).unwrap()
+    );
+
+    // One digit of a disc's position changed: the restart is refused, naming the file.
+    let raw = std::fs::read_to_string(&ck).unwrap();
+    let at = raw
+        .find("\"x\":[")
+        .expect("disc positions in the checkpoint")
+        + 6;
+    let digit = raw[at..].find(|c: char| c.is_ascii_digit()).unwrap() + at;
+    let mut bytes = raw.into_bytes();
+    bytes[digit] = if bytes[digit] == b'9' {
+        b'1'
+    } else {
+        bytes[digit] + 1
+    };
+    let bad = dir.join("ckpt-edited.json");
+    std::fs::write(&bad, &bytes).unwrap();
+    let o = dem(&[
+        "run",
+        scene.to_str().unwrap(),
+        "--out",
+        dir.join("out3").to_str().unwrap(),
+        "--restart",
+        bad.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    assert!(
+        text(&o).contains("ckpt-edited.json: the checkpoint is corrupt"),
+        "{}",
+        text(&o)
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
