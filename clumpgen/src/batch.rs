@@ -26,7 +26,25 @@ pub struct Input {
 /// that still map to one template (`g.csv` and `g.json` in one folder) are found by
 /// [`clashes`].
 pub fn collect_inputs(paths: &[PathBuf]) -> std::io::Result<Vec<Input>> {
-    fn walk(dir: &Path, base: &Path, prefix: &Path, out: &mut Vec<Input>) -> std::io::Result<()> {
+    collect_inputs_except(paths, None)
+}
+
+/// [`collect_inputs`], not walking into the folder `out` (the batch's output folder) when it
+/// lies inside an input folder: `dem clump dir --out dir/t`, run twice, would otherwise read
+/// the first run's templates and summary back as outlines. A file inside `out` given by name
+/// is still read.
+pub fn collect_inputs_except(paths: &[PathBuf], out: Option<&Path>) -> std::io::Result<Vec<Input>> {
+    let skip = out.and_then(|o| std::fs::canonicalize(o).ok());
+    let walk = |dir: &Path, base: &Path, prefix: &Path, out: &mut Vec<Input>| {
+        walk_folder(dir, base, prefix, skip.as_deref(), out)
+    };
+    fn walk_folder(
+        dir: &Path,
+        base: &Path,
+        prefix: &Path,
+        skip: Option<&Path>,
+        out: &mut Vec<Input>,
+    ) -> std::io::Result<()> {
         let mut entries: Vec<PathBuf> = std::fs::read_dir(dir)
             .map_err(|e| named(dir, e))?
             .map(|e| e.map(|e| e.path()))
@@ -35,7 +53,10 @@ pub fn collect_inputs(paths: &[PathBuf]) -> std::io::Result<Vec<Input>> {
         entries.sort();
         for p in entries {
             if p.is_dir() {
-                walk(&p, base, prefix, out)?;
+                if skip.is_some() && std::fs::canonicalize(&p).ok().as_deref() == skip {
+                    continue;
+                }
+                walk_folder(&p, base, prefix, skip, out)?;
             } else if is_outline(&p) {
                 let relative = prefix.join(p.strip_prefix(base).unwrap_or(&p));
                 out.push(Input { path: p, relative });
@@ -378,6 +399,33 @@ mod tests {
             rel(&[d.join("b"), d.join("b/g.csv")]),
             ["g.csv", "sub/h.csv"]
         );
+        std::fs::remove_dir_all(&d).unwrap();
+    }
+
+    #[test]
+    fn the_output_folder_inside_an_input_folder_is_not_read_back() {
+        let d = tmp("out-inside");
+        std::fs::write(d.join("g.csv"), SQUARE).unwrap();
+        let out = d.join("t");
+        let o = BatchOptions {
+            read: ReadOptions::default(),
+            params: ClumpParams::default(),
+            out: out.clone(),
+        };
+        let inputs = collect_inputs_except(std::slice::from_ref(&d), Some(&out)).unwrap();
+        assert_eq!(inputs.len(), 1);
+        let r = run_batch(&inputs, &o, &|| {});
+        assert!(r.items[0].error.is_none(), "{:?}", r.items[0].error);
+        r.save(&out.join(SUMMARY_FILE)).unwrap();
+        // The second run: the template and the summary in `t` are outlines to a plain walk...
+        let all = collect_inputs(std::slice::from_ref(&d)).unwrap();
+        assert_eq!(all.len(), 3, "{all:?}");
+        // ...but not when `t` is the output folder; a file in it named explicitly still is.
+        let again = collect_inputs_except(std::slice::from_ref(&d), Some(&out)).unwrap();
+        assert_eq!(again.len(), 1, "{again:?}");
+        assert!(clashes(&again, &out).is_empty());
+        let named = collect_inputs_except(&[d.clone(), out.join("g.json")], Some(&out)).unwrap();
+        assert_eq!(named.len(), 2, "{named:?}");
         std::fs::remove_dir_all(&d).unwrap();
     }
 

@@ -1,7 +1,9 @@
 //! `dem clump`: a batch of outlines to templates, in parallel, one failure never stopping the rest.
 
 use clap::Args;
-use clumpgen::batch::{clashes, collect_inputs, run_batch, BatchItem, BatchOptions, SUMMARY_FILE};
+use clumpgen::batch::{
+    clashes, collect_inputs_except, run_batch, BatchItem, BatchOptions, SUMMARY_FILE,
+};
 use clumpgen::{ClumpParams, Length, Method, ReadOptions, Units};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::PathBuf;
@@ -121,7 +123,7 @@ pub fn run(a: ClumpArgs) -> Result<ExitCode, String> {
         params,
         out: a.out.clone(),
     };
-    let inputs = collect_inputs(&a.inputs).map_err(|e| e.to_string())?;
+    let inputs = collect_inputs_except(&a.inputs, Some(&a.out)).map_err(|e| e.to_string())?;
     if inputs.is_empty() {
         return Err("no outline files found (looked for .csv, .txt, .xy, .dat, .json)".into());
     }

@@ -156,6 +156,33 @@ fn templates_never_overwrite_an_input() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// An output folder inside the input folder, run twice: the second run does not read the
+/// first run's templates and summary back as outlines (before: they were read and failed).
+#[test]
+fn an_output_folder_inside_the_inputs_is_not_read_back() {
+    let dir = tmp("out-inside");
+    std::fs::write(dir.join("k.csv"), SQUARE).unwrap();
+    let out = dir.join("t");
+    let run = || {
+        dem(&[
+            std::path::Path::new("clump"),
+            &dir,
+            std::path::Path::new("--out"),
+            &out,
+        ])
+    };
+    let first = run();
+    assert_eq!(first.status.code(), Some(0), "{}", text(&first));
+    let template = std::fs::read(out.join("k.json")).unwrap();
+    let second = run();
+    let t = text(&second);
+    assert_eq!(second.status.code(), Some(0), "{t}");
+    assert!(t.contains("templates written 1"), "{t}");
+    assert!(!out.join("t").exists() && !out.join("summary.json.json").exists());
+    assert_eq!(std::fs::read(out.join("k.json")).unwrap(), template);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 /// A bad global flag is one usage error (exit 2, said once), not one failure per grain.
 #[test]
 fn a_bad_global_flag_is_one_usage_error() {
