@@ -141,24 +141,17 @@ fn parse_unit(s: &str, what: &str, units: &[(&str, f64)]) -> Result<f64, String>
 /// Name, density (kg/m³), E (Pa), tensile strength (Pa) from a `data/materials` file.
 pub type MaterialInfo = (String, Option<f64>, Option<f64>, Option<f64>);
 
-pub fn read_material(path: &PathBuf) -> Result<MaterialInfo, String> {
-    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    let v: serde_json::Value =
-        serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
-    let num = |sec: &str, key: &str| v.get(sec).and_then(|s| s.get(key)).and_then(|x| x.as_f64());
-    let name = v
-        .get("material")
-        .and_then(|x| x.as_str())
-        .unwrap_or("specimen")
-        .to_string();
-    let density = v.get("density_kg_m3").and_then(|x| x.as_f64());
-    let e = num("measured", "E_GPa")
-        .or_else(|| num("assumed", "E_GPa"))
-        .map(|g| g * 1e9);
-    let tensile = num("measured", "brazilian_MPa")
-        .or_else(|| num("measured", "flexural_MPa"))
-        .map(|m| m * 1e6);
-    Ok((name, density, e, tensile))
+pub fn read_material(path: &std::path::Path) -> Result<MaterialInfo, String> {
+    // Typed, so a misspelled or mistyped key is an error naming the file and the key.
+    let m =
+        dem_core::lab::calibrate::MaterialFile::read_unchecked(path).map_err(|e| e.to_string())?;
+    let e = m.measured.e_gpa.or(m.assumed.e_gpa).map(|g| g * 1e9);
+    let tensile = m
+        .measured
+        .brazilian_mpa
+        .or(m.measured.flexural_mpa)
+        .map(|v| v * 1e6);
+    Ok((m.material, Some(m.density_kg_m3), e, tensile))
 }
 
 /// `--method` and `--dist`.

@@ -138,6 +138,32 @@ fn bad_arguments_are_messages() {
     ]);
     assert_eq!(o.status.code(), Some(2));
     assert!(text(&o).contains("traditional, orc or improved"));
+    // A misspelled key of the material file is named with the file (before: read as a
+    // missing density, and the specimen built with the default).
+    let mat = dir.join("typo.json");
+    std::fs::write(
+        &mat,
+        r#"{"material": "Si3N4", "densty_kg_m3": 3200, "measured": {"E_GPa": 310}}"#,
+    )
+    .unwrap();
+    let o = dem(&[
+        "specimen",
+        "--width",
+        "3mm",
+        "--height",
+        "1.5mm",
+        "--r-min",
+        "0.1mm",
+        "--r-max",
+        "0.16mm",
+        "--material",
+        mat.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    let t = text(&o);
+    assert!(t.contains("typo.json") && t.contains("densty_kg_m3"), "{t}");
     assert!(!out.exists());
     std::fs::remove_dir_all(&dir).ok();
 }

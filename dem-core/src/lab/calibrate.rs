@@ -40,15 +40,26 @@ pub struct Targets {
     pub kic: Option<f64>,
 }
 
-/// A material file of `data/materials/` (`measured`, `assumed` in GPa, MPa, MPa·m^½).
+/// A material file of `data/materials/` (`measured`, `assumed` in GPa, MPa, MPa·m^½). Unknown
+/// keys are refused, naming the file and the key ([`MaterialFile::read`]): a misspelled
+/// `densty_kg_m3` is an error, not a missing value.
 #[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct MaterialFile {
     pub material: String,
     #[serde(default)]
+    pub description: String,
+    #[serde(default)]
     pub source: String,
     pub density_kg_m3: f64,
+    /// Where the density comes from, when not from `source`.
+    #[serde(default)]
+    pub density_source: String,
     #[serde(default)]
     pub measured: Figures,
+    /// Handbook values beside the measured ones (reported, not targets).
+    #[serde(default)]
+    pub handbook: Figures,
     /// Values the file marks as assumptions (not measured); used where `measured` lacks them.
     #[serde(default)]
     pub assumed: Figures,
@@ -59,6 +70,7 @@ pub struct MaterialFile {
 
 /// Properties as written in the material files.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Figures {
     #[serde(rename = "E_GPa", default, skip_serializing_if = "Option::is_none")]
     pub e_gpa: Option<f64>,
@@ -84,11 +96,36 @@ pub struct Figures {
         skip_serializing_if = "Option::is_none"
     )]
     pub kic_mpa_sqrt_m: Option<f64>,
+    /// `paper_model` only: the paper's flexural strength of its ORC and improved-ORC models
+    /// (Ye & Xu 2010, Table 3, granite).
+    #[serde(
+        rename = "orc_flexural_MPa",
+        default,
+        skip_serializing_if = "Option::is_none"
+    )]
+    pub orc_flexural_mpa: Option<f64>,
+    #[serde(
+        rename = "improved_flexural_MPa",
+        default,
+        skip_serializing_if = "Option::is_none"
+    )]
+    pub improved_flexural_mpa: Option<f64>,
 }
 
 impl MaterialFile {
     /// Reads a material file; errors name the file and the field.
     pub fn read(path: &Path) -> Result<MaterialFile, LabError> {
+        let m = Self::read_unchecked(path)?;
+        m.targets().map_err(|reason| LabError::Param {
+            field: format!("{}: measured", path.display()),
+            reason,
+        })?;
+        Ok(m)
+    }
+
+    /// Reads a material file without requiring calibration targets (E may be absent);
+    /// errors name the file and the field.
+    pub fn read_unchecked(path: &Path) -> Result<MaterialFile, LabError> {
         let file = path.display().to_string();
         let text = std::fs::read_to_string(path).map_err(|source| LabError::Io {
             file: file.clone(),
@@ -100,10 +137,6 @@ impl MaterialFile {
                 field: format!("{file}: {}", e.path()),
                 reason: e.inner().to_string(),
             })?;
-        m.targets().map_err(|reason| LabError::Param {
-            field: format!("{file}: measured"),
-            reason,
-        })?;
         Ok(m)
     }
 
