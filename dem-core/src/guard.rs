@@ -1,9 +1,17 @@
-//! Blow-up guard: checks at output intervals that the state is finite, overlaps are moderate
-//! and the kinetic energy has not grown beyond the energy supplied. [`World::guard`] keeps a
+//! Blow-up guard: checks at output intervals that the state is finite, no disc travels more
+//! than [`MAX_TRAVEL_PER_STEP`] of its radius in one step, overlaps are moderate and the
+//! kinetic energy has not grown beyond the energy supplied. [`World::guard`] keeps a
 //! copy of the last state that passed ([`World::last_good`]) so a failed run can save it.
 
 use crate::neighbors::{closest_on_wall, MinImage};
 use crate::pipeline::World;
+
+/// Largest travel of a disc in one time step, as a fraction of its radius. An explicit DEM
+/// step resolves a contact over many steps (at the critical step a disc crosses a contact's
+/// overlap range in ~π/(2·0.3) ≈ 5 steps); a disc that moves half its radius in one step
+/// has left the regime where contacts are detected and integrated (a velocity of 1e200 given
+/// in a scene, or a blow-up), long before any value overflows.
+pub const MAX_TRAVEL_PER_STEP: f64 = 0.5;
 
 /// Why the guard stopped a run. Each names the step, the disc (stable id) and a likely cause.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -13,6 +21,18 @@ pub enum GuardError {
         step: u64,
         disc: u32,
         field: &'static str,
+        cause: String,
+    },
+    #[error(
+        "step {step}: disc {disc}: speed {speed:.4e} m/s moves it {fraction:.3e} of its radius \
+         per step (limit {limit}); likely cause: {cause}"
+    )]
+    Speed {
+        step: u64,
+        disc: u32,
+        speed: f64,
+        fraction: f64,
+        limit: f64,
         cause: String,
     },
     #[error(
@@ -61,7 +81,8 @@ impl World {
         let crit = self.critical_dt();
         format!(
             "time step too large for the stiffness (dt = {:.3e} s, critical dt = {:.3e} s, \
-             ratio {:.2}); lower Params::dt_factor or dt_fixed",
+             ratio {:.2}); lower the time-step factor (scene run.dt_factor, --dt-factor) or set \
+             a fixed step (scene run.dt)",
             self.dt(),
             crit,
             self.dt() / crit
@@ -101,12 +122,47 @@ impl World {
                     cause: self.dt_cause(),
                 });
             }
+            let speed = d.vx[i].hypot(d.vy[i]);
+            let fraction = speed * self.dt() / d.r[i];
+            if fraction > MAX_TRAVEL_PER_STEP {
+                let cause = if step == 0 {
+                    "the input gives it this speed (no step has run yet): check the velocity \
+                     in the scene's discs or clumps"
+                        .to_string()
+                } else {
+                    format!(
+                        "accelerated beyond control: a load too large for the disc (gravity, \
+                         wall speed, applied force) or {}",
+                        self.dt_cause()
+                    )
+                };
+                return Err(GuardError::Speed {
+                    step,
+                    disc: d.id[i],
+                    speed,
+                    fraction,
+                    limit: MAX_TRAVEL_PER_STEP,
+                    cause,
+                });
+            }
         }
         let limit = self.params.max_overlap_fraction;
         let deepest = self.deepest_overlap();
         if let Some(o) = &deepest {
             if o.fraction > limit {
                 let cause = match o.wall {
+                    _ if step == 0 => format!(
+                        "the input already places {} (no step has run yet): fix the positions \
+                         or radii in the scene, or raise run.max_overlap_fraction",
+                        if o.wall.is_some() {
+                            "the disc this deep in the wall".to_string()
+                        } else if o.fraction >= 1.999 {
+                            "the two discs at (nearly) the same point, or one inside the other"
+                                .to_string()
+                        } else {
+                            "the two discs this deep in each other".to_string()
+                        }
+                    ),
                     Some(w) => format!(
                         "wall '{}' pushed too far or too fast, or {}",
                         st.walls[w].name,

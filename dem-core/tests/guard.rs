@@ -49,7 +49,10 @@ fn twice_the_critical_step_is_stopped_by_the_guard() {
     assert!(msg.contains("time step too large"), "{msg}");
     assert!(matches!(
         e,
-        GuardError::Overlap { .. } | GuardError::EnergyGrowth { .. } | GuardError::NonFinite { .. }
+        GuardError::Overlap { .. }
+            | GuardError::EnergyGrowth { .. }
+            | GuardError::NonFinite { .. }
+            | GuardError::Speed { .. }
     ));
     let good = w.last_good().expect("a good state was kept");
     assert!(finite(good), "last good state has non-finite values");
@@ -145,4 +148,55 @@ fn sic_stiffness_scene_runs_stably() {
         "energy balance {}",
         e.balance_error
     );
+}
+
+#[test]
+fn input_errors_are_named_as_input_not_as_the_time_step() {
+    // Two discs at the same point: the state before any step is refused as an input overlap.
+    let mut w = chain(Params::default());
+    w.state.discs.x[3] = w.state.discs.x[2];
+    w.refresh();
+    let e = w.guard().expect_err("coincident discs");
+    let msg = e.to_string();
+    assert!(matches!(e, GuardError::Overlap { step: 0, .. }), "{msg}");
+    assert!(
+        msg.contains("same point") && msg.contains("no step has run yet"),
+        "{msg}"
+    );
+    assert!(!msg.contains("time step too large"), "{msg}");
+
+    // A velocity of 1e200 m/s in the input: refused before it reaches any output.
+    let mut w = chain(Params::default());
+    w.state.discs.vx[5] = 1e200;
+    let e = w.guard().expect_err("absurd speed");
+    let msg = e.to_string();
+    assert!(matches!(e, GuardError::Speed { step: 0, .. }), "{msg}");
+    assert!(msg.contains("input gives it this speed"), "{msg}");
+
+    // Gravity 1e300 m/s²: the first checked step stops it (finite values, runaway speed), and
+    // the last good state is the finite initial one.
+    let mut w = chain(Params::default());
+    w.params.gravity = Some([0.0, -1e300]);
+    w.refresh();
+    w.guard().expect("the initial state is good");
+    w.run(1);
+    let e = w.guard().expect_err("runaway");
+    assert!(
+        matches!(
+            e,
+            GuardError::Speed { step: 1, .. } | GuardError::NonFinite { step: 1, .. }
+        ),
+        "{e}"
+    );
+    assert!(finite(w.last_good().unwrap()));
+    assert_eq!(w.last_good().unwrap().step, 0);
+}
+
+#[test]
+fn fast_but_resolved_motion_passes() {
+    // A disc crossing a tenth of its radius per step is fast but integrated: no stop.
+    let mut w = chain(Params::default());
+    let v = 0.1 * 0.01 / w.dt();
+    w.state.discs.vy[9] = v;
+    w.guard().expect("a tenth of the radius per step passes");
 }
