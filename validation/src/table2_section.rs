@@ -189,19 +189,42 @@ pub fn section(
         }
     }
     let scale = t.constant.value / t.constant.run_value / 1e3;
-    // Bars: mean force per case and method, ours and the paper's.
-    let mut cats = vec![];
-    let (mut ours, mut theirs) = (vec![], vec![]);
+    // Bars: mean force per case (a group) and method (a colour), ours and the paper's.
+    let mut cases: Vec<(f64, f64)> = t.cells.iter().map(|c| (c.depth_mm, c.speed_m_s)).collect();
+    cases.sort_by(|a, b| a.partial_cmp(b).unwrap_or(std::cmp::Ordering::Equal));
+    cases.dedup();
+    let mut methods: Vec<&str> = vec![];
     for c in &t.cells {
-        cats.push(format!("{} {}mm {}m/s", c.method, c.depth_mm, c.speed_m_s));
-        ours.push(c.mean_kN);
-        theirs.push(c.paper_mean_kN);
+        if !methods.contains(&c.method.as_str()) {
+            methods.push(&c.method);
+        }
     }
-    let bars = plot::bars(
-        "Table 2: mean main cutting force, ours vs Ye & Xu (2010)",
+    let per_method: Vec<(String, Vec<f64>, Vec<f64>)> = methods
+        .iter()
+        .map(|m| {
+            let cell = |&(d, v): &(f64, f64)| {
+                t.cells
+                    .iter()
+                    .find(|c| c.method == *m && c.depth_mm == d && c.speed_m_s == v)
+            };
+            let ours = cases
+                .iter()
+                .map(|k| cell(k).map_or(f64::NAN, |c| c.mean_kN));
+            let paper = cases
+                .iter()
+                .map(|k| cell(k).map_or(f64::NAN, |c| c.paper_mean_kN));
+            (m.to_string(), ours.collect(), paper.collect())
+        })
+        .collect();
+    let bars = plot::bars_against(
+        "Table 2: mean main cutting force, ours (seed mean) vs Ye & Xu (2010)",
         "kN",
-        &cats,
-        &[("ours (seed mean)".into(), ours), ("paper".into(), theirs)],
+        &cases
+            .iter()
+            .map(|(d, v)| format!("a_p {d} mm, v {v} m/s"))
+            .collect::<Vec<_>>(),
+        &per_method,
+        "paper",
     )?;
     let mut series = vec![];
     for m in METHODS {
