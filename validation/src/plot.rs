@@ -150,65 +150,18 @@ pub fn bars(
     categories: &[String],
     series: &[(String, Vec<f64>)],
 ) -> Result<String, String> {
-    let mut svg = String::new();
-    {
-        let root = SVGBackend::with_string(&mut svg, (860, 440)).into_drawing_area();
-        root.fill(&WHITE).map_err(err)?;
-        let ymax = series
-            .iter()
-            .flat_map(|s| s.1.iter().copied())
-            .filter(|v| v.is_finite())
-            .fold(0.0f64, f64::max)
-            * (1.2 + 0.1 * series.len() as f64);
-        let n = categories.len().max(1) as f64;
-        let mut chart = ChartBuilder::on(&root)
-            .caption(title, ("sans-serif", 18))
-            .margin(12)
-            .x_label_area_size(60)
-            .y_label_area_size(60)
-            .build_cartesian_2d(0.0..n, 0.0..ymax.max(1e-300))
-            .map_err(err)?;
-        let cats = categories.to_vec();
-        chart
-            .configure_mesh()
-            .disable_x_mesh()
-            .x_labels(categories.len() * 2 + 1)
-            .x_label_formatter(&move |x| {
-                let i = x.floor() as usize;
-                if (x - x.floor() - 0.5).abs() < 0.26 && i < cats.len() {
-                    cats[i].clone()
-                } else {
-                    String::new()
-                }
-            })
-            .y_desc(y_label)
-            .draw()
-            .map_err(err)?;
-        let k = series.len().max(1) as f64;
-        let w = 0.8 / k;
-        for (s, (name, vals)) in series.iter().enumerate() {
-            let c = COLORS[s % COLORS.len()];
-            chart
-                .draw_series(vals.iter().enumerate().filter(|(_, v)| v.is_finite()).map(
-                    |(i, v)| {
-                        let x0 = i as f64 + 0.1 + s as f64 * w;
-                        Rectangle::new([(x0, 0.0), (x0 + w * 0.9, *v)], c.filled())
-                    },
-                ))
-                .map_err(err)?
-                .label(name.clone())
-                .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 12, y + 5)], c.filled()));
-        }
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::UpperLeft)
-            .background_style(WHITE.mix(0.8))
-            .border_style(BLACK)
-            .draw()
-            .map_err(err)?;
-        root.present().map_err(err)?;
-    }
-    Ok(svg)
+    let styled: Vec<_> = series
+        .iter()
+        .enumerate()
+        .map(|(s, (name, vals))| {
+            (
+                name.clone(),
+                vals.clone(),
+                COLORS[s % COLORS.len()].filled(),
+            )
+        })
+        .collect();
+    bar_chart(title, y_label, categories, &styled)
 }
 
 /// Grouped bar chart of ours against a reference: one group per category; per series a solid
@@ -221,21 +174,37 @@ pub fn bars_against(
     series: &[(String, Vec<f64>, Vec<f64>)],
     reference: &str,
 ) -> Result<String, String> {
-    let mut flat = vec![];
-    for (name, ours, theirs) in series {
-        flat.push((name.clone(), ours.clone(), false));
-        flat.push((format!("{name}, {reference}"), theirs.clone(), true));
+    let mut styled = vec![];
+    for (s, (name, ours, theirs)) in series.iter().enumerate() {
+        let c = COLORS[s % COLORS.len()];
+        styled.push((name.clone(), ours.clone(), c.filled()));
+        styled.push((
+            format!("{name}, {reference}"),
+            theirs.clone(),
+            c.mix(0.35).filled(),
+        ));
     }
+    bar_chart(title, y_label, categories, &styled)
+}
+
+/// The grouped bars of [`bars`] and [`bars_against`]: series in order within each category,
+/// the legend top left above the bars (head room grows with the number of series).
+fn bar_chart(
+    title: &str,
+    y_label: &str,
+    categories: &[String],
+    series: &[(String, Vec<f64>, ShapeStyle)],
+) -> Result<String, String> {
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, (860, 440)).into_drawing_area();
         root.fill(&WHITE).map_err(err)?;
-        let ymax = flat
+        let ymax = series
             .iter()
             .flat_map(|s| s.1.iter().copied())
             .filter(|v| v.is_finite())
             .fold(0.0f64, f64::max)
-            * (1.2 + 0.1 * flat.len() as f64);
+            * (1.2 + 0.1 * series.len() as f64);
         let n = categories.len().max(1) as f64;
         let mut chart = ChartBuilder::on(&root)
             .caption(title, ("sans-serif", 18))
@@ -260,14 +229,9 @@ pub fn bars_against(
             .y_desc(y_label)
             .draw()
             .map_err(err)?;
-        let w = 0.8 / flat.len().max(1) as f64;
-        for (s, (name, vals, pale)) in flat.iter().enumerate() {
-            let base = COLORS[(s / 2) % COLORS.len()];
-            let style = if *pale {
-                base.mix(0.35).filled()
-            } else {
-                base.filled()
-            };
+        let w = 0.8 / series.len().max(1) as f64;
+        for (s, (name, vals, style)) in series.iter().enumerate() {
+            let style = *style;
             chart
                 .draw_series(vals.iter().enumerate().filter(|(_, v)| v.is_finite()).map(
                     |(i, v)| {
