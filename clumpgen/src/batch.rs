@@ -35,9 +35,6 @@ pub fn collect_inputs(paths: &[PathBuf]) -> std::io::Result<Vec<Input>> {
 /// is still read.
 pub fn collect_inputs_except(paths: &[PathBuf], out: Option<&Path>) -> std::io::Result<Vec<Input>> {
     let skip = out.and_then(|o| std::fs::canonicalize(o).ok());
-    let walk = |dir: &Path, base: &Path, prefix: &Path, out: &mut Vec<Input>| {
-        walk_folder(dir, base, prefix, skip.as_deref(), out)
-    };
     fn walk_folder(
         dir: &Path,
         base: &Path,
@@ -87,7 +84,7 @@ pub fn collect_inputs_except(paths: &[PathBuf], out: Option<&Path>) -> std::io::
     for (p, root) in paths.iter().zip(&roots) {
         let prefix = root.strip_prefix(&common).unwrap_or(Path::new(""));
         if p.is_dir() {
-            walk(p, p, prefix, &mut out)?;
+            walk_folder(p, p, prefix, skip.as_deref(), &mut out)?;
         } else {
             let relative = prefix.join(p.file_name().unwrap_or_default());
             out.push(Input {

@@ -128,12 +128,6 @@ pub struct CuttingArgs {
     pub threads: Option<usize>,
 }
 
-/// Metres as millimetres, up to 4 decimals without trailing zeros (`10`, `0.5`).
-fn fmt_mm(v: f64) -> String {
-    let t = format!("{:.4}", v * 1e3);
-    t.trim_end_matches('0').trim_end_matches('.').to_string()
-}
-
 /// `1`, `2.5`, `1m/s`, `1 m/s` → m/s.
 fn parse_speed(s: &str) -> Result<f64, String> {
     let t = s.trim();
@@ -241,10 +235,10 @@ impl CuttingArgs {
                     (Some(v), _) => format!("--{field} {v}"),
                     (None, Some(p)) => format!(
                         "--{field} ({} mm, from --params {} or the default)",
-                        fmt_mm(value),
+                        cutting::mm(value),
                         p.display()
                     ),
-                    (None, None) => format!("--{field} (default {}mm)", fmt_mm(value)),
+                    (None, None) => format!("--{field} (default {}mm)", cutting::mm(value)),
                 };
                 format!("{flag}: {reason} ({what})")
             }

@@ -124,7 +124,13 @@ pub struct Check {
     pub figures: String,
 }
 
-fn find<'a>(cells: &'a [RemovalCell], m: &str, d: f64, v: f64) -> Option<&'a RemovalCell> {
+/// The removal cell of method `m` at depth `d` (mm) and speed `v` (m/s).
+pub(crate) fn find<'a>(
+    cells: &'a [RemovalCell],
+    m: &str,
+    d: f64,
+    v: f64,
+) -> Option<&'a RemovalCell> {
     cells
         .iter()
         .find(|c| c.method == m && c.depth_mm == d && c.speed_m_s == v)

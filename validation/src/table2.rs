@@ -656,6 +656,11 @@ pub fn claims(cells: &[Cell]) -> Vec<Claim> {
 }
 
 impl Table2 {
+    /// The cell of method `m` at depth `d` (mm) and speed `v` (m/s), if the table has it.
+    pub fn cell(&self, m: &str, d: f64, v: f64) -> Option<&Cell> {
+        find(&self.cells, m, d, v)
+    }
+
     /// Our table beside the paper's and the previous one, relative errors, SEs, the constant
     /// and the claims.
     pub fn markdown(&self) -> String {

@@ -190,40 +190,23 @@ pub fn section(
     }
     let scale = t.constant.value / t.constant.run_value / 1e3;
     // Bars: mean force per case (a group) and method (a colour), ours and the paper's.
-    let mut cases: Vec<(f64, f64)> = t.cells.iter().map(|c| (c.depth_mm, c.speed_m_s)).collect();
-    cases.sort_by(|a, b| a.partial_cmp(b).unwrap_or(std::cmp::Ordering::Equal));
-    cases.dedup();
-    let mut methods: Vec<&str> = vec![];
-    for c in &t.cells {
-        if !methods.contains(&c.method.as_str()) {
-            methods.push(&c.method);
-        }
-    }
-    let per_method: Vec<(String, Vec<f64>, Vec<f64>)> = methods
-        .iter()
-        .map(|m| {
-            let cell = |&(d, v): &(f64, f64)| {
-                t.cells
-                    .iter()
-                    .find(|c| c.method == *m && c.depth_mm == d && c.speed_m_s == v)
-            };
-            let ours = cases
-                .iter()
-                .map(|k| cell(k).map_or(f64::NAN, |c| c.mean_kN));
-            let paper = cases
-                .iter()
-                .map(|k| cell(k).map_or(f64::NAN, |c| c.paper_mean_kN));
-            (m.to_string(), ours.collect(), paper.collect())
-        })
+    let (cases, labels) = cases_of(t.cells.iter().map(|c| (c.depth_mm, c.speed_m_s)));
+    let ours = per_method(&cases, |m, (d, v)| {
+        t.cell(m, d, v).map_or(f64::NAN, |c| c.mean_kN)
+    });
+    let theirs = per_method(&cases, |m, (d, v)| {
+        t.cell(m, d, v).map_or(f64::NAN, |c| c.paper_mean_kN)
+    });
+    let mean_bars: Vec<(String, Vec<f64>, Vec<f64>)> = ours
+        .into_iter()
+        .zip(theirs)
+        .map(|((m, o), (_, p))| (m, o, p))
         .collect();
     let bars = plot::bars_against(
         "Table 2: mean main cutting force, ours (seed mean) vs Ye & Xu (2010)",
         "kN",
-        &cases
-            .iter()
-            .map(|(d, v)| format!("a_p {d} mm, v {v} m/s"))
-            .collect::<Vec<_>>(),
-        &per_method,
+        &labels,
+        &mean_bars,
         "paper",
     )?;
     let mut series = vec![];
@@ -279,32 +262,16 @@ pub fn section(
     };
     md += "\n";
     md += &crate::removal_table::markdown(&removal, &removal_checks);
-    let mut cases: Vec<(f64, f64)> = removal.iter().map(|c| (c.depth_mm, c.speed_m_s)).collect();
-    cases.sort_by(|a, b| a.partial_cmp(b).unwrap());
-    cases.dedup();
-    let shares: Vec<(String, Vec<f64>)> = METHODS
-        .iter()
-        .map(|m| {
-            let v = cases
-                .iter()
-                .map(|&(d, v)| {
-                    removal
-                        .iter()
-                        .find(|c| c.method == *m && c.depth_mm == d && c.speed_m_s == v)
-                        .and_then(|c| c.single_grain_share)
-                        .map_or(0.0, |s| 100.0 * s.mean)
-                })
-                .collect();
-            (m.to_string(), v)
-        })
-        .collect();
+    let (cases, labels) = cases_of(removal.iter().map(|c| (c.depth_mm, c.speed_m_s)));
+    let shares = per_method(&cases, |m, (d, v)| {
+        crate::removal_table::find(&removal, m, d, v)
+            .and_then(|c| c.single_grain_share)
+            .map_or(0.0, |s| 100.0 * s.mean)
+    });
     let removal_bars = plot::bars(
         "Share of the chip discs that leave in single-grain chips (seed mean)",
         "%",
-        &cases
-            .iter()
-            .map(|(d, v)| format!("a_p {d} mm, v {v} m/s"))
-            .collect::<Vec<_>>(),
+        &labels,
         &shares,
     )?;
     // Where ours disagrees, the most likely cause (not for the quick mode's toy runs).
@@ -373,4 +340,27 @@ pub fn section(
         ],
     };
     Ok((section, scale, reused))
+}
+
+/// The (a_p, v) cases among `keys`, sorted, each once, and their labels for a chart.
+fn cases_of(keys: impl Iterator<Item = (f64, f64)>) -> (Vec<(f64, f64)>, Vec<String>) {
+    let mut cases: Vec<(f64, f64)> = keys.collect();
+    cases.sort_by(|a, b| a.partial_cmp(b).unwrap_or(std::cmp::Ordering::Equal));
+    cases.dedup();
+    let labels = cases
+        .iter()
+        .map(|(d, v)| format!("a_p {d} mm, v {v} m/s"))
+        .collect();
+    (cases, labels)
+}
+
+/// One chart series per method of [`METHODS`]: `value(method, case)` for each case.
+fn per_method(
+    cases: &[(f64, f64)],
+    value: impl Fn(&str, (f64, f64)) -> f64,
+) -> Vec<(String, Vec<f64>)> {
+    METHODS
+        .iter()
+        .map(|m| (m.to_string(), cases.iter().map(|&k| value(m, k)).collect()))
+        .collect()
 }

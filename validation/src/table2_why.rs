@@ -42,12 +42,7 @@ fn range(v: &[f64]) -> (f64, f64) {
 
 /// Difference b − a of two cells' means and whether it is within the seed scatter.
 fn diff(t: &Table2, m: &str, a: (f64, f64), b: (f64, f64)) -> Option<(f64, bool)> {
-    let cell = |(d, v): (f64, f64)| {
-        t.cells
-            .iter()
-            .find(|c| c.method == m && c.depth_mm == d && c.speed_m_s == v)
-    };
-    let (ca, cb) = (cell(a)?, cell(b)?);
+    let (ca, cb) = (t.cell(m, a.0, a.1)?, t.cell(m, b.0, b.1)?);
     let se =
         (ca.mean_sd_kN.powi(2) / ca.seeds as f64 + cb.mean_sd_kN.powi(2) / cb.seeds as f64).sqrt();
     let d = cb.mean_kN - ca.mean_kN;
@@ -324,12 +319,7 @@ pub fn findings(
     let (mut ratios, mut paper_ratios) = (vec![], vec![]);
     for m in &present {
         for v in [1.0, 2.0] {
-            let cell = |d: f64| {
-                t.cells
-                    .iter()
-                    .find(|c| c.method == *m && c.depth_mm == d && c.speed_m_s == v)
-            };
-            if let (Some(a), Some(b)) = (cell(1.0), cell(2.0)) {
+            if let (Some(a), Some(b)) = (t.cell(m, 1.0, v), t.cell(m, 2.0, v)) {
                 if a.mean_kN > 0.0 {
                     let (r, pr) = (b.mean_kN / a.mean_kN, b.paper_mean_kN / a.paper_mean_kN);
                     ratios.push(r / pr);
@@ -379,12 +369,7 @@ pub fn findings(
     let mut ev = vec![];
     let (mut unresolved, mut cases) = (0, 0);
     for (d, v) in [(1.0, 1.0), (1.0, 2.0), (2.0, 1.0), (2.0, 2.0)] {
-        let cell = |m: &str| {
-            t.cells
-                .iter()
-                .find(|c| c.method == m && c.depth_mm == d && c.speed_m_s == v)
-        };
-        if let (Some(i), Some(tr)) = (cell("improved"), cell("traditional")) {
+        if let (Some(i), Some(tr)) = (t.cell("improved", d, v), t.cell("traditional", d, v)) {
             let se = (i.mean_sd_kN.powi(2) / i.seeds as f64
                 + tr.mean_sd_kN.powi(2) / tr.seeds as f64)
                 .sqrt();

@@ -289,8 +289,9 @@ impl CuttingTest {
     }
 }
 
-/// Millimetres for messages: up to 4 decimals, trailing zeros dropped (`3`, `1.5`, `0.125`).
-fn mm(v: f64) -> String {
+/// Metres as millimetres for messages: up to 4 decimals, trailing zeros dropped (`3`, `1.5`,
+/// `0.125`).
+pub fn mm(v: f64) -> String {
     let t = format!("{:.4}", v * 1e3);
     let t = t.trim_end_matches('0').trim_end_matches('.');
     if t == "-0" {
