@@ -386,3 +386,54 @@ fn threads_zero_is_a_usage_error() {
     assert!(text(&o).contains("--threads"), "{}", text(&o));
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Issue 20: a run of 0 steps reports the scene's energies (it reported 0 J), and a run
+/// stopped by a runaway load (gravity 1e300 m/s²) still writes its summary, with the figures
+/// that overflowed written as null and named, and no NaN on disk.
+#[test]
+fn zero_steps_and_runaway_loads_write_honest_summaries() {
+    let dir = tmp("summaries");
+    let scene = tiny_scene(&dir);
+    let mut v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&scene).unwrap()).unwrap();
+    v["run"]["steps"] = 0.into();
+    let p = dir.join("zero.json");
+    std::fs::write(&p, v.to_string()).unwrap();
+    let out = dir.join("zero.out");
+    let o = dem(&["run", p.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    // Two glass discs (r = 1 mm, t = 1 m, 2500 kg/m³) at 0.5 m/s: 2 · ½ m v².
+    let m = 2500.0 * std::f64::consts::PI * 1e-6;
+    let ke = 2.0 * 0.5 * m * 0.25;
+    let got = s["energy"]["kinetic_translation"].as_f64().unwrap();
+    assert!((got / ke - 1.0).abs() < 1e-12, "{got} vs {ke}");
+    assert_eq!(s["energy"]["total"].as_f64(), Some(got));
+
+    v["run"]["steps"] = 400.into();
+    v["gravity"] = serde_json::json!([0, -1e300]);
+    let p = dir.join("runaway.json");
+    std::fs::write(&p, v.to_string()).unwrap();
+    let out = dir.join("runaway.out");
+    let o = dem(&["run", p.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    let t = text(&o);
+    assert_eq!(o.status.code(), Some(2), "{t}");
+    let file = std::fs::read_to_string(out.join("summary.json")).expect("a summary");
+    assert!(!file.contains("NaN") && !file.contains("inf"), "{file}");
+    let s: serde_json::Value = serde_json::from_str(&file).unwrap();
+    assert_eq!(s["status"], "stopped", "{file}");
+    assert!(s["error"].as_str().unwrap().contains("speed"), "{file}");
+    assert!(out.join("last-good-state.json").exists());
+    let bad = s["not_finite"].as_array().expect("the energies overflowed");
+    assert!(bad.iter().any(|k| k == "energy.total"), "{file}");
+    for k in bad {
+        let path: Vec<&str> = k.as_str().unwrap().split('.').collect();
+        let mut x = &s;
+        for p in &path {
+            x = &x[*p];
+        }
+        assert!(x.is_null(), "{k}: {x}");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -321,14 +321,37 @@ impl World {
         crate::timestep::bounds(&self.state, &self.cache, &self.index_of_id)
     }
 
-    /// Energies at the time of the last step (see [`crate::energy`]).
+    /// Energies at the time of the last step (see [`crate::energy`]). Before the first step
+    /// (no step has accounted anything yet) the kinetic energy and the gravity potential are
+    /// those of the state as given, ½mv² + ½Iω² and −m g·x over the free discs and the
+    /// clumps; contact strain is 0 then (no contact pass has run) and bond strain is the
+    /// bonds' own.
     pub fn energy(&self) -> EnergyReport {
         let wall_work: f64 = self.state.walls.iter().map(|w| w.work).sum();
         let (sb, rb) = self
             .bonds
             .as_ref()
             .map_or((0.0, 0.0), |b| (b.strain_energy(), b.released_energy()));
-        EnergyReport::new(&self.energy, wall_work, sb, rb)
+        if self.energy.initial.is_some() {
+            return EnergyReport::new(&self.energy, wall_work, sb, rb);
+        }
+        let mut acc = self.energy.clone();
+        let [gx, gy] = self.params.gravity.unwrap_or([0.0, 0.0]);
+        let d = &self.state.discs;
+        for i in 0..d.len() {
+            if d.body[i] == FREE && !d.fixed[i] {
+                acc.kin_trans += 0.5 * d.m[i] * (d.vx[i] * d.vx[i] + d.vy[i] * d.vy[i]);
+                acc.kin_rot += 0.5 * d.inertia[i] * d.omega[i] * d.omega[i];
+                acc.grav_pot -= d.m[i] * (gx * d.x[i] + gy * d.y[i]);
+            }
+        }
+        let c = &self.state.clumps;
+        for k in 0..c.len() {
+            acc.kin_trans += 0.5 * c.m[k] * (c.vx[k] * c.vx[k] + c.vy[k] * c.vy[k]);
+            acc.kin_rot += 0.5 * c.inertia[k] * c.omega[k] * c.omega[k];
+            acc.grav_pot -= c.m[k] * (gx * c.x[k] + gy * c.y[k]);
+        }
+        EnergyReport::new(&acc, wall_work, sb, rb)
     }
 
     /// Names of the stages this world runs, in order.

@@ -52,3 +52,43 @@ fn elastic_gas_conserves_energy_at_the_automatic_step() {
     assert!(contacts_seen > 20, "too few collisions to test anything");
     assert!(rel.abs() < 1e-4, "relative energy drift {rel}");
 }
+
+/// Issue 20: before the first step the energies are the state's own (a summary of a
+/// `"steps": 0` run reported 0 J), and they equal the first step's without forces.
+#[test]
+fn energies_before_the_first_step_are_the_states() {
+    let mut w = gas(4, 3, Params::default());
+    let d = &w.state.discs;
+    let hand: f64 = (0..d.len())
+        .map(|i| 0.5 * d.m[i] * (d.vx[i] * d.vx[i] + d.vy[i] * d.vy[i]))
+        .sum();
+    let e = w.energy();
+    assert!(hand > 0.0);
+    assert_eq!(e.kinetic_translation, hand);
+    assert_eq!(e.kinetic_rotation, 0.0);
+    assert_eq!(e.total, hand);
+    assert_eq!(e.initial, hand);
+    assert_eq!(e.balance_error, 0.0);
+    // The discs of this gas do not touch at first: one step keeps the kinetic energy.
+    w.step();
+    let after = w.energy().kinetic_translation;
+    assert!((after / hand - 1.0).abs() < 1e-12, "{after} vs {hand}");
+}
+
+/// The gravity potential before the first step is −Σ m g·x of the state, the value the first
+/// step books (it takes the positions before its drift).
+#[test]
+fn gravity_potential_before_the_first_step_is_the_states() {
+    let p = Params {
+        gravity: Some([0.0, -9.81]),
+        ..Params::default()
+    };
+    let mut w = gas(4, 5, p);
+    let d = &w.state.discs;
+    let hand: f64 = (0..d.len()).map(|i| d.m[i] * 9.81 * d.y[i]).sum();
+    let before = w.energy().gravity_potential;
+    assert!((before / hand - 1.0).abs() < 1e-12, "{before} vs {hand}");
+    w.step();
+    let first = w.energy().gravity_potential;
+    assert!((first / before - 1.0).abs() < 1e-12, "{first} vs {before}");
+}

@@ -638,6 +638,7 @@ impl Simulation {
             },
             energy: w.energy(),
             files: self.files.iter().cloned().collect(),
+            not_finite: vec![],
         };
         if self.scene.outputs.summary {
             s.save(&path)?;

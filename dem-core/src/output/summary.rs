@@ -53,6 +53,11 @@ pub struct RunSummary {
     pub energy: EnergyReport,
     /// Files written (relative to the output folder).
     pub files: Vec<String>,
+    /// Figures that were not finite when a stopped run wrote its summary (a runaway load
+    /// overflows the energies): written as `null` and named here. Only a `stopped` summary may
+    /// have any; empty (and absent from the file) otherwise.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub not_finite: Vec<String>,
 }
 
 /// A run's figures over all its invocations: a fresh run is one invocation, each restart from
@@ -114,10 +119,35 @@ pub fn thread_cpu_s() -> Option<f64> {
 }
 
 impl RunSummary {
-    /// Pretty JSON, refusing non-finite numbers.
+    /// Pretty JSON, refusing non-finite numbers, except in a `stopped` summary: there they
+    /// are written as `null` and listed in `not_finite` (the summary of a run stopped by an
+    /// overflow is still written, and no NaN reaches the disk).
     pub fn to_json(&self, path: &Path) -> Result<String, OutputError> {
+        let bad = self.non_finite_fields();
+        if self.status != "stopped" || bad.is_empty() {
+            if let Some((k, v)) = bad.first() {
+                finite(path, || k.to_string(), *v)?;
+            }
+            return self.pretty(path);
+        }
+        let mut s = self.clone();
+        s.not_finite = bad.iter().map(|(k, _)| k.to_string()).collect();
+        s.pretty(path)
+    }
+
+    fn pretty(&self, path: &Path) -> Result<String, OutputError> {
+        let mut s = serde_json::to_string_pretty(self).map_err(|e| OutputError::Io {
+            file: path.display().to_string(),
+            source: std::io::Error::other(e),
+        })?;
+        s.push('\n');
+        Ok(s)
+    }
+
+    /// The figures that are not finite, by their JSON path.
+    fn non_finite_fields(&self) -> Vec<(&'static str, f64)> {
         let e = &self.energy;
-        for (k, v) in [
+        let all = [
             ("time", self.time),
             ("dt", self.dt),
             ("dt_min", self.dt_min),
@@ -152,15 +182,8 @@ impl RunSummary {
             ("energy.total", e.total),
             ("energy.initial", e.initial),
             ("energy.balance_error", e.balance_error),
-        ] {
-            finite(path, || k.to_string(), v)?;
-        }
-        let mut s = serde_json::to_string_pretty(self).map_err(|e| OutputError::Io {
-            file: path.display().to_string(),
-            source: std::io::Error::other(e),
-        })?;
-        s.push('\n');
-        Ok(s)
+        ];
+        all.into_iter().filter(|(_, v)| !v.is_finite()).collect()
     }
 
     pub fn save(&self, path: &Path) -> Result<(), OutputError> {
