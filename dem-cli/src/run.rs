@@ -31,28 +31,40 @@ pub struct RunArgs {
     /// by a process that still runs (or runs on another host); the lock is taken over.
     #[arg(long)]
     force: bool,
+    /// Run even if the scene needs more than `MAX_STEPS_UNASKED` steps (the time step and the
+    /// scene's duration are stated first; without this flag such a run is refused).
+    #[arg(long)]
+    yes: bool,
 }
+
+/// Above this many steps `dem run` states the count and refuses unless `--yes`: 10⁹ steps of
+/// a 1,500-disc cutting specimen take ~21 h on one core of the development machine (~20 M
+/// particle-steps/s); a mistyped stiffness or duration easily asks for 10¹⁴.
+pub const MAX_STEPS_UNASKED: u64 = 1_000_000_000;
 
 pub fn run(a: RunArgs) -> Result<ExitCode, String> {
     let scene = dem_core::scene::load(&a.scene).map_err(|e| e.to_string())?;
     // (The folder `Simulation::new` writes into.)
     let out = a.out.clone().unwrap_or_else(|| scene.outputs.dir.clone());
-    let (_lock, notes) =
-        crate::run_lock::acquire(&out, &scene.file, &scene.physics_hash(), a.force)?;
-    for n in notes {
-        eprintln!("note: {n}");
-    }
+    let (file, hash) = (scene.file.clone(), scene.physics_hash());
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(a.threads.unwrap_or(0))
         .build()
         .map_err(|e| e.to_string())?;
     let opts = RunOptions {
-        out_dir: Some(out),
+        out_dir: Some(out.clone()),
         restart: a.restart,
         max_steps: a.max_steps,
     };
     pool.install(|| {
+        // Built (or loaded) before the lock: nothing is written yet, and a refused run leaves
+        // the folder as it was.
         let mut sim = Simulation::new(scene, &opts).map_err(|e| e.to_string())?;
+        check_step_count(&sim, a.yes)?;
+        let (_lock, notes) = crate::run_lock::acquire(&out, &file, &hash, a.force)?;
+        for n in notes {
+            eprintln!("note: {n}");
+        }
         let st = &sim.world.state;
         println!(
             "scene {}: {} discs, {} rigid clumps, {} bonds, {} walls; dt {:.4e} s",
@@ -111,4 +123,28 @@ pub fn run(a: RunArgs) -> Result<ExitCode, String> {
         );
         Ok(ExitCode::SUCCESS)
     })
+}
+
+/// States a run's step count before it starts and refuses one above [`MAX_STEPS_UNASKED`]
+/// unless `yes` (issue 20: a stiffness of 1e30 asked for ~1.6e14 steps at dt = 6e-17 s and ran
+/// silently).
+fn check_step_count(sim: &Simulation, yes: bool) -> Result<(), String> {
+    let steps = sim.total_steps();
+    let dt = sim.world.dt();
+    if steps <= MAX_STEPS_UNASKED || yes {
+        return Ok(());
+    }
+    let discs = sim.world.state.discs.len().max(1) as f64;
+    // At ~20 M particle-steps/s on one core (docs/performance.md), the order of magnitude.
+    let hours = steps as f64 * discs / 2e7 / 3600.0;
+    Err(format!(
+        "{}: the run needs {steps} steps of dt = {dt:.3e} s (from run.duration or \
+         run.steps; about {hours:.1e} core-hours for {} discs at 2e7 particle-steps/s), more \
+         than the {MAX_STEPS_UNASKED} steps run without asking. Check run.duration, run.dt / \
+         run.dt_factor and the materials' stiffness (the time step scales with \
+         sqrt(mass/stiffness)); cap the run with run.max_steps or --max-steps, or give --yes \
+         to run it as it is",
+        sim.scene.file.display(),
+        discs as u64
+    ))
 }

@@ -437,3 +437,40 @@ fn zero_steps_and_runaway_loads_write_honest_summaries() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Issue 20: a scene asking for more steps than `dem run` runs unasked (a stiffness of 1e30
+/// made dt = 6e-17 s and ~1.6e14 steps, run silently) is refused before anything is written,
+/// naming the count and the fields to check; `--max-steps` or `--yes` lets it run.
+#[test]
+fn a_run_of_too_many_steps_is_refused_unless_asked() {
+    let dir = tmp("steps");
+    let scene = tiny_scene(&dir);
+    let mut v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&scene).unwrap()).unwrap();
+    v["materials"][0]["kn"] = 1e30.into();
+    v["materials"][0]["ks"] = 5e29.into();
+    v["run"] = serde_json::json!({"duration": 1.0});
+    let p = dir.join("stiff.json");
+    std::fs::write(&p, v.to_string()).unwrap();
+    let out = dir.join("stiff.out");
+    let o = dem(&["run", p.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    let t = text(&o);
+    assert_eq!(o.status.code(), Some(2), "{t}");
+    assert!(
+        t.contains("stiff.json") && t.contains("steps") && t.contains("--yes"),
+        "{t}"
+    );
+    assert!(t.contains("run.duration") && t.contains("stiffness"), "{t}");
+    assert!(!out.exists(), "a refused run writes nothing");
+    // Capped, it runs.
+    let o = dem(&[
+        "run",
+        p.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--max-steps",
+        "10",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
