@@ -13,6 +13,7 @@ pub mod removal_table;
 pub mod report;
 pub mod stability;
 pub mod study;
+pub mod study_findings;
 pub mod table1;
 pub mod table2;
 pub mod table2_section;

@@ -37,8 +37,9 @@ struct Args {
     /// Table 2: run only these seeds (default all of the plan's).
     #[arg(long, value_delimiter = ',')]
     seeds: Vec<u64>,
-    /// Table 2 and the convergence study use only the cutting runs already finished in the
-    /// output folder and list the others as not run (a report of the runs done so far).
+    /// Table 2, the convergence study and a `--study` use only the cutting runs already
+    /// finished in the output folder and list the others as not run (a report of the runs
+    /// done so far).
     #[arg(long)]
     finished_only: bool,
     /// Run a cutting study (`data/studies/*.json`: variants of the cutting test on the Table 2
@@ -51,8 +52,14 @@ fn main() -> ExitCode {
     let a = Args::parse();
     if let Some(f) = &a.study {
         let progress = |m: &str| eprintln!("{m}");
-        let r = validation::study::StudySpec::read(f)
-            .and_then(|s| validation::study::run(&s, &a.data, &a.out, &progress).map(|r| (s, r)));
+        let r = validation::study::StudySpec::read(f).and_then(|s| {
+            let missing = if a.finished_only {
+                validation::cutting_runs::Missing::List
+            } else {
+                validation::cutting_runs::Missing::Run
+            };
+            validation::study::run(&s, &a.data, &a.out, missing, &progress).map(|r| (s, r))
+        });
         return match r {
             Ok((s, (rows, errors))) => {
                 eprintln!(

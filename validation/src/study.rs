@@ -51,7 +51,7 @@ pub struct Variant {
 }
 
 /// One finished run of a study.
-#[derive(Clone, Debug, Serialize, Deserialize)]
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
 pub struct Row {
     pub variant: String,
     pub method: String,
@@ -63,6 +63,9 @@ pub struct Row {
     pub mean_n: f64,
     pub mean_first_half_n: f64,
     pub mean_second_half_n: f64,
+    /// Share of the window's force samples in which the tool touches anything (main force
+    /// not 0): low when a detached layer runs ahead of the tool.
+    pub contact_share: f64,
     /// Largest sample, and the largest moving mean over one a_p of travel (N).
     pub peak_raw_n: f64,
     pub peak_ap_n: Option<f64>,
@@ -228,6 +231,14 @@ pub fn row(variant: &str, job: &Job, res: &CuttingResult, dir: &Path, cpu: Optio
         mean_n: res.main_force.mean,
         mean_first_half_n: window_mean(&x, &f, a, mid),
         mean_second_half_n: window_mean(&x, &f, mid, b),
+        contact_share: window_mean(
+            &x,
+            &f.iter()
+                .map(|v| f64::from(u8::from(*v != 0.0)))
+                .collect::<Vec<_>>(),
+            a,
+            b,
+        ),
         peak_raw_n: res.main_force.peak,
         peak_ap_n: moving_mean_peak(&x, &f, a, b, job.test.depth),
         work_j: e("boundary_work"),
@@ -260,6 +271,7 @@ pub fn run(
     spec: &StudySpec,
     data: &Path,
     out: &Path,
+    missing: Missing,
     progress: &(dyn Fn(&str) + Sync),
 ) -> Result<(Vec<Row>, Vec<String>), String> {
     let jobs = spec.jobs(data)?;
@@ -271,7 +283,7 @@ pub fn run(
         jobs.len(),
         work.display()
     ));
-    let o = run_jobs(&jobs, &work, Missing::Run, progress);
+    let o = run_jobs(&jobs, &work, missing, progress);
     let mut rows = vec![];
     for fin in &o.finished {
         let Some(job) = jobs.iter().find(|j| j.name == fin.name) else {
@@ -295,6 +307,8 @@ pub fn run(
     .map_err(|e| e.to_string())?;
     crate::page::write(&dir, "study.json", &json)?;
     let mut md = markdown(spec, &rows, &o.errors);
+    md.push('\n');
+    md.push_str(&crate::study_findings::markdown(&rows));
     for (file, svg) in plots(spec, &rows, &work)? {
         crate::page::write(&dir, &file, &svg)?;
         let _ = writeln!(md, "\n![{file}]({file})");
