@@ -2,6 +2,7 @@
 //! (rayon); a failed grain is recorded with its reason and never stops the others.
 
 use crate::clump::{make_template, ClumpParams};
+use crate::export::Format;
 use crate::outline::{read_outline, ReadOptions};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -148,6 +149,14 @@ pub struct Clash {
 /// file is overwritten). [`run_batch`] writes no template of a clashing input; `dem clump`
 /// refuses the whole batch.
 pub fn clashes(inputs: &[Input], out: &Path) -> Vec<Clash> {
+    clashes_with_exports(inputs, out, &[])
+}
+
+/// [`clashes`], and also an export ([`crate::export::Format::paths`], written beside each
+/// template) that would overwrite an input file: the same rules as for templates. (Two inputs
+/// never share an export unless they share a template, which is a clash already; exports never
+/// end in `.json`, so no export is another input's template or the summary.)
+pub fn clashes_with_exports(inputs: &[Input], out: &Path, exports: &[Format]) -> Vec<Clash> {
     let mut found = Vec::new();
     let canonical = |p: &Path| std::fs::canonicalize(p).ok();
     let input_files: std::collections::HashMap<PathBuf, usize> = inputs
@@ -200,6 +209,25 @@ pub fn clashes(inputs: &[Input], out: &Path) -> Vec<Clash> {
             });
         }
     }
+    for (k, inp) in inputs.iter().enumerate() {
+        let t = template_path(out, inp);
+        for f in exports {
+            for e in f.paths(&t) {
+                if let Some(&victim) = canonical(&e).and_then(|c| input_files.get(&c)) {
+                    found.push(Clash {
+                        inputs: vec![k],
+                        message: format!(
+                            "{}: its {f} export {} would overwrite the input {}: choose an \
+                             --out folder that holds no outlines",
+                            inp.path.display(),
+                            e.display(),
+                            inputs[victim].path.display()
+                        ),
+                    });
+                }
+            }
+        }
+    }
     if let Some(&victim) = canonical(&summary).and_then(|c| input_files.get(&c)) {
         found.push(Clash {
             inputs: vec![victim],
@@ -225,6 +253,8 @@ pub struct BatchOptions {
     pub read: ReadOptions,
     pub params: ClumpParams,
     pub out: PathBuf,
+    /// Exports written beside each template (none: templates only).
+    pub exports: Vec<Format>,
 }
 
 /// The outcome for one grain.
@@ -238,6 +268,20 @@ pub struct BatchItem {
     pub residual: f64,
     pub seconds: f64,
     pub error: Option<String>,
+    /// Export files written beside the template.
+    #[serde(default)]
+    pub exports: Vec<String>,
+    /// What the exports cannot carry exactly, per format ([`crate::export::caveat`]).
+    #[serde(default)]
+    pub caveats: Vec<ExportCaveat>,
+}
+
+/// A format's figure of what it does not carry exactly for one grain (see
+/// [`crate::export::Caveat`]).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ExportCaveat {
+    pub format: String,
+    pub rel: f64,
 }
 
 /// The outcome of a batch, in input order.
@@ -249,12 +293,14 @@ pub struct BatchReport {
 
 /// Runs the batch on the current rayon pool. `tick` is called once per finished grain (for a
 /// progress bar). Templates are written atomically as `<out>/<relative>.json`
-/// ([`template_path`]); an input in one of the batch's [`clashes`] fails with the clash's
-/// message and nothing is written for it.
+/// ([`template_path`]), then each of `o.exports` beside it ([`crate::export::write`], file by
+/// file atomically); an input in one of the batch's [`clashes_with_exports`] fails with the
+/// clash's message and nothing is written for it. An export that cannot be written fails its
+/// grain (its template stays).
 pub fn run_batch(inputs: &[Input], o: &BatchOptions, tick: &(dyn Fn() + Sync)) -> BatchReport {
     let t0 = Instant::now();
     let mut refused: Vec<Option<String>> = vec![None; inputs.len()];
-    for c in clashes(inputs, &o.out) {
+    for c in clashes_with_exports(inputs, &o.out, &o.exports) {
         for k in c.inputs {
             refused[k].get_or_insert_with(|| c.message.clone());
         }
@@ -272,13 +318,18 @@ pub fn run_batch(inputs: &[Input], o: &BatchOptions, tick: &(dyn Fn() + Sync)) -
                 .and_then(|ol| make_template(&ol, &o.params).map_err(|e| e.to_string()))
                 .and_then(|tpl| {
                     tpl.save(&dest).map_err(|e| e.to_string())?;
-                    Ok(tpl)
+                    let mut files = Vec::new();
+                    for &f in &o.exports {
+                        let w = crate::export::write(&tpl, f, &dest).map_err(|e| e.to_string())?;
+                        files.extend(w.iter().map(|p| p.display().to_string()));
+                    }
+                    Ok((tpl, files))
                 });
             let seconds = t.elapsed().as_secs_f64();
             tick();
             let input = inp.path.display().to_string();
             match result {
-                Ok(tpl) => BatchItem {
+                Ok((tpl, exports)) => BatchItem {
                     input,
                     template: Some(dest.display().to_string()),
                     discs: tpl.discs.len(),
@@ -286,6 +337,16 @@ pub fn run_batch(inputs: &[Input], o: &BatchOptions, tick: &(dyn Fn() + Sync)) -
                     residual: tpl.residuals.max(),
                     seconds,
                     error: None,
+                    exports,
+                    caveats: o
+                        .exports
+                        .iter()
+                        .filter_map(|&f| crate::export::caveat(&tpl, f))
+                        .map(|c| ExportCaveat {
+                            format: c.format.name().to_string(),
+                            rel: c.rel,
+                        })
+                        .collect(),
                 },
                 Err(e) => BatchItem {
                     input,
@@ -295,6 +356,8 @@ pub fn run_batch(inputs: &[Input], o: &BatchOptions, tick: &(dyn Fn() + Sync)) -
                     residual: 0.0,
                     seconds,
                     error: Some(e),
+                    exports: Vec::new(),
+                    caveats: Vec::new(),
                 },
             }
         })
@@ -408,6 +471,7 @@ mod tests {
             read: ReadOptions::default(),
             params: ClumpParams::default(),
             out: out.clone(),
+            exports: Vec::new(),
         };
         let inputs = collect_inputs_except(std::slice::from_ref(&d), Some(&out)).unwrap();
         assert_eq!(inputs.len(), 1);
@@ -441,6 +505,7 @@ mod tests {
             read: ReadOptions::default(),
             params: ClumpParams::default(),
             out: out.clone(),
+            exports: Vec::new(),
         };
         let r = run_batch(&inputs, &o, &|| {});
         assert!(r.items[0]
@@ -461,6 +526,64 @@ mod tests {
             c[0].message.contains("overwrite this outline itself"),
             "{c:?}"
         );
+        std::fs::remove_dir_all(&d).unwrap();
+    }
+
+    #[test]
+    fn exports_are_written_beside_templates_and_never_over_an_input() {
+        let d = tmp("exports");
+        std::fs::create_dir_all(d.join("sub")).unwrap();
+        std::fs::write(d.join("sub/g.csv"), SQUARE).unwrap();
+        let out = d.join("out");
+        let o = BatchOptions {
+            read: ReadOptions::default(),
+            params: ClumpParams::default(),
+            out: out.clone(),
+            exports: vec![Format::Lammps, Format::Mercury],
+        };
+        let inputs = collect_inputs(std::slice::from_ref(&d)).unwrap();
+        let r = run_batch(&inputs, &o, &|| {});
+        let item = &r.items[0];
+        assert!(item.error.is_none(), "{:?}", item.error);
+        assert_eq!(item.exports.len(), 6, "{:?}", item.exports);
+        assert!(out.join("sub/g.lammps.mol").exists());
+        assert!(out.join("sub/g.mercury/Inertia/TOI.txt").exists());
+        assert!(!out.join("sub/g.yade.py").exists());
+        let formats: Vec<&str> = item.caveats.iter().map(|c| c.format.as_str()).collect();
+        assert_eq!(formats, ["lammps", "mercury"]);
+        assert!(item.caveats[0].rel > 0.0 && item.caveats[0].rel < 0.2);
+        // Into the input folder, where an outline sits where an export goes (MercuryDPM's
+        // Clump.txt is an outline file name): refused, named, the outline untouched.
+        let sub = d.join("sub");
+        let victim = sub.join("g.mercury/Clump/Clump.txt");
+        std::fs::create_dir_all(victim.parent().unwrap()).unwrap();
+        std::fs::write(&victim, SQUARE).unwrap();
+        let inputs = collect_inputs(std::slice::from_ref(&sub)).unwrap();
+        assert_eq!(inputs.len(), 2);
+        assert!(clashes(&inputs, &sub).is_empty());
+        assert!(clashes_with_exports(&inputs, &sub, &[Format::Lammps]).is_empty());
+        let c = clashes_with_exports(&inputs, &sub, &o.exports);
+        assert_eq!(c.len(), 1, "{c:?}");
+        assert_eq!(c[0].inputs.len(), 1);
+        assert_eq!(inputs[c[0].inputs[0]].path, sub.join("g.csv"));
+        assert!(
+            c[0].message.contains("mercury export") && c[0].message.contains("would overwrite"),
+            "{c:?}"
+        );
+        let o2 = BatchOptions {
+            out: sub.clone(),
+            ..o.clone()
+        };
+        let r = run_batch(&inputs, &o2, &|| {});
+        let failed: Vec<_> = r.items.iter().filter(|i| i.error.is_some()).collect();
+        assert_eq!(failed.len(), 1);
+        assert!(failed[0]
+            .error
+            .as_deref()
+            .unwrap()
+            .contains("would overwrite"));
+        assert_eq!(std::fs::read_to_string(&victim).unwrap(), SQUARE);
+        assert!(!sub.join("g.json").exists());
         std::fs::remove_dir_all(&d).unwrap();
     }
 }

@@ -15,13 +15,15 @@
 //! template::Template         versioned JSON, written atomically; Template::load reads it back
 //! ```
 //!
-//! [`batch::run_batch`] runs many grains in parallel (a clump library).
+//! [`batch::run_batch`] runs many grains in parallel (a clump library); [`export`] writes a
+//! template for PFC2D, YADE, LAMMPS or MercuryDPM beside it.
 
 pub mod batch;
 pub mod clump;
 pub mod cover;
 pub mod descriptors;
 pub mod error;
+pub mod export;
 pub mod fill;
 pub mod geom;
 pub mod hausdorff;

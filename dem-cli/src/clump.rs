@@ -2,8 +2,9 @@
 
 use clap::Args;
 use clumpgen::batch::{
-    clashes, collect_inputs_except, run_batch, BatchItem, BatchOptions, SUMMARY_FILE,
+    clashes_with_exports, collect_inputs_except, run_batch, BatchItem, BatchOptions, SUMMARY_FILE,
 };
+use clumpgen::export::Format;
 use clumpgen::{ClumpParams, Length, Method, ReadOptions, Units};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::PathBuf;
@@ -57,6 +58,20 @@ pub struct ClumpArgs {
     /// Worker threads, at least 1 (default: all cores).
     #[arg(long, value_parser = crate::parse_threads)]
     threads: Option<usize>,
+    /// Also write each template for other DEM codes, beside it: `pfc` (PFC2D clump template,
+    /// `<name>.pfc.p2dat`), `yade` (Python, `<name>.yade.py`), `lammps` (molecule file,
+    /// `<name>.lammps.mol`), `mercury` (MercuryDPM clump folder, `<name>.mercury/`). Several:
+    /// `--export pfc,yade` or the flag repeated. See docs/exports.md.
+    #[arg(long, value_delimiter = ',', value_parser = parse_export, value_name = "FORMAT")]
+    export: Vec<Format>,
+}
+
+/// `--export` values: one of the formats of [`Format::ALL`].
+fn parse_export(s: &str) -> Result<Format, String> {
+    Format::parse(s).ok_or_else(|| {
+        let names: Vec<&str> = Format::ALL.iter().map(|f| f.name()).collect();
+        format!("expected one of {}", names.join(", "))
+    })
 }
 
 /// `0.05` → fraction of R_eq; `20um`, `0.1mm`, `1e-4m` → metres.
@@ -122,6 +137,12 @@ pub fn run(a: ClumpArgs) -> Result<ExitCode, String> {
         },
         params,
         out: a.out.clone(),
+        exports: {
+            let mut e = a.export.clone();
+            e.sort();
+            e.dedup();
+            e
+        },
     };
     let inputs = collect_inputs_except(&a.inputs, Some(&a.out)).map_err(|e| e.to_string())?;
     if inputs.is_empty() {
@@ -129,7 +150,7 @@ pub fn run(a: ClumpArgs) -> Result<ExitCode, String> {
     }
     // Outputs never collide: two inputs for one template, or a template (or the summary)
     // over an input, refuse the batch before anything is written.
-    let clash = clashes(&inputs, &a.out);
+    let clash = clashes_with_exports(&inputs, &a.out, &opts.exports);
     if !clash.is_empty() {
         let list: Vec<String> = clash.iter().map(|c| format!("  {}", c.message)).collect();
         return Err(format!(
@@ -153,6 +174,9 @@ pub fn run(a: ClumpArgs) -> Result<ExitCode, String> {
     bar.finish_and_clear();
     let failed: Vec<&BatchItem> = report.items.iter().filter(|i| i.error.is_some()).collect();
     println!("{}", report.summary_table());
+    for line in export_lines(&opts.exports, &report.items) {
+        println!("{line}");
+    }
     if let Err(e) = report.save(&a.out.join(SUMMARY_FILE)) {
         eprintln!("error: {e}");
     }
@@ -181,4 +205,36 @@ fn units_message(u: &str, e: &clumpgen::OutlineError) -> String {
         }
         e => format!("--units {u}: {e}"),
     }
+}
+
+/// One line per export format: what was written and, where the format cannot carry the
+/// template's mass properties exactly, what is lost (with the range of the figure over the
+/// grains: the LAMMPS inertia shortfall of bodies built from atoms).
+fn export_lines(formats: &[Format], items: &[BatchItem]) -> Vec<String> {
+    let ok: Vec<&BatchItem> = items.iter().filter(|i| i.error.is_none()).collect();
+    formats
+        .iter()
+        .map(|&f| {
+            let head = format!("export {:<8} {} grains", f.name(), ok.len());
+            let Some(limit) = f.limitation() else {
+                return format!("{head}: exact mass, centroid and inertia");
+            };
+            let rel: Vec<f64> = ok
+                .iter()
+                .flat_map(|i| &i.caveats)
+                .filter(|c| c.format == f.name())
+                .map(|c| c.rel)
+                .collect();
+            let range = match (
+                rel.iter().copied().reduce(f64::min),
+                rel.iter().copied().reduce(f64::max),
+            ) {
+                (Some(lo), Some(hi)) if f == Format::Lammps => {
+                    format!(" by {:.2}-{:.2} %", 100.0 * lo, 100.0 * hi)
+                }
+                _ => String::new(),
+            };
+            format!("{head}: NOT EXACT: {limit}{range}; see docs/exports.md")
+        })
+        .collect()
 }

@@ -223,3 +223,122 @@ fn a_bad_global_flag_is_one_usage_error() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// `--export`: each format is written beside each template (several formats, as a list and by
+/// repeating the flag), the LAMMPS masses add up to the template's mass, and the formats that
+/// cannot carry the mass properties exactly say so in the output.
+#[test]
+fn exports_are_written_beside_the_templates() {
+    let dir = tmp("export");
+    let (input, out) = (dir.join("in"), dir.join("o"));
+    std::fs::create_dir_all(input.join("sub")).unwrap();
+    std::fs::write(input.join("square.csv"), SQUARE).unwrap();
+    std::fs::write(input.join("sub/tri.txt"), TRIANGLE).unwrap();
+    let o = Command::new(env!("CARGO_BIN_EXE_dem"))
+        .args([
+            "clump",
+            input.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ])
+        .args([
+            "--export",
+            "lammps,yade",
+            "--export",
+            "mercury",
+            "--export",
+            "pfc",
+        ])
+        .output()
+        .unwrap();
+    let t = text(&o);
+    assert_eq!(o.status.code(), Some(0), "{t}");
+    for stem in ["square", "sub/tri"] {
+        for ending in [
+            ".json",
+            ".pfc.p2dat",
+            ".yade.py",
+            ".lammps.mol",
+            ".mercury/Clump/Clump.txt",
+            ".mercury/Inertia/Mass.txt",
+            ".mercury/Inertia/TOI.txt",
+            ".mercury/Inertia/PD.txt",
+            ".mercury/README.txt",
+        ] {
+            let p = out.join(format!("{stem}{ending}"));
+            assert!(p.is_file(), "{} missing\n{t}", p.display());
+        }
+    }
+    // The molecule file's Masses section adds up to the template's mass.
+    let tpl = clumpgen::Template::load(&out.join("square.json")).unwrap();
+    let mol = std::fs::read_to_string(out.join("square.lammps.mol")).unwrap();
+    let masses: Vec<f64> = mol
+        .lines()
+        .skip_while(|l| l.trim() != "Masses")
+        .skip(1)
+        .filter(|l| !l.trim().is_empty())
+        .map(|l| l.split_whitespace().nth(1).unwrap().parse().unwrap())
+        .collect();
+    assert_eq!(masses.len(), tpl.discs.len());
+    let sum: f64 = masses.iter().sum();
+    assert!((sum - tpl.target.mass).abs() <= 1e-10 * tpl.target.mass);
+    // One line per format; the inexact ones say so with their figures.
+    let line = |f: &str| {
+        t.lines()
+            .find(|l| l.starts_with(&format!("export {f}")))
+            .unwrap_or_else(|| panic!("no line for {f}\n{t}"))
+            .to_string()
+    };
+    assert!(
+        line("yade").ends_with("2 grains: exact mass, centroid and inertia"),
+        "{t}"
+    );
+    assert!(line("pfc").contains("exact mass"), "{t}");
+    // The LAMMPS line gives the range of the I_z shortfall of bodies built from atoms.
+    let lammps = line("lammps");
+    assert!(lammps.contains("NOT EXACT"), "{t}");
+    let range = lammps
+        .split("I_z is low by ")
+        .nth(1)
+        .and_then(|r| r.split(" %").next())
+        .unwrap_or_else(|| panic!("no range in {lammps}"));
+    let (lo, hi) = range.split_once('-').unwrap();
+    let (lo, hi): (f64, f64) = (lo.parse().unwrap(), hi.parse().unwrap());
+    assert!(0.0 < lo && lo <= hi && hi < 20.0, "{lammps}");
+    assert!(line("mercury").contains("NOT EXACT") && line("mercury").contains("std::stof"));
+    // The summary lists the files written.
+    let summary = std::fs::read_to_string(out.join("summary.json")).unwrap();
+    assert!(summary.contains("square.lammps.mol"), "{summary}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// `--export foo`: a usage error (exit 2) naming the flag and the formats, nothing written.
+#[test]
+fn an_unknown_export_format_is_a_usage_error() {
+    let dir = tmp("export-bad");
+    let (input, out) = (dir.join("in"), dir.join("o"));
+    std::fs::create_dir_all(&input).unwrap();
+    std::fs::write(input.join("g.csv"), SQUARE).unwrap();
+    for bad in ["foo", "lammps,foo"] {
+        let o = Command::new(env!("CARGO_BIN_EXE_dem"))
+            .args([
+                "clump",
+                input.to_str().unwrap(),
+                "--out",
+                out.to_str().unwrap(),
+            ])
+            .args(["--export", bad])
+            .output()
+            .unwrap();
+        let t = text(&o);
+        assert_eq!(o.status.code(), Some(2), "{bad}: {t}");
+        assert_eq!(t.matches("--export").count(), 1, "{bad}: {t}");
+        assert!(
+            t.contains("foo") && t.contains("pfc, yade, lammps, mercury"),
+            "{t}"
+        );
+        assert!(!t.contains("panicked"), "{t}");
+        assert!(!out.exists(), "{bad}: something was written");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
