@@ -319,6 +319,7 @@ impl Simulation {
         if self.restarted_from.is_none() {
             self.clear_stale()?;
         }
+        remove_dead_temporaries(&self.out);
         self.guard(t0)?;
         if self.world.state.step == 0 && o.vtk_every > 0 {
             self.snapshot()?;
@@ -647,6 +648,34 @@ impl Simulation {
     }
 }
 
+/// Removes the temporary files (`.<output name>.<pid>.tmp`, see [`write_atomic`]) that a run
+/// killed during a write left in `dir`: those of this driver's outputs whose process is gone
+/// (Linux: no `/proc/<pid>`; elsewhere nothing is removed). Best effort: errors are ignored.
+pub fn remove_dead_temporaries(dir: &Path) {
+    if !Path::new("/proc/self").exists() {
+        return;
+    }
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return;
+    };
+    for e in entries.flatten() {
+        let name = e.file_name().to_string_lossy().into_owned();
+        let Some(inner) = name.strip_prefix('.').and_then(|n| n.strip_suffix(".tmp")) else {
+            continue;
+        };
+        let Some((file, pid)) = inner.rsplit_once('.') else {
+            continue;
+        };
+        let Ok(pid) = pid.parse::<u32>() else {
+            continue;
+        };
+        let dead = pid != std::process::id() && !Path::new("/proc").join(pid.to_string()).exists();
+        if dead && is_output_name(file) {
+            let _ = std::fs::remove_file(e.path());
+        }
+    }
+}
+
 /// How a run at `st` ends, if it has: the scene's stop reached, or the invocation's step limit.
 fn ending_of(st: &State, stop: Stop, max_steps: Option<u64>) -> Option<Ending> {
     let done = match stop {
@@ -664,7 +693,7 @@ fn ending_of(st: &State, stop: Stop, max_steps: Option<u64>) -> Option<Ending> {
 
 #[cfg(test)]
 mod tests {
-    use super::is_output_name;
+    use super::{is_output_name, remove_dead_temporaries};
 
     #[test]
     fn only_driver_names_are_outputs() {
@@ -687,5 +716,37 @@ mod tests {
         ] {
             assert!(!is_output_name(n), "{n}");
         }
+    }
+
+    /// Issue 20: temporaries of a killed run's writes go at the next start; those of live
+    /// processes (this one) and of files the driver does not write stay.
+    #[cfg(target_os = "linux")]
+    #[test]
+    fn dead_runs_temporaries_are_removed() {
+        let dir = std::env::temp_dir().join(format!("dem-driver-tmp-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        // A pid that is not running: above the kernel's pid_max (at most 2^22).
+        let dead = 4_194_304 + 17;
+        let me = std::process::id();
+        let names = [
+            format!(".ckpt-000000200.json.{dead}.tmp"),
+            format!(".history.csv.{dead}.tmp"),
+            format!(".ckpt-000000300.json.{me}.tmp"),
+            format!(".notes.txt.{dead}.tmp"),
+            ".ckpt-final.json.abc.tmp".to_string(),
+        ];
+        for n in &names {
+            std::fs::write(dir.join(n), "partial").unwrap();
+        }
+        remove_dead_temporaries(&dir);
+        let mut left: Vec<String> = std::fs::read_dir(&dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        left.sort();
+        let mut want = names[2..].to_vec();
+        want.sort();
+        assert_eq!(left, want);
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 }
