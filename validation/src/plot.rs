@@ -120,22 +120,27 @@ pub fn lines(
                 }
                 chart
                     .configure_series_labels()
+                    .position(SeriesLabelPosition::UpperLeft)
                     .background_style(WHITE.mix(0.8))
                     .border_style(BLACK)
                     .draw()
                     .map_err(err)?;
             }};
         }
+        // A log axis spanning less than 64× gets its ticks at powers of 2 (0.25, 0.5, 1, 2, 4
+        // for a speed study), wider ones at powers of 10.
+        let log_base = |a: f64, b: f64| if b / a < 64.0 { 2.0 } else { 10.0 };
+        let (bx, by) = (log_base(x0, x1), log_base(y0, y1));
         match (log_x, log_y) {
             (false, false) => draw!(b.build_cartesian_2d(x0..x1, y0..y1).map_err(err)?),
             (true, false) => draw!(b
-                .build_cartesian_2d((x0..x1).log_scale(), y0..y1)
+                .build_cartesian_2d((x0..x1).log_scale().base(bx), y0..y1)
                 .map_err(err)?),
             (false, true) => draw!(b
-                .build_cartesian_2d(x0..x1, (y0..y1).log_scale())
+                .build_cartesian_2d(x0..x1, (y0..y1).log_scale().base(by))
                 .map_err(err)?),
             (true, true) => draw!(b
-                .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())
+                .build_cartesian_2d((x0..x1).log_scale().base(bx), (y0..y1).log_scale().base(by))
                 .map_err(err)?),
         }
         root.present().map_err(err)?;
