@@ -7,6 +7,7 @@ use std::process::ExitCode;
 mod bench;
 mod calibrate;
 mod clump;
+mod render;
 mod run;
 mod run_lock;
 mod specimen;
@@ -35,6 +36,9 @@ enum Command {
     /// Calibrate micro-parameters against a material's measured properties (UCS, bending and
     /// Brazilian tests): writes model.json (for `dem test --model`) and the calibration table.
     Calibrate(calibrate::CalibrateArgs),
+    /// Draw a checkpoint, last-good-state.json, specimen file or clump template as a PNG
+    /// picture (discs coloured by grain, bond group, speed or material; bonds, walls, tool).
+    Render(render::RenderArgs),
     /// Speed benchmarks; the last line printed is the figure.
     #[command(subcommand)]
     Bench(bench::BenchKind),
@@ -49,6 +53,7 @@ fn main() -> ExitCode {
         Command::Specimen(a) => specimen::run(a),
         Command::Test(k) => test::run(k),
         Command::Calibrate(a) => calibrate::run(a),
+        Command::Render(a) => render::run(a),
         Command::Bench(k) => bench::run(k),
     };
     match result {

@@ -162,6 +162,24 @@ pub fn save(
         .map_err(|source| CheckpointError::Io { file, source })
 }
 
+/// Parses a checkpoint's JSON text, checking its checksum and schema but not the scene that
+/// made it (for tools that only look at the state, e.g. `dem render`); `file` names it in
+/// errors. [`load`] adds the scene check for restarts.
+pub fn parse(text: &str, file: &str) -> Result<Checkpoint, CheckpointError> {
+    verify_checksum(file, text)?;
+    let c: Checkpoint = serde_json::from_str(text).map_err(|e| CheckpointError::Format {
+        file: file.to_string(),
+        reason: e.to_string(),
+    })?;
+    if c.schema != SCHEMA {
+        return Err(CheckpointError::Format {
+            file: file.to_string(),
+            reason: format!("schema is {:?}, expected {SCHEMA:?}", c.schema),
+        });
+    }
+    Ok(c)
+}
+
 /// Reads a checkpoint, checks its checksum and that it was made from a scene with physics hash
 /// `scene_hash`.
 pub fn load(path: &Path, scene_hash: &str) -> Result<Checkpoint, CheckpointError> {
@@ -170,17 +188,7 @@ pub fn load(path: &Path, scene_hash: &str) -> Result<Checkpoint, CheckpointError
         file: file.clone(),
         source,
     })?;
-    verify_checksum(&file, &text)?;
-    let c: Checkpoint = serde_json::from_str(&text).map_err(|e| CheckpointError::Format {
-        file: file.clone(),
-        reason: e.to_string(),
-    })?;
-    if c.schema != SCHEMA {
-        return Err(CheckpointError::Format {
-            file,
-            reason: format!("schema is {:?}, expected {SCHEMA:?}", c.schema),
-        });
-    }
+    let c = parse(&text, &file)?;
     if c.scene_hash != scene_hash {
         return Err(CheckpointError::SceneMismatch {
             file,

@@ -1,0 +1,207 @@
+//! `dem render`: a PNG picture of a checkpoint, a `last-good-state.json`, a specimen file or a
+//! clump template (the kind is read from the file's `schema` field). Loading is in [`load`],
+//! drawing in [`draw`]; this module holds the flags, the output path and the messages.
+
+pub mod draw;
+pub mod load;
+
+use clap::Args;
+use draw::{ColorBy, Options};
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+/// Flags of `dem render`.
+#[derive(Args)]
+#[command(after_help = "\
+The picture: discs as filled circles, walls and the tool as thick grey lines, a scale bar in \
+mm, a legend (speed: a colour bar) and a caption (file, step and time, counts). A template is \
+drawn over its grain outline (read from the outline file the template names, found as given \
+or beside the template; or --outline), with the grain centroid (+) and, where it differs, the \
+clump's mass centre (x).
+
+After writing, one line gives the image size and where model coordinates land: column = c0 + \
+s*x, row = r0 - s*y (x, y in mm; s in px/mm).
+
+Examples:
+  dem render out/ckpt-final.json --bonds
+  dem render si3n4-improved.json --color group --out specimen.png
+  dem render out/templates/equant-01.json --width 600
+  dem render run/ckpt-final.json --view 4,16,4,11 --color speed")]
+pub struct RenderArgs {
+    /// Input: a checkpoint (ckpt-*.json), a last-good-state.json, a specimen file
+    /// (`dem specimen`) or a clump template (`dem clump`).
+    input: PathBuf,
+    /// Output PNG (default: the input's name with .png, beside it). Never an input file.
+    #[arg(long, value_name = "FILE.png")]
+    out: Option<PathBuf>,
+    /// Image width in pixels (1 to 6000); the height follows from the drawn region's aspect
+    /// ratio (at most twice the width) plus the caption.
+    #[arg(
+        long,
+        value_name = "PX",
+        default_value_t = 1200,
+        value_parser = parse_width,
+        allow_hyphen_values = true
+    )]
+    width: u32,
+    /// Disc colours: grain (rigid or bonded clump, specimen grain; touching grains differ;
+    /// where some grains have several discs, one-disc grains are plain beige-grey),
+    /// group (bonds coloured by bond group over grey discs; darker grey: no intact bond),
+    /// speed (|v| on a colour scale, with a colour bar) or material.
+    #[arg(long, value_name = "KIND", default_value = "grain", value_parser = parse_color)]
+    color: ColorBy,
+    /// Draw intact bonds as thin lines between disc centres.
+    #[arg(long)]
+    bonds: bool,
+    /// Draw broken bonds (checkpoints keep them) as red crack marks where they broke, across
+    /// the line of the two discs' centres, as long as the bond was wide.
+    #[arg(long)]
+    broken: bool,
+    /// Draw only this region, in mm: XMIN,XMAX,YMIN,YMAX (default: everything, e.g. chips
+    /// that flew far included).
+    #[arg(
+        long,
+        value_name = "XMIN,XMAX,YMIN,YMAX",
+        value_parser = parse_view,
+        allow_hyphen_values = true
+    )]
+    view: Option<[f64; 4]>,
+    /// Top of the speed scale in m/s (default: the largest speed in the file).
+    #[arg(long, value_name = "M/S", value_parser = parse_speed)]
+    speed_max: Option<f64>,
+    /// Write 24-bit RGB; by default the PNG has 256 palette colours (the flat colours exact,
+    /// anti-aliased edges to the nearest kept colour), about a third of the size.
+    #[arg(long)]
+    rgb: bool,
+    /// Grain outline file of a template (default: the file the template names).
+    #[arg(long, value_name = "FILE")]
+    outline: Option<PathBuf>,
+}
+
+fn parse_width(s: &str) -> Result<u32, String> {
+    match s.trim().parse::<u32>() {
+        Ok(w) if (1..=draw::MAX_WIDTH).contains(&w) => Ok(w),
+        Ok(w) => Err(format!(
+            "{w} px: the width must be 1 to {} pixels",
+            draw::MAX_WIDTH
+        )),
+        Err(e) => Err(format!("{e} (a width in pixels, e.g. 1200)")),
+    }
+}
+
+fn parse_color(s: &str) -> Result<ColorBy, String> {
+    match s.trim() {
+        "grain" => Ok(ColorBy::Grain),
+        "group" => Ok(ColorBy::Group),
+        "speed" => Ok(ColorBy::Speed),
+        "material" => Ok(ColorBy::Material),
+        other => Err(format!(
+            "{other:?} is not a colouring: grain, group, speed or material"
+        )),
+    }
+}
+
+fn parse_view(s: &str) -> Result<[f64; 4], String> {
+    let v: Vec<f64> = s
+        .split(',')
+        .map(|t| t.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|e| format!("{e}: four numbers in mm, XMIN,XMAX,YMIN,YMAX"))?;
+    let [x0, x1, y0, y1] = v[..] else {
+        return Err(format!(
+            "{} numbers: four in mm are needed, XMIN,XMAX,YMIN,YMAX",
+            v.len()
+        ));
+    };
+    if !v.iter().all(|x| x.is_finite()) || x0 >= x1 || y0 >= y1 {
+        return Err("need finite XMIN < XMAX and YMIN < YMAX (mm)".into());
+    }
+    Ok([x0 * 1e-3, x1 * 1e-3, y0 * 1e-3, y1 * 1e-3])
+}
+
+fn parse_speed(s: &str) -> Result<f64, String> {
+    match s.trim().parse::<f64>() {
+        Ok(v) if v.is_finite() && v > 0.0 => Ok(v),
+        Ok(v) => Err(format!(
+            "{v}: the top of the speed scale must be positive (m/s)"
+        )),
+        Err(e) => Err(format!("{e} (a speed in m/s)")),
+    }
+}
+
+/// `x.json` → `x.png` beside it.
+fn default_out(input: &Path) -> PathBuf {
+    input.with_extension("png")
+}
+
+/// The path with its folder made absolute and canonical (the file itself need not exist), to
+/// tell whether two names are one file.
+fn canonical(p: &Path) -> PathBuf {
+    if let Ok(c) = p.canonicalize() {
+        return c;
+    }
+    let dir = match p.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    match (dir.canonicalize(), p.file_name()) {
+        (Ok(d), Some(n)) => d.join(n),
+        _ => p.to_path_buf(),
+    }
+}
+
+/// Runs `dem render`.
+pub fn run(a: RenderArgs) -> Result<ExitCode, String> {
+    let out = a.out.clone().unwrap_or_else(|| default_out(&a.input));
+    let out_c = canonical(&out);
+    let mut inputs = vec![("the input", a.input.as_path())];
+    if let Some(o) = &a.outline {
+        inputs.push(("the outline (--outline)", o.as_path()));
+    }
+    for (what, p) in inputs {
+        if canonical(p) == out_c {
+            return Err(format!(
+                "--out {}: is {what} {}; give another output file",
+                out.display(),
+                p.display()
+            ));
+        }
+    }
+    let t0 = std::time::Instant::now();
+    let picture = load::load(&a.input, a.outline.as_deref())?;
+    let t1 = std::time::Instant::now();
+    for n in &picture.notes {
+        eprintln!("note: {n}");
+    }
+    let opts = Options {
+        width: a.width,
+        color: a.color,
+        bonds: a.bonds,
+        broken: a.broken,
+        view: a.view,
+        speed_max: a.speed_max,
+        rgb: a.rgb,
+    };
+    let r = draw::render(&picture, &opts).map_err(|e| format!("{}: {e}", a.input.display()))?;
+    let t2 = std::time::Instant::now();
+    clumpgen::io::write_atomic(&out, &r.png)
+        .map_err(|e| format!("--out {}: cannot write: {e}", out.display()))?;
+    let f = r.frame;
+    println!(
+        "wrote {}: {} x {} px, {} discs; {:.4} px/mm, (0, 0) mm at column {:.2}, row {:.2}",
+        out.display(),
+        r.width,
+        r.height,
+        picture.discs.len(),
+        f.s * 1e-3,
+        f.c0,
+        f.r0
+    );
+    println!(
+        "read in {:.0} ms, drawn in {:.0} ms, PNG encoded in {:.0} ms",
+        (t1 - t0).as_secs_f64() * 1e3,
+        ((t2 - t1).as_secs_f64() - r.encode_s) * 1e3,
+        r.encode_s * 1e3
+    );
+    Ok(ExitCode::SUCCESS)
+}

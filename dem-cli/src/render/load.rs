@@ -1,0 +1,617 @@
+//! What `dem render` draws, read from a file: a checkpoint (`dem.checkpoint/1`), a
+//! `last-good-state.json` (a bare solver state, no schema), a specimen file (`dem.specimen/1`)
+//! or a clump template (`clumpgen.template/1`), told apart by the file's `schema` field. Every
+//! kind becomes one [`Picture`]: discs, bonds, walls, an outline, caption lines, in metres.
+
+use clumpgen::template::Template;
+use dem_core::bond::BondStatus;
+use dem_core::scene::schema::{SpecimenFile, SPECIMEN_SCHEMA};
+use dem_core::state::{State, FREE};
+use serde::de::IgnoredAny;
+use serde::Deserialize;
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+/// The kinds of file `dem render` reads, for messages.
+pub const KINDS: &str = "a checkpoint (dem.checkpoint/1, ckpt-*.json), a last-good-state.json, \
+                         a specimen file (dem.specimen/1) or a clump template \
+                         (clumpgen.template/1)";
+
+/// One disc to draw (metres, m/s).
+#[derive(Clone, Debug)]
+pub struct Disc {
+    /// Centre x (m).
+    pub x: f64,
+    /// Centre y (m).
+    pub y: f64,
+    /// Radius (m).
+    pub r: f64,
+    /// Speed |v| (m/s); 0 where the file has no velocities.
+    pub speed: f64,
+    /// Material index (into [`Picture::materials`] where names are known).
+    pub material: u16,
+    /// Grain key: discs of one grain (rigid clump, bonded clump, specimen grain) share it.
+    pub grain: u64,
+}
+
+/// One bond between two discs (indices into [`Picture::discs`]).
+#[derive(Clone, Copy, Debug)]
+pub struct Bond {
+    /// First disc.
+    pub i: usize,
+    /// Second disc.
+    pub j: usize,
+    /// Bond group index (into [`Picture::bond_groups`]).
+    pub group: u16,
+    /// Intact (true) or broken.
+    pub intact: bool,
+    /// Where a broken bond broke (m; the break log's bond centre), where known.
+    pub broke_at: Option<[f64; 2]>,
+    /// Bond width 2R̄ (m); 0 where unknown.
+    pub width: f64,
+}
+
+/// A wall or tool: a polyline (m).
+#[derive(Clone, Debug)]
+pub struct WallLine {
+    /// The wall's name in the scene (`tool`, `slot_left`, …).
+    pub name: String,
+    /// Vertices in order (at least two).
+    pub points: Vec<[f64; 2]>,
+}
+
+/// What kind of file the picture came from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Kind {
+    /// A checkpoint of a run.
+    Checkpoint,
+    /// A `last-good-state.json` written when a run stopped.
+    State,
+    /// A specimen file.
+    Specimen,
+    /// A clump template.
+    Template,
+}
+
+/// Everything `dem render` draws, in metres.
+#[derive(Clone, Debug)]
+pub struct Picture {
+    /// Which kind of file it was.
+    pub kind: Kind,
+    /// The discs.
+    pub discs: Vec<Disc>,
+    /// Bonds, intact and broken (a specimen file lists only intact ones).
+    pub bonds: Vec<Bond>,
+    /// Bond group names by index.
+    pub bond_groups: Vec<String>,
+    /// Material names by index (empty where the file does not name them).
+    pub materials: Vec<String>,
+    /// Walls and the tool.
+    pub walls: Vec<WallLine>,
+    /// A grain outline (template), closed implicitly.
+    pub outline: Option<Vec<[f64; 2]>>,
+    /// The grain centroid (template): drawn as a `+`.
+    pub centroid: Option<[f64; 2]>,
+    /// The clump's own mass centre where it differs from the grain's (ORC template): an `x`.
+    pub clump_centroid: Option<[f64; 2]>,
+    /// Caption lines (file, step and time, counts).
+    pub caption: Vec<String>,
+    /// Remarks for stderr (an outline not found, discs skipped).
+    pub notes: Vec<String>,
+}
+
+/// Reads `path` and turns it into a [`Picture`]; `outline` overrides a template's outline file.
+/// Errors name the file and say why.
+pub fn load(path: &Path, outline: Option<&Path>) -> Result<Picture, String> {
+    let file = path.display().to_string();
+    let text = std::fs::read_to_string(path).map_err(|e| format!("{file}: cannot read: {e}"))?;
+    /// Only the fields that tell the kinds apart (the rest is skipped, not stored).
+    #[derive(Deserialize)]
+    struct Peek {
+        schema: Option<String>,
+        discs: Option<IgnoredAny>,
+        walls: Option<IgnoredAny>,
+        step: Option<IgnoredAny>,
+    }
+    let peek: Peek = serde_json::from_str(&text)
+        .map_err(|e| format!("{file}: not a JSON object ({e}); dem render reads {KINDS}"))?;
+    let label = short_name(path);
+    match peek.schema.as_deref() {
+        Some(dem_core::checkpoint::SCHEMA) => {
+            let c = dem_core::checkpoint::parse(&text, &file).map_err(|e| e.to_string())?;
+            let w = &c.world;
+            let mut p = from_state(&w.state, Kind::Checkpoint);
+            if let Some(b) = &w.bonds {
+                p.bond_groups = b.group_names();
+                let at: HashMap<u32, [f64; 2]> = b
+                    .log()
+                    .events
+                    .iter()
+                    .map(|e| (e.bond, [e.x, e.y]))
+                    .collect();
+                p.bonds = b
+                    .iter()
+                    .map(|v| Bond {
+                        i: v.i as usize,
+                        j: v.j as usize,
+                        group: v.group,
+                        intact: v.status == BondStatus::Intact,
+                        broke_at: at.get(&v.id).copied(),
+                        width: 2.0 * v.rbar,
+                    })
+                    .filter(|b| b.i < p.discs.len() && b.j < p.discs.len())
+                    .collect();
+            }
+            p.caption = vec![
+                format!("{label}   {}", step_time(w.state.step, w.state.time)),
+                counts(&p),
+            ];
+            Ok(p)
+        }
+        Some(SPECIMEN_SCHEMA) => {
+            let s: SpecimenFile = serde_json::from_str(&text)
+                .map_err(|e| format!("{file}: not a specimen file: {e}"))?;
+            from_specimen(&s, path)
+        }
+        Some(clumpgen::template::SCHEMA) => {
+            let t = Template::from_json(&text, &file).map_err(|e| e.to_string())?;
+            Ok(from_template(&t, path, outline))
+        }
+        Some(dem_core::scene::schema::SCHEMA) => Err(format!(
+            "{file}: a scene file (dem.scene/1): run it (`dem run {file}`) and render one of \
+             its checkpoints (ckpt-*.json in the output folder); dem render reads {KINDS}"
+        )),
+        Some(other) => Err(format!(
+            "{file}: schema {other:?} is not one dem render draws; it reads {KINDS}"
+        )),
+        None if peek.discs.is_some() && peek.walls.is_some() && peek.step.is_some() => {
+            let st: State = serde_json::from_str(&text)
+                .map_err(|e| format!("{file}: not a solver state (last-good-state.json): {e}"))?;
+            let mut p = from_state(&st, Kind::State);
+            p.caption = vec![
+                format!(
+                    "{label}   {}   (last good state; no bonds)",
+                    step_time(st.step, st.time)
+                ),
+                counts(&p),
+            ];
+            Ok(p)
+        }
+        None => Err(format!(
+            "{file}: no `schema` field, and not a last-good-state.json either; dem render \
+             reads {KINDS}"
+        )),
+    }
+}
+
+/// `folder/file.json`: the file name with its folder, which tells checkpoints of runs apart.
+pub fn short_name(path: &Path) -> String {
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_else(|| path.display().to_string());
+    match path
+        .parent()
+        .and_then(|p| p.file_name())
+        .map(|n| n.to_string_lossy().into_owned())
+    {
+        Some(dir) if !dir.is_empty() => format!("{dir}/{name}"),
+        _ => name,
+    }
+}
+
+/// `step 13,884,535   t = 10.100 ms`.
+fn step_time(step: u64, t: f64) -> String {
+    let digits = step.to_string();
+    let grouped: Vec<&str> = digits
+        .as_bytes()
+        .rchunks(3)
+        .rev()
+        .map(|c| std::str::from_utf8(c).unwrap_or("?"))
+        .collect();
+    let grouped = grouped.join(",");
+    format!("step {grouped}   t = {}", seconds(t))
+}
+
+/// A time in s, ms or us with four significant digits.
+fn seconds(t: f64) -> String {
+    let a = t.abs();
+    if a == 0.0 || a >= 1.0 {
+        format!("{} s", sig(t))
+    } else if a >= 1e-3 {
+        format!("{} ms", sig(t * 1e3))
+    } else {
+        format!("{} us", sig(t * 1e6))
+    }
+}
+
+/// `1583 discs, 3175 bonds (412 broken), 4 walls`.
+fn counts(p: &Picture) -> String {
+    let mut s = format!("{} discs", p.discs.len());
+    if !p.bonds.is_empty() {
+        let broken = p.bonds.iter().filter(|b| !b.intact).count();
+        s += &format!(", {} intact bonds", p.bonds.len() - broken);
+        if broken > 0 {
+            s += &format!(" ({broken} broken)");
+        }
+    }
+    if !p.walls.is_empty() {
+        s += &format!(", {} walls", p.walls.len());
+    }
+    s
+}
+
+/// Grain keys of discs given their rigid-clump index (or `FREE`), their group and their id:
+/// a clump's discs share their clump; other discs share their group where the groups tell
+/// grains apart (not all equal), else each disc is its own grain.
+fn grain_keys(body: &[u32], group: &[u32], id: &[u32]) -> Vec<u64> {
+    let groups_vary = group.windows(2).any(|w| w[0] != w[1]);
+    (0..body.len())
+        .map(|k| {
+            if body[k] != FREE {
+                (1 << 40) | body[k] as u64
+            } else if groups_vary {
+                group[k] as u64
+            } else {
+                (2 << 40) | id[k] as u64
+            }
+        })
+        .collect()
+}
+
+/// Discs and walls of a solver state (no bonds, no caption).
+fn from_state(st: &State, kind: Kind) -> Picture {
+    let d = &st.discs;
+    let keys = grain_keys(&d.body, &d.group, &d.id);
+    let discs = (0..d.len())
+        .map(|k| Disc {
+            x: d.x[k],
+            y: d.y[k],
+            r: d.r[k],
+            speed: d.vx[k].hypot(d.vy[k]),
+            material: d.material[k],
+            grain: keys[k],
+        })
+        .collect();
+    let walls = st
+        .walls
+        .iter()
+        .map(|w| WallLine {
+            name: w.name.clone(),
+            points: w.vertices().collect(),
+        })
+        .collect();
+    Picture {
+        kind,
+        discs,
+        bonds: Vec::new(),
+        bond_groups: Vec::new(),
+        materials: Vec::new(),
+        walls,
+        outline: None,
+        centroid: None,
+        clump_centroid: None,
+        caption: Vec::new(),
+        notes: Vec::new(),
+    }
+}
+
+/// A specimen file: its disc sets (grain ids from `groups`), rigid clumps, bonds and any clump
+/// placements (templates relative to the file).
+fn from_specimen(s: &SpecimenFile, path: &Path) -> Result<Picture, String> {
+    let file = path.display().to_string();
+    let u = s.units.metres();
+    let mut materials: Vec<String> = Vec::new();
+    let mut material_index = |name: &str| -> u16 {
+        match materials.iter().position(|m| m == name) {
+            Some(k) => k as u16,
+            None => {
+                materials.push(name.to_string());
+                (materials.len() - 1) as u16
+            }
+        }
+    };
+    let (mut x, mut y, mut r, mut speed, mut mat, mut group) =
+        (vec![], vec![], vec![], vec![], vec![], vec![]);
+    for (k, set) in s.discs.iter().enumerate() {
+        if let Some(g) = &set.groups {
+            if g.len() != set.discs.len() {
+                return Err(format!(
+                    "{file}: field discs[{k}].groups: {} entries for {} discs",
+                    g.len(),
+                    set.discs.len()
+                ));
+            }
+        }
+        let m = material_index(&set.material);
+        let v = set.velocity[0].hypot(set.velocity[1]) * u;
+        for (q, d) in set.discs.iter().enumerate() {
+            x.push(d[0] * u);
+            y.push(d[1] * u);
+            r.push(d[2] * u);
+            speed.push(v);
+            mat.push(m);
+            group.push(set.groups.as_ref().map_or(set.group, |g| g[q]));
+        }
+    }
+    let n = x.len();
+    let mut body = vec![FREE; n];
+    for (c, members) in s.rigid_clumps.iter().enumerate() {
+        for (q, &i) in members.iter().enumerate() {
+            let slot = body.get_mut(i as usize).ok_or_else(|| {
+                format!("{file}: field rigid_clumps[{c}][{q}]: disc {i} does not exist (the file has {n})")
+            })?;
+            *slot = c as u32;
+        }
+    }
+    let id: Vec<u32> = (0..n as u32).collect();
+    let keys = grain_keys(&body, &group, &id);
+    let mut discs: Vec<Disc> = (0..n)
+        .map(|k| Disc {
+            x: x[k],
+            y: y[k],
+            r: r[k],
+            speed: speed[k],
+            material: mat[k],
+            grain: keys[k],
+        })
+        .collect();
+    // Clump placements: each placement is one grain.
+    let dir = path.parent().unwrap_or(Path::new("."));
+    let mut cache: HashMap<String, Template> = HashMap::new();
+    let mut placement = 0u64;
+    for (k, set) in s.clumps.iter().enumerate() {
+        if !cache.contains_key(&set.template) {
+            let t = Template::load(&dir.join(&set.template))
+                .map_err(|e| format!("{file}: field clumps[{k}].template: {e}"))?;
+            cache.insert(set.template.clone(), t);
+        }
+        let t = &cache[&set.template];
+        let m = material_index(&set.material);
+        for p in &set.placements {
+            let (sn, cs) = p.angle.sin_cos();
+            let v = p.velocity[0].hypot(p.velocity[1]) * u;
+            for d in &t.discs {
+                discs.push(Disc {
+                    x: p.x * u + cs * d.x - sn * d.y,
+                    y: p.y * u + sn * d.x + cs * d.y,
+                    r: d.r,
+                    speed: v,
+                    material: m,
+                    grain: (3 << 40) | placement,
+                });
+            }
+            placement += 1;
+        }
+    }
+    let mut bond_groups = Vec::new();
+    let mut bonds = Vec::new();
+    for (k, list) in s.bonds.iter().enumerate() {
+        let g = match bond_groups.iter().position(|b| b == &list.bond_group) {
+            Some(g) => g,
+            None => {
+                bond_groups.push(list.bond_group.clone());
+                bond_groups.len() - 1
+            }
+        };
+        for (q, &[a, b]) in list.pairs.iter().enumerate() {
+            if a as usize >= n || b as usize >= n {
+                return Err(format!(
+                    "{file}: field bonds[{k}].pairs[{q}]: disc {} does not exist (the file has {n})",
+                    a.max(b)
+                ));
+            }
+            bonds.push(Bond {
+                i: a as usize,
+                j: b as usize,
+                group: g as u16,
+                intact: true,
+                broke_at: None,
+                width: 0.0,
+            });
+        }
+    }
+    let mut p = Picture {
+        kind: Kind::Specimen,
+        discs,
+        bonds,
+        bond_groups,
+        materials,
+        walls: Vec::new(),
+        outline: None,
+        centroid: None,
+        clump_centroid: None,
+        caption: Vec::new(),
+        notes: Vec::new(),
+    };
+    let mut first = short_name(path);
+    if !s.description.is_empty() {
+        first += &format!(": {}", s.description);
+    }
+    p.caption = vec![first, counts(&p)];
+    Ok(p)
+}
+
+/// A template: its discs (each its own colour), the grain outline read back from the file the
+/// template names (or `outline`), the grain centroid and, where it differs, the clump's.
+fn from_template(t: &Template, path: &Path, outline: Option<&Path>) -> Picture {
+    let discs = t
+        .discs
+        .iter()
+        .enumerate()
+        .map(|(k, d)| Disc {
+            x: d.x,
+            y: d.y,
+            r: d.r,
+            speed: 0.0,
+            material: 0,
+            grain: k as u64,
+        })
+        .collect();
+    let mut notes = Vec::new();
+    let drawn = match template_outline(t, path, outline) {
+        Ok((pts, note)) => {
+            notes.extend(note);
+            Some(pts)
+        }
+        Err(e) => {
+            notes.push(format!("{e}; drawn without the outline"));
+            None
+        }
+    };
+    let c = t.achieved.centroid;
+    let off = c[0].hypot(c[1]) > 1e-3 * t.shape.r_eq;
+    let mut caption = vec![format!(
+        "{} ({}): {} discs, cover {:.1} %, R_eq {} mm",
+        t.id,
+        t.method.name(),
+        t.discs.len(),
+        100.0 * t.cover.value,
+        sig(t.shape.r_eq * 1e3)
+    )];
+    let mut second = format!("{}; + grain centroid", short_name(path));
+    if off {
+        second += ", x clump mass centre";
+    }
+    if drawn.is_none() {
+        second += "; outline not found";
+    }
+    caption.push(second);
+    Picture {
+        kind: Kind::Template,
+        discs,
+        bonds: Vec::new(),
+        bond_groups: Vec::new(),
+        materials: Vec::new(),
+        walls: Vec::new(),
+        outline: drawn,
+        centroid: Some([0.0, 0.0]),
+        clump_centroid: off.then_some(c),
+        caption,
+        notes,
+    }
+}
+
+/// Four significant digits, without trailing zeros (`0.4312`, `12.5`, `1234`).
+pub fn sig(v: f64) -> String {
+    if !v.is_finite() || v == 0.0 {
+        return format!("{v}");
+    }
+    let digits = (3 - v.abs().log10().floor() as i32).clamp(0, 8) as usize;
+    let s = format!("{v:.digits$}");
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    }
+}
+
+/// The grain outline of template `t` in its centroid frame (metres): the outline file it names
+/// (as given, else beside the template), or `over`. The file's units are not needed: the
+/// polygon is scaled to the template's area (a check when the units are known). Returns the
+/// points and a note when the file differs from the one the template was made from.
+fn template_outline(
+    t: &Template,
+    path: &Path,
+    over: Option<&Path>,
+) -> Result<(Vec<[f64; 2]>, Option<String>), String> {
+    let tfile = path.display().to_string();
+    let src = PathBuf::from(&t.source.file);
+    let candidates: Vec<PathBuf> = match over {
+        Some(o) => vec![o.to_path_buf()],
+        None => {
+            let dir = path.parent().unwrap_or(Path::new("."));
+            let mut c = vec![src.clone()];
+            if src.is_relative() {
+                c.push(dir.join(&src));
+            }
+            if let Some(name) = src.file_name() {
+                c.push(dir.join(name));
+            }
+            c
+        }
+    };
+    let Some(found) = candidates.iter().find(|p| p.is_file()) else {
+        let looked: Vec<String> = candidates.iter().map(|p| p.display().to_string()).collect();
+        return Err(format!(
+            "{tfile}: the grain outline {} is not found (looked at {}); give it with --outline FILE",
+            t.source.file,
+            looked.join(", ")
+        ));
+    };
+    let opts = clumpgen::ReadOptions {
+        units: Some(clumpgen::Units::M),
+        resample: None,
+    };
+    let o = clumpgen::read_outline(found, &opts).map_err(|e| e.to_string())?;
+    let props = clumpgen::polygon_props(&o.points);
+    if !(props.area > 0.0 && t.shape.area > 0.0) {
+        return Err(format!(
+            "{}: the outline has no area to scale to the template's",
+            found.display()
+        ));
+    }
+    let f = (t.shape.area / props.area).sqrt();
+    let pts = o
+        .points
+        .iter()
+        .map(|q| {
+            [
+                (q[0] - props.centroid[0]) * f,
+                (q[1] - props.centroid[1]) * f,
+            ]
+        })
+        .collect();
+    let mut note = None;
+    let expected = clumpgen::Units::parse(&t.source.units, None)
+        .ok()
+        .map(|u| u.metres_per_unit());
+    if let Some(e) = expected {
+        if (f / e - 1.0).abs() > 1e-6 {
+            note = Some(format!(
+                "{}: the outline's area does not match template {tfile} (scale {f:e} m per unit, \
+                 the template says {} = {e:e}); drawn scaled to the template's area",
+                found.display(),
+                t.source.units
+            ));
+        }
+    }
+    if note.is_none() && o.sha256 != t.source.sha256 {
+        note = Some(format!(
+            "{}: not the file template {tfile} was made from (its SHA-256 differs)",
+            found.display()
+        ));
+    }
+    Ok((pts, note))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn captions_format_steps_times_and_figures() {
+        assert_eq!(
+            step_time(13_884_535, 0.0101),
+            "step 13,884,535   t = 10.1 ms"
+        );
+        assert_eq!(step_time(999, 2.5e-5), "step 999   t = 25 us");
+        assert_eq!(step_time(1000, 0.0), "step 1,000   t = 0 s");
+        assert_eq!(sig(0.43125), "0.4313");
+        assert_eq!(sig(1234.4), "1234");
+        assert_eq!(sig(12.5), "12.5");
+        assert_eq!(sig(f64::NAN), "NaN");
+    }
+
+    #[test]
+    fn grains_are_clumps_then_groups_then_discs() {
+        // A clump (body 0) and two free discs: groups that vary tell the free discs' grains.
+        let k = grain_keys(&[0, 0, FREE, FREE], &[7, 7, 3, 3], &[0, 1, 2, 3]);
+        assert_eq!(k[0], k[1]);
+        assert_eq!(k[2], k[3]);
+        assert_ne!(k[1], k[2]);
+        // All groups equal: each free disc is its own grain.
+        let k = grain_keys(&[FREE, FREE], &[0, 0], &[0, 1]);
+        assert_ne!(k[0], k[1]);
+    }
+}
