@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Crash tests of `dem run` (issue 20 item 7), run from .ci/run:
 #
-# 1. kill -9: a 4,000-disc column settling in a box, checkpointed every 100 steps (each
+# 1. kill -9: a 4,000-disc column settling in a box, checkpointed every 200 steps (each
 #    checkpoint ~3 MB, so some kills land inside checkpoint writes), is killed with SIGKILL at
 #    random moments and restarted from its newest checkpoint until it finishes. After every
 #    kill each checkpoint in the folder must load (JSON, checksum: a restart from it), and the
@@ -39,8 +39,8 @@ scene = {
         {"name": "left", "a": [-25, 90], "b": [-25, 0], "material": "steel"},
         {"name": "right", "a": [25, 0], "b": [25, 90], "material": "steel"}],
     "gravity": [0, -9810], "damping": {"local": 0.3},
-    "run": {"steps": 6000, "dt_factor": 0.2},
-    "outputs": {"history_every": 100, "vtk_every": 0, "checkpoint_every": 100, "checkpoint_keep": 3},
+    "run": {"steps": 20000, "dt_factor": 0.2},
+    "outputs": {"history_every": 100, "vtk_every": 0, "checkpoint_every": 200, "checkpoint_keep": 3},
 }
 json.dump(scene, open(sys.argv[1], "w"))
 PY
@@ -75,7 +75,7 @@ for k in $(seq 1 "$kills") last; do
     break
   fi
   # Early enough that most runs are killed (each gets a start-up and a restart).
-  sleep "$(python3 -c "import random; print(random.uniform(0.05, 0.3 * $t_ref))")"
+  sleep "$(python3 -c "import random; print(random.uniform(0.05, 0.1 * $t_ref))")"
   if kill -9 "$pid" 2>/dev/null; then
     wait "$pid" 2>/dev/null || true
     echo "kill $k: killed during the run"
