@@ -14,6 +14,7 @@ pub mod report;
 pub mod stability;
 pub mod study;
 pub mod study_findings;
+pub mod study_row;
 pub mod table1;
 pub mod table2;
 pub mod table2_section;

@@ -14,7 +14,7 @@
 //!   n ≈ 1: a force proportional to speed, as from viscous damping or momentum transfer);
 //! - the **1 → 2 m/s trend** is F(2)/F(1) per seed: "rises" above 1, "falls" below.
 
-use crate::study::Row;
+use crate::study_row::Row;
 use std::fmt::Write;
 
 /// Ratio band within which two speeds' mean forces count as the same.
