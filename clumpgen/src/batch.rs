@@ -255,6 +255,9 @@ pub struct BatchOptions {
     pub out: PathBuf,
     /// Exports written beside each template (none: templates only).
     pub exports: Vec<Format>,
+    /// A grain below the cover target fails (no template written) instead of being written
+    /// with a warning (`dem clump --strict`).
+    pub strict: bool,
 }
 
 /// The outcome for one grain.
@@ -274,6 +277,10 @@ pub struct BatchItem {
     /// What the exports cannot carry exactly, per format ([`crate::export::caveat`]).
     #[serde(default)]
     pub caveats: Vec<ExportCaveat>,
+    /// Set when the template was written below its cover target
+    /// ([`crate::template::CoverShortfall`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub warning: Option<String>,
 }
 
 /// A format's figure of what it does not carry exactly for one grain (see
@@ -296,7 +303,8 @@ pub struct BatchReport {
 /// ([`template_path`]), then each of `o.exports` beside it ([`crate::export::write`], file by
 /// file atomically); an input in one of the batch's [`clashes_with_exports`] fails with the
 /// clash's message and nothing is written for it. An export that cannot be written fails its
-/// grain (its template stays).
+/// grain (its template stays). A template below its cover target is written with a warning, or
+/// with [`BatchOptions::strict`] fails and is not written.
 pub fn run_batch(inputs: &[Input], o: &BatchOptions, tick: &(dyn Fn() + Sync)) -> BatchReport {
     let t0 = Instant::now();
     let mut refused: Vec<Option<String>> = vec![None; inputs.len()];
@@ -317,19 +325,23 @@ pub fn run_batch(inputs: &[Input], o: &BatchOptions, tick: &(dyn Fn() + Sync)) -
                 .and_then(|()| read_outline(&inp.path, &o.read).map_err(|e| e.to_string()))
                 .and_then(|ol| make_template(&ol, &o.params).map_err(|e| e.to_string()))
                 .and_then(|tpl| {
+                    let short = tpl.cover_shortfall();
+                    if let Some(s) = short.as_ref().filter(|_| o.strict) {
+                        return Err(format!("{s} (a failure with --strict)"));
+                    }
                     tpl.save(&dest).map_err(|e| e.to_string())?;
                     let mut files = Vec::new();
                     for &f in &o.exports {
                         let w = crate::export::write(&tpl, f, &dest).map_err(|e| e.to_string())?;
                         files.extend(w.iter().map(|p| p.display().to_string()));
                     }
-                    Ok((tpl, files))
+                    Ok((tpl, files, short.map(|s| s.to_string())))
                 });
             let seconds = t.elapsed().as_secs_f64();
             tick();
             let input = inp.path.display().to_string();
             match result {
-                Ok((tpl, exports)) => BatchItem {
+                Ok((tpl, exports, warning)) => BatchItem {
                     input,
                     template: Some(dest.display().to_string()),
                     discs: tpl.discs.len(),
@@ -347,6 +359,7 @@ pub fn run_batch(inputs: &[Input], o: &BatchOptions, tick: &(dyn Fn() + Sync)) -
                             rel: c.rel,
                         })
                         .collect(),
+                    warning,
                 },
                 Err(e) => BatchItem {
                     input,
@@ -358,6 +371,7 @@ pub fn run_batch(inputs: &[Input], o: &BatchOptions, tick: &(dyn Fn() + Sync)) -
                     error: Some(e),
                     exports: Vec::new(),
                     caveats: Vec::new(),
+                    warning: None,
                 },
             }
         })
@@ -383,14 +397,15 @@ pub fn median(mut v: Vec<f64>) -> f64 {
 }
 
 impl BatchReport {
-    /// A plain-text summary: grains, failures, median discs, median and worst cover, worst
-    /// residual, median time per grain.
+    /// A plain-text summary: grains, templates written, those below the cover target,
+    /// failures, median discs, median and worst cover, worst residual, median time per grain.
     pub fn summary_table(&self) -> String {
         let ok: Vec<&BatchItem> = self.items.iter().filter(|i| i.error.is_none()).collect();
         let n_fail = self.items.len() - ok.len();
         let mut s = String::new();
         s.push_str(&format!("grains            {}\n", self.items.len()));
         s.push_str(&format!("templates written {}\n", ok.len()));
+        s.push_str(&format!("below cover target {}\n", self.warnings().count()));
         s.push_str(&format!("failures          {n_fail}\n"));
         if !ok.is_empty() {
             let discs = median(ok.iter().map(|i| i.discs as f64).collect());
@@ -406,6 +421,13 @@ impl BatchReport {
         }
         s.push_str(&format!("wall time         {:.3} s", self.wall_seconds));
         s
+    }
+
+    /// The grains written below their cover target, with their warnings.
+    pub fn warnings(&self) -> impl Iterator<Item = (&BatchItem, &str)> {
+        self.items
+            .iter()
+            .filter_map(|i| i.warning.as_deref().map(|w| (i, w)))
     }
 
     /// Writes the report as JSON (atomically).
@@ -472,6 +494,7 @@ mod tests {
             params: ClumpParams::default(),
             out: out.clone(),
             exports: Vec::new(),
+            strict: false,
         };
         let inputs = collect_inputs_except(std::slice::from_ref(&d), Some(&out)).unwrap();
         assert_eq!(inputs.len(), 1);
@@ -487,6 +510,67 @@ mod tests {
         assert!(clashes(&again, &out).is_empty());
         let named = collect_inputs_except(&[d.clone(), out.join("g.json")], Some(&out)).unwrap();
         assert_eq!(named.len(), 2, "{named:?}");
+        std::fs::remove_dir_all(&d).unwrap();
+    }
+
+    /// A 12-pointed star (radii 10 and 5 mm): 64 discs reach a cover of about 0.92 < 0.95.
+    fn star12() -> String {
+        (0..24)
+            .map(|i| {
+                let r = if i % 2 == 0 { 10.0 } else { 5.0 };
+                let t = std::f64::consts::PI * i as f64 / 12.0;
+                format!("{} {}\n", r * t.cos(), r * t.sin())
+            })
+            .collect()
+    }
+
+    #[test]
+    fn grains_below_the_cover_target_are_warned_or_fail_with_strict() {
+        let d = tmp("cover");
+        std::fs::write(d.join("star.csv"), star12()).unwrap();
+        std::fs::write(d.join("square.csv"), SQUARE).unwrap();
+        let inputs = collect_inputs(&[d.join("star.csv"), d.join("square.csv")]).unwrap();
+        let mut o = BatchOptions {
+            read: ReadOptions::default(),
+            params: ClumpParams::default(),
+            out: d.join("out"),
+            exports: Vec::new(),
+            strict: false,
+        };
+        let r = run_batch(&inputs, &o, &|| {});
+        let star = &r.items[0];
+        assert!(star.error.is_none() && star.cover < 0.95, "{star:?}");
+        let w = star.warning.as_deref().expect("a warning for the star");
+        assert!(
+            w.starts_with(&format!("{}: cover 0.9", d.join("star.csv").display())),
+            "{w}"
+        );
+        for part in [
+            "below the target 0.95",
+            "--max-discs 64",
+            "raise --max-discs",
+            "--cover",
+        ] {
+            assert!(w.contains(part), "{part:?} not in {w:?}");
+        }
+        assert!(r.items[1].warning.is_none() && r.items[1].error.is_none());
+        assert!(d.join("out/star.json").exists());
+        assert!(
+            r.summary_table().contains("below cover target 1"),
+            "{}",
+            r.summary_table()
+        );
+        // --strict: the star fails and is not written; the square is.
+        o.out = d.join("strict");
+        o.strict = true;
+        let r = run_batch(&inputs, &o, &|| {});
+        let e = r.items[0].error.as_deref().expect("a failure with strict");
+        assert!(
+            e.contains("below the target 0.95") && e.contains("--strict"),
+            "{e}"
+        );
+        assert!(r.items[0].warning.is_none() && r.items[1].error.is_none());
+        assert!(!d.join("strict/star.json").exists() && d.join("strict/square.json").exists());
         std::fs::remove_dir_all(&d).unwrap();
     }
 
@@ -506,6 +590,7 @@ mod tests {
             params: ClumpParams::default(),
             out: out.clone(),
             exports: Vec::new(),
+            strict: false,
         };
         let r = run_batch(&inputs, &o, &|| {});
         assert!(r.items[0]
@@ -540,6 +625,7 @@ mod tests {
             params: ClumpParams::default(),
             out: out.clone(),
             exports: vec![Format::Lammps, Format::Mercury],
+            strict: false,
         };
         let inputs = collect_inputs(std::slice::from_ref(&d)).unwrap();
         let r = run_batch(&inputs, &o, &|| {});

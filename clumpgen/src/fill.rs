@@ -373,6 +373,103 @@ impl<'a> Filler<'a> {
     /// is room), on the side opposite the discs that already have `s > k2` (opposite the
     /// discs' uniform-density centroid when none has).
     pub fn repair_disc(&self, r_min: f64, r_max: f64, k2: f64) -> Option<Circle> {
+        let (u, high) = self.repair_side(k2);
+        // Where the outline is at least 1.5 r_min away (a bound from the edge grid, no edge
+        // visited) the radius does not depend on the exact room: r = max(r_min, min(r_max,
+        // 1.5 r_min)). Only cells near the boundary need the exact distance.
+        let r_deep = r_min.max(r_max.min(r_min * 1.5));
+        let mut best: Option<(f64, Circle)> = None;
+        for iy in 0..self.ny {
+            for ix in 0..self.nx {
+                if !self.inside[iy * self.nx + ix] {
+                    continue;
+                }
+                let c = self.centre(ix, iy);
+                let r = if self.grid.lower_bound(c) >= r_min * 1.5 {
+                    r_deep
+                } else {
+                    let room = self.room(c);
+                    if room < r_min {
+                        continue;
+                    }
+                    r_min.max(room.min(r_max).min(r_min * 1.5))
+                };
+                let d2 = c[0] * c[0] + c[1] * c[1];
+                let cosang = if d2 > 0.0 {
+                    (u[0] * c[0] + u[1] * c[1]) / d2.sqrt()
+                } else {
+                    0.0
+                };
+                let score = (0.5 * r * r + d2) * (1.0 + cosang);
+                if !self.repair_clashes(&high, c, r) && best.is_none_or(|(s, _)| score > s) {
+                    best = Some((
+                        score,
+                        Circle {
+                            x: c[0],
+                            y: c[1],
+                            r,
+                        },
+                    ));
+                }
+            }
+        }
+        best.map(|(_, c)| c)
+    }
+
+    /// A repair disc of radius `r_min` on the ring `s = r_min²/2 + d² = s_ring` around the
+    /// centroid, on the side [`Filler::repair_disc`] would choose (a point of the ring in the
+    /// direction of an inside raster cell beyond it; the direction most opposite the pull wins).
+    ///
+    /// [`Filler::repair_disc`] puts repair discs as far out as it can, where a small mass
+    /// moves the inertia most. When the fill discs nearly have the grain's moments already (a
+    /// dense circle: the inscribed disc of a regular n-gon lacks only
+    /// `ΔJ/J = (1 − cos(2π/n))/6 ≈ π²/(3n²)` of its inertia), those far discs would need masses
+    /// below their floor `mass_floor·m0`. On the ring `s_ring = k2 + Δ` a repair disc that
+    /// carries a deficit `D` of `s` needs the mass `D/Δ`, so a `Δ` chosen from the deficit
+    /// gives it a mass near its prior.
+    pub fn ring_repair_disc(&self, r_min: f64, k2: f64, s_ring: f64) -> Option<Circle> {
+        let (u, high) = self.repair_side(k2);
+        let d_ring2 = s_ring - 0.5 * r_min * r_min;
+        if d_ring2.is_nan() || d_ring2 <= 0.0 {
+            return None;
+        }
+        let d_ring = d_ring2.sqrt();
+        // Candidates: inside cells beyond the ring, moved onto it along their direction from
+        // the centroid; best first (stable, so ties keep the scan order).
+        let mut cand: Vec<(f64, [f64; 2])> = Vec::new();
+        for iy in 0..self.ny {
+            for ix in 0..self.nx {
+                if !self.inside[iy * self.nx + ix] {
+                    continue;
+                }
+                let c = self.centre(ix, iy);
+                let d = c[0].hypot(c[1]);
+                if d <= d_ring {
+                    continue;
+                }
+                let p = [c[0] * (d_ring / d), c[1] * (d_ring / d)];
+                let cosang = (u[0] * c[0] + u[1] * c[1]) / d;
+                cand.push((1.0 + cosang, p));
+            }
+        }
+        cand.sort_by(|a, b| b.0.total_cmp(&a.0));
+        cand.into_iter()
+            .map(|(_, p)| p)
+            .find(|&p| {
+                (self.grid.lower_bound(p) >= r_min || self.room(p) >= r_min)
+                    && point_in_polygon(p, self.poly)
+                    && !self.repair_clashes(&high, p, r_min)
+            })
+            .map(|p| Circle {
+                x: p[0],
+                y: p[1],
+                r: r_min,
+            })
+    }
+
+    /// The side a repair disc goes to (a unit vector from the centroid; zero if the discs give
+    /// no side) and the discs that already have `s > k2`.
+    fn repair_side(&self, k2: f64) -> ([f64; 2], Vec<&Circle>) {
         let s_of = |d: &Circle| 0.5 * d.r * d.r + d.x * d.x + d.y * d.y;
         let high: Vec<&Circle> = self.discs.iter().filter(|d| s_of(d) > k2).collect();
         let pull = if high.is_empty() {
@@ -394,50 +491,19 @@ impl<'a> Filler<'a> {
         } else {
             [0.0, 0.0]
         };
-        let mut best: Option<(f64, Circle)> = None;
-        for iy in 0..self.ny {
-            for ix in 0..self.nx {
-                if !self.inside[iy * self.nx + ix] {
-                    continue;
-                }
-                let c = self.centre(ix, iy);
-                let room = self.room(c);
-                if room < r_min {
-                    continue;
-                }
-                let r = r_min.max(room.min(r_max).min(r_min * 1.5));
-                let d2 = c[0] * c[0] + c[1] * c[1];
-                let cosang = if d2 > 0.0 {
-                    (u[0] * c[0] + u[1] * c[1]) / d2.sqrt()
-                } else {
-                    0.0
-                };
-                let score = (0.5 * r * r + d2) * (1.0 + cosang);
-                // Not on top of another high-inertia disc.
-                let clash = high
-                    .iter()
-                    .any(|o| (o.x - c[0]).hypot(o.y - c[1]) < o.r + r);
-                // Nor (nearly) concentric with any disc: fill discs sit on the same raster
-                // centres, and two members with one centre have no bond direction (a
-                // bonded clump rejects them).
-                let stacked = self
-                    .discs
-                    .iter()
-                    .any(|o| (o.x - c[0]).hypot(o.y - c[1]) < 0.5 * o.r.min(r));
-                let clash = clash || stacked;
-                if !clash && best.is_none_or(|(s, _)| score > s) {
-                    best = Some((
-                        score,
-                        Circle {
-                            x: c[0],
-                            y: c[1],
-                            r,
-                        },
-                    ));
-                }
-            }
-        }
-        best.map(|(_, c)| c)
+        (u, high)
+    }
+
+    /// Whether a repair disc `(c, r)` would sit on top of a disc with `s > k2` (`high`), or
+    /// (nearly) concentric with any disc: fill discs sit on the same raster centres, and two
+    /// members with one centre have no bond direction (a bonded clump rejects them).
+    fn repair_clashes(&self, high: &[&Circle], c: [f64; 2], r: f64) -> bool {
+        high.iter()
+            .any(|o| (o.x - c[0]).hypot(o.y - c[1]) < o.r + r)
+            || self
+                .discs
+                .iter()
+                .any(|o| (o.x - c[0]).hypot(o.y - c[1]) < 0.5 * o.r.min(r))
     }
 
     /// Exact cover of the current discs and its rounding bound.

@@ -19,6 +19,20 @@
 //! solved by SVD (so rank-deficient cases, such as one centred disc or discs on a line, work).
 //! Everything is done in scaled units (masses over `m_p`, lengths over the equivalent radius) and
 //! finished with iterative refinement, which brings the residuals to round-off (~1e-15).
+//!
+//! Conditioning: with `Σ m_i = m_p` the inertia equation is equivalent to
+//! `Σ m_i (s_i − k²) = 0`, with `s_i = r_i²/2 + x_i² + y_i²` and `k² = I_p/m_p` the grain's squared
+//! radius of gyration. When every disc that carries mass has `s_i` close to `k²` (a dense circle:
+//! one disc nearly the grain, repair discs on the ring `s ≈ k²`), the rows `1` and `s_i` of the
+//! plain system are nearly parallel and the 4×4 solves lose the inertia equation to round-off
+//! (the smallest singular value falls below the SVD cut-off). So if the plain system fails, the
+//! fit is repeated ([`Mode::Careful`]) with the inertia row replaced by `(s_i − k²)/σ`,
+//! `σ = max |s_i − k²|` (a row operation and a row scaling: the same solutions, equilibrated
+//! rows), with Lawson & Hanson's guard against a column that cannot enter the NNLS passive set
+//! (it is set aside instead of entering and leaving again until the iteration limit), and with
+//! a phase-1 residual up to 1e-8 handed on to phase 2 (whose refinement brings the equalities
+//! to round-off; the residual check at the end decides). Fits that succeed on the plain system
+//! are unchanged, bit for bit.
 
 use nalgebra::{Matrix4, Vector4};
 
@@ -98,10 +112,17 @@ fn solve4(a: &[Vector4<f64>], w: &[f64], free: &[bool], rhs: Vector4<f64>) -> Ve
 
 /// Phase 1: a point with `A z = r`, `z ≥ 0` by Lawson & Hanson's NNLS (*Solving Least Squares
 /// Problems*, 1974, ch. 23), minimising `‖A z − r‖`. Returns `z` and the residual norm.
-fn nnls(a: &[Vector4<f64>], r: Vector4<f64>) -> (Vec<f64>, f64) {
+///
+/// With `guard`, a column whose least-squares value is not positive right after it entered
+/// (round-off: its dual value `a_jᵀ e` was barely positive) is set aside until the passive set
+/// changes, instead of entering and leaving again until the iteration limit; Lawson & Hanson's
+/// own NNLS code does the same ("reject j as a candidate to be moved from set Z to set P …
+/// set w(j) = 0 and loop back to test dual coefficients again").
+fn nnls(a: &[Vector4<f64>], r: Vector4<f64>, guard: bool) -> (Vec<f64>, f64) {
     let n = a.len();
     let mut z = vec![0.0; n];
     let mut passive = vec![false; n];
+    let mut aside = vec![false; n];
     let ones = vec![1.0; n];
     let resid = |z: &[f64]| -> Vector4<f64> {
         let mut e = r;
@@ -113,13 +134,16 @@ fn nnls(a: &[Vector4<f64>], r: Vector4<f64>) -> (Vec<f64>, f64) {
     for _ in 0..3 * n + 10 {
         let e = resid(&z);
         let j = (0..n)
-            .filter(|&i| !passive[i])
+            .filter(|&i| !passive[i] && !aside[i])
             .map(|i| (i, a[i].dot(&e)))
             .filter(|&(_, w)| w > 1e-14)
             .max_by(|p, q| p.1.total_cmp(&q.1));
         let Some((j, _)) = j else { break };
         passive[j] = true;
-        for _ in 0..3 * n + 10 {
+        for first in std::iter::once(true)
+            .chain(std::iter::repeat(false))
+            .take(3 * n + 10)
+        {
             // Least squares on the passive columns: s = A_Pᵀ (A_P A_Pᵀ)⁺ r is the minimum-norm
             // solution; any least-squares solution serves NNLS.
             let y = solve4(a, &ones, &passive, r);
@@ -128,6 +152,12 @@ fn nnls(a: &[Vector4<f64>], r: Vector4<f64>) -> (Vec<f64>, f64) {
                 .collect();
             if (0..n).all(|i| !passive[i] || s[i] > 0.0) {
                 z = s;
+                aside.iter_mut().for_each(|x| *x = false);
+                break;
+            }
+            if guard && first && s[j] <= 0.0 {
+                passive[j] = false;
+                aside[j] = true;
                 break;
             }
             let mut alpha = f64::INFINITY;
@@ -172,20 +202,73 @@ pub fn fit_masses(
     eps: f64,
     tol: f64,
 ) -> Result<(Vec<f64>, Residuals), MassFitError> {
+    match fit_mode(xyr, prior, t, eps, tol, Mode::Plain) {
+        Err(MassFitError::Infeasible(plain)) => {
+            match fit_mode(xyr, prior, t, eps, tol, Mode::Careful) {
+                Err(MassFitError::Infeasible(careful)) => {
+                    Err(MassFitError::Infeasible(plain.min(careful)))
+                }
+                other => other,
+            }
+        }
+        other => other,
+    }
+}
+
+/// [`fit_masses`] without the careful refit: the fit of the versions before 2026-11-27, kept
+/// for templates that must not change ([`crate::ClumpParams::rescue`]).
+pub fn fit_masses_plain(
+    xyr: &[[f64; 3]],
+    prior: &[f64],
+    t: &MassTargets,
+    eps: f64,
+    tol: f64,
+) -> Result<(Vec<f64>, Residuals), MassFitError> {
+    fit_mode(xyr, prior, t, eps, tol, Mode::Plain)
+}
+
+/// How the scaled system is set up and solved (see the module docs on conditioning).
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Mode {
+    /// Inertia row `s_i`, right-hand side `k²`; phase 1 must reach 1e-11.
+    Plain,
+    /// Inertia row `(s_i − k²)/σ`, right-hand side 0; NNLS with the entering-column guard;
+    /// phase 1 hands on residuals up to 1e-8.
+    Careful,
+}
+
+/// [`fit_masses`] in one [`Mode`].
+fn fit_mode(
+    xyr: &[[f64; 3]],
+    prior: &[f64],
+    t: &MassTargets,
+    eps: f64,
+    tol: f64,
+    mode: Mode,
+) -> Result<(Vec<f64>, Residuals), MassFitError> {
     let n = xyr.len();
     if n == 0 {
         return Err(MassFitError::NoDiscs);
     }
     let l = t.length;
     // Scaled columns a_i and right-hand side b (masses in units of m_p, lengths in units of l).
-    let a: Vec<Vector4<f64>> = xyr
+    let mut a: Vec<Vector4<f64>> = xyr
         .iter()
         .map(|d| {
             let (x, y, r) = (d[0] / l, d[1] / l, d[2] / l);
             Vector4::new(1.0, x, y, 0.5 * r * r + x * x + y * y)
         })
         .collect();
-    let b = Vector4::new(1.0, 0.0, 0.0, t.inertia / (t.mass * l * l));
+    let mut b = Vector4::new(1.0, 0.0, 0.0, t.inertia / (t.mass * l * l));
+    if mode == Mode::Careful {
+        let k2 = b[3];
+        let sigma = a.iter().map(|ai| (ai[3] - k2).abs()).fold(0.0, f64::max);
+        let sigma = if sigma > 0.0 { sigma } else { 1.0 };
+        for ai in &mut a {
+            ai[3] = (ai[3] - k2) / sigma;
+        }
+        b[3] = 0.0;
+    }
     let psum: f64 = prior.iter().sum();
     let m0: Vec<f64> = prior.iter().map(|p| p / psum).collect();
     let lb: Vec<f64> = m0.iter().map(|p| eps * p).collect();
@@ -195,8 +278,9 @@ pub fn fit_masses(
     for i in 0..n {
         r1 -= a[i] * lb[i];
     }
-    let (z, res1) = nnls(&a, r1);
-    if res1 > 1e-11 {
+    let careful = mode == Mode::Careful;
+    let (z, res1) = nnls(&a, r1, careful);
+    if res1 > if careful { 1e-8 } else { 1e-11 } {
         return Err(MassFitError::Infeasible(res1));
     }
     let mut m: Vec<f64> = (0..n).map(|i| lb[i] + z[i]).collect();

@@ -160,7 +160,63 @@ pub enum TemplateError {
     },
 }
 
+/// A template whose discs stop below the requested area cover. A warning, not an error: the
+/// template still has exactly the grain's mass, centroid and inertia; only its shape is coarser
+/// than asked for. Its message names the grain's file, the cover reached, the target and the
+/// `dem clump` flags that change it.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{file}: cover {} below the target {target}: {}", below(*.cover, *.target), advice(.stop, *.max_discs, *.r_min, *.raster))]
+pub struct CoverShortfall {
+    /// The outline file, as given.
+    pub file: String,
+    /// The area cover reached.
+    pub cover: f64,
+    /// The cover asked for (`--cover`).
+    pub target: f64,
+    /// Why the fill stopped: `max_discs` or `no_room`.
+    pub stop: crate::fill::StopReason,
+    pub max_discs: usize,
+    /// Smallest disc radius (m).
+    pub r_min: f64,
+    /// Raster cells along the longer side, after refinement.
+    pub raster: usize,
+}
+
+/// `cover` with enough decimals to show it below `target` (0.9499996 is not "0.9500").
+fn below(cover: f64, target: f64) -> String {
+    (4..=12)
+        .map(|d| format!("{cover:.d$}"))
+        .find(|s| s.parse::<f64>().is_ok_and(|v| v < target))
+        .unwrap_or_else(|| format!("{cover:e}"))
+}
+
+fn advice(stop: &crate::fill::StopReason, max_discs: usize, r_min: f64, raster: usize) -> String {
+    match stop {
+        crate::fill::StopReason::MaxDiscs => format!(
+            "the fill stopped at --max-discs {max_discs}; raise --max-discs or lower --cover"
+        ),
+        _ => format!(
+            "no room is left for a disc of radius r_min = {r_min:.3e} m (seen on a raster of \
+             {raster} cells); lower --rmin, raise --raster or lower --cover"
+        ),
+    }
+}
+
 impl Template {
+    /// The cover shortfall of this template: `Some` when its cover is below the target it was
+    /// made for.
+    pub fn cover_shortfall(&self) -> Option<CoverShortfall> {
+        (self.cover.value < self.fill.cover_target).then(|| CoverShortfall {
+            file: self.source.file.clone(),
+            cover: self.cover.value,
+            target: self.fill.cover_target,
+            stop: self.fill.stop,
+            max_discs: self.fill.max_discs,
+            r_min: self.fill.r_min,
+            raster: self.fill.raster,
+        })
+    }
+
     /// Checks invariants every consumer relies on: finite numbers, positive radii and masses,
     /// positive density and thickness. `file` names the template in the error.
     pub fn check(&self, file: &str) -> Result<(), TemplateError> {

@@ -342,6 +342,38 @@ fn resample_option() {
     assert!(matches!(e, OutlineError::BadOption { .. }), "{e}");
 }
 
+/// Resampling is bounded (issue 20, item 3): 10,000,000 points are refused at once, naming
+/// the file, the count and the limit (before: the outline was resampled and the fill ran for
+/// minutes).
+#[test]
+fn resampling_beyond_the_limit_is_refused() {
+    let t0 = std::time::Instant::now();
+    let e = csv_with(
+        SQUARE_MM,
+        ReadOptions {
+            units: None,
+            resample: Some(10_000_000),
+        },
+    )
+    .unwrap_err();
+    assert!(matches!(e, OutlineError::BadOption { .. }), "{e}");
+    let m = e.to_string();
+    assert!(
+        m.starts_with("t.csv: bad read option: resample to 10000000 points: at most 1000000"),
+        "{m}"
+    );
+    assert!(t0.elapsed().as_secs_f64() < 5.0);
+    let o = csv_with(
+        SQUARE_MM,
+        ReadOptions {
+            units: None,
+            resample: Some(1_000_000),
+        },
+    )
+    .unwrap();
+    assert_eq!(o.points.len(), 1_000_000);
+}
+
 #[test]
 fn read_from_files() {
     let p = tmp("grain-007.csv", SQUARE_MM);

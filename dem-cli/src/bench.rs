@@ -145,6 +145,8 @@ fn clump(b: ClumpBench) -> Result<ExitCode, String> {
         raster: b.raster,
         ..ClumpParams::default()
     };
+    p.check()
+        .map_err(|e| format!("--{} {}: {}", e.name, e.value, e.reason))?;
     let run = |threads: usize| -> Result<(f64, usize), String> {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)

@@ -5,6 +5,7 @@ use clumpgen::batch::{
     clashes_with_exports, collect_inputs_except, run_batch, BatchItem, BatchOptions, SUMMARY_FILE,
 };
 use clumpgen::export::Format;
+use clumpgen::outline::{MAX_RESAMPLE, MAX_RESAMPLE_WHY};
 use clumpgen::{ClumpParams, Length, Method, ReadOptions, Units};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::PathBuf;
@@ -30,7 +31,7 @@ pub struct ClumpArgs {
     /// Largest disc radius, same forms as --rmin.
     #[arg(long, default_value = "1.0")]
     rmax: String,
-    /// Largest number of discs per clump (the paper's cutting specimens use 9).
+    /// Largest number of discs per clump, at most 1000 (the paper's cutting specimens use 9).
     #[arg(long, default_value_t = ClumpParams::default().max_discs)]
     max_discs: usize,
     /// `improved` (exact mass, centroid, inertia) or `orc` (summed uniform discs).
@@ -48,13 +49,17 @@ pub struct ClumpArgs {
     /// Metres per pixel, for `--units px`.
     #[arg(long)]
     px_scale: Option<f64>,
-    /// Resample each outline to this many equally spaced points first.
+    /// Resample each outline to this many equally spaced points first (3 to 1000000).
     #[arg(long)]
     resample: Option<usize>,
     /// Raster cells along a grain's longer side (steers the fill only; refined ×2, ×4 where it
-    /// is too coarse to reach the cover).
+    /// is too coarse to reach the cover), 1 to 1024.
     #[arg(long, default_value_t = ClumpParams::default().raster)]
     raster: usize,
+    /// A grain whose discs stop below the --cover target is a failure (not written, exit 1)
+    /// instead of a template written with a warning.
+    #[arg(long)]
+    strict: bool,
     /// Worker threads, at least 1 (default: all cores).
     #[arg(long, value_parser = crate::parse_threads)]
     threads: Option<usize>,
@@ -122,12 +127,14 @@ pub fn run(a: ClumpArgs) -> Result<ExitCode, String> {
         };
         format!("--{} {value}: {}", e.name, e.reason)
     })?;
-    if a.raster == 0 {
-        return Err("--raster 0: must be at least 1".into());
-    }
     if let Some(n) = a.resample.filter(|&n| n < 3) {
         return Err(format!(
             "--resample {n}: an outline needs at least 3 points"
+        ));
+    }
+    if let Some(n) = a.resample.filter(|&n| n > MAX_RESAMPLE) {
+        return Err(format!(
+            "--resample {n}: at most {MAX_RESAMPLE} points: {MAX_RESAMPLE_WHY}"
         ));
     }
     let opts = BatchOptions {
@@ -143,6 +150,7 @@ pub fn run(a: ClumpArgs) -> Result<ExitCode, String> {
             e.dedup();
             e
         },
+        strict: a.strict,
     };
     let inputs = collect_inputs_except(&a.inputs, Some(&a.out)).map_err(|e| e.to_string())?;
     if inputs.is_empty() {
@@ -179,6 +187,9 @@ pub fn run(a: ClumpArgs) -> Result<ExitCode, String> {
     }
     if let Err(e) = report.save(&a.out.join(SUMMARY_FILE)) {
         eprintln!("error: {e}");
+    }
+    for (_, w) in report.warnings() {
+        eprintln!("warning: {w}");
     }
     if failed.is_empty() {
         Ok(ExitCode::SUCCESS)

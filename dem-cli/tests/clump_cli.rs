@@ -211,6 +211,7 @@ fn a_bad_global_flag_is_one_usage_error() {
         (&["--max-discs", "0"][..], "--max-discs"),
         (&["--rmin", "0.5", "--rmax", "0.1"][..], "--rmin"),
         (&["--resample", "2"][..], "--resample"),
+        (&["--raster", "0"][..], "--raster"),
         (&["--units", "px"][..], "--px-scale"),
         (&["--threads", "0"][..], "--threads"),
     ] {
@@ -340,5 +341,179 @@ fn an_unknown_export_format_is_a_usage_error() {
         assert!(!t.contains("panicked"), "{t}");
         assert!(!out.exists(), "{bad}: something was written");
     }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A 12-pointed star (outer radius 10 mm, inner 5 mm), drawn with straight edges.
+fn star12() -> String {
+    let mut s = String::from("x,y\n");
+    for i in 0..24 {
+        let r = if i % 2 == 0 { 10.0 } else { 5.0 };
+        let t = std::f64::consts::PI * i as f64 / 12.0;
+        s.push_str(&format!("{},{}\n", r * t.cos(), r * t.sin()));
+    }
+    s
+}
+
+/// A sliver 40 mm long and 0.6 to 1 mm thick.
+const SLIVER: &str = "x,y\n0,0\n40,0\n40,1\n0,0.6\n";
+
+/// Grains that stop at --max-discs below the --cover target: each is a warning naming the
+/// grain, the cover reached, the target and the flags to change, counted in the summary;
+/// `--strict` makes them failures (exit 1, not written, the other grains written). Before:
+/// written with exit 0 and no word but the summary's "lowest cover".
+#[test]
+fn grains_below_the_cover_target_are_warned_and_counted() {
+    let dir = tmp("cover");
+    let input = dir.join("in");
+    std::fs::create_dir_all(&input).unwrap();
+    std::fs::write(input.join("star.csv"), star12()).unwrap();
+    std::fs::write(input.join("sliver.csv"), SLIVER).unwrap();
+    std::fs::write(input.join("square.csv"), SQUARE).unwrap();
+    let run = |out: &std::path::Path, extra: &[&str]| {
+        let mut args = vec![
+            "clump".to_string(),
+            input.display().to_string(),
+            "--out".into(),
+            out.display().to_string(),
+        ];
+        args.extend(extra.iter().map(|s| s.to_string()));
+        Command::new(env!("CARGO_BIN_EXE_dem"))
+            .args(&args)
+            .output()
+            .unwrap()
+    };
+    let out = dir.join("o");
+    let o = run(&out, &[]);
+    let (stdout, stderr) = (
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr),
+    );
+    assert_eq!(o.status.code(), Some(0), "{stdout}\n{stderr}");
+    assert!(stdout.contains("below cover target 2"), "{stdout}");
+    assert!(stdout.contains("templates written 3"), "{stdout}");
+    for name in ["star.csv", "sliver.csv"] {
+        let tpl = clumpgen::Template::load(&out.join(name).with_extension("json")).unwrap();
+        assert!(tpl.cover.value < 0.95, "{name}: {}", tpl.cover.value);
+        // One line per grain: its file, its cover, the target and the flags.
+        let line = stderr
+            .lines()
+            .find(|l| l.contains(name))
+            .unwrap_or_else(|| panic!("no warning for {name}: {stderr}"));
+        let cover = format!("cover {:.4}", tpl.cover.value);
+        assert!(line.starts_with("warning: "), "{line}");
+        for part in [
+            cover.as_str(),
+            "the target 0.95",
+            "--max-discs 64",
+            "--cover",
+        ] {
+            assert!(line.contains(part), "{name}: {part:?} not in {line:?}");
+        }
+    }
+    assert!(!stderr.contains("square.csv"), "{stderr}");
+    let summary: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("summary.json")).unwrap()).unwrap();
+    let warned = summary["items"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|i| i["warning"].is_string())
+        .count();
+    assert_eq!(warned, 2, "{summary}");
+
+    // --strict: the two are failures, not written; the square is.
+    let strict = dir.join("strict");
+    let o = run(&strict, &["--strict"]);
+    let t = text(&o);
+    assert_eq!(o.status.code(), Some(1), "{t}");
+    assert!(
+        t.contains("2 of 3 grains failed") && t.contains("failures          2"),
+        "{t}"
+    );
+    assert!(t.contains("--strict") && t.contains("cover 0."), "{t}");
+    assert!(strict.join("square.json").exists());
+    assert!(!strict.join("star.json").exists() && !strict.join("sliver.json").exists());
+    // A target the discs reach: no warning at all.
+    let o = run(&dir.join("more"), &["--cover", "0.75"]);
+    let t = text(&o);
+    assert_eq!(o.status.code(), Some(0), "{t}");
+    assert!(
+        t.contains("below cover target 0") && !t.contains("warning"),
+        "{t}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Work without a bound is refused before any grain is read (exit 2, once): the flag, the
+/// value, the limit and why. Before: `--raster 100000` aborted allocating 9.4 GB,
+/// `--resample 10000000` ran for minutes, `--max-discs` had no limit.
+#[test]
+fn unbounded_work_is_a_usage_error() {
+    let dir = tmp("limits");
+    let (input, out) = (dir.join("in"), dir.join("o"));
+    std::fs::create_dir_all(&input).unwrap();
+    std::fs::write(input.join("g.csv"), SQUARE).unwrap();
+    for (flag, value, limit, why) in [
+        (
+            "--raster",
+            "100000",
+            "at most 1024",
+            "10 bytes per cell, 1.6 TB",
+        ),
+        (
+            "--resample",
+            "10000000",
+            "at most 1000000",
+            "the work per grain grows",
+        ),
+        (
+            "--max-discs",
+            "5000",
+            "at most 1000",
+            "cube of the disc count",
+        ),
+    ] {
+        let t0 = std::time::Instant::now();
+        let o = Command::new(env!("CARGO_BIN_EXE_dem"))
+            .args([
+                "clump",
+                input.to_str().unwrap(),
+                "--out",
+                out.to_str().unwrap(),
+            ])
+            .args([flag, value])
+            .output()
+            .unwrap();
+        let t = text(&o);
+        assert_eq!(o.status.code(), Some(2), "{flag} {value}: {t}");
+        assert!(t.contains(&format!("{flag} {value}: {limit}")), "{t}");
+        assert!(t.contains(why), "{t}");
+        assert_eq!(t.matches("error").count(), 1, "{t}");
+        assert!(!out.exists(), "{flag}: something written");
+        assert!(
+            t0.elapsed().as_secs_f64() < 30.0,
+            "{flag}: not refused at once"
+        );
+    }
+    // At the limits the batch runs.
+    let o = Command::new(env!("CARGO_BIN_EXE_dem"))
+        .args([
+            "clump",
+            input.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ])
+        .args([
+            "--raster",
+            "1024",
+            "--max-discs",
+            "1000",
+            "--resample",
+            "1000",
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -146,6 +146,9 @@ pub fn outline_template(
             mass_floor,
             tolerance: 1e-10,
             max_repairs: 8,
+            // A specimen's seed must give the specimen its run keys were made with: no rescue
+            // of failed fits (it would turn some failed or retried templates into others).
+            rescue: false,
         };
         match make_template(&outline, &cp) {
             Ok(t) => return Ok((t, attempt > 0)),
