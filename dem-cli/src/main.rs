@@ -11,6 +11,7 @@ mod render;
 mod run;
 mod run_lock;
 mod specimen;
+mod sweep;
 mod test;
 mod test_cutting;
 
@@ -42,6 +43,10 @@ enum Command {
     /// Speed benchmarks; the last line printed is the figure.
     #[command(subcommand)]
     Bench(bench::BenchKind),
+    /// Parameter studies and seed repeats: plan a study file into cases, run them here or as
+    /// a Slurm job array, collect one table (docs/sweep.md).
+    #[command(subcommand)]
+    Sweep(sweep::SweepCmd),
 }
 
 fn main() -> ExitCode {
@@ -55,6 +60,7 @@ fn main() -> ExitCode {
         Command::Calibrate(a) => calibrate::run(a),
         Command::Render(a) => render::run(a),
         Command::Bench(k) => bench::run(k),
+        Command::Sweep(c) => sweep::run(c),
     };
     match result {
         Ok(code) => code,

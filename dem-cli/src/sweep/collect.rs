@@ -1,0 +1,392 @@
+//! `dem sweep status DIR` and `dem sweep collect DIR --out table.csv|table.json`.
+//!
+//! The table has one row per case: index, key, the axis values, status, the collected outputs
+//! (the JSON values at the study's pointers in `<test>.result.json`, done cases only), exit
+//! code, wall and CPU time (`done.json`/`failed.json`). Aggregates are over the seed axis: the
+//! cases that share every other axis value form a group, and for each output its numeric
+//! values over the group's done cases give n, mean x̄ = Σx/n, sd = √(Σ(x − x̄)²/(n − 1)),
+//! SE = sd/√n and the median (the middle value, or the mean of the two middle ones). sd and SE
+//! need n ≥ 2; a figure that does not exist is null in JSON and an empty cell in CSV, never
+//! NaN. CSV writes the aggregates beside the table as `<stem>.aggregates.csv`. Files are written
+//! atomically.
+
+use super::case::{self, read_cases, State, STUDY_FILE};
+use super::study;
+use clap::Args;
+use serde_json::{json, Map, Value};
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+/// `dem sweep status` flags.
+#[derive(Args)]
+pub struct StatusArgs {
+    /// The sweep folder.
+    pub dir: PathBuf,
+}
+
+/// `dem sweep collect` flags.
+#[derive(Args)]
+pub struct CollectArgs {
+    /// The sweep folder.
+    pub dir: PathBuf,
+    /// table.csv (and table.aggregates.csv beside it) or table.json.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Leave out the wall and CPU time columns (for comparing tables of two runs).
+    #[arg(long)]
+    pub no_timing: bool,
+}
+
+/// n, mean, sd (n − 1), SE and median of `x`; `None` where undefined.
+#[derive(Debug, PartialEq)]
+pub struct Stats {
+    pub n: usize,
+    pub mean: Option<f64>,
+    pub sd: Option<f64>,
+    pub se: Option<f64>,
+    pub median: Option<f64>,
+}
+
+pub fn stats(x: &[f64]) -> Stats {
+    let n = x.len();
+    let fin = |v: f64| v.is_finite().then_some(v);
+    if n == 0 {
+        return Stats {
+            n,
+            mean: None,
+            sd: None,
+            se: None,
+            median: None,
+        };
+    }
+    let mean = x.iter().sum::<f64>() / n as f64;
+    let sd = (n >= 2)
+        .then(|| (x.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1) as f64).sqrt());
+    let mut s = x.to_vec();
+    s.sort_by(f64::total_cmp);
+    let median = if n % 2 == 1 {
+        s[n / 2]
+    } else {
+        (s[n / 2 - 1] + s[n / 2]) / 2.0
+    };
+    Stats {
+        n,
+        mean: fin(mean),
+        sd: sd.and_then(fin),
+        se: sd.and_then(|sd| fin(sd / (n as f64).sqrt())),
+        median: fin(median),
+    }
+}
+
+fn num(v: Option<f64>) -> Value {
+    v.and_then(serde_json::Number::from_f64)
+        .map(Value::Number)
+        .unwrap_or(Value::Null)
+}
+
+/// A group of cases: the axis values they share (all but the seed) and their indices.
+type Group = (Vec<(String, String)>, Vec<usize>);
+
+/// The table as JSON (see the module doc).
+pub fn table(dir: &Path, timing: bool) -> Result<Value, String> {
+    let file = dir.join(STUDY_FILE);
+    let bytes = std::fs::read(&file).map_err(|e| format!("{}: {e}", file.display()))?;
+    let p = study::parse(&bytes, &file)?;
+    let cases = read_cases(dir)?;
+    let seed = p.axes.iter().find(|a| a.seed).map(|a| a.flag.clone());
+    let mut rows = Vec::new();
+    let mut groups: Vec<Group> = Vec::new();
+    for c in &cases {
+        let st = case::state(c, dir);
+        let mut outs = Map::new();
+        let result: Option<Value> = match &st {
+            State::Done(_) => std::fs::read_to_string(c.result_file(dir))
+                .ok()
+                .and_then(|t| serde_json::from_str(&t).ok()),
+            _ => None,
+        };
+        for o in &p.outputs {
+            let v = result
+                .as_ref()
+                .and_then(|r| r.pointer(&o.pointer))
+                .cloned()
+                .unwrap_or(Value::Null);
+            outs.insert(o.name.clone(), v);
+        }
+        let rec = match &st {
+            State::Done(r) | State::Failed(r) => Some(r),
+            _ => None,
+        };
+        let mut row = Map::new();
+        row.insert("index".into(), json!(c.index));
+        row.insert("key".into(), json!(c.key));
+        row.insert(
+            "axes".into(),
+            Value::Object(c.axes.iter().map(|(f, v)| (f.clone(), json!(v))).collect()),
+        );
+        row.insert("status".into(), json!(st.name()));
+        row.insert("outputs".into(), Value::Object(outs));
+        row.insert("exit_code".into(), json!(rec.and_then(|r| r.exit_code)));
+        if let State::Failed(r) = &st {
+            row.insert("error".into(), json!(r.error));
+        }
+        if timing {
+            row.insert("wall_s".into(), num(rec.map(|r| r.wall_s)));
+            row.insert("cpu_s".into(), num(rec.and_then(|r| r.cpu_s)));
+        }
+        rows.push(Value::Object(row));
+        if seed.is_some() {
+            let g: Vec<(String, String)> = c
+                .axes
+                .iter()
+                .filter(|(f, _)| Some(f) != seed.as_ref())
+                .cloned()
+                .collect();
+            match groups.iter_mut().find(|(k, _)| *k == g) {
+                Some((_, v)) => v.push(c.index),
+                None => groups.push((g, vec![c.index])),
+            }
+        }
+    }
+    let mut aggs = Vec::new();
+    for (g, members) in &groups {
+        let mut outs = Map::new();
+        for o in &p.outputs {
+            let x: Vec<f64> = members
+                .iter()
+                .filter_map(|&i| rows[i]["outputs"][&o.name].as_f64())
+                .collect();
+            let s = stats(&x);
+            outs.insert(
+                o.name.clone(),
+                json!({"n": s.n, "mean": num(s.mean), "sd": num(s.sd), "se": num(s.se),
+                       "median": num(s.median)}),
+            );
+        }
+        let done = members
+            .iter()
+            .filter(|&&i| rows[i]["status"] == "done")
+            .count();
+        aggs.push(json!({
+            "group": Value::Object(g.iter().map(|(f, v)| (f.clone(), json!(v))).collect()),
+            "cases": members.len(),
+            "done": done,
+            "outputs": Value::Object(outs),
+        }));
+    }
+    Ok(json!({
+        "study": p.study.name,
+        "test": p.study.base.test,
+        "axes": p.axes.iter().map(|a| a.flag.clone()).collect::<Vec<_>>(),
+        "seed_axis": seed,
+        "outputs": p.outputs.iter().map(|o| json!({"name": o.name, "pointer": o.pointer}))
+            .collect::<Vec<_>>(),
+        "cases": rows,
+        "aggregates": aggs,
+    }))
+}
+
+fn cell(v: &Value) -> String {
+    let s = match v {
+        Value::Null => String::new(),
+        Value::String(s) => s.clone(),
+        v => v.to_string(),
+    };
+    if s.contains([',', '"', '\n', '\r']) {
+        format!("\"{}\"", s.replace('"', "\"\""))
+    } else {
+        s
+    }
+}
+
+fn csv(header: &[String], rows: &[Vec<Value>]) -> String {
+    let mut s = header
+        .iter()
+        .map(|h| cell(&json!(h)))
+        .collect::<Vec<_>>()
+        .join(",");
+    s.push('\n');
+    for r in rows {
+        s += &r.iter().map(cell).collect::<Vec<_>>().join(",");
+        s.push('\n');
+    }
+    s
+}
+
+/// The case table and the aggregates table as CSV.
+fn to_csv(t: &Value, timing: bool) -> (String, String) {
+    let strs = |v: &Value| -> Vec<String> {
+        v.as_array()
+            .map(|a| {
+                a.iter()
+                    .filter_map(|x| x.as_str().map(String::from))
+                    .collect()
+            })
+            .unwrap_or_default()
+    };
+    let axes = strs(&t["axes"]);
+    let outputs: Vec<String> = t["outputs"]
+        .as_array()
+        .map(|a| {
+            a.iter()
+                .filter_map(|o| o["name"].as_str().map(String::from))
+                .collect()
+        })
+        .unwrap_or_default();
+    let mut h: Vec<String> = vec!["index".into(), "key".into()];
+    h.extend(axes.iter().cloned());
+    h.push("status".into());
+    h.extend(outputs.iter().cloned());
+    h.push("exit_code".into());
+    if timing {
+        h.extend(["wall_s".into(), "cpu_s".into()]);
+    }
+    let empty = Vec::new();
+    let rows: Vec<Vec<Value>> = t["cases"]
+        .as_array()
+        .unwrap_or(&empty)
+        .iter()
+        .map(|c| {
+            let mut r = vec![c["index"].clone(), c["key"].clone()];
+            r.extend(axes.iter().map(|a| c["axes"][a].clone()));
+            r.push(c["status"].clone());
+            r.extend(outputs.iter().map(|o| c["outputs"][o].clone()));
+            r.push(c["exit_code"].clone());
+            if timing {
+                r.extend([c["wall_s"].clone(), c["cpu_s"].clone()]);
+            }
+            r
+        })
+        .collect();
+    let seed = t["seed_axis"].as_str().unwrap_or_default();
+    let group: Vec<String> = axes.iter().filter(|a| *a != seed).cloned().collect();
+    let mut ah = group.clone();
+    ah.extend(["cases".into(), "done".into()]);
+    for o in &outputs {
+        for s in ["n", "mean", "sd", "se", "median"] {
+            ah.push(format!("{o}.{s}"));
+        }
+    }
+    let arows: Vec<Vec<Value>> = t["aggregates"]
+        .as_array()
+        .unwrap_or(&empty)
+        .iter()
+        .map(|g| {
+            let mut r: Vec<Value> = group.iter().map(|a| g["group"][a].clone()).collect();
+            r.extend([g["cases"].clone(), g["done"].clone()]);
+            for o in &outputs {
+                for s in ["n", "mean", "sd", "se", "median"] {
+                    r.push(g["outputs"][o][s].clone());
+                }
+            }
+            r
+        })
+        .collect();
+    (csv(&h, &rows), csv(&ah, &arows))
+}
+
+pub fn collect(a: CollectArgs) -> Result<ExitCode, String> {
+    let t = table(&a.dir, !a.no_timing)?;
+    let write = |p: &Path, s: &str| {
+        dem_core::output::write_atomic(p, s.as_bytes()).map_err(|e| e.to_string())
+    };
+    let ext = a.out.extension().and_then(|e| e.to_str()).unwrap_or("");
+    let written = match ext {
+        "json" => {
+            let mut s = serde_json::to_string_pretty(&t).map_err(|e| e.to_string())?;
+            s.push('\n');
+            write(&a.out, &s)?;
+            a.out.display().to_string()
+        }
+        "csv" => {
+            let (cases, aggs) = to_csv(&t, !a.no_timing);
+            let stem = a
+                .out
+                .file_stem()
+                .and_then(|s| s.to_str())
+                .unwrap_or("table");
+            let agg = a.out.with_file_name(format!("{stem}.aggregates.csv"));
+            write(&a.out, &cases)?;
+            write(&agg, &aggs)?;
+            format!("{} and {}", a.out.display(), agg.display())
+        }
+        _ => {
+            return Err(format!(
+                "--out {}: give a .csv or .json file",
+                a.out.display()
+            ))
+        }
+    };
+    let n = t["cases"].as_array().map_or(0, Vec::len);
+    let done = t["cases"]
+        .as_array()
+        .map_or(0, |c| c.iter().filter(|r| r["status"] == "done").count());
+    println!(
+        "{n} cases ({done} done), {} groups over {} -> {written}",
+        t["aggregates"].as_array().map_or(0, Vec::len),
+        t["seed_axis"].as_str().unwrap_or("(no seed axis)")
+    );
+    Ok(ExitCode::SUCCESS)
+}
+
+pub fn status(a: StatusArgs) -> Result<ExitCode, String> {
+    let cases = read_cases(&a.dir)?;
+    let mut counts = std::collections::BTreeMap::<&str, usize>::new();
+    let mut lines = Vec::new();
+    for c in &cases {
+        let st = case::state(c, &a.dir);
+        *counts.entry(st.name()).or_default() += 1;
+        let extra = match &st {
+            State::Done(r) => format!(
+                "{:.1} s{}",
+                r.wall_s,
+                r.cpu_s
+                    .map(|c| format!(", {c:.1} s CPU"))
+                    .unwrap_or_default()
+            ),
+            State::Failed(r) => r.error.clone().unwrap_or_default(),
+            State::Running(h) => format!("in {h}"),
+            State::Pending => String::new(),
+        };
+        lines.push(format!(
+            "{:>5} {}  {:<8} {}  {extra}",
+            c.index,
+            &c.key[..12],
+            st.name(),
+            c.label()
+        ));
+    }
+    println!(
+        "{}: {} cases: {} done, {} failed, {} running, {} pending",
+        a.dir.display(),
+        cases.len(),
+        counts.get("done").unwrap_or(&0),
+        counts.get("failed").unwrap_or(&0),
+        counts.get("running").unwrap_or(&0),
+        counts.get("pending").unwrap_or(&0)
+    );
+    for l in lines {
+        println!("{l}");
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::stats;
+
+    #[test]
+    fn stats_by_hand() {
+        let s = stats(&[4.0, 1.0, 2.0]);
+        assert_eq!(s.n, 3);
+        assert!((s.mean.unwrap() - 7.0 / 3.0).abs() < 1e-15);
+        // Σ(x − 7/3)² = (25 + 16 + 1)/9 = 42/9; / (n − 1) = 7/3.
+        assert!((s.sd.unwrap() - (7.0f64 / 3.0).sqrt()).abs() < 1e-15);
+        assert!((s.se.unwrap() - (7.0f64 / 9.0).sqrt()).abs() < 1e-15);
+        assert_eq!(s.median, Some(2.0));
+        assert_eq!(stats(&[1.0, 3.0, 10.0, 2.0]).median, Some(2.5));
+        let one = stats(&[5.0]);
+        assert_eq!((one.sd, one.se, one.median), (None, None, Some(5.0)));
+        assert_eq!(stats(&[]).mean, None);
+    }
+}

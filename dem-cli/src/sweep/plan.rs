@@ -1,0 +1,383 @@
+//! `dem sweep plan STUDY --out DIR`: the study's cases, each checked against the `dem test
+//! <kind>` command line, with its key; writes `DIR/study.json` (the study file's bytes),
+//! `DIR/cases.jsonl` and `DIR/slurm.sbatch`.
+//!
+//! Case order: `product` varies the last axis fastest (case i of axes with n_1 … n_k values
+//! takes value ⌊i / (n_{j+1}·…·n_k)⌋ mod n_j of axis j); `zip` takes the i-th value of every
+//! axis. Key: hex SHA-256 of the compact JSON `{"flags": {flag: value, …}, "test": kind}`
+//! (keys sorted; a file flag's value is `{"sha256": <hex SHA-256 of the file's bytes>}`, so the
+//! key follows the file's content, not where it lies; `--out` and `--threads` are not inputs).
+
+use super::case::{Case, CASES_FILE, SBATCH_FILE, STUDY_FILE};
+use super::study::{self, canonical_flag, scalar_text, Combine, Parsed, RESERVED};
+use clap::Args;
+use serde_json::{json, Value};
+use sha2::{Digest, Sha256};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+/// `dem sweep plan` flags.
+#[derive(Args)]
+pub struct PlanArgs {
+    /// The study file (JSON, docs/sweep.md).
+    pub study: PathBuf,
+    /// The sweep folder: study.json, cases.jsonl, slurm.sbatch; cases/ and logs/ below it.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Slurm: at most this many array tasks at once (`--array=0-N%T`).
+    #[arg(long)]
+    pub throttle: Option<usize>,
+    /// Slurm: CPUs per task, also each case's worker threads.
+    #[arg(long, default_value_t = 1, value_parser = crate::parse_threads)]
+    pub cpus_per_task: usize,
+    /// Slurm: time limit per task (`MM`, `HH:MM:SS`, `D-HH:MM:SS`).
+    #[arg(long, default_value = "01:00:00")]
+    pub time: String,
+    /// Slurm: partition (default: the cluster's).
+    #[arg(long)]
+    pub partition: Option<String>,
+    /// Slurm: memory per task (`2G`; default: the cluster's).
+    #[arg(long)]
+    pub mem: Option<String>,
+}
+
+/// What the test's command line says of one flag.
+struct FlagInfo {
+    takes_value: bool,
+    is_file: bool,
+}
+
+/// The `dem test <kind>` flags (long name → info).
+fn test_flags(kind: &str) -> Result<(clap::Command, BTreeMap<String, FlagInfo>), String> {
+    use clap::Subcommand;
+    let test = crate::test::TestKind::augment_subcommands(clap::Command::new("test"));
+    let sub = test
+        .find_subcommand(kind)
+        .cloned()
+        .ok_or_else(|| format!("`dem test {kind}` does not exist"))?;
+    let mut flags = BTreeMap::new();
+    for a in sub.get_arguments() {
+        if let Some(long) = a.get_long() {
+            flags.insert(
+                long.to_string(),
+                FlagInfo {
+                    takes_value: a.get_action().takes_values(),
+                    is_file: a.get_value_parser().type_id() == std::any::TypeId::of::<PathBuf>(),
+                },
+            );
+        }
+    }
+    Ok((sub, flags))
+}
+
+/// A flag value resolved: command-line text (`None`: a switch left off) and key value.
+#[derive(Clone)]
+struct Resolved {
+    arg: Option<String>,
+    key: Value,
+}
+
+/// Checks and resolves one flag value; `field` names it in errors.
+fn resolve(
+    file: &Path,
+    field: &str,
+    flag: &str,
+    text: &str,
+    info: &FlagInfo,
+) -> Result<Resolved, String> {
+    let here = || format!("{}: field {field}", file.display());
+    if !info.takes_value {
+        return match text {
+            "true" => Ok(Resolved {
+                arg: Some(String::new()),
+                key: json!(true),
+            }),
+            "false" => Ok(Resolved {
+                arg: None,
+                key: Value::Null,
+            }),
+            _ => Err(format!(
+                "{}: --{flag} is a switch: true or false, not {text:?}",
+                here()
+            )),
+        };
+    }
+    if !info.is_file {
+        return Ok(Resolved {
+            arg: Some(text.to_string()),
+            key: json!(text),
+        });
+    }
+    let path = study::resolve_path(file, text);
+    let bytes = std::fs::read(&path).map_err(|e| {
+        format!(
+            "{}: --{flag} file {text:?} ({}): {e}",
+            here(),
+            path.display()
+        )
+    })?;
+    let abs = path
+        .canonicalize()
+        .map_err(|e| format!("{}: {}: {e}", here(), path.display()))?;
+    Ok(Resolved {
+        arg: Some(abs.display().to_string()),
+        key: json!({ "sha256": hex(&Sha256::digest(&bytes)) }),
+    })
+}
+
+pub fn hex(bytes: &[u8]) -> String {
+    bytes.iter().map(|b| format!("{b:02x}")).collect()
+}
+
+/// The study's cases, checked (flags, files, the test's parser) and keyed.
+pub fn cases(file: &Path, p: &Parsed) -> Result<Vec<Case>, String> {
+    let kind = p.study.base.test.as_str();
+    let (cmd, flags) = test_flags(kind)?;
+    let lookup = |flag: &str, field: &str| -> Result<&FlagInfo, String> {
+        if RESERVED.contains(&flag) {
+            return Err(format!(
+                "{}: field {field}: --{flag} is set by dem sweep run for each case",
+                file.display()
+            ));
+        }
+        flags.get(flag).ok_or_else(|| {
+            let known: Vec<&str> = flags
+                .keys()
+                .map(String::as_str)
+                .filter(|f| !RESERVED.contains(f) && *f != "help")
+                .collect();
+            format!(
+                "{}: field {field}: {flag:?} is not a flag of `dem test {kind}` (its flags: {})",
+                file.display(),
+                known.join(", ")
+            )
+        })
+    };
+    // Base flags, sorted by name.
+    let mut base: Vec<(String, Resolved)> = Vec::new();
+    for (name, v) in &p.study.base.flags {
+        let flag = canonical_flag(name);
+        let field = format!("base.flags.{name}");
+        let info = lookup(&flag, &field)?;
+        let text = scalar_text(v).ok_or_else(|| {
+            format!(
+                "{}: field {field}: {v} is not a string, number or boolean",
+                file.display()
+            )
+        })?;
+        base.push((flag.clone(), resolve(file, &field, &flag, &text, info)?));
+    }
+    base.sort_by(|a, b| a.0.cmp(&b.0));
+    // Axis values, resolved once each.
+    let mut axes: Vec<Vec<Resolved>> = Vec::new();
+    for (i, a) in p.axes.iter().enumerate() {
+        let info = lookup(&a.flag, &format!("axes[{i}].flag"))?;
+        let mut vs = Vec::new();
+        for (j, v) in a.values.iter().enumerate() {
+            let field = format!("axes[{i}].values[{j}]");
+            vs.push(resolve(file, &field, &a.flag, v, info)?);
+        }
+        axes.push(vs);
+    }
+    let n = match (p.study.combine, p.axes.is_empty()) {
+        (_, true) => 1,
+        (Combine::Zip, false) => p.axes[0].values.len(),
+        (Combine::Product, false) => p.axes.iter().map(|a| a.values.len()).product(),
+    };
+    let mut out = Vec::with_capacity(n);
+    for index in 0..n {
+        // Value index of each axis for this case.
+        let mut pick = vec![0usize; p.axes.len()];
+        let mut rest = index;
+        for (j, a) in p.axes.iter().enumerate().rev() {
+            pick[j] = match p.study.combine {
+                Combine::Zip => index,
+                Combine::Product => {
+                    let k = rest % a.values.len();
+                    rest /= a.values.len();
+                    k
+                }
+            };
+        }
+        let mut argv = vec!["test".to_string(), kind.to_string()];
+        let mut key_flags = serde_json::Map::new();
+        let mut push = |flag: &str, r: &Resolved| {
+            if let Some(arg) = &r.arg {
+                argv.push(format!("--{flag}"));
+                if !arg.is_empty() {
+                    argv.push(arg.clone());
+                }
+                key_flags.insert(flag.to_string(), r.key.clone());
+            }
+        };
+        for (flag, r) in &base {
+            push(flag, r);
+        }
+        let mut case_axes = Vec::new();
+        for (j, a) in p.axes.iter().enumerate() {
+            push(&a.flag, &axes[j][pick[j]]);
+            case_axes.push((a.flag.clone(), a.values[pick[j]].clone()));
+        }
+        let key_json = json!({"test": kind, "flags": Value::Object(key_flags)}).to_string();
+        let case = Case {
+            index,
+            key: hex(&Sha256::digest(key_json.as_bytes())),
+            test: kind.to_string(),
+            axes: case_axes,
+            argv,
+        };
+        // The test's own parser: types (a seed must be a whole number) and required flags.
+        let mut check = case.argv.clone();
+        check.remove(0);
+        check.extend(["--out".to_string(), "sweep-check".to_string()]);
+        if let Err(e) = cmd.clone().try_get_matches_from(&check) {
+            let msg = e.to_string();
+            let first = msg.lines().next().unwrap_or_default();
+            let field = if p.axes.is_empty() {
+                "base.flags"
+            } else {
+                "axes"
+            };
+            return Err(format!(
+                "{}: field {field}: case {index} ({}): `dem test {kind}` refuses it: {}",
+                file.display(),
+                case.label(),
+                first.trim_start_matches("error: ")
+            ));
+        }
+        out.push(case);
+    }
+    Ok(out)
+}
+
+/// The Slurm batch script of `n` cases.
+fn sbatch(a: &PlanArgs, name: &str, n: usize, dir: &Path, exe: &Path) -> String {
+    let job: String = name
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || "-_.".contains(c) {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    let throttle = a.throttle.map(|t| format!("%{t}")).unwrap_or_default();
+    let q = |p: &Path| shell_quote(&p.display().to_string());
+    let mut s = String::new();
+    s += "#!/bin/bash\n";
+    s += &format!("# dem sweep: {n} cases of the study {name:?}; one array task per case.\n");
+    s += "# Submit: sbatch slurm.sbatch (add --wait to block). Re-plan to change the resources.\n";
+    s += &format!("#SBATCH --job-name={job}\n");
+    s += &format!("#SBATCH --array=0-{}{throttle}\n", n.saturating_sub(1));
+    s += "#SBATCH --ntasks=1\n";
+    s += &format!("#SBATCH --cpus-per-task={}\n", a.cpus_per_task);
+    s += &format!("#SBATCH --time={}\n", a.time);
+    if let Some(p) = &a.partition {
+        s += &format!("#SBATCH --partition={p}\n");
+    }
+    if let Some(m) = &a.mem {
+        s += &format!("#SBATCH --mem={m}\n");
+    }
+    s += &format!(
+        "#SBATCH --output={}\n",
+        dir.join("logs").join("%A_%a.out").display()
+    );
+    s += &format!(
+        "exec {} sweep run {} --index \"$SLURM_ARRAY_TASK_ID\" --threads {}\n",
+        q(exe),
+        q(dir),
+        a.cpus_per_task
+    );
+    s
+}
+
+fn shell_quote(s: &str) -> String {
+    if s.chars()
+        .all(|c| c.is_ascii_alphanumeric() || "/._-+=:,".contains(c))
+    {
+        s.to_string()
+    } else {
+        format!("'{}'", s.replace('\'', "'\\''"))
+    }
+}
+
+fn valid_time(t: &str) -> bool {
+    !t.is_empty()
+        && t.chars()
+            .all(|c| c.is_ascii_digit() || c == ':' || c == '-')
+        && t.starts_with(|c: char| c.is_ascii_digit())
+        && t.ends_with(|c: char| c.is_ascii_digit())
+}
+
+pub fn run(a: PlanArgs) -> Result<ExitCode, String> {
+    if !valid_time(&a.time) {
+        return Err(format!(
+            "--time {:?}: a Slurm time limit (MM, HH:MM:SS or D-HH:MM:SS)",
+            a.time
+        ));
+    }
+    if a.throttle == Some(0) {
+        return Err("--throttle: at least 1".into());
+    }
+    let (bytes, parsed) = study::read(&a.study)?;
+    let cases = cases(&a.study, &parsed)?;
+    let mut lines = String::new();
+    for c in &cases {
+        lines += &serde_json::to_string(c).map_err(|e| e.to_string())?;
+        lines.push('\n');
+    }
+    // Another study in the folder is refused, never overwritten.
+    for (name, new) in [(STUDY_FILE, &bytes[..]), (CASES_FILE, lines.as_bytes())] {
+        let path = a.out.join(name);
+        if let Ok(old) = std::fs::read(&path) {
+            if old != new {
+                return Err(format!(
+                    "{}: the folder holds another plan ({name} differs: another study, or \
+                     files it names have changed); plan into a new folder, or remove this one",
+                    a.out.display()
+                ));
+            }
+        }
+    }
+    for sub in ["cases", "logs"] {
+        std::fs::create_dir_all(a.out.join(sub))
+            .map_err(|e| format!("{}: {e}", a.out.join(sub).display()))?;
+    }
+    let dir = a
+        .out
+        .canonicalize()
+        .map_err(|e| format!("{}: {e}", a.out.display()))?;
+    let exe = std::env::current_exe()
+        .and_then(|p| p.canonicalize())
+        .map_err(|e| format!("the dem executable's path: {e}"))?;
+    let write = |name: &str, b: &[u8]| {
+        dem_core::output::write_atomic(&dir.join(name), b).map_err(|e| e.to_string())
+    };
+    write(STUDY_FILE, &bytes)?;
+    write(CASES_FILE, lines.as_bytes())?;
+    let script = sbatch(&a, &parsed.study.name, cases.len(), &dir, &exe);
+    write(SBATCH_FILE, script.as_bytes())?;
+    println!(
+        "planned {} cases of `dem test {}` ({}) into {}",
+        cases.len(),
+        parsed.study.base.test,
+        parsed
+            .axes
+            .iter()
+            .map(|x| format!("{} × {}", x.values.len(), x.flag))
+            .collect::<Vec<_>>()
+            .join(if parsed.study.combine == Combine::Zip {
+                " zipped with "
+            } else {
+                ", "
+            }),
+        dir.display()
+    );
+    println!(
+        "run here: dem sweep run {0} --jobs N; on Slurm: sbatch {0}/{SBATCH_FILE}",
+        dir.display()
+    );
+    Ok(ExitCode::SUCCESS)
+}

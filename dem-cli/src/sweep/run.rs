@@ -1,0 +1,458 @@
+//! `dem sweep run DIR [--jobs N] [--threads T] [--index I]`: runs the cases not yet finished,
+//! N at a time, each as a child process `dem <argv> --out DIR/cases/<key> --threads T` of this
+//! executable (RAYON_NUM_THREADS = T too), its stdout and stderr appended to the case's
+//! `log.txt`. A case is claimed first ([`super::claim`]), so processes sharing DIR (several
+//! `run`s, Slurm array tasks) never run one case twice.
+//!
+//! Ends of a case: exit code 0 with `<test>.result.json` present → `done.json`; anything else
+//! → `failed.json` with the reason and the log's last lines; either written atomically, with
+//! the attempt's wall time and the child's user + system CPU time (`wait4(2)`'s rusage, which
+//! covers the child and the processes it waited for). On Linux each child gets
+//! `PR_SET_PDEATHSIG = SIGKILL`, so a runner killed with `kill -9` takes its cases with it and a
+//! rerun takes over their (stale) claims; `dem test cutting` then resumes from the checkpoints
+//! in the case folder (bit-identical results, docs/cutting.md), the other tests start again.
+
+use super::case::{self, read_cases, Case, Record, State, DONE_FILE, FAILED_FILE, LOG_FILE};
+use super::claim::{self, Claim, HEARTBEAT};
+use clap::Args;
+use indicatif::{ProgressBar, ProgressStyle};
+use std::collections::VecDeque;
+use std::io::{IsTerminal, Write};
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, ExitCode, Stdio};
+use std::time::{Duration, Instant, SystemTime};
+
+/// `dem sweep run` flags.
+#[derive(Args)]
+pub struct RunArgs {
+    /// The sweep folder (`dem sweep plan --out DIR`).
+    pub dir: PathBuf,
+    /// Cases at once.
+    #[arg(long, default_value_t = 1, value_parser = crate::parse_threads)]
+    pub jobs: usize,
+    /// Worker threads of each case (small specimens scale best one thread each).
+    #[arg(long, default_value_t = 1, value_parser = crate::parse_threads)]
+    pub threads: usize,
+    /// Run case I alone (a Slurm array task: --index $SLURM_ARRAY_TASK_ID); a failed case I
+    /// is run again.
+    #[arg(long)]
+    pub index: Option<usize>,
+    /// Run the failed cases again too (without it they are listed and skipped).
+    #[arg(long)]
+    pub retry_failed: bool,
+}
+
+/// A case running as a child process.
+struct Running {
+    index: usize,
+    claim: Claim,
+    child: Child,
+    started: Instant,
+}
+
+/// How a child ended: exit code or signal, and its CPU time.
+struct Ended {
+    code: Option<i32>,
+    signal: Option<i32>,
+    cpu_s: Option<f64>,
+}
+
+#[cfg(unix)]
+fn poll(r: &mut Running) -> Result<Option<Ended>, String> {
+    let pid = r.child.id() as libc::pid_t;
+    let mut status: libc::c_int = 0;
+    // SAFETY: rusage is plain data, zeroed is a valid value; wait4 writes both outputs.
+    let mut ru: libc::rusage = unsafe { std::mem::zeroed() };
+    // SAFETY: pid is our own unreaped child; the pointers are valid for the call.
+    let got = unsafe { libc::wait4(pid, &mut status, libc::WNOHANG, &mut ru) };
+    if got == 0 {
+        return Ok(None);
+    }
+    if got < 0 {
+        return Err(format!(
+            "wait4 of case {} (pid {pid}): {}",
+            r.index,
+            std::io::Error::last_os_error()
+        ));
+    }
+    let t = |v: libc::timeval| v.tv_sec as f64 + v.tv_usec as f64 * 1e-6;
+    let cpu = t(ru.ru_utime) + t(ru.ru_stime);
+    Ok(Some(Ended {
+        code: libc::WIFEXITED(status).then(|| libc::WEXITSTATUS(status)),
+        signal: libc::WIFSIGNALED(status).then(|| libc::WTERMSIG(status)),
+        cpu_s: Some(cpu),
+    }))
+}
+
+#[cfg(not(unix))]
+fn poll(r: &mut Running) -> Result<Option<Ended>, String> {
+    match r.child.try_wait() {
+        Ok(None) => Ok(None),
+        Ok(Some(s)) => Ok(Some(Ended {
+            code: s.code(),
+            signal: None,
+            cpu_s: None,
+        })),
+        Err(e) => Err(format!("case {}: {e}", r.index)),
+    }
+}
+
+fn unix_now() -> u64 {
+    SystemTime::now()
+        .duration_since(SystemTime::UNIX_EPOCH)
+        .map(|d| d.as_secs())
+        .unwrap_or(0)
+}
+
+/// The log's last `n` non-empty lines of the latest attempt.
+fn log_tail(log: &Path, n: usize) -> Vec<String> {
+    let text = std::fs::read_to_string(log).unwrap_or_default();
+    let attempt = text.rsplit_once(HEADER).map(|(_, t)| t).unwrap_or(&text);
+    let lines: Vec<&str> = attempt
+        .lines()
+        .skip(1) // the rest of the header line
+        .filter(|l| !l.trim().is_empty())
+        .collect();
+    lines[lines.len().saturating_sub(n)..]
+        .iter()
+        .map(|l| l.to_string())
+        .collect()
+}
+
+/// Starts each attempt's lines in `log.txt` (tests count them).
+pub const HEADER: &str = "=== dem sweep run: attempt";
+
+/// Starts case `c` (claimed) as a child process.
+fn start(c: &Case, dir: &Path, exe: &Path, threads: usize) -> Result<Child, String> {
+    let cdir = c.dir(dir);
+    let _ = std::fs::remove_file(cdir.join(DONE_FILE));
+    let _ = std::fs::remove_file(cdir.join(FAILED_FILE));
+    let log_path = cdir.join(LOG_FILE);
+    let mut log = std::fs::OpenOptions::new()
+        .create(true)
+        .append(true)
+        .open(&log_path)
+        .map_err(|e| format!("{}: {e}", log_path.display()))?;
+    writeln!(
+        log,
+        "{HEADER} by pid {} on {}, unix time {}, {} threads: dem {} --out {} ===",
+        std::process::id(),
+        claim::host(),
+        unix_now(),
+        threads,
+        c.argv.join(" "),
+        cdir.display()
+    )
+    .map_err(|e| format!("{}: {e}", log_path.display()))?;
+    let err = log
+        .try_clone()
+        .map_err(|e| format!("{}: {e}", log_path.display()))?;
+    let mut cmd = Command::new(exe);
+    cmd.args(&c.argv)
+        .arg("--out")
+        .arg(&cdir)
+        .arg("--threads")
+        .arg(threads.to_string())
+        .env("RAYON_NUM_THREADS", threads.to_string())
+        .stdin(Stdio::null())
+        .stdout(log)
+        .stderr(err);
+    #[cfg(target_os = "linux")]
+    {
+        use std::os::unix::process::CommandExt;
+        // SAFETY: getpid is async-signal-safe.
+        let parent = unsafe { libc::getpid() };
+        // SAFETY: the closure runs in the forked child before exec and calls only the
+        // async-signal-safe prctl and getppid.
+        unsafe {
+            cmd.pre_exec(move || {
+                if libc::prctl(libc::PR_SET_PDEATHSIG, libc::SIGKILL, 0, 0, 0) != 0 {
+                    return Err(std::io::Error::last_os_error());
+                }
+                if libc::getppid() != parent {
+                    return Err(std::io::Error::other("the runner has ended"));
+                }
+                Ok(())
+            });
+        }
+    }
+    cmd.spawn()
+        .map_err(|e| format!("cannot start {}: {e}", exe.display()))
+}
+
+/// Writes done.json or failed.json for a case that ended; the failure reason if it failed.
+fn finish(
+    c: &Case,
+    dir: &Path,
+    started: Instant,
+    end: &Ended,
+    not_started: Option<&str>,
+) -> Result<Option<String>, String> {
+    let cdir = c.dir(dir);
+    let result = c.result_file(dir);
+    let error = match (end.code, end.signal) {
+        _ if not_started.is_some() => not_started.map(String::from),
+        (Some(0), _) if result.is_file() => None,
+        (Some(0), _) => Some(format!("exit code 0 but no {}", result.display())),
+        (Some(code), _) => Some(format!("exit code {code}")),
+        (None, Some(sig)) => Some(format!("killed by signal {sig}")),
+        (None, None) => Some("ended without an exit code".into()),
+    };
+    let tail = if error.is_some() {
+        log_tail(&cdir.join(LOG_FILE), 10)
+    } else {
+        Vec::new()
+    };
+    let rec = Record {
+        index: c.index,
+        key: c.key.clone(),
+        exit_code: end.code,
+        signal: end.signal,
+        wall_s: started.elapsed().as_secs_f64(),
+        cpu_s: end.cpu_s,
+        host: claim::host(),
+        finished_unix: unix_now(),
+        error: error.clone(),
+        log_tail: tail,
+    };
+    let name = if error.is_none() {
+        DONE_FILE
+    } else {
+        FAILED_FILE
+    };
+    let text = serde_json::to_string_pretty(&rec).map_err(|e| e.to_string())?;
+    dem_core::output::write_atomic(&cdir.join(name), text.as_bytes()).map_err(|e| e.to_string())?;
+    Ok(error.map(|e| match rec.log_tail.last() {
+        Some(l) => format!("{e}: {l}"),
+        None => e,
+    }))
+}
+
+fn bar(total: usize, done: usize) -> ProgressBar {
+    if !std::io::stderr().is_terminal() {
+        return ProgressBar::hidden();
+    }
+    let b = ProgressBar::new(total as u64);
+    if let Ok(s) =
+        ProgressStyle::with_template("{elapsed:>5} sweep {bar:30} {pos}/{len} done, {msg}")
+    {
+        b.set_style(s);
+    }
+    b.set_position(done as u64);
+    b
+}
+
+fn fmt_secs(s: f64) -> String {
+    let s = s.max(0.0).round() as u64;
+    if s >= 3600 {
+        format!("{}h{:02}m", s / 3600, s % 3600 / 60)
+    } else if s >= 60 {
+        format!("{}m{:02}s", s / 60, s % 60)
+    } else {
+        format!("{s}s")
+    }
+}
+
+pub fn run(a: RunArgs) -> Result<ExitCode, String> {
+    let dir = a.dir.clone();
+    let cases = read_cases(&dir)?;
+    if let Some(i) = a.index {
+        if i >= cases.len() {
+            return Err(format!(
+                "--index {i}: {} has {} cases (0-{})",
+                dir.display(),
+                cases.len(),
+                cases.len().saturating_sub(1)
+            ));
+        }
+    }
+    let exe = std::env::current_exe().map_err(|e| format!("the dem executable: {e}"))?;
+    let retry = a.retry_failed || a.index.is_some();
+    let chosen: Vec<usize> = match a.index {
+        Some(i) => vec![i],
+        None => (0..cases.len()).collect(),
+    };
+    let mut queue: VecDeque<usize> = chosen
+        .iter()
+        .copied()
+        .filter(|&i| match case::state(&cases[i], &dir) {
+            State::Done(_) | State::Running(_) => false,
+            State::Failed(_) => retry,
+            State::Pending => true,
+        })
+        .collect();
+    let done0 = chosen
+        .iter()
+        .filter(|&&i| matches!(case::state(&cases[i], &dir), State::Done(_)))
+        .count();
+    eprintln!(
+        "sweep {}: {} cases, {} done, {} to run, {} at a time, {} thread(s) each",
+        dir.display(),
+        chosen.len(),
+        done0,
+        queue.len(),
+        a.jobs,
+        a.threads
+    );
+    let pb = bar(chosen.len(), done0);
+    let say = |s: String| {
+        if pb.is_hidden() {
+            eprintln!("{s}");
+        } else {
+            pb.println(s);
+        }
+    };
+    let (mut done, mut failed, mut walls) = (done0, 0usize, Vec::<f64>::new());
+    let mut running: Vec<Running> = Vec::new();
+    let mut beat = Instant::now();
+    loop {
+        while running.len() < a.jobs {
+            let Some(i) = queue.pop_front() else { break };
+            let c = &cases[i];
+            let claim = match claim::try_claim(&c.dir(&dir)) {
+                Ok(Some(cl)) => cl,
+                Ok(None) => continue, // another process runs it
+                Err(e) => {
+                    say(format!("case {i} ({}): {e}", c.label()));
+                    failed += 1;
+                    continue;
+                }
+            };
+            // Finished by another process between the listing and the claim?
+            match case::state(c, &dir) {
+                State::Done(_) => {
+                    claim.drop_unused();
+                    continue;
+                }
+                State::Failed(_) if !retry => {
+                    claim.drop_unused();
+                    continue;
+                }
+                _ => {}
+            }
+            let started = Instant::now();
+            match start(c, &dir, &exe, a.threads) {
+                Ok(child) => running.push(Running {
+                    index: i,
+                    claim,
+                    child,
+                    started,
+                }),
+                Err(e) => {
+                    // Recorded like a case that failed (exit code none, the reason).
+                    let end = Ended {
+                        code: None,
+                        signal: None,
+                        cpu_s: None,
+                    };
+                    let _ = finish(c, &dir, started, &end, Some(&e));
+                    claim.release();
+                    say(format!("case {i} ({}): {e}", c.label()));
+                    failed += 1;
+                }
+            }
+        }
+        if running.is_empty() {
+            break;
+        }
+        std::thread::sleep(Duration::from_millis(100));
+        let mut k = 0;
+        while k < running.len() {
+            let Some(end) = poll(&mut running[k])? else {
+                k += 1;
+                continue;
+            };
+            let r = running.swap_remove(k);
+            let c = &cases[r.index];
+            let wall = r.started.elapsed().as_secs_f64();
+            let fin = finish(c, &dir, r.started, &end, None);
+            r.claim.release();
+            match fin? {
+                None => {
+                    done += 1;
+                    walls.push(wall);
+                    say(format!(
+                        "case {} ({}) done in {}{}",
+                        c.index,
+                        c.label(),
+                        fmt_secs(wall),
+                        end.cpu_s
+                            .map(|s| format!(" ({} CPU)", fmt_secs(s)))
+                            .unwrap_or_default()
+                    ));
+                }
+                Some(e) => {
+                    failed += 1;
+                    say(format!("case {} ({}) failed: {e}", c.index, c.label()));
+                }
+            }
+        }
+        if beat.elapsed() >= HEARTBEAT {
+            running.iter().for_each(|r| r.claim.touch());
+            beat = Instant::now();
+        }
+        let eta = if walls.is_empty() {
+            "?".to_string()
+        } else {
+            let mean = walls.iter().sum::<f64>() / walls.len() as f64;
+            fmt_secs(mean * (queue.len() + running.len()) as f64 / a.jobs as f64)
+        };
+        pb.set_position(done as u64);
+        pb.set_message(format!(
+            "{failed} failed, {} running, eta {eta}",
+            running.len()
+        ));
+    }
+    pb.finish_and_clear();
+    // The final word is the folder's state (other processes may have run some cases).
+    let mut counts = [0usize; 4];
+    let mut failures = Vec::new();
+    let mut elsewhere = Vec::new();
+    for &i in &chosen {
+        let c = &cases[i];
+        match case::state(c, &dir) {
+            State::Done(_) => counts[0] += 1,
+            State::Failed(r) => {
+                counts[1] += 1;
+                failures.push(format!(
+                    "  case {i} ({}): {}{}\n    log: {}",
+                    c.label(),
+                    r.error.unwrap_or_default(),
+                    r.log_tail
+                        .last()
+                        .map(|l| format!(": {l}"))
+                        .unwrap_or_default(),
+                    c.dir(&dir).join(LOG_FILE).display()
+                ));
+            }
+            State::Running(h) => {
+                counts[2] += 1;
+                elsewhere.push(format!("  case {i} ({}): running in {h}", c.label()));
+            }
+            State::Pending => counts[3] += 1,
+        }
+    }
+    println!(
+        "sweep {}: {} cases: {} done, {} failed, {} running elsewhere, {} pending",
+        dir.display(),
+        chosen.len(),
+        counts[0],
+        counts[1],
+        counts[2],
+        counts[3]
+    );
+    for l in elsewhere {
+        println!("{l}");
+    }
+    if !failures.is_empty() {
+        println!("failed cases (rerun with --retry-failed after a fix):");
+        for f in failures {
+            println!("{f}");
+        }
+        return Ok(ExitCode::from(1));
+    }
+    if a.index.is_some() && counts[0] < chosen.len() {
+        return Ok(ExitCode::from(1));
+    }
+    Ok(ExitCode::SUCCESS)
+}
