@@ -83,8 +83,8 @@ pub struct SpecimenArgs {
     /// else "specimen").
     #[arg(long)]
     material_name: Option<String>,
-    /// Output specimen file (JSON); the summary goes to <stem>.summary.json beside it, and a
-    /// scene that loads the specimen with its generation micro-parameters to <stem>.scene.json.
+    /// Output specimen file (JSON); the summary goes to `<stem>.summary.json` beside it, and a
+    /// scene that loads the specimen with its generation micro-parameters to `<stem>.scene.json`.
     #[arg(long)]
     out: PathBuf,
     /// Worker threads, at least 1 (default: all cores); results do not depend on it.

@@ -20,9 +20,9 @@ use std::process::ExitCode;
 /// the speed is in m/s (`1`, `2`, or `1m/s`); angles in degrees.
 #[derive(Args, Clone, Debug)]
 pub struct CuttingArgs {
-    /// Specimen file written by `dem specimen` (<stem>.summary.json and <stem>.scene.json
+    /// Specimen file written by `dem specimen` (`<stem>.summary.json` and `<stem>.scene.json`
     /// beside it give the model unless --model is given). Without it a specimen is generated
-    /// from the specimen flags below into <out>/specimen.json.
+    /// from the specimen flags below into `<out>/specimen.json`.
     #[arg(long)]
     pub specimen: Option<PathBuf>,
     /// Generation (without --specimen): traditional | orc | improved.

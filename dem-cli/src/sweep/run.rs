@@ -243,7 +243,10 @@ fn bar(total: usize, done: usize) -> ProgressBar {
 }
 
 fn fmt_secs(s: f64) -> String {
-    let s = s.max(0.0).round() as u64;
+    if s < 10.0 {
+        return format!("{:.1}s", s.max(0.0));
+    }
+    let s = s.round() as u64;
     if s >= 3600 {
         format!("{}h{:02}m", s / 3600, s % 3600 / 60)
     } else if s >= 60 {
@@ -367,8 +370,13 @@ pub fn run(a: RunArgs) -> Result<ExitCode, String> {
             let wall = r.started.elapsed().as_secs_f64();
             let fin = finish(c, &dir, r.started, &end, None);
             r.claim.release();
-            match fin? {
-                None => {
+            match fin {
+                // (A record that cannot be written, a full disk say, fails this case only.)
+                Err(e) => {
+                    failed += 1;
+                    say(format!("case {} ({}): {e}", c.index, c.label()));
+                }
+                Ok(None) => {
                     done += 1;
                     walls.push(wall);
                     say(format!(
@@ -381,7 +389,7 @@ pub fn run(a: RunArgs) -> Result<ExitCode, String> {
                             .unwrap_or_default()
                     ));
                 }
-                Some(e) => {
+                Ok(Some(e)) => {
                     failed += 1;
                     say(format!("case {} ({}) failed: {e}", c.index, c.label()));
                 }

@@ -128,6 +128,9 @@ pub fn parse(bytes: &[u8], path: &Path) -> Result<Parsed, String> {
     let text = std::str::from_utf8(bytes).map_err(|e| format!("{file}: not UTF-8: {e}"))?;
     let de = &mut serde_json::Deserializer::from_str(text);
     let study: Study = serde_path_to_error::deserialize(de).map_err(|e| {
+        if e.inner().is_syntax() || e.inner().is_eof() {
+            return format!("{file}: not valid JSON: {}", e.inner());
+        }
         let at = e.path().to_string();
         let at = if at == "." { "(top level)".into() } else { at };
         format!("{file}: field {at}: {}", e.inner())
