@@ -221,6 +221,25 @@ mod tests {
         assert!(c.path.ends_with("claim.3"));
         c.drop_unused();
         assert!(!dir.join("claim.3").exists() && dir.join("claim.2").exists());
+        // Another host's claim: live while its heartbeat is fresh, stale after STALE_AFTER.
+        let other = Holder {
+            host: format!("{}-other", host()),
+            pid: 1,
+            start: None,
+            released: false,
+        };
+        let p = dir.join("claim.3");
+        std::fs::write(&p, serde_json::to_string(&other).unwrap()).unwrap();
+        assert!(live_holder(&dir).is_some_and(|h| h.ends_with("-other:1")));
+        assert!(try_claim(&dir).unwrap().is_none());
+        let old = SystemTime::now() - STALE_AFTER - Duration::from_secs(1);
+        let f = std::fs::OpenOptions::new().append(true).open(&p).unwrap();
+        f.set_modified(old).unwrap();
+        assert!(live_holder(&dir).is_none());
+        let c = try_claim(&dir)
+            .unwrap()
+            .expect("stale claim of another host");
+        assert!(c.path.ends_with("claim.4"));
         let _ = std::fs::remove_dir_all(&dir);
     }
 }

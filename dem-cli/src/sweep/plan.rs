@@ -381,3 +381,55 @@ pub fn run(a: PlanArgs) -> Result<ExitCode, String> {
     );
     Ok(ExitCode::SUCCESS)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn plan(text: &str) -> Result<Vec<Case>, String> {
+        let f = Path::new("s.json");
+        cases(f, &study::parse(text.as_bytes(), f)?)
+    }
+
+    #[test]
+    fn zip_switches_and_keys() {
+        let z =
+            plan(r#"{"name":"z","base":{"test":"cutting","flags":{"specimen-x":1}}}"#).unwrap_err();
+        assert!(
+            z.contains("base.flags.specimen-x") && z.contains("not a flag"),
+            "{z}"
+        );
+        let c = plan(
+            r#"{"name":"z","base":{"test":"cutting","flags":{"r_min":"0.1mm","r-max":"0.2mm"}},
+                "combine":"zip","axes":[{"flag":"depth","values":["1mm","2mm"]},
+                {"flag":"delete-fragments","values":[true,false]}]}"#,
+        )
+        .unwrap();
+        assert_eq!(c.len(), 2);
+        let a: Vec<String> = ["test", "cutting", "--r-max", "0.2mm", "--r-min", "0.1mm"]
+            .map(String::from)
+            .to_vec();
+        let mut a0 = a.clone();
+        a0.extend(["--depth", "1mm", "--delete-fragments"].map(String::from));
+        let mut a1 = a.clone();
+        a1.extend(["--depth", "2mm"].map(String::from));
+        assert_eq!((c[0].argv.clone(), c[1].argv.clone()), (a0, a1));
+        assert_eq!(c[1].axes[1], ("delete-fragments".into(), "false".into()));
+        // The key is the inputs': the same flags given in another order or spelling agree.
+        let d = plan(
+            r#"{"name":"other","base":{"test":"cutting","flags":{"r-max":"0.2mm"}},
+                "axes":[{"flag":"r-min","values":["0.1mm"]},{"flag":"depth","values":["2mm"]}]}"#,
+        )
+        .unwrap();
+        assert_eq!(d[0].key, c[1].key);
+        assert_ne!(c[0].key, c[1].key);
+        let e = plan(
+            r#"{"name":"z","base":{"test":"cutting"},"axes":[{"flag":"delete-fragments","values":["yes"]}]}"#,
+        )
+        .unwrap_err();
+        assert!(
+            e.contains("axes[0].values[0]") && e.contains("switch"),
+            "{e}"
+        );
+    }
+}
