@@ -31,7 +31,7 @@ fn avx2_and_baseline_agree_bitwise() {
 /// other forces. (On CPUs without AVX2 there are no records.)
 #[cfg(target_arch = "x86_64")]
 #[test]
-#[allow(clippy::manual_is_multiple_of)] // rust-version 1.80
+#[allow(clippy::manual_is_multiple_of)] // rust-version 1.85 (is_multiple_of is 1.87)
 fn packed_records_give_the_array_bits() {
     use crate::contact::kernel::Packed;
     if !has_avx2() {
