@@ -1,9 +1,18 @@
-//! Batches of grains (clump libraries): every input file becomes one template, in parallel
-//! (rayon); a failed grain is recorded with its reason and never stops the others.
+//! Batches of grains (clump libraries): every grain becomes one template, in parallel (rayon);
+//! a failed grain is recorded with its reason and never stops the others.
+//!
+//! A one-outline file (CSV, JSON, ...) is one grain, written to `<out>/<relative>.json`. A
+//! multi-grain file (image, GeoJSON, WKT: [`crate::outline::MultiKind`]) gives one grain per
+//! component, label or polygon, written to `<out>/<relative without extension>/<grain>.json`
+//! ([`grain_template_path`]): a folder per file keeps the grain names of different files apart
+//! and the file's grains together. [`plan`] reads the multi-grain files and lists every grain
+//! with its template path; [`plan_clashes`] finds templates that collide (two grains of one
+//! file with the same feature name, or a grain and a CSV outline for one path) before
+//! anything is written; [`run_plan`] makes and writes the templates.
 
 use crate::clump::{make_template, ClumpParams};
 use crate::export::Format;
-use crate::outline::{read_outline, ReadOptions};
+use crate::outline::{read_grains, read_outline, GrainOptions, MultiKind, Outline, ReadOptions};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
@@ -127,9 +136,16 @@ fn common_folder(paths: &[PathBuf]) -> PathBuf {
     common
 }
 
-/// The template file of an input: `<out>/<relative with .json>`.
+/// The template file of a one-outline input: `<out>/<relative with .json>`.
 pub fn template_path(out: &Path, input: &Input) -> PathBuf {
     out.join(input.relative.with_extension("json"))
+}
+
+/// The template file of grain `name` of a multi-grain input:
+/// `<out>/<relative without extension>/<name>.json`.
+pub fn grain_template_path(out: &Path, input: &Input, name: &str) -> PathBuf {
+    out.join(input.relative.with_extension(""))
+        .join(format!("{name}.json"))
 }
 
 /// The batch summary's file in the output folder.
@@ -157,6 +173,27 @@ pub fn clashes(inputs: &[Input], out: &Path) -> Vec<Clash> {
 /// never share an export unless they share a template, which is a clash already; exports never
 /// end in `.json`, so no export is another input's template or the summary.)
 pub fn clashes_with_exports(inputs: &[Input], out: &Path, exports: &[Format]) -> Vec<Clash> {
+    let entries: Vec<Entry> = inputs
+        .iter()
+        .enumerate()
+        .map(|(k, i)| Entry {
+            input: k,
+            who: i.path.display().to_string(),
+            dest: Some(template_path(out, i)),
+        })
+        .collect();
+    clash_core(inputs, &entries, out, exports)
+}
+
+/// A template to be written: for input `input`, named `who` in messages.
+struct Entry {
+    input: usize,
+    who: String,
+    dest: Option<PathBuf>,
+}
+
+/// The clashes of `entries` (indices in [`Clash::inputs`] are entry indices).
+fn clash_core(inputs: &[Input], entries: &[Entry], out: &Path, exports: &[Format]) -> Vec<Clash> {
     let mut found = Vec::new();
     let canonical = |p: &Path| std::fs::canonicalize(p).ok();
     let input_files: std::collections::HashMap<PathBuf, usize> = inputs
@@ -167,16 +204,16 @@ pub fn clashes_with_exports(inputs: &[Input], out: &Path, exports: &[Format]) ->
     let summary = out.join(SUMMARY_FILE);
     let mut by_template: std::collections::HashMap<PathBuf, usize> =
         std::collections::HashMap::new();
-    for (k, inp) in inputs.iter().enumerate() {
-        let t = template_path(out, inp);
+    for (k, en) in entries.iter().enumerate() {
+        let Some(t) = en.dest.clone() else { continue };
         if let Some(&first) = by_template.get(&t) {
             found.push(Clash {
                 inputs: vec![first, k],
                 message: format!(
                     "{} and {} would both be written as {}: rename one of them, or clump them \
                      into different --out folders",
-                    inputs[first].path.display(),
-                    inp.path.display(),
+                    entries[first].who,
+                    en.who,
                     t.display()
                 ),
             });
@@ -188,12 +225,12 @@ pub fn clashes_with_exports(inputs: &[Input], out: &Path, exports: &[Format]) ->
                 inputs: vec![k],
                 message: format!(
                     "{}: its template would be {}, the batch summary: rename the file",
-                    inp.path.display(),
+                    en.who,
                     t.display()
                 ),
             });
         } else if let Some(&victim) = canonical(&t).and_then(|c| input_files.get(&c)) {
-            let whose = if victim == k {
+            let whose = if victim == en.input {
                 "this outline itself".to_string()
             } else {
                 format!("the input {}", inputs[victim].path.display())
@@ -203,23 +240,23 @@ pub fn clashes_with_exports(inputs: &[Input], out: &Path, exports: &[Format]) ->
                 message: format!(
                     "{}: its template {} would overwrite {whose}: choose an --out folder that \
                      holds no outlines",
-                    inp.path.display(),
+                    en.who,
                     t.display(),
                 ),
             });
         }
     }
-    for (k, inp) in inputs.iter().enumerate() {
-        let t = template_path(out, inp);
+    for (k, en) in entries.iter().enumerate() {
+        let Some(t) = en.dest.as_ref() else { continue };
         for f in exports {
-            for e in f.paths(&t) {
+            for e in f.paths(t) {
                 if let Some(&victim) = canonical(&e).and_then(|c| input_files.get(&c)) {
                     found.push(Clash {
                         inputs: vec![k],
                         message: format!(
                             "{}: its {f} export {} would overwrite the input {}: choose an \
                              --out folder that holds no outlines",
-                            inp.path.display(),
+                            en.who,
                             e.display(),
                             inputs[victim].path.display()
                         ),
@@ -229,8 +266,12 @@ pub fn clashes_with_exports(inputs: &[Input], out: &Path, exports: &[Format]) ->
         }
     }
     if let Some(&victim) = canonical(&summary).and_then(|c| input_files.get(&c)) {
+        // Every entry of the input the summary would overwrite.
+        let of_victim: Vec<usize> = (0..entries.len())
+            .filter(|&k| entries[k].input == victim)
+            .collect();
         found.push(Clash {
-            inputs: vec![victim],
+            inputs: of_victim,
             message: format!(
                 "the batch summary {} would overwrite the input {}: choose another --out folder",
                 summary.display(),
@@ -242,9 +283,10 @@ pub fn clashes_with_exports(inputs: &[Input], out: &Path, exports: &[Format]) ->
 }
 
 fn is_outline(p: &Path) -> bool {
-    p.extension()
-        .and_then(|e| e.to_str())
-        .is_some_and(|e| OUTLINE_EXTENSIONS.contains(&e.to_ascii_lowercase().as_str()))
+    MultiKind::of(p).is_some()
+        || p.extension()
+            .and_then(|e| e.to_str())
+            .is_some_and(|e| OUTLINE_EXTENSIONS.contains(&e.to_ascii_lowercase().as_str()))
 }
 
 /// Options of a batch.
@@ -258,12 +300,21 @@ pub struct BatchOptions {
     /// A grain below the cover target fails (no template written) instead of being written
     /// with a warning (`dem clump --strict`).
     pub strict: bool,
+    /// How images are read (mask mode, inverse, smallest grain).
+    pub grains: GrainOptions,
 }
 
 /// The outcome for one grain.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct BatchItem {
     pub input: String,
+    /// The grain within a multi-grain file (`label 7`, `component 3`, `feature 2 ("g7")`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub grain: Option<String>,
+    /// A multi-grain file's remarks on this grain (holes, cut by the image border, an open
+    /// ring), also in the template's `source.warnings`.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub notes: Vec<String>,
     pub template: Option<String>,
     pub discs: usize,
     pub cover: f64,
@@ -296,54 +347,200 @@ pub struct ExportCaveat {
 pub struct BatchReport {
     pub items: Vec<BatchItem>,
     pub wall_seconds: f64,
+    /// Remarks on whole input files (grains skipped below --min-pixels).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub notes: Vec<String>,
 }
 
-/// Runs the batch on the current rayon pool. `tick` is called once per finished grain (for a
-/// progress bar). Templates are written atomically as `<out>/<relative>.json`
-/// ([`template_path`]), then each of `o.exports` beside it ([`crate::export::write`], file by
-/// file atomically); an input in one of the batch's [`clashes_with_exports`] fails with the
+/// One grain to clump: a one-outline input file, or one grain of a multi-grain file.
+#[derive(Debug)]
+pub struct Job {
+    /// Index of its input file.
+    pub input: usize,
+    /// The grain within a multi-grain file (`label 7`); `None` for a one-outline file, and for
+    /// a multi-grain file that failed as a whole.
+    pub grain: Option<String>,
+    /// Its template file; `None` for a multi-grain file that failed as a whole.
+    pub dest: Option<PathBuf>,
+    /// The outline of a multi-grain file's grain, or why the grain (or file) failed; `None`:
+    /// read the one-outline file when the job runs.
+    outline: Option<Result<Outline, String>>,
+}
+
+impl Job {
+    /// `file` or `file, label 7`: how messages name the job.
+    pub fn who(&self, inputs: &[Input]) -> String {
+        let f = inputs[self.input].path.display().to_string();
+        match &self.grain {
+            Some(g) => format!("{f}, {g}"),
+            None => f,
+        }
+    }
+}
+
+/// The grains of a batch, in input order (a multi-grain file's grains in its own order).
+#[derive(Debug)]
+pub struct Plan {
+    pub jobs: Vec<Job>,
+    /// Remarks on whole files (grains skipped as too small).
+    pub notes: Vec<String>,
+}
+
+/// Lists the grains of `inputs`: reads the multi-grain files (in parallel on the current
+/// rayon pool) and leaves the one-outline files to [`run_plan`]. A multi-grain file that
+/// cannot be read at all (corrupt, an empty mask, degrees, no units) becomes one failed job.
+pub fn plan(inputs: &[Input], o: &BatchOptions) -> Plan {
+    let per_input: Vec<(Vec<Job>, Vec<String>)> = inputs
+        .par_iter()
+        .enumerate()
+        .map(|(k, inp)| {
+            if MultiKind::of(&inp.path).is_none() {
+                let job = Job {
+                    input: k,
+                    grain: None,
+                    dest: Some(template_path(&o.out, inp)),
+                    outline: None,
+                };
+                return (vec![job], Vec::new());
+            }
+            match read_grains(&inp.path, &o.read, &o.grains) {
+                Err(e) => {
+                    let job = Job {
+                        input: k,
+                        grain: None,
+                        dest: None,
+                        outline: Some(Err(e.to_string())),
+                    };
+                    (vec![job], Vec::new())
+                }
+                Ok(fg) => {
+                    let jobs = fg
+                        .grains
+                        .into_iter()
+                        .map(|g| Job {
+                            input: k,
+                            dest: Some(grain_template_path(&o.out, inp, &g.name)),
+                            grain: Some(g.label),
+                            outline: Some(g.outline.map_err(|e| e.to_string())),
+                        })
+                        .collect();
+                    (jobs, fg.notes)
+                }
+            }
+        })
+        .collect();
+    let mut p = Plan {
+        jobs: Vec::new(),
+        notes: Vec::new(),
+    };
+    for (jobs, notes) in per_input {
+        p.jobs.extend(jobs);
+        p.notes.extend(notes);
+    }
+    p
+}
+
+/// [`clashes_with_exports`] for the jobs of a plan: indices in [`Clash::inputs`] are job
+/// indices, and messages name the grain (`a.png, label 7 and a.png, label 7`).
+pub fn plan_clashes(inputs: &[Input], p: &Plan, out: &Path, exports: &[Format]) -> Vec<Clash> {
+    let entries: Vec<Entry> = p
+        .jobs
+        .iter()
+        .map(|j| Entry {
+            input: j.input,
+            who: j.who(inputs),
+            dest: j.dest.clone(),
+        })
+        .collect();
+    clash_core(inputs, &entries, out, exports)
+}
+
+/// Runs the batch on the current rayon pool: [`plan`], then [`run_plan`].
+pub fn run_batch(inputs: &[Input], o: &BatchOptions, tick: &(dyn Fn() + Sync)) -> BatchReport {
+    let t0 = Instant::now();
+    let p = plan(inputs, o);
+    let mut r = run_plan(inputs, p, o, tick);
+    r.wall_seconds = t0.elapsed().as_secs_f64();
+    r
+}
+
+/// `file: reason` of a grain's error as `file, grain: reason` (errors of the clump stage name
+/// the file only).
+fn name_grain(e: String, file: &str, grain: Option<&str>) -> String {
+    match grain {
+        Some(g) => match e.strip_prefix(&format!("{file}: ")) {
+            Some(rest) => format!("{file}, {g}: {rest}"),
+            None => e,
+        },
+        None => e,
+    }
+}
+
+/// Makes and writes the templates of a plan. `tick` is called once per finished grain (for a
+/// progress bar). Templates are written atomically to each job's path ([`template_path`],
+/// [`grain_template_path`]), then each of `o.exports` beside it ([`crate::export::write`],
+/// file by file atomically); a job in one of the plan's [`plan_clashes`] fails with the
 /// clash's message and nothing is written for it. An export that cannot be written fails its
 /// grain (its template stays). A template below its cover target is written with a warning, or
 /// with [`BatchOptions::strict`] fails and is not written.
-pub fn run_batch(inputs: &[Input], o: &BatchOptions, tick: &(dyn Fn() + Sync)) -> BatchReport {
+pub fn run_plan(
+    inputs: &[Input],
+    p: Plan,
+    o: &BatchOptions,
+    tick: &(dyn Fn() + Sync),
+) -> BatchReport {
     let t0 = Instant::now();
-    let mut refused: Vec<Option<String>> = vec![None; inputs.len()];
-    for c in clashes_with_exports(inputs, &o.out, &o.exports) {
+    let mut refused: Vec<Option<String>> = vec![None; p.jobs.len()];
+    for c in plan_clashes(inputs, &p, &o.out, &o.exports) {
         for k in c.inputs {
             refused[k].get_or_insert_with(|| c.message.clone());
         }
     }
-    let items = inputs
-        .par_iter()
-        .zip(&refused)
-        .map(|(inp, refused)| {
+    let items = p
+        .jobs
+        .into_par_iter()
+        .zip(refused)
+        .map(|(job, refused)| {
             let t = Instant::now();
-            let dest = template_path(&o.out, inp);
+            let inp = &inputs[job.input];
+            let file = inp.path.display().to_string();
+            let grain = job.grain.clone();
+            let mut notes = Vec::new();
             let result = refused
-                .clone()
                 .map_or(Ok(()), Err)
-                .and_then(|()| read_outline(&inp.path, &o.read).map_err(|e| e.to_string()))
-                .and_then(|ol| make_template(&ol, &o.params).map_err(|e| e.to_string()))
+                .and_then(|()| match job.outline {
+                    Some(r) => r,
+                    None => read_outline(&inp.path, &o.read).map_err(|e| e.to_string()),
+                })
+                .and_then(|ol| {
+                    if grain.is_some() {
+                        notes.clone_from(&ol.warnings);
+                    }
+                    make_template(&ol, &o.params).map_err(|e| e.to_string())
+                })
                 .and_then(|tpl| {
+                    let dest = job.dest.as_ref().ok_or("no template path")?;
                     let short = tpl.cover_shortfall();
                     if let Some(s) = short.as_ref().filter(|_| o.strict) {
                         return Err(format!("{s} (a failure with --strict)"));
                     }
-                    tpl.save(&dest).map_err(|e| e.to_string())?;
+                    tpl.save(dest).map_err(|e| e.to_string())?;
                     let mut files = Vec::new();
                     for &f in &o.exports {
-                        let w = crate::export::write(&tpl, f, &dest).map_err(|e| e.to_string())?;
+                        let w = crate::export::write(&tpl, f, dest).map_err(|e| e.to_string())?;
                         files.extend(w.iter().map(|p| p.display().to_string()));
                     }
                     Ok((tpl, files, short.map(|s| s.to_string())))
                 });
             let seconds = t.elapsed().as_secs_f64();
             tick();
-            let input = inp.path.display().to_string();
+            let g = grain.as_deref();
             match result {
                 Ok((tpl, exports, warning)) => BatchItem {
-                    input,
-                    template: Some(dest.display().to_string()),
+                    input: file.clone(),
+                    grain: grain.clone(),
+                    notes,
+                    template: job.dest.as_ref().map(|d| d.display().to_string()),
                     discs: tpl.discs.len(),
                     cover: tpl.cover.value,
                     residual: tpl.residuals.max(),
@@ -359,16 +556,18 @@ pub fn run_batch(inputs: &[Input], o: &BatchOptions, tick: &(dyn Fn() + Sync)) -
                             rel: c.rel,
                         })
                         .collect(),
-                    warning,
+                    warning: warning.map(|w| name_grain(w, &file, g)),
                 },
                 Err(e) => BatchItem {
-                    input,
+                    input: file.clone(),
+                    grain: grain.clone(),
+                    notes,
                     template: None,
                     discs: 0,
                     cover: 0.0,
                     residual: 0.0,
                     seconds,
-                    error: Some(e),
+                    error: Some(name_grain(e, &file, g)),
                     exports: Vec::new(),
                     caveats: Vec::new(),
                     warning: None,
@@ -379,6 +578,7 @@ pub fn run_batch(inputs: &[Input], o: &BatchOptions, tick: &(dyn Fn() + Sync)) -
     BatchReport {
         items,
         wall_seconds: t0.elapsed().as_secs_f64(),
+        notes: p.notes,
     }
 }
 
@@ -495,6 +695,7 @@ mod tests {
             out: out.clone(),
             exports: Vec::new(),
             strict: false,
+            grains: GrainOptions::default(),
         };
         let inputs = collect_inputs_except(std::slice::from_ref(&d), Some(&out)).unwrap();
         assert_eq!(inputs.len(), 1);
@@ -536,6 +737,7 @@ mod tests {
             out: d.join("out"),
             exports: Vec::new(),
             strict: false,
+            grains: GrainOptions::default(),
         };
         let r = run_batch(&inputs, &o, &|| {});
         let star = &r.items[0];
@@ -591,6 +793,7 @@ mod tests {
             out: out.clone(),
             exports: Vec::new(),
             strict: false,
+            grains: GrainOptions::default(),
         };
         let r = run_batch(&inputs, &o, &|| {});
         assert!(r.items[0]
@@ -626,6 +829,7 @@ mod tests {
             out: out.clone(),
             exports: vec![Format::Lammps, Format::Mercury],
             strict: false,
+            grains: GrainOptions::default(),
         };
         let inputs = collect_inputs(std::slice::from_ref(&d)).unwrap();
         let r = run_batch(&inputs, &o, &|| {});

@@ -511,6 +511,7 @@ pub fn make_template(outline: &Outline, p: &ClumpParams) -> Result<Template, Clu
             units: outline.units.name(),
             vertices: outline.points.len(),
             centroid_m: [outline.origin[0] + c[0], outline.origin[1] + c[1]],
+            grain: outline.grain.clone(),
             warnings: outline.warnings.clone(),
         },
         units: [("length", "m"), ("mass", "kg"), ("inertia", "kg m^2")]

@@ -139,6 +139,24 @@ pub enum OutlineError {
     /// An invalid reading option (e.g. resampling to fewer than 3 points).
     #[error("{file}: bad read option: {reason}")]
     BadOption { file: String, reason: String },
+    /// An image that cannot be decoded, or is not an 8/16-bit greyscale mask.
+    #[error("{file}: cannot read the image: {reason}")]
+    Image { file: String, reason: String },
+    /// An image read without its pixel size.
+    #[error(
+        "{file}: an image needs its pixel size: give --units px --px-scale M_PER_PX \
+         (library: ReadOptions.units = Units::Px {{ metres_per_px }})"
+    )]
+    NeedPxScale { file: String },
+    /// A mask or GIS file holding no grain (all background, or every grain skipped).
+    #[error("{file}: no grain: {reason}")]
+    NoGrain { file: String, reason: String },
+    /// A GeoJSON or WKT file that cannot be read as polygons.
+    #[error("{file}: {reason}")]
+    Gis { file: String, reason: String },
+    /// GIS coordinates without units, or in degrees of a geographic CRS.
+    #[error("{file}: {reason}")]
+    GisUnits { file: String, reason: String },
 }
 
 impl OutlineError {
@@ -155,7 +173,12 @@ impl OutlineError {
             | OutlineError::UnknownUnits { file, .. }
             | OutlineError::PxWithoutScale { file, .. }
             | OutlineError::BadScale { file, .. }
-            | OutlineError::BadOption { file, .. } => *file = name.to_string(),
+            | OutlineError::BadOption { file, .. }
+            | OutlineError::Image { file, .. }
+            | OutlineError::NeedPxScale { file }
+            | OutlineError::NoGrain { file, .. }
+            | OutlineError::Gis { file, .. }
+            | OutlineError::GisUnits { file, .. } => *file = name.to_string(),
         }
         self
     }

@@ -5,6 +5,7 @@
 //!
 //! ```text
 //! outline file ── outline::read_outline ──► Outline (SI, local origin, CCW, validated)
+//!   (mask, label image, GeoJSON, WKT: outline::read_grains, one Outline per grain)
 //!     │ props::polygon_props, descriptors::shape_descriptors   (exact, Green's theorem)
 //!     ▼
 //! fill::Filler::run          minimum-residual-area discs until the cover target (exact cover)

@@ -50,6 +50,10 @@ pub struct Source {
     /// Grain centroid in the file's own coordinates, converted to metres (SI), so a clump can be
     /// put back where the grain was.
     pub centroid_m: [f64; 2],
+    /// The grain within a multi-grain file (`label 7`, `component 3`, `feature "g7"`); absent
+    /// for a one-outline file.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub grain: Option<String>,
     pub warnings: Vec<String>,
 }
 

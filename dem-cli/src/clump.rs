@@ -2,10 +2,12 @@
 
 use clap::Args;
 use clumpgen::batch::{
-    clashes_with_exports, collect_inputs_except, run_batch, BatchItem, BatchOptions, SUMMARY_FILE,
+    collect_inputs_except, plan, plan_clashes, run_plan, BatchItem, BatchOptions, SUMMARY_FILE,
 };
 use clumpgen::export::Format;
-use clumpgen::outline::{MAX_RESAMPLE, MAX_RESAMPLE_WHY};
+use clumpgen::outline::{
+    GrainOptions, MaskMode, MultiKind, MAX_RESAMPLE, MAX_RESAMPLE_WHY, MULTI_EXTENSIONS,
+};
 use clumpgen::{ClumpParams, Length, Method, ReadOptions, Units};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::PathBuf;
@@ -13,12 +15,13 @@ use std::process::ExitCode;
 
 #[derive(Args)]
 pub struct ClumpArgs {
-    /// Outline files (CSV/whitespace `x y` or JSON) or folders searched recursively.
+    /// Outline files (CSV/whitespace `x y` or JSON), masks and labelled images (PNG, TIFF),
+    /// GeoJSON or WKT polygons, or folders searched recursively.
     #[arg(required = true)]
     inputs: Vec<PathBuf>,
     /// Output folder; templates mirror the input folders below their common folder, one
-    /// `<name>.json` per grain. Refused if two inputs would share a template or a template
-    /// would overwrite an input.
+    /// `<name>.json` per grain (`<file stem>/<grain>.json` for an image, GeoJSON or WKT file).
+    /// Refused if two grains would share a template or a template would overwrite an input.
     #[arg(long)]
     out: PathBuf,
     /// Target area cover A_r.
@@ -43,12 +46,27 @@ pub struct ClumpArgs {
     /// Disc thickness t (m).
     #[arg(long, default_value_t = 1.0)]
     thickness: f64,
-    /// Units of the outline files, overriding what they declare (m, mm, um, px).
+    /// Units of the outline files, overriding what they declare (m, mm, um, px). Required for
+    /// GeoJSON and WKT; images need `--units px --px-scale`.
     #[arg(long)]
     units: Option<String>,
-    /// Metres per pixel, for `--units px`.
+    /// Metres per pixel, for `--units px` (and so for images: the side of one pixel).
     #[arg(long)]
     px_scale: Option<f64>,
+    /// Images: `binary` (one grain per 4-connected component of nonzero pixels), `labels` (one
+    /// grain per nonzero value) or `auto` (labels when the image has more than 2 values).
+    #[arg(long, default_value = "auto", value_parser = parse_mask)]
+    mask: MaskMode,
+    /// Binary masks: the grains are the zero pixels.
+    #[arg(long)]
+    invert: bool,
+    /// Images: skip grains of fewer pixels (counted in a note).
+    #[arg(long, default_value_t = GrainOptions::default().min_pixels)]
+    min_pixels: usize,
+    /// Images: simplify each pixel outline (Ramer-Douglas-Peucker) at this tolerance in pixels,
+    /// e.g. 0.5; 0 (default) keeps the exact pixel outline.
+    #[arg(long, default_value_t = 0.0)]
+    simplify: f64,
     /// Resample each outline to this many equally spaced points first (3 to 1000000).
     #[arg(long)]
     resample: Option<usize>,
@@ -69,6 +87,16 @@ pub struct ClumpArgs {
     /// `--export pfc,yade` or the flag repeated. See docs/exports.md.
     #[arg(long, value_delimiter = ',', value_parser = parse_export, value_name = "FORMAT")]
     export: Vec<Format>,
+}
+
+/// `--mask` values.
+fn parse_mask(s: &str) -> Result<MaskMode, String> {
+    match s {
+        "auto" => Ok(MaskMode::Auto),
+        "binary" => Ok(MaskMode::Binary),
+        "labels" => Ok(MaskMode::Labels),
+        _ => Err("expected auto, binary or labels".into()),
+    }
 }
 
 /// `--export` values: one of the formats of [`Format::ALL`].
@@ -151,34 +179,72 @@ pub fn run(a: ClumpArgs) -> Result<ExitCode, String> {
             e
         },
         strict: a.strict,
+        grains: GrainOptions {
+            mask: a.mask,
+            invert: a.invert,
+            min_pixels: a.min_pixels,
+            simplify: a.simplify,
+        },
     };
     let inputs = collect_inputs_except(&a.inputs, Some(&a.out)).map_err(|e| e.to_string())?;
     if inputs.is_empty() {
-        return Err("no outline files found (looked for .csv, .txt, .xy, .dat, .json)".into());
-    }
-    // Outputs never collide: two inputs for one template, or a template (or the summary)
-    // over an input, refuse the batch before anything is written.
-    let clash = clashes_with_exports(&inputs, &a.out, &opts.exports);
-    if !clash.is_empty() {
-        let list: Vec<String> = clash.iter().map(|c| format!("  {}", c.message)).collect();
         return Err(format!(
-            "{} of {} inputs cannot be written into {} (nothing written):\n{}",
-            clash.iter().map(|c| c.inputs.len()).sum::<usize>(),
-            inputs.len(),
-            a.out.display(),
-            list.join("\n")
+            "no outline files found (looked for .csv, .txt, .xy, .dat, .json, .{})",
+            MULTI_EXTENSIONS.join(", .")
         ));
     }
-    let bar = ProgressBar::new(inputs.len() as u64);
-    bar.set_style(
-        ProgressStyle::with_template("{bar:40} {pos}/{len} grains, {elapsed} ({eta} left)")
-            .expect("static template"),
-    );
+    // Flags an input kind needs are usage errors, said once.
+    let kind_of = |k: MultiKind| inputs.iter().find(|i| MultiKind::of(&i.path) == Some(k));
+    if let Some(i) = kind_of(MultiKind::Image).filter(|_| !matches!(units, Some(Units::Px { .. })))
+    {
+        return Err(format!(
+            "{} is an image: give its pixel size with --units px --px-scale M_PER_PX",
+            i.path.display()
+        ));
+    }
+    if units.is_none() {
+        if let Some(i) = kind_of(MultiKind::GeoJson).or_else(|| kind_of(MultiKind::Wkt)) {
+            return Err(format!(
+                "{}: GIS coordinates carry no length unit: give --units m|mm|um (coordinates in \
+                 degrees must be projected first)",
+                i.path.display()
+            ));
+        }
+    }
+    if !(a.simplify.is_finite() && a.simplify >= 0.0) {
+        return Err(format!(
+            "--simplify {}: a tolerance in pixels, finite and >= 0",
+            a.simplify
+        ));
+    }
+    if a.invert && a.mask == MaskMode::Labels {
+        return Err("--invert is for binary masks, not --mask labels".into());
+    }
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(a.threads.unwrap_or(0))
         .build()
         .map_err(|e| e.to_string())?;
-    let report = pool.install(|| run_batch(&inputs, &opts, &|| bar.inc(1)));
+    // Multi-grain files are read first: their grains are known only then.
+    let plan = pool.install(|| plan(&inputs, &opts));
+    // Outputs never collide: two grains for one template, or a template (or the summary)
+    // over an input, refuse the batch before anything is written.
+    let clash = plan_clashes(&inputs, &plan, &a.out, &opts.exports);
+    if !clash.is_empty() {
+        let list: Vec<String> = clash.iter().map(|c| format!("  {}", c.message)).collect();
+        return Err(format!(
+            "{} of {} grains cannot be written into {} (nothing written):\n{}",
+            clash.iter().map(|c| c.inputs.len()).sum::<usize>(),
+            plan.jobs.len(),
+            a.out.display(),
+            list.join("\n")
+        ));
+    }
+    let bar = ProgressBar::new(plan.jobs.len() as u64);
+    bar.set_style(
+        ProgressStyle::with_template("{bar:40} {pos}/{len} grains, {elapsed} ({eta} left)")
+            .expect("static template"),
+    );
+    let report = pool.install(|| run_plan(&inputs, plan, &opts, &|| bar.inc(1)));
     bar.finish_and_clear();
     let failed: Vec<&BatchItem> = report.items.iter().filter(|i| i.error.is_some()).collect();
     println!("{}", report.summary_table());
@@ -187,6 +253,19 @@ pub fn run(a: ClumpArgs) -> Result<ExitCode, String> {
     }
     if let Err(e) = report.save(&a.out.join(SUMMARY_FILE)) {
         eprintln!("error: {e}");
+    }
+    for n in &report.notes {
+        eprintln!("note: {n}");
+    }
+    for i in &report.items {
+        let g = i.grain.as_deref().unwrap_or("");
+        for n in &i.notes {
+            if n.starts_with(g) {
+                eprintln!("warning: {}, {n}", i.input);
+            } else {
+                eprintln!("warning: {}, {g}: {n}", i.input);
+            }
+        }
     }
     for (_, w) in report.warnings() {
         eprintln!("warning: {w}");

@@ -517,3 +517,141 @@ fn unbounded_work_is_a_usage_error() {
     assert_eq!(o.status.code(), Some(0), "{}", text(&o));
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// An 8-bit greyscale PNG of `rows` (`.` = 0, a digit d = label d).
+fn grey_png(path: &std::path::Path, rows: &[&str]) {
+    let (w, h) = (rows[0].len() as u32, rows.len() as u32);
+    let data: Vec<u8> = rows
+        .iter()
+        .flat_map(|r| r.bytes().map(|b| if b == b'.' { 0 } else { b - b'0' }))
+        .collect();
+    let f = std::fs::File::create(path).unwrap();
+    let mut e = png::Encoder::new(std::io::BufWriter::new(f), w, h);
+    e.set_color(png::ColorType::Grayscale);
+    e.set_depth(png::BitDepth::Eight);
+    e.write_header().unwrap().write_image_data(&data).unwrap();
+}
+
+/// A labelled mask: one template per label in `<out>/<stem>/`, grains named in summary.json,
+/// the border and hole warnings on stderr naming file and grain; a corrupt PNG fails alone.
+#[test]
+fn a_labelled_mask_gives_one_template_per_label() {
+    let dir = tmp("mask");
+    let (input, out) = (dir.join("in"), dir.join("out"));
+    std::fs::create_dir_all(&input).unwrap();
+    let mut rows = vec!["..........................".to_string(); 14];
+    for (r, row) in rows.iter_mut().enumerate() {
+        for c in 0..26 {
+            let l = if (2..12).contains(&r) && (2..10).contains(&c) && !(r == 6 && c == 5) {
+                '1'
+            } else if (4..14).contains(&r) && (14..24).contains(&c) {
+                '2'
+            } else if (8..12).contains(&r) && (24..26).contains(&c) {
+                '3'
+            } else {
+                continue;
+            };
+            row.replace_range(c..c + 1, &l.to_string());
+        }
+    }
+    let rows: Vec<&str> = rows.iter().map(String::as_str).collect();
+    grey_png(&input.join("grains.png"), &rows);
+    std::fs::write(input.join("broken.png"), b"\x89PNG\r\n\x1a\n...").unwrap();
+    let o = Command::new(env!("CARGO_BIN_EXE_dem"))
+        .args([
+            "clump",
+            input.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ])
+        .args(["--units", "px", "--px-scale", "1e-4"])
+        .output()
+        .unwrap();
+    let t = text(&o);
+    assert_eq!(o.status.code(), Some(1), "{t}");
+    let g = input.join("grains.png").display().to_string();
+    assert!(
+        t.contains(&format!("warning: {g}, label 2 touches the image border")),
+        "{t}"
+    );
+    assert!(
+        t.contains(&format!("warning: {g}, label 1 has 1 hole (1 px")),
+        "{t}"
+    );
+    assert!(
+        t.contains(&format!(
+            "note: {g}: skipped 1 of 3 labels below --min-pixels 20"
+        )),
+        "{t}"
+    );
+    let b = input.join("broken.png").display().to_string();
+    assert!(t.contains(&format!("{b}: cannot read the image")), "{t}");
+    assert!(t.contains("1 of 3 grains failed"), "{t}");
+    let l1 = clumpgen::Template::load(&out.join("grains/label-1.json")).unwrap();
+    assert_eq!(l1.source.grain.as_deref(), Some("label 1"));
+    // 10 x 8 pixels of 0.1 mm, the one-pixel hole filled: 80 px².
+    assert!((l1.shape.area - 80e-8).abs() < 1e-18, "{}", l1.shape.area);
+    assert!(out.join("grains/label-2.json").exists() && !out.join("grains/label-3.json").exists());
+    let summary = std::fs::read_to_string(out.join("summary.json")).unwrap();
+    assert!(summary.contains(r#""grain": "label 2""#), "{summary}");
+    // `dem render` finds the grain's outline in the image.
+    let o = Command::new(env!("CARGO_BIN_EXE_dem"))
+        .arg("render")
+        .arg(out.join("grains/label-1.json"))
+        .args(["--width", "200"])
+        .output()
+        .unwrap();
+    let t = text(&o);
+    assert!(
+        o.status.success() && !t.contains("without the outline"),
+        "{t}"
+    );
+    // Without the pixel size: one usage error naming the flag, nothing written.
+    let out2 = dir.join("out2");
+    let o = Command::new(env!("CARGO_BIN_EXE_dem"))
+        .args([
+            "clump",
+            input.to_str().unwrap(),
+            "--out",
+            out2.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    let t = text(&o);
+    assert_eq!(o.status.code(), Some(2), "{t}");
+    assert!(
+        t.contains("is an image") && t.contains("--px-scale M_PER_PX"),
+        "{t}"
+    );
+    assert!(!out2.exists());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// GeoJSON needs --units; with it, one template per feature.
+#[test]
+fn geojson_needs_units() {
+    let dir = tmp("geojson");
+    let f = dir.join("g.geojson");
+    std::fs::write(
+        &f,
+        r#"{"type":"Feature","id":7,"properties":{},"geometry":{"type":"Polygon","coordinates":[[[0,0],[10,0],[10,10],[0,10],[0,0]]]}}"#,
+    )
+    .unwrap();
+    let out = dir.join("out");
+    let run = |extra: &[&str]| {
+        Command::new(env!("CARGO_BIN_EXE_dem"))
+            .args(["clump", f.to_str().unwrap(), "--out", out.to_str().unwrap()])
+            .args(extra)
+            .output()
+            .unwrap()
+    };
+    let o = run(&[]);
+    let t = text(&o);
+    assert_eq!(o.status.code(), Some(2), "{t}");
+    assert!(t.contains("g.geojson") && t.contains("--units"), "{t}");
+    let o = run(&["--units", "mm"]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    let t = clumpgen::Template::load(&out.join("g/7.json")).unwrap();
+    assert!((t.shape.area - 1e-4).abs() < 1e-16);
+    std::fs::remove_dir_all(&dir).unwrap();
+}

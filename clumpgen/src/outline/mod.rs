@@ -7,6 +7,23 @@
 //! `metres_per_px: 1e-4`; JSON files in the `"units"` and `"metres_per_px"` keys. Units come from [`ReadOptions::units`] if given (it overrides the file), else
 //! from the file (`# units: m` comment or JSON `"units"`), else millimetres.
 //!
+//! Multi-grain files ([`read_grains`]): binary masks and labelled images (PNG, TIFF; `raster`
+//! module: one grain per 4-connected component or label value, outline along pixel edges) and
+//! GIS polygons (GeoJSON, WKT; `gis` module: one grain per polygon). Each of their grains goes
+//! through steps 2-7 below ([`finish`]) on its own, so a bad grain fails alone, named by
+//! file and grain.
+//!
+//! Hand-written and `geo` code: `geo` (with `geo-types`, the common form of the `geojson` and
+//! `wkt` crates) computes the bounding box of GIS files (the degrees check), the area of
+//! their holes, and simplifies pixel outlines on request (Ramer-Douglas-Peucker). The hand-written [`crate::props::polygon_props`] stays for area, centroid and
+//! polar moment J (geo has no J; its area and centroid agree to 1e-15 relative, tested in
+//! `tests/geo_agreement.rs`, but sum in another order, which would change the last bits of
+//! every template), and so does [`find_self_intersection`] (exact for the integer pixel
+//! outlines; it names the two edges and the point, where geo's validation says only that a
+//! ring intersects itself; both agree on the test shapes) and [`resample`] (equal arc steps;
+//! geo's `Densify` only adds points). The pixel outline tracer is hand-written because it is
+//! exact (area = pixel count) and imageproc's `find_contours` is not (pixel centres).
+//!
 //! Processing order, all in input units until step 7:
 //! 1. parse (line-numbered errors for unparsable lines and non-finite numbers);
 //! 2. drop consecutive exact duplicates (with a warning) and an exact repeated closing point
@@ -18,6 +35,9 @@
 //! 6. reject self-intersection ([`find_self_intersection`]);
 //! 7. make counter-clockwise, scale to metres, optionally [`resample`].
 
+mod gis;
+mod grains;
+mod raster;
 mod text;
 mod validate;
 
@@ -26,6 +46,11 @@ use std::path::Path;
 use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 
+pub use gis::is_geographic_crs;
+pub use grains::{
+    read_grains, FileGrains, Grain, GrainOptions, MaskMode, MultiKind, MULTI_EXTENSIONS,
+};
+pub use raster::PINCH_CUT_PX;
 pub use validate::{find_self_intersection, SelfHit};
 
 use crate::error::{EdgeRef, OutlineError, Pos};
@@ -61,8 +86,13 @@ pub struct Outline {
     /// Vertices in metres, local frame, counter-clockwise, no repeated closing point, no
     /// consecutive duplicates.
     pub points: Vec<[f64; 2]>,
-    /// Non-fatal remarks (dropped duplicates, overridden units).
+    /// Non-fatal remarks (dropped duplicates, overridden units; holes, a grain cut by the
+    /// image border).
     pub warnings: Vec<String>,
+    /// Which grain of a multi-grain file (image, GeoJSON, WKT) this is, e.g. `label 7`,
+    /// `component 3`, `feature "g7"`; `None` for a one-outline file.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub grain: Option<String>,
 }
 
 /// Read an outline file (JSON if the extension is `.json`, case-insensitive; text otherwise).
@@ -101,20 +131,42 @@ pub fn parse_outline(
         text::parse_text(text)
     }
     .map_err(|e| e.with_file(source))?;
-    let sha256 = Sha256::digest(text.as_bytes())
-        .iter()
-        .map(|b| format!("{b:02x}"))
-        .collect();
+    let sha256 = sha256_hex(text.as_bytes());
     let mut warnings = Vec::new();
     let units = resolve_units(&raw, source, opts, &mut warnings)?;
-    let (pts, pos, idx) = drop_duplicates(&raw, &mut warnings);
+    finish(&raw, units, name, source, source, sha256, opts, warnings)
+}
+
+/// Hex SHA-256 of `bytes`.
+pub(crate) fn sha256_hex(bytes: &[u8]) -> String {
+    Sha256::digest(bytes)
+        .iter()
+        .map(|b| format!("{b:02x}"))
+        .collect()
+}
+
+/// Steps 2-7 of the module docs on raw points in `units`: the outline of `name`. `what` names
+/// the outline in errors (the file, or `file, label 7` for one grain of a multi-grain file);
+/// `source` is the file as given.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn finish(
+    raw: &RawOutline,
+    units: Units,
+    name: &str,
+    what: &str,
+    source: &str,
+    sha256: String,
+    opts: &ReadOptions,
+    mut warnings: Vec<String>,
+) -> Result<Outline, OutlineError> {
+    let (pts, pos, idx) = drop_duplicates(raw, &mut warnings);
 
     let mut distinct = pts.clone();
     distinct.sort_by(|a, b| a[0].total_cmp(&b[0]).then(a[1].total_cmp(&b[1])));
     distinct.dedup();
     if distinct.len() < 3 {
         return Err(OutlineError::TooFewPoints {
-            file: source.to_string(),
+            file: what.to_string(),
             distinct: distinct.len(),
         });
     }
@@ -129,7 +181,7 @@ pub fn parse_outline(
     let area = signed_area(&local);
     if area.is_nan() || area.abs() <= 1e-12 * (w + h) * (w + h) {
         return Err(OutlineError::ZeroArea {
-            file: source.to_string(),
+            file: what.to_string(),
             area,
             width: w,
             height: h,
@@ -145,7 +197,7 @@ pub fn parse_outline(
             })
         };
         return Err(OutlineError::SelfIntersection {
-            file: source.to_string(),
+            file: what.to_string(),
             a: edge(hit.edge_a),
             b: edge(hit.edge_b),
             point: [hit.point[0] + origin[0], hit.point[1] + origin[1]],
@@ -163,7 +215,7 @@ pub fn parse_outline(
         let q = [p[0] * s, p[1] * s];
         if !(q[0].is_finite() && q[1].is_finite()) {
             return Err(OutlineError::NonFinite {
-                file: source.to_string(),
+                file: what.to_string(),
                 pos: *ps,
                 text: format!("({}, {}) {} x {s} m", p[0], p[1], units.name()),
             });
@@ -172,11 +224,12 @@ pub fn parse_outline(
     }
     let origin_m = [origin[0] * s, origin[1] * s];
     if let Some(n) = opts.resample {
-        points = resample_checked(&points, n, source)?;
+        points = resample_checked(&points, n, what)?;
     }
     Ok(Outline {
         name: name.to_string(),
         source: source.to_string(),
+        grain: None,
         sha256,
         units,
         origin: origin_m,

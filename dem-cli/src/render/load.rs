@@ -543,7 +543,42 @@ fn template_outline(
         units: Some(clumpgen::Units::M),
         resample: None,
     };
-    let o = clumpgen::read_outline(found, &opts).map_err(|e| e.to_string())?;
+    let o = match (clumpgen::outline::MultiKind::of(found), &t.source.grain) {
+        // A grain of an image or GIS file: that grain (any pixel size or units will do).
+        (Some(kind), Some(grain)) => {
+            let units = match kind {
+                clumpgen::outline::MultiKind::Image => clumpgen::Units::Px { metres_per_px: 1.0 },
+                _ => clumpgen::Units::M,
+            };
+            let mask = if grain.starts_with("component") {
+                clumpgen::outline::MaskMode::Binary
+            } else {
+                clumpgen::outline::MaskMode::Labels
+            };
+            let g = clumpgen::outline::GrainOptions {
+                mask,
+                invert: false,
+                min_pixels: 0,
+                simplify: 0.0,
+            };
+            let all = clumpgen::outline::read_grains(
+                found,
+                &clumpgen::ReadOptions {
+                    units: Some(units),
+                    resample: None,
+                },
+                &g,
+            )
+            .map_err(|e| e.to_string())?;
+            all.grains
+                .into_iter()
+                .find(|x| &x.label == grain)
+                .ok_or_else(|| format!("{}: no grain {grain}", found.display()))?
+                .outline
+                .map_err(|e| e.to_string())?
+        }
+        _ => clumpgen::read_outline(found, &opts).map_err(|e| e.to_string())?,
+    };
     let props = clumpgen::polygon_props(&o.points);
     if !(props.area > 0.0 && t.shape.area > 0.0) {
         return Err(format!(

@@ -130,6 +130,7 @@ pub fn outline_template(
         origin: [0.0, 0.0],
         points: pts,
         warnings: Vec::new(),
+        grain: None,
     };
     let mut r_min = p.template_r_min;
     let mut attempt = 0;

@@ -90,6 +90,7 @@ pub fn hand_template(id: &str, members: &[[f64; 3]], density: f64) -> Template {
             units: "m".into(),
             vertices: 0,
             centroid_m: [0.0, 0.0],
+            grain: None,
             warnings: vec![
                 "hand-made: no outline; target = achieved (ORC masses); shape = equivalent \
                  circle of the union of the discs"
