@@ -518,8 +518,7 @@ impl World {
         self.counters.rebuilds += 1;
         self.wrap_periodic();
         let every = self.params.reorder_every as u64;
-        #[allow(clippy::manual_is_multiple_of)] // rust-version 1.85 (is_multiple_of is 1.87)
-        let due = every > 0 && self.nb.builds % every == 0;
+        let due = every > 0 && self.nb.builds.is_multiple_of(every);
         if due {
             if let Some((order, new_of_old)) = reorder::spatial_order(&self.state) {
                 self.state.discs.permute(&order);

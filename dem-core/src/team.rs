@@ -166,7 +166,7 @@ impl Team {
         let mut k = 0u32;
         while s.done.load(Acquire) < parts {
             k = k.wrapping_add(1);
-            if k % 1024 == 0 {
+            if k.is_multiple_of(1024) {
                 std::thread::yield_now();
             } else {
                 std::hint::spin_loop();
@@ -221,7 +221,7 @@ fn helper(s: &Shared, w: usize) {
                 break;
             }
             k = k.wrapping_add(1);
-            if k % 64 != 0 || t0.elapsed() < SPIN {
+            if !k.is_multiple_of(64) || t0.elapsed() < SPIN {
                 std::hint::spin_loop();
                 continue;
             }

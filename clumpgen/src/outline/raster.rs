@@ -6,8 +6,10 @@
 //! * Mode ([`MaskMode`]): `binary` (foreground = nonzero, or zero with `invert`), `labels`
 //!   (every nonzero value is a grain, 0 is background), `auto` (labels when the image holds more
 //!   than 2 distinct values).
-//! * Components: `imageproc::region_labelling::connected_components` with 4-connectivity (pixels
-//!   sharing an edge; pixels of different values are different components). Grains touching
+//! * Components: [`connected_components`] with 4-connectivity (pixels sharing an edge; pixels
+//!   of different values are different components; labels in the raster order of each
+//!   component's first pixel, as `imageproc::region_labelling` numbers them; written here, 30
+//!   lines, because imageproc 0.27 brings a second nalgebra (0.35, Rust 1.89) into the build). Grains touching
 //!   only at a pixel corner are therefore two grains, and grains separated by a one-pixel
 //!   8-connected line (watershed lines) stay apart. Grains sharing an edge in a *binary* mask
 //!   are one component: a binary mask cannot tell them apart (use a labelled image).
@@ -18,22 +20,22 @@
 //!   keeps the region on its right and, where two pixels of one grain touch only at a corner
 //!   (a pinch, visited twice), turns so as to keep them apart (4-connectivity) and cuts both
 //!   corners by δ = 1/16 px (area −δ² = −1/256 px² per pinch) so the outline stays simple.
-//!   `imageproc::contours::find_contours` (Suzuki & Abe 1985) is not used for the outline: its
-//!   borders run through the centres of the border pixels, so a filled w×h rectangle gets
-//!   (w−1)(h−1) px², short by (w+h−1) px² (half its perimeter times a pixel), and it follows
-//!   8-connected regions (see the test `find_contours_runs_through_pixel_centres`).
+//!   Contour tracers such as `imageproc::contours::find_contours` (Suzuki & Abe 1985) are not
+//!   used for the outline: their borders run through the centres of the border pixels, so a
+//!   filled w×h rectangle gets (w−1)(h−1) px², short by (w+h−1) px² (half its perimeter times a
+//!   pixel), and they follow 8-connected regions (checked with imageproc 0.27 on 2026-11-27: a
+//!   10 × 6 rectangle enclosed 45 px², not 60).
 //! * Optional simplification (`GrainOptions::simplify`, pixels): Ramer-Douglas-Peucker from
 //!   `geo` drops staircase corners within the tolerance (area change at most tolerance ×
 //!   perimeter); off by default, so that the outline is exact to the mask.
 //! * Holes (pixels of the background or of other labels enclosed by a grain): counted with
-//!   `connected_components` (8-connected background, the dual of 4-connected grains) and
+//!   [`connected_components`] (8-connected background, the dual of 4-connected grains) and
 //!   reported as a warning with their area; the template fills the outer outline.
 //! * A grain touching the image border is warned (a grain cut off by the image edge); a label
 //!   in several pieces keeps its largest (warned); grains below `min_pixels` are skipped and
 //!   counted in a note; an image without any grain is an error naming the file.
 
-use image::{DynamicImage, ImageBuffer, Luma};
-use imageproc::region_labelling::{connected_components, Connectivity};
+use image::DynamicImage;
 use rayon::prelude::*;
 
 use super::grains::{FileGrains, Grain, GrainOptions, MaskMode};
@@ -142,10 +144,7 @@ pub(crate) fn image_grains(
             reason: format!("an empty mask ({w} x {h} pixels): {why}"),
         });
     }
-    let buf: ImageBuffer<Luma<u16>, Vec<u16>> =
-        ImageBuffer::from_raw(w as u32, h as u32, cells).expect("w*h values");
-    let labels = connected_components(&buf, Connectivity::Four, Luma([0u16]));
-    let ids: Vec<u32> = labels.into_raw();
+    let ids = connected_components(&cells, w, 0, false);
     let n = ids.iter().copied().max().unwrap_or(0) as usize;
     let mut comps: Vec<Option<Comp>> = vec![None; n + 1];
     for (k, &id) in ids.iter().enumerate() {
@@ -155,7 +154,7 @@ pub(crate) fn image_grains(
         let (x, y) = (k % w, k / w);
         let c = comps[id as usize].get_or_insert(Comp {
             count: 0,
-            value: buf.as_raw()[k],
+            value: cells[k],
             first: k,
             lo: [x, y],
             hi: [x, y],
@@ -420,24 +419,79 @@ fn trace(ids: &[u32], w: usize, id: u32, c: &Comp) -> Traced {
 /// do not reach the box's (padded) frame.
 fn count_holes(ids: &[u32], w: usize, id: u32, c: &Comp) -> usize {
     let (bw, bh) = (c.hi[0] - c.lo[0] + 3, c.hi[1] - c.lo[1] + 3);
-    let crop = ImageBuffer::from_fn(bw as u32, bh as u32, |x, y| {
-        let (x, y) = (x as usize, y as usize);
-        let inside = x >= 1
-            && y >= 1
-            && x + 1 < bw
-            && y + 1 < bh
-            && ids[(c.lo[1] + y - 1) * w + c.lo[0] + x - 1] == id;
-        Luma([if inside { 0u8 } else { 1u8 }])
-    });
-    let l = connected_components(&crop, Connectivity::Eight, Luma([0u8]));
-    let outside = l.get_pixel(0, 0)[0];
+    let crop: Vec<u8> = (0..bw * bh)
+        .map(|k| {
+            let (x, y) = (k % bw, k / bw);
+            let inside = x >= 1
+                && y >= 1
+                && x + 1 < bw
+                && y + 1 < bh
+                && ids[(c.lo[1] + y - 1) * w + c.lo[0] + x - 1] == id;
+            u8::from(!inside)
+        })
+        .collect();
+    let l = connected_components(&crop, bw, 0, true);
+    // The padded frame is one region (label of pixel 0); every other region is a hole.
+    let outside = l[0];
     let mut set = std::collections::BTreeSet::new();
-    for p in l.pixels() {
-        if p[0] != 0 && p[0] != outside {
-            set.insert(p[0]);
+    for &p in &l {
+        if p != 0 && p != outside {
+            set.insert(p);
         }
     }
     set.len()
+}
+
+/// Connected components of an image of `width` columns (row-major `cells`): pixels of equal
+/// value other than `background` that share an edge (or, with `eight`, also a corner) are one
+/// component. Returns a label per pixel, 0 for the background, 1, 2, ... in the raster order
+/// of each component's first pixel. A flood fill with an explicit stack (no recursion).
+pub fn connected_components<T: Copy + PartialEq>(
+    cells: &[T],
+    width: usize,
+    background: T,
+    eight: bool,
+) -> Vec<u32> {
+    let height = cells.len().checked_div(width).unwrap_or(0);
+    let mut label = vec![0u32; cells.len()];
+    let mut next = 0u32;
+    let mut stack = Vec::new();
+    for start in 0..cells.len() {
+        if label[start] != 0 || cells[start] == background {
+            continue;
+        }
+        next += 1;
+        let v = cells[start];
+        label[start] = next;
+        stack.push(start);
+        while let Some(k) = stack.pop() {
+            let (x, y) = ((k % width) as isize, (k / width) as isize);
+            for (dx, dy) in [
+                (1, 0),
+                (-1, 0),
+                (0, 1),
+                (0, -1),
+                (1, 1),
+                (1, -1),
+                (-1, 1),
+                (-1, -1),
+            ]
+            .into_iter()
+            .take(if eight { 8 } else { 4 })
+            {
+                let (nx, ny) = (x + dx, y + dy);
+                if nx < 0 || ny < 0 || nx >= width as isize || ny >= height as isize {
+                    continue;
+                }
+                let n = ny as usize * width + nx as usize;
+                if label[n] == 0 && cells[n] == v {
+                    label[n] = next;
+                    stack.push(n);
+                }
+            }
+        }
+    }
+    label
 }
 
 #[cfg(test)]
@@ -509,19 +563,26 @@ mod tests {
     }
 
     #[test]
-    fn find_contours_runs_through_pixel_centres() {
-        // Why the outline is traced here: imageproc's contour of a filled 10 x 6 rectangle
-        // has (10-1)(6-1) = 45 px² inside, not 60.
-        let img = image::GrayImage::from_fn(14, 10, |x, y| {
-            image::Luma([u8::from((2..12).contains(&x) && (2..8).contains(&y)) * 255])
-        });
-        let cs = imageproc::contours::find_contours::<i64>(&img);
-        assert_eq!(cs.len(), 1);
-        let p: Vec<[f64; 2]> = cs[0]
-            .points
-            .iter()
-            .map(|q| [q.x as f64, q.y as f64])
-            .collect();
-        assert_eq!(crate::props::signed_area(&p).abs(), 45.0);
+    fn components_are_numbered_in_raster_order_with_four_or_eight_neighbours() {
+        // 1 1 0 2
+        // 0 1 0 2
+        // 1 0 2 0
+        let v = [1u8, 1, 0, 2, 0, 1, 0, 2, 1, 0, 2, 0];
+        assert_eq!(
+            connected_components(&v, 4, 0, false),
+            [1, 1, 0, 2, 0, 1, 0, 2, 3, 0, 4, 0]
+        );
+        // With corners too, the 1 at (0, 2) joins the 1 at (1, 1) and the 2 at (2, 2) the 2 at
+        // (3, 1).
+        assert_eq!(
+            connected_components(&v, 4, 0, true),
+            [1, 1, 0, 2, 0, 1, 0, 2, 1, 0, 2, 0]
+        );
+        // Different values never join; an empty image has no components.
+        assert_eq!(
+            connected_components(&[1u16, 2, 2, 1], 2, 0, false),
+            [1, 2, 3, 4]
+        );
+        assert!(connected_components::<u8>(&[], 0, 0, false).is_empty());
     }
 }

@@ -499,9 +499,9 @@ impl StressParams {
     /// The parameters of the full block starting at `base` (a multiple of [`BLOCK`]) when all
     /// its bonds are parallel bonds with the stress criterion.
     #[inline(always)]
-    #[allow(clippy::manual_is_multiple_of)] // rust-version 1.85 (is_multiple_of is 1.87)
     fn block(&self, base: usize) -> Option<[&[f64; BLOCK]; 7]> {
-        if base % BLOCK != 0 || !self.block_ok.get(base / BLOCK).copied().unwrap_or(false) {
+        if !base.is_multiple_of(BLOCK) || !self.block_ok.get(base / BLOCK).copied().unwrap_or(false)
+        {
             return None;
         }
         let r = base..base + BLOCK;

@@ -326,7 +326,7 @@ impl Simulation {
         }
         let mut total = self.total_steps();
         progress(0, total);
-        let every = |n: u64, s: u64| n > 0 && s % n == 0;
+        let every = |n: u64, s: u64| n > 0 && s.is_multiple_of(n);
         let ending = loop {
             if let Some(e) = self.ending() {
                 break e;

@@ -43,7 +43,11 @@ impl Xml {
         ));
         for (k, v) in vals.enumerate() {
             let v = finite(&self.path, || format!("{name}[{}]", k / comps), v)?;
-            self.s.push(if k % (6 * comps) == 0 { '\n' } else { ' ' });
+            self.s.push(if k.is_multiple_of(6 * comps) {
+                '\n'
+            } else {
+                ' '
+            });
             push_num(&mut self.s, v);
         }
         self.s.push_str("\n        </DataArray>\n");
@@ -56,7 +60,7 @@ impl Xml {
             "        <DataArray type=\"{ty}\" Name=\"{name}\" format=\"ascii\">"
         ));
         for (k, v) in vals.enumerate() {
-            self.s.push(if k % 16 == 0 { '\n' } else { ' ' });
+            self.s.push(if k.is_multiple_of(16) { '\n' } else { ' ' });
             let _ = write!(self.s, "{v}");
         }
         self.s.push_str("\n        </DataArray>\n");

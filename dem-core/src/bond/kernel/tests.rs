@@ -31,7 +31,6 @@ fn avx2_and_baseline_agree_bitwise() {
 /// other forces. (On CPUs without AVX2 there are no records.)
 #[cfg(target_arch = "x86_64")]
 #[test]
-#[allow(clippy::manual_is_multiple_of)] // rust-version 1.85 (is_multiple_of is 1.87)
 fn packed_records_give_the_array_bits() {
     use crate::contact::kernel::Packed;
     if !has_avx2() {
@@ -42,10 +41,12 @@ fn packed_records_give_the_array_bits() {
     // the partial block and the scalar tail of the gather run too.
     let mut bonds = Bonds::new(vec![lattice_bond_group(st.thickness)]).unwrap();
     bonds
-        .install_within_gap(&st, 0.1 * RADIUS, |i, j| ((i + j) % 7 != 0).then_some(0))
+        .install_within_gap(&st, 0.1 * RADIUS, |i, j| {
+            (!(i + j).is_multiple_of(7)).then_some(0)
+        })
         .unwrap();
     assert!(
-        bonds.len() % 4 != 0 && bonds.len() % BLOCK != 0,
+        !bonds.len().is_multiple_of(4) && !bonds.len().is_multiple_of(BLOCK),
         "{}",
         bonds.len()
     );
