@@ -49,6 +49,7 @@ pub struct MassTargets {
 
 /// Residuals of a set of disc masses against the targets.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub struct Residuals {
     /// `|Σm − m_p| / m_p`.
     pub mass_rel: f64,

@@ -12,6 +12,7 @@ pub const SCHEMA: &str = "clumpgen.template/1";
 
 /// How the disc masses were assigned.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(rename_all = "snake_case")]
 pub enum Method {
     /// Improved ORC (Ye & Xu 2010): masses solved so that mass, centroid and inertia are exact.
@@ -31,6 +32,7 @@ impl Method {
 
 /// One disc of the clump (m, m, m, kg), centre in the grain's centroid frame.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub struct Disc {
     pub x: f64,
     pub y: f64,
@@ -40,6 +42,7 @@ pub struct Disc {
 
 /// Where the outline came from.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub struct Source {
     pub file: String,
     pub sha256: String,
@@ -59,6 +62,7 @@ pub struct Source {
 
 /// Fill parameters as used (absolute lengths, m).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub struct FillRecord {
     pub cover_target: f64,
     pub r_min: f64,
@@ -80,6 +84,7 @@ pub struct FillRecord {
 /// Mass properties: mass (kg), centroid (m, grain centroid frame), moment of inertia about the
 /// z axis through the grain centroid (kg·m²), and area (m²).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub struct MassProps {
     pub mass: f64,
     pub centroid: [f64; 2],
@@ -94,6 +99,7 @@ pub struct MassProps {
 
 /// Area cover of the clump.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub struct CoverRecord {
     /// `A_r = area(union of discs ∩ grain) / area(grain)`.
     pub value: f64,
@@ -105,6 +111,7 @@ pub struct CoverRecord {
 
 /// Grain geometry.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub struct Shape {
     pub area: f64,
     pub perimeter: f64,
@@ -120,7 +127,10 @@ pub struct Shape {
 
 /// A clump template (see the module docs).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub struct Template {
+    /// Always `"clumpgen.template/1"`; readers reject anything else.
+    #[cfg_attr(feature = "schema", schemars(extend("const" = "clumpgen.template/1")))]
     pub schema: String,
     pub id: String,
     pub generator: String,

@@ -10,6 +10,7 @@ mod clump;
 mod render;
 mod run;
 mod run_lock;
+mod schema;
 mod specimen;
 mod sweep;
 mod test;
@@ -47,6 +48,9 @@ enum Command {
     /// a Slurm job array, collect one table (docs/sweep.md).
     #[command(subcommand)]
     Sweep(sweep::SweepCmd),
+    /// Print the JSON Schema of a file kind (scene, template, specimen, study, cutting-params),
+    /// derived from the program's own types; `--list` lists them (docs/schema/).
+    Schema(schema::SchemaArgs),
 }
 
 fn main() -> ExitCode {
@@ -61,6 +65,7 @@ fn main() -> ExitCode {
         Command::Render(a) => render::run(a),
         Command::Bench(k) => bench::run(k),
         Command::Sweep(c) => sweep::run(c),
+        Command::Schema(a) => schema::run(a),
     };
     match result {
         Ok(code) => code,

@@ -11,7 +11,7 @@ mod claim;
 mod collect;
 mod plan;
 mod run;
-mod study;
+pub(crate) mod study;
 
 use clap::Subcommand;
 use std::process::ExitCode;

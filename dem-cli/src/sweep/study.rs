@@ -5,6 +5,7 @@
 //! Range axes: `steps` values `from + (to − from)·i/(steps − 1)`, i = 0 … steps − 1, each
 //! rounded to 12 significant digits (so `0.1` steps print as `0.3`, not `0.30000000000000004`).
 
+use schemars::{json_schema, JsonSchema, Schema, SchemaGenerator};
 use serde::Deserialize;
 use serde_json::Value;
 use std::path::{Path, PathBuf};
@@ -15,8 +16,8 @@ pub const TESTS: [&str; 4] = ["cutting", "ucs", "brazilian", "bending"];
 /// Flags `dem sweep run` sets itself (per case): a study may not give them.
 pub const RESERVED: [&str; 2] = ["out", "threads"];
 
-/// A study file.
-#[derive(Debug, Deserialize)]
+/// A study file (`dem sweep plan`, docs/sweep.md).
+#[derive(Debug, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Study {
     /// Name (the Slurm job name).
@@ -34,18 +35,22 @@ pub struct Study {
     pub collect: Vec<CollectSpec>,
 }
 
-#[derive(Debug, Deserialize)]
+/// The test every case runs and the flags every case gets.
+#[derive(Debug, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Base {
     /// `cutting`, `ucs`, `brazilian` or `bending`.
+    #[schemars(extend("enum" = ["cutting", "ucs", "brazilian", "bending"]))]
     pub test: String,
     /// Flag (long name without `--`) → value as the command line takes it (`"1mm"`, `2`,
     /// `true` for a switch).
     #[serde(default)]
+    #[schemars(schema_with = "flag_map_schema")]
     pub flags: std::collections::BTreeMap<String, Value>,
 }
 
-#[derive(Debug, Default, Deserialize, Clone, Copy, PartialEq)]
+/// How the axes' values make cases.
+#[derive(Debug, Default, Deserialize, Clone, Copy, PartialEq, JsonSchema)]
 #[serde(rename_all = "lowercase")]
 pub enum Combine {
     #[default]
@@ -53,24 +58,34 @@ pub enum Combine {
     Zip,
 }
 
-/// One axis: a flag and its values (a list, a range, or seeds).
-#[derive(Debug, Deserialize)]
+/// One axis: a flag and its values (a list, a range, or seeds; exactly one of the three).
+#[derive(Debug, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
+#[schemars(extend("oneOf" = [
+    {"required": ["values"], "properties": {"values": {"type": "array"}}},
+    {"required": ["range"], "properties": {"range": {"type": "object"}}},
+    {"required": ["seeds"], "properties": {"seeds": {"type": ["array", "object"]}}}
+]))]
 pub struct Axis {
     /// The flag (`depth`); `seed` when `seeds` is given and this is left out.
     #[serde(default)]
     pub flag: Option<String>,
+    /// The flag's values, as the command line takes them (`"0.5mm"`, `2`, `true`).
     #[serde(default)]
+    #[schemars(schema_with = "values_schema")]
     pub values: Option<Vec<Value>>,
+    /// `steps` values from `from` to `to` inclusive, `unit` appended.
     #[serde(default)]
     pub range: Option<Range>,
     /// Seeds: a list `[1, 2, 3]` or `{"from": 1, "to": 5}`. The aggregates of `dem sweep
     /// collect` are over this axis.
     #[serde(default)]
+    #[schemars(schema_with = "seeds_schema")]
     pub seeds: Option<Value>,
 }
 
-#[derive(Debug, Deserialize)]
+/// A range axis: `steps` values from `from` to `to` inclusive.
+#[derive(Debug, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Range {
     pub from: f64,
@@ -82,11 +97,51 @@ pub struct Range {
     pub unit: String,
 }
 
-#[derive(Debug, Deserialize)]
+/// An output to collect: a JSON pointer into `<test>.result.json` (its column is the pointer
+/// with `/` as `.`), or a named one.
+#[derive(Debug, Deserialize, JsonSchema)]
 #[serde(untagged)]
 pub enum CollectSpec {
     Pointer(String),
-    Named { name: String, pointer: String },
+    Named {
+        /// Column name.
+        name: String,
+        /// JSON pointer into `<test>.result.json` (`/main_force/mean`).
+        pointer: String,
+    },
+}
+
+/// A flag value as the command line takes it: a string, number or boolean.
+fn scalar_schema() -> serde_json::Value {
+    serde_json::json!({"type": ["string", "number", "boolean"]})
+}
+
+/// `base.flags`: flag name → scalar value.
+fn flag_map_schema(_: &mut SchemaGenerator) -> Schema {
+    json_schema!({"type": "object", "additionalProperties": scalar_schema()})
+}
+
+/// `axes[].values`: a list of scalars (`null` is the same as leaving it out).
+fn values_schema(_: &mut SchemaGenerator) -> Schema {
+    json_schema!({"type": ["array", "null"], "items": scalar_schema()})
+}
+
+/// `axes[].seeds`: a list of whole numbers ≥ 0 or `{"from": a, "to": b}` (what
+/// [`seed_values`] reads).
+fn seeds_schema(_: &mut SchemaGenerator) -> Schema {
+    let seed = serde_json::json!({"type": "integer", "minimum": 0});
+    json_schema!({
+        "anyOf": [
+            {"type": "array", "items": seed.clone()},
+            {
+                "type": "object",
+                "properties": {"from": seed.clone(), "to": seed},
+                "required": ["from", "to"],
+                "additionalProperties": false
+            },
+            {"type": "null"}
+        ]
+    })
 }
 
 /// An output to collect: column name and JSON pointer.

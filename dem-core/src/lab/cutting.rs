@@ -41,6 +41,7 @@ pub const FORCES_FILE: &str = "cutting.forces.csv";
 /// A cutting test. SI units (m, m/s, rad); the `× a_p` fields are multiples of the depth of
 /// cut. Defaults: [`CuttingTest::default`].
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(default, deny_unknown_fields)]
 pub struct CuttingTest {
     /// Depth of cut a_p (m). Default 1 mm (S0).

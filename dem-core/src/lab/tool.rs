@@ -63,6 +63,7 @@ impl Segment {
 
 /// How the tool is modelled.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(rename_all = "snake_case")]
 pub enum ToolModel {
     /// One rigid polyline wall `tool` (one contact per disc, with the nearest feature); the

@@ -14,6 +14,7 @@ pub const SPECIMEN_SCHEMA: &str = "dem.specimen/1";
 
 /// Length unit of a scene or specimen file.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub enum LengthUnit {
     #[default]
     #[serde(rename = "m")]
@@ -34,8 +35,11 @@ impl LengthUnit {
 
 /// The whole scene file.
 #[derive(Debug, Clone, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(deny_unknown_fields)]
 pub struct SceneFile {
+    /// Always `"dem.scene/1"`.
+    #[cfg_attr(feature = "schema", schemars(extend("const" = "dem.scene/1")))]
     pub schema: String,
     #[serde(default)]
     pub name: String,
@@ -76,6 +80,7 @@ pub struct SceneFile {
 
 /// A material: density for discs, contact properties for the laws that use them.
 #[derive(Debug, Clone, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(deny_unknown_fields)]
 pub struct MaterialSpec {
     pub name: String,
@@ -108,6 +113,7 @@ pub struct MaterialSpec {
 
 /// Contact law choice: a default for every material pair plus per-pair overrides.
 #[derive(Debug, Clone, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(deny_unknown_fields)]
 pub struct ContactSpec {
     #[serde(default)]
@@ -129,6 +135,7 @@ impl Default for ContactSpec {
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(rename_all = "snake_case")]
 pub enum LawName {
     #[default]
@@ -138,6 +145,7 @@ pub enum LawName {
 
 /// The law of one material pair (order of the two names does not matter).
 #[derive(Debug, Clone, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(deny_unknown_fields)]
 pub struct PairSpec {
     pub materials: [String; 2],
@@ -160,6 +168,7 @@ pub struct PairSpec {
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(rename_all = "snake_case")]
 pub enum BondModelName {
     ParallelPotyondy2004,
@@ -167,6 +176,7 @@ pub enum BondModelName {
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(rename_all = "snake_case")]
 pub enum CriterionName {
     Stress,
@@ -178,6 +188,7 @@ pub enum CriterionName {
 /// A bond group: model, breakage criterion and the parameters they use. Which parameters are
 /// required (and which are refused as unused) depends on the model and criterion; see the docs.
 #[derive(Debug, Clone, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(deny_unknown_fields)]
 pub struct BondGroupSpec {
     pub name: String,
@@ -222,6 +233,7 @@ pub struct BondGroupSpec {
 
 /// All bodies of the scene. Discs are created in this order: disc sets, clump sets, specimens.
 #[derive(Debug, Clone, Default, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(deny_unknown_fields)]
 pub struct BodiesSpec {
     #[serde(default)]
@@ -234,6 +246,7 @@ pub struct BodiesSpec {
 
 /// A set of free discs sharing material, group and initial motion.
 #[derive(Debug, Clone, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(deny_unknown_fields)]
 pub struct DiscSetSpec {
     pub material: String,
@@ -264,6 +277,7 @@ pub struct DiscSetSpec {
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(rename_all = "snake_case")]
 pub enum ClumpMode {
     /// ORC: one rigid body with the template's mass, centroid and inertia.
@@ -274,6 +288,7 @@ pub enum ClumpMode {
 
 /// Copies of one clump template.
 #[derive(Debug, Clone, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(deny_unknown_fields)]
 pub struct ClumpSetSpec {
     /// Template file (`clumpgen.template/1`), relative to the file that names it.
@@ -292,6 +307,7 @@ pub struct ClumpSetSpec {
 
 /// One copy of a template: centroid position, rotation and initial motion.
 #[derive(Debug, Clone, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(deny_unknown_fields)]
 pub struct PlacementSpec {
     pub x: f64,
@@ -307,6 +323,7 @@ pub struct PlacementSpec {
 
 /// A specimen file (`dem.specimen/1`) to include, shifted by `offset`.
 #[derive(Debug, Clone, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(deny_unknown_fields)]
 pub struct SpecimenRef {
     /// Relative to the scene file.
@@ -319,8 +336,11 @@ pub struct SpecimenRef {
 /// A specimen file: bodies in their own length unit; materials and bond groups refer to the
 /// scene's by name, templates are relative to the specimen file.
 #[derive(Debug, Clone, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(deny_unknown_fields)]
 pub struct SpecimenFile {
+    /// Always `"dem.specimen/1"`.
+    #[cfg_attr(feature = "schema", schemars(extend("const" = "dem.specimen/1")))]
     pub schema: String,
     #[serde(default)]
     pub description: String,
@@ -343,6 +363,7 @@ pub struct SpecimenFile {
 
 /// Bonds of one group between listed disc pairs of a specimen file.
 #[derive(Debug, Clone, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(deny_unknown_fields)]
 pub struct BondListSpec {
     /// A bond group of the scene.
@@ -358,6 +379,7 @@ pub struct BondListSpec {
 
 /// Which disc pairs automatic bonding may join.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(rename_all = "snake_case")]
 pub enum Between {
     /// Any two discs (not members of the same rigid clump).
@@ -371,6 +393,7 @@ pub enum Between {
 
 /// Install bonds of `bond_group` between every pair of discs whose gap is at most `tolerance`.
 #[derive(Debug, Clone, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(deny_unknown_fields)]
 pub struct AutoBondSpec {
     pub bond_group: String,
@@ -388,6 +411,7 @@ pub struct AutoBondSpec {
 /// a → `via` → b moving as one rigid body (a disc gets one contact with it, at its nearest
 /// point).
 #[derive(Debug, Clone, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(deny_unknown_fields)]
 pub struct WallSpec {
     pub name: String,
@@ -411,6 +435,7 @@ pub struct WallSpec {
 /// A constant external force (N) and torque (N·m) on the disc with creation index `disc` (on
 /// a rigid-clump member it acts on the whole clump).
 #[derive(Debug, Clone, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(deny_unknown_fields)]
 pub struct LoadSpec {
     pub disc: u32,
@@ -422,6 +447,7 @@ pub struct LoadSpec {
 
 /// Periodic axes: `[lo, hi]` per periodic axis.
 #[derive(Debug, Clone, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(deny_unknown_fields)]
 pub struct PeriodicSpec {
     #[serde(default)]
@@ -432,6 +458,7 @@ pub struct PeriodicSpec {
 
 /// Damping: PFC local damping α and global viscous damping ζ.
 #[derive(Debug, Clone, Default, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(deny_unknown_fields)]
 pub struct DampingSpec {
     /// Local damping α in [0, 1): F_d = −α|F| sign(v) per component.
@@ -445,6 +472,7 @@ pub struct DampingSpec {
 
 /// How long to run and with which time step.
 #[derive(Debug, Clone, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(deny_unknown_fields)]
 pub struct RunSpec {
     /// Simulated time (s); or give `steps`.
@@ -480,6 +508,7 @@ pub struct RunSpec {
 /// (status `failure`) at the first history row where the load is below `below` × its peak so
 /// far, once that peak has reached `min_load` (N).
 #[derive(Debug, Clone, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(deny_unknown_fields)]
 pub struct StopAfterPeakSpec {
     pub walls: Vec<String>,
@@ -491,6 +520,7 @@ pub struct StopAfterPeakSpec {
 
 /// A coordinate axis.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(rename_all = "snake_case")]
 pub enum AxisName {
     X,
@@ -500,6 +530,7 @@ pub enum AxisName {
 /// `outputs.gauges[]`: the discs whose centre lies in `region` ([x0, y0, x1, y1], length
 /// unit) when the scene is built; the history gets their mean position `<name>_x,<name>_y`.
 #[derive(Debug, Clone, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(deny_unknown_fields)]
 pub struct GaugeSpec {
     pub name: String,
@@ -508,6 +539,7 @@ pub struct GaugeSpec {
 
 /// What to write and how often (every N steps; 0 = never).
 #[derive(Debug, Clone, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(deny_unknown_fields)]
 pub struct OutputSpec {
     /// Output folder, relative to the scene file; default `<scene stem>.out`.
