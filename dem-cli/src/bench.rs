@@ -17,6 +17,47 @@ pub enum BenchKind {
     Dense(SolverBench),
     /// The same lattice with a parallel bond at every contact (≈138,000 bonds), automatic dt.
     Bonded(SolverBench),
+    /// The cutting scene `dem test cutting` runs (specimen, slot walls, rigid tool, local
+    /// damping, history rows, guard), timed once the tool is in the specimen.
+    Cutting(CuttingBench),
+}
+
+/// `dem bench cutting` flags.
+#[derive(Args)]
+pub struct CuttingBench {
+    /// Steps timed (default 20,000), after an untimed approach in which the tool travels to
+    /// the specimen and a_p (1 mm) into it. A multiple of 100 (the guard's cadence) ends the
+    /// timing right after the last step's checks; otherwise the run's closing writes (final
+    /// checkpoint, summary) are timed too.
+    #[arg(long, default_value_t = 20000)]
+    steps: u64,
+    /// Worker threads, at least 1; results are bit-identical for any count.
+    #[arg(long, default_value_t = 1)]
+    threads: usize,
+    /// Specimen generation: traditional | orc | improved.
+    #[arg(long, default_value = "traditional")]
+    method: String,
+    /// Specimen generation: random seed.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Specimen generation: the Table 2 size, 20 × 10 mm (default 10 × 5 mm, which starts in
+    /// seconds); radii 0.175–0.285 mm, grains 0.86 mm, template r_min 0.08 mm either way.
+    #[arg(long)]
+    table2: bool,
+    /// A specimen file written by `dem specimen` instead of generating one (the model is
+    /// still --model).
+    #[arg(long)]
+    specimen: Option<PathBuf>,
+    /// The LabModel the scene runs with (`dem calibrate` writes one).
+    #[arg(long, default_value = "data/models/si3n4.model.json")]
+    model: PathBuf,
+    /// Specimen generation: the material file.
+    #[arg(long, default_value = "data/materials/si3n4.json")]
+    material: PathBuf,
+    /// Cutting speed (m/s). Default 10: the approach takes a tenth of the steps it takes at
+    /// Table 2's 1 m/s; the cost of a step hardly depends on it.
+    #[arg(long, default_value_t = 10.0)]
+    speed: f64,
 }
 
 #[derive(Args)]
@@ -203,6 +244,7 @@ fn clump(b: ClumpBench) -> Result<ExitCode, String> {
 pub fn run(k: BenchKind) -> Result<ExitCode, String> {
     match k {
         BenchKind::Clump(b) => clump(b),
+        BenchKind::Cutting(b) => cutting(b),
         BenchKind::Dense(b) => {
             if b.cells.is_some() {
                 return Err("--cells applies to `dem bench bonded` only".into());
@@ -217,4 +259,190 @@ pub fn run(k: BenchKind) -> Result<ExitCode, String> {
             solver("bonded", b, w)
         }
     }
+}
+
+/// A temporary folder removed when dropped.
+struct TempDir(PathBuf);
+
+impl Drop for TempDir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+/// `dem bench cutting`: builds the scene as `dem test cutting` does
+/// ([`dem_core::lab::cutting::CuttingScene::build`]), runs it through the same driver
+/// ([`dem_core::output::driver::Simulation`]) up to the engaged tool (untimed), then times
+/// `--steps` more steps of the run.
+fn cutting(b: CuttingBench) -> Result<ExitCode, String> {
+    use dem_core::lab::cutting::{CuttingScene, CuttingTest};
+    use dem_core::output::driver::{RunOptions, Simulation};
+    if b.steps == 0 {
+        return Err("--steps: must be at least 1".into());
+    }
+    if b.threads == 0 {
+        return Err("--threads: must be at least 1".into());
+    }
+    if !(b.speed > 0.0 && b.speed.is_finite()) {
+        return Err(format!(
+            "--speed: {} must be a positive speed in m/s",
+            b.speed
+        ));
+    }
+    if !["traditional", "orc", "improved"].contains(&b.method.as_str()) {
+        return Err(format!(
+            "--method: `{}` is not traditional, orc or improved",
+            b.method
+        ));
+    }
+    let text = std::fs::read_to_string(&b.model)
+        .map_err(|e| format!("--model {}: {e}", b.model.display()))?;
+    let model: dem_core::lab::LabModel =
+        serde_json::from_str(&text).map_err(|e| format!("--model {}: {e}", b.model.display()))?;
+    let dir =
+        TempDir(std::env::temp_dir().join(format!("dem-bench-cutting-{}", std::process::id())));
+    std::fs::create_dir_all(&dir.0).map_err(|e| format!("{}: {e}", dir.0.display()))?;
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(b.threads)
+        .build()
+        .map_err(|e| e.to_string())?;
+    let (w, h) = if b.table2 {
+        (20e-3, 10e-3)
+    } else {
+        (10e-3, 5e-3)
+    };
+    let specimen = match &b.specimen {
+        Some(p) => {
+            if !p.is_file() {
+                return Err(format!("--specimen {}: no such file", p.display()));
+            }
+            p.clone()
+        }
+        None => {
+            let lab = crate::test::LabArgs {
+                method: b.method.clone(),
+                r_min: "0.175mm".into(),
+                r_max: "0.285mm".into(),
+                dist: "normal".into(),
+                seed: b.seed,
+                material: Some(b.material.clone()),
+                density: None,
+                youngs: None,
+                tensile: None,
+                iso_stress: None,
+                porosity: 0.16,
+                grain_size: Some("0.86mm".into()),
+                template_r_min: Some("0.08mm".into()),
+                max_discs: 9,
+                model: Some(b.model.clone()),
+                out: dir.0.clone(),
+                threads: Some(b.threads),
+                dt_factor: None,
+            };
+            let p = lab
+                .specimen_params(w, h)
+                .map_err(|e| format!("--material {}: {e}", b.material.display()))?;
+            let name = crate::specimen::read_material(&b.material)
+                .map_err(|e| format!("--material {}: {e}", b.material.display()))?
+                .0;
+            let s = pool
+                .install(|| dem_core::specimen::generate(&p, &mut |_| {}))
+                .map_err(|e| format!("specimen generation: {e}"))?;
+            let path = dir.0.join("specimen.json");
+            dem_core::specimen::io::save(&s, &name, &path).map_err(|e| e.to_string())?;
+            path
+        }
+    };
+    // Table 2's test (a_p 1 mm, L 10 mm, rigid tool, local damping 0.7) at --speed; the cut
+    // length is the specimen's width when that is shorter.
+    // Errors about a given specimen name the flag.
+    let named = |e: dem_core::lab::LabError| match &b.specimen {
+        Some(p) => format!("--specimen {}: {e}", p.display()),
+        None => e.to_string(),
+    };
+    let info = dem_core::lab::cutting::SpecimenInfo::read(&specimen).map_err(named)?;
+    let width = info.extent[1] - info.extent[0];
+    let test = CuttingTest::new(1e-3, b.speed, width.min(10e-3));
+    let scene_file = dir.0.join("cutting.scene.json");
+    let cs = CuttingScene::build(&test, &model, &specimen, &scene_file, 0).map_err(named)?;
+    dem_core::lab::run::write_scene(&cs.scene, &scene_file).map_err(|e| e.to_string())?;
+    let loaded = dem_core::scene::load(&scene_file).map_err(|e| e.to_string())?;
+    let guard = loaded.outputs.guard_every.max(1);
+    // The approach: to the specimen's edge and a_p into it, rounded up to the guard's cadence.
+    let g = &cs.geometry;
+    let travel = g.travel_entry + test.depth - g.travel_start;
+    let approach = ((travel / (b.speed * cs.dt)).ceil() as u64).div_ceil(guard) * guard;
+    let end = approach + b.steps;
+    if end > cs.steps {
+        return Err(format!(
+            "--steps: {} steps after the {approach}-step approach pass the cut's end ({} steps)",
+            b.steps, cs.steps
+        ));
+    }
+    let opts = RunOptions {
+        out_dir: Some(dir.0.clone()),
+        restart: None,
+        max_steps: Some(approach),
+    };
+    // (Built and run inside the pool, as `dem test cutting` does: a run's step hook is not
+    // `Send`.)
+    let timed = pool.install(|| -> Result<_, String> {
+        let mut sim = Simulation::new(loaded, &opts).map_err(|e| e.to_string())?;
+        if let Some(hk) = cs.hook() {
+            sim.set_hook(hk);
+        }
+        sim.run(&mut |_, _| {})
+            .map_err(|e| format!("approach: {e}"))?;
+        sim.set_max_steps(Some(end));
+        sim.world.counters.reset();
+        let c0 = dem_core::bench::process_cpu_seconds();
+        let t0 = Instant::now();
+        let mut stop: Option<(f64, Option<f64>)> = None;
+        sim.run(&mut |done, _| {
+            if done >= end && stop.is_none() {
+                stop = Some((
+                    t0.elapsed().as_secs_f64(),
+                    dem_core::bench::process_cpu_seconds(),
+                ));
+            }
+        })
+        .map_err(|e| format!("timed steps: {e}"))?;
+        let (secs, c1) = stop.unwrap_or((t0.elapsed().as_secs_f64(), None));
+        Ok((secs, c0, c1, sim.world))
+    });
+    let (secs, c0, c1, world) = timed?;
+    let wo = &world;
+    let discs = wo.state.discs.len();
+    let bonds = wo.bonds.as_ref().map_or(0, |x| x.n_intact());
+    let work = discs as f64 * b.steps as f64;
+    let what = match &b.specimen {
+        Some(p) => p.display().to_string(),
+        None => format!(
+            "{} specimen {} x {} mm, seed {}",
+            b.method,
+            w * 1e3,
+            h * 1e3,
+            b.seed
+        ),
+    };
+    println!(
+        "cutting ({what}; v {} m/s, a history row every {} steps): {discs} discs, {bonds} intact \
+         bonds, {} walls, {} steps of dt {:.3e} s from step {approach} (tool edge {:.3} mm into \
+         the specimen) on {} thread(s)",
+        b.speed,
+        cs.every,
+        wo.state.walls.len(),
+        b.steps,
+        wo.dt(),
+        (g.travel(wo.state.time) - g.travel_entry) * 1e3,
+        b.threads
+    );
+    print!("{}", wo.counters.report());
+    println!("state digest: {:016x}", digest(wo));
+    println!("steps/s: {:.4e}", b.steps as f64 / secs);
+    if let Some(c) = c0.zip(c1).map(|(a, z)| work / (z - a).max(1e-9)) {
+        println!("particle-steps per CPU-second (all threads): {c:.4e}");
+    }
+    println!("particle-steps/s: {:.4e}", work / secs);
+    Ok(ExitCode::SUCCESS)
 }

@@ -847,6 +847,81 @@ pub fn analyze(
     Ok((result, f))
 }
 
+/// A cutting run's scene as [`run_with`] builds and runs it (and `dem bench cutting` times it):
+/// the test checked against the specimen, the time step probed by building the world once, the
+/// history cadence set for about `history_rows` rows, the fragment-deletion note, and numbered
+/// checkpoints (about `checkpoints` over the run, 0 = none) on history rows.
+pub struct CuttingScene {
+    pub spec: SpecimenInfo,
+    pub geometry: CutGeometry,
+    /// The plain `dem.scene/1` JSON to run (what `cutting.scene.json` holds).
+    pub scene: Value,
+    /// Time step of the built world (s) and the steps of the whole cut.
+    pub dt: f64,
+    pub steps: u64,
+    /// A history row every `every` steps.
+    pub every: u64,
+    debris: Option<super::debris::DebrisRule>,
+}
+
+impl CuttingScene {
+    /// Checks `test` and the specimen, writes the probe scene to `scene_file` (the scene is
+    /// loaded from a file, so paths resolve as `dem run` resolves them) and builds the scene.
+    pub fn build(
+        test: &CuttingTest,
+        model: &LabModel,
+        specimen: &Path,
+        scene_file: &Path,
+        checkpoints: u64,
+    ) -> Result<CuttingScene, LabError> {
+        test.validate()?;
+        let spec = SpecimenInfo::read(specimen)?;
+        check_geometry(test, spec.extent)?;
+        // Probe the time step: build the world once, so the history cadence gives about
+        // `history_rows` rows.
+        let probe = scene(test, model, &spec, 1)?;
+        write_scene(&probe, scene_file)?;
+        let dt = crate::scene::build(&crate::scene::load(scene_file)?)?.dt();
+        let g = CutGeometry::new(test, spec.extent)?;
+        let steps = (g.duration / dt).ceil().max(1.0) as u64;
+        let every = steps.div_ceil(test.history_rows).max(1);
+        let mut s = scene(test, model, &spec, every)?;
+        let debris = test.delete_fragments.then_some(super::debris::DebrisRule {
+            nominal_y: g.nominal_y,
+            top_y: spec.extent[3],
+        });
+        if debris.is_some() {
+            // (So a run with deletion never resumes one without, nor the other way round.)
+            let text = s["description"].as_str().unwrap_or_default().to_string();
+            s["description"] = json!(format!(
+                "{text} Detached fragments deleted on every history row (dem test cutting \
+                 --delete-fragments; dem run does not delete them)."
+            ));
+        }
+        if checkpoints > 0 {
+            // On history rows, about `checkpoints` over the run.
+            let n = steps.div_ceil(every).div_ceil(checkpoints).max(1) * every;
+            s["outputs"]["checkpoint_every"] = json!(n);
+            s["outputs"]["checkpoint_keep"] = json!(1);
+        }
+        Ok(CuttingScene {
+            spec,
+            geometry: g,
+            scene: s,
+            dt,
+            steps,
+            every,
+            debris,
+        })
+    }
+
+    /// The step hook the run sets: fragment deletion on every history row when the test asks
+    /// for it.
+    pub fn hook(&self) -> Option<crate::output::driver::StepHook> {
+        self.debris.map(|r| super::debris::hook(self.every, r))
+    }
+}
+
 /// How [`run_with`] runs: checkpoints to resume from, and an optional stop.
 #[derive(Clone, Debug)]
 pub struct CuttingRunOptions {
@@ -907,43 +982,16 @@ pub fn run_with(
     ro: &CuttingRunOptions,
     progress: &mut dyn FnMut(u64, u64),
 ) -> Result<CuttingResult, LabError> {
-    test.validate()?;
-    let spec = SpecimenInfo::read(specimen)?;
-    check_geometry(test, spec.extent)?;
     let scene_file = out_dir.join(SCENE_FILE);
     // The scene of an earlier run in this folder (read before the probe overwrites it).
     let earlier: Option<Value> = std::fs::read_to_string(&scene_file)
         .ok()
         .and_then(|t| serde_json::from_str(&t).ok());
-    // Probe the time step: build the world once, so the history cadence gives about
-    // `history_rows` rows.
-    let probe = scene(test, model, &spec, 1)?;
-    write_scene(&probe, &scene_file)?;
-    let dt = crate::scene::build(&crate::scene::load(&scene_file)?)?.dt();
-    let g = CutGeometry::new(test, spec.extent)?;
-    let steps = (g.duration / dt).ceil().max(1.0) as u64;
-    let every = steps.div_ceil(test.history_rows).max(1);
-    let mut s = scene(test, model, &spec, every)?;
-    let debris = test.delete_fragments.then_some(super::debris::DebrisRule {
-        nominal_y: g.nominal_y,
-        top_y: spec.extent[3],
-    });
-    if debris.is_some() {
-        // (So a run with deletion never resumes one without, nor the other way round.)
-        let text = s["description"].as_str().unwrap_or_default().to_string();
-        s["description"] = json!(format!(
-            "{text} Detached fragments deleted on every history row (dem test cutting \
-             --delete-fragments; dem run does not delete them)."
-        ));
-    }
-    let hook = || debris.map(|r| super::debris::hook(every, r));
-    if ro.checkpoints > 0 {
-        // On history rows, about `checkpoints` over the run.
-        let n = steps.div_ceil(every).div_ceil(ro.checkpoints).max(1) * every;
-        s["outputs"]["checkpoint_every"] = json!(n);
-        s["outputs"]["checkpoint_keep"] = json!(1);
-    }
-    let restart = if ro.resume && earlier.as_ref() == Some(&s) {
+    let cs = CuttingScene::build(test, model, specimen, &scene_file, ro.checkpoints)?;
+    let (spec, s) = (&cs.spec, &cs.scene);
+    let every = cs.every;
+    let hook = || cs.hook();
+    let restart = if ro.resume && earlier.as_ref() == Some(s) {
         crate::output::driver::numbered_checkpoints(out_dir)
             .ok()
             .and_then(|mut c| c.pop())
@@ -956,12 +1004,12 @@ pub fn run_with(
         restart,
         max_steps: ro.max_steps,
     };
-    let lab = match run_scene_with(&s, &scene_file, &opts, progress, hook()) {
+    let lab = match run_scene_with(s, &scene_file, &opts, progress, hook()) {
         Err(LabError::Run(crate::output::driver::RunError::Checkpoint(_)))
             if opts.restart.is_some() =>
         {
             opts.restart = None;
-            run_scene_with(&s, &scene_file, &opts, progress, hook())?
+            run_scene_with(s, &scene_file, &opts, progress, hook())?
         }
         r => r?,
     };
@@ -977,7 +1025,7 @@ pub fn run_with(
     let hist = lab.out_dir.join("history.csv");
     let (mut result, forces) = analyze(
         test,
-        &spec,
+        spec,
         &lab.history,
         &hist.display().to_string(),
         &lab.world,

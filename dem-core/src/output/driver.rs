@@ -265,6 +265,13 @@ impl Simulation {
         self.hook = Some(hook);
     }
 
+    /// Stop at this world step (`None`: the scene's own `run.max_steps`); a further
+    /// [`Simulation::run`] then goes on from where the previous one stopped (`dem bench
+    /// cutting` runs an untimed approach, then the timed steps).
+    pub fn set_max_steps(&mut self, max_steps: Option<u64>) {
+        self.max_steps = max_steps.or(self.scene.run.max_steps);
+    }
+
     /// The output folder.
     pub fn out_dir(&self) -> &Path {
         &self.out
