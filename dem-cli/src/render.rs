@@ -1,9 +1,13 @@
-//! `dem render`: a PNG picture of a checkpoint, a `last-good-state.json`, a specimen file or a
-//! clump template (the kind is read from the file's `schema` field). Loading is in [`load`],
-//! drawing in [`draw`]; this module holds the flags, the output path and the messages.
+//! `dem render`: a PNG picture of a checkpoint, a `last-good-state.json`, a specimen file, a
+//! clump template (the kind is read from the file's `schema` field) or a VTK snapshot
+//! (`snap-*.vtp`), and animations of a `.pvd` series. Loading is in [`load`] and [`vtk`],
+//! drawing in [`draw`], animations in [`anim`]; this module holds the flags, the output path
+//! and the messages.
 
+pub mod anim;
 pub mod draw;
 pub mod load;
+pub mod vtk;
 
 use clap::Args;
 use draw::{ColorBy, Options};
@@ -19,6 +23,18 @@ drawn over its grain outline (read from the outline file the template names, fou
 or beside the template; or --outline), with the grain centroid (+) and, where it differs, the \
 clump's mass centre (x).
 
+A VTK snapshot (snap-*.vtp, from a scene with outputs.vtk_every) gives discs (points and their \
+`radius`), speed (`velocity`), grains (`body`, `group`), materials (by index) and bonds (its \
+line cells: intact ones; bond groups by index); the walls come from walls-*.vtp beside it, \
+without names (the tool is drawn as a wall). A snapshot cannot carry broken bonds' crack \
+positions, material or bond-group names: use a checkpoint for those. Only the ASCII VTK that \
+dem run writes is read.
+
+A series (snapshots.pvd) is drawn as an animation, one frame per disc snapshot in time order, \
+all with one view (the union of the frames' extents, or --view) and one speed scale, the \
+step and time in each frame's caption: an animated GIF (default: the .pvd's name with .gif), \
+or an MP4 with --out FILE.mp4 when ffmpeg is on PATH.
+
 After writing, one line gives the image size and where model coordinates land: column = c0 + \
 s*x, row = r0 - s*y (x, y in mm; s in px/mm).
 
@@ -26,14 +42,21 @@ Examples:
   dem render out/ckpt-final.json --bonds
   dem render si3n4-improved.json --color group --out specimen.png
   dem render out/templates/equant-01.json --width 600
-  dem render run/ckpt-final.json --view 4,16,4,11 --color speed")]
+  dem render run/ckpt-final.json --view 4,16,4,11 --color speed
+  dem render run/snap-000020000.vtp --color speed
+  dem render run/snapshots.pvd --out cut.gif --fps 12 --width 600")]
 pub struct RenderArgs {
     /// Input: a checkpoint (ckpt-*.json), a last-good-state.json, a specimen file
-    /// (`dem specimen`) or a clump template (`dem clump`).
+    /// (`dem specimen`), a clump template (`dem clump`), a VTK snapshot (snap-*.vtp) or a
+    /// series of them (snapshots.pvd: an animation).
     input: PathBuf,
-    /// Output PNG (default: the input's name with .png, beside it). Never an input file.
-    #[arg(long, value_name = "FILE.png")]
+    /// Output PNG, or for a .pvd series a .gif (or .mp4 with ffmpeg on PATH); default: the
+    /// input's name with .png (.gif for a series), beside it. Never an input file.
+    #[arg(long, value_name = "FILE")]
     out: Option<PathBuf>,
+    /// Frames per second of an animation (1 to 100; a GIF keeps 1/100 s delays).
+    #[arg(long, value_name = "N", default_value_t = 10, value_parser = parse_fps)]
+    fps: u32,
     /// Image width in pixels (1 to 6000); the height follows from the drawn region's aspect
     /// ratio (at most twice the width) plus the caption.
     #[arg(
@@ -89,6 +112,14 @@ fn parse_width(s: &str) -> Result<u32, String> {
     }
 }
 
+fn parse_fps(s: &str) -> Result<u32, String> {
+    match s.trim().parse::<u32>() {
+        Ok(f) if (1..=100).contains(&f) => Ok(f),
+        Ok(f) => Err(format!("{f}: frames per second must be 1 to 100")),
+        Err(e) => Err(format!("{e} (frames per second, e.g. 10)")),
+    }
+}
+
 fn parse_color(s: &str) -> Result<ColorBy, String> {
     match s.trim() {
         "grain" => Ok(ColorBy::Grain),
@@ -129,9 +160,21 @@ fn parse_speed(s: &str) -> Result<f64, String> {
     }
 }
 
-/// `x.json` → `x.png` beside it.
+/// `x.json` → `x.png` beside it; a series `x.pvd` → `x.gif`.
 fn default_out(input: &Path) -> PathBuf {
-    input.with_extension("png")
+    if is_series(input) {
+        input.with_extension("gif")
+    } else {
+        input.with_extension("png")
+    }
+}
+
+fn has_ext(p: &Path, ext: &str) -> bool {
+    p.extension().is_some_and(|e| e.eq_ignore_ascii_case(ext))
+}
+
+fn is_series(p: &Path) -> bool {
+    has_ext(p, "pvd")
 }
 
 /// The path with its folder made absolute and canonical (the file itself need not exist), to
@@ -167,12 +210,6 @@ pub fn run(a: RenderArgs) -> Result<ExitCode, String> {
             ));
         }
     }
-    let t0 = std::time::Instant::now();
-    let picture = load::load(&a.input, a.outline.as_deref())?;
-    let t1 = std::time::Instant::now();
-    for n in &picture.notes {
-        eprintln!("note: {n}");
-    }
     let opts = Options {
         width: a.width,
         color: a.color,
@@ -182,6 +219,35 @@ pub fn run(a: RenderArgs) -> Result<ExitCode, String> {
         speed_max: a.speed_max,
         rgb: a.rgb,
     };
+    let format = if has_ext(&out, "gif") {
+        Some(anim::Format::Gif)
+    } else if has_ext(&out, "mp4") {
+        Some(anim::Format::Mp4)
+    } else {
+        None
+    };
+    if is_series(&a.input) {
+        let Some(format) = format else {
+            return Err(format!(
+                "--out {}: a series ({}) is an animation: give a .gif (or .mp4 with ffmpeg)",
+                out.display(),
+                a.input.display()
+            ));
+        };
+        return animate(&a, &out, opts, format);
+    }
+    if format.is_some() {
+        return Err(format!(
+            "--out {}: animations are made from a series (snapshots.pvd); one picture is a .png",
+            out.display()
+        ));
+    }
+    let t0 = std::time::Instant::now();
+    let picture = load::load(&a.input, a.outline.as_deref())?;
+    let t1 = std::time::Instant::now();
+    for n in &picture.notes {
+        eprintln!("note: {n}");
+    }
     let r = draw::render(&picture, &opts).map_err(|e| format!("{}: {e}", a.input.display()))?;
     let t2 = std::time::Instant::now();
     clumpgen::io::write_atomic(&out, &r.png)
@@ -202,6 +268,82 @@ pub fn run(a: RenderArgs) -> Result<ExitCode, String> {
         (t1 - t0).as_secs_f64() * 1e3,
         ((t2 - t1).as_secs_f64() - r.encode_s) * 1e3,
         r.encode_s * 1e3
+    );
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `dem render SERIES.pvd --out FILE.gif|mp4`: every disc snapshot a frame, one view and one
+/// speed scale for all.
+fn animate(
+    a: &RenderArgs,
+    out: &Path,
+    mut opts: Options,
+    format: anim::Format,
+) -> Result<ExitCode, String> {
+    if format == anim::Format::Mp4 && anim::ffmpeg().is_none() {
+        return Err(format!(
+            "--out {}: an MP4 is made by ffmpeg, which is not on PATH; install it or write a .gif",
+            out.display()
+        ));
+    }
+    let t0 = std::time::Instant::now();
+    let series = vtk::read_pvd(&a.input)?;
+    let out_c = canonical(out);
+    let mut pics = Vec::with_capacity(series.len());
+    for (t, file) in &series {
+        if canonical(file) == out_c {
+            return Err(format!(
+                "--out {}: is a file of the series {}; give another output file",
+                out.display(),
+                a.input.display()
+            ));
+        }
+        if !file.is_file() {
+            return Err(format!(
+                "{}: names {}, which does not exist",
+                a.input.display(),
+                file.display()
+            ));
+        }
+        let p = vtk::load_vtp(file, Some(*t)).map_err(|e| format!("{}: {e}", a.input.display()))?;
+        pics.push(p);
+    }
+    let first_notes: Vec<String> = pics.first().map(|p| p.notes.clone()).unwrap_or_default();
+    for n in first_notes {
+        eprintln!("note: {n}");
+    }
+    if opts.view.is_none() {
+        opts.view = Some(anim::union_view(&pics).ok_or_else(|| {
+            format!(
+                "{}: nothing to draw: no disc or wall in any snapshot",
+                a.input.display()
+            )
+        })?);
+    }
+    if opts.speed_max.is_none() {
+        let top = pics
+            .iter()
+            .flat_map(|p| p.discs.iter().map(|d| d.speed))
+            .filter(|v| v.is_finite())
+            .fold(0.0, f64::max);
+        opts.speed_max = (top > 0.0).then_some(top);
+    }
+    let t1 = std::time::Instant::now();
+    let (w, h) = anim::animate(&pics, &opts, a.fps, format, out)
+        .map_err(|e| format!("{}: {e}", a.input.display()))?;
+    println!(
+        "wrote {}: {} frames of {} x {} px at {} fps ({:.2} s)",
+        out.display(),
+        pics.len(),
+        w,
+        h,
+        a.fps,
+        pics.len() as f64 / a.fps as f64
+    );
+    println!(
+        "read in {:.0} ms, drawn and encoded in {:.0} ms",
+        (t1 - t0).as_secs_f64() * 1e3,
+        t1.elapsed().as_secs_f64() * 1e3
     );
     Ok(ExitCode::SUCCESS)
 }

@@ -149,7 +149,7 @@ fn shade(c: [u8; 3], f: f64) -> [u8; 3] {
 }
 
 /// Bounding box `[xmin, xmax, ymin, ymax]` of everything drawn (finite values only).
-fn content_box(p: &Picture) -> Option<[f64; 4]> {
+pub fn content_box(p: &Picture) -> Option<[f64; 4]> {
     let mut b = [
         f64::INFINITY,
         f64::NEG_INFINITY,
@@ -327,6 +327,21 @@ pub fn grain_colours(discs: &[Disc]) -> Vec<usize> {
 
 /// Draws `p` as a PNG.
 pub fn render(p: &Picture, o: &Options) -> Result<Rendered, String> {
+    let (out, frame) = draw(p, o)?;
+    let t = std::time::Instant::now();
+    let png = encode_png(&out, o.rgb)?;
+    let encode_s = t.elapsed().as_secs_f64();
+    Ok(Rendered {
+        png,
+        width: out.width(),
+        height: out.height(),
+        frame,
+        encode_s,
+    })
+}
+
+/// Draws `p` into an opaque RGBA image (a frame of an animation, or a PNG's pixels).
+pub fn draw(p: &Picture, o: &Options) -> Result<(Pixmap, Frame), String> {
     let w = o.width;
     if w == 0 || w > MAX_WIDTH {
         return Err(format!("--width: {w} px is not in 1..={MAX_WIDTH}"));
@@ -668,16 +683,7 @@ pub fn render(p: &Picture, o: &Options) -> Result<Rendered, String> {
         let y = y0 + bar_row + legend_row + lh * n as f32;
         text(&mut out, x0, y, line, kf, INK);
     }
-    let t = std::time::Instant::now();
-    let png = encode_png(&out, o.rgb)?;
-    let encode_s = t.elapsed().as_secs_f64();
-    Ok(Rendered {
-        png,
-        width: w,
-        height: total_h,
-        frame,
-        encode_s,
-    })
+    Ok((out, frame))
 }
 
 /// The legend: swatches for materials, bond groups, bonds and cracks as drawn, and for speed
@@ -797,7 +803,7 @@ fn wrap(line: &str, max: usize) -> Vec<String> {
 /// other pixel (anti-aliased edges) takes the nearest kept colour. That makes a picture about
 /// a third of its RGB size (a 1,583-disc cut at 1200 px: 270 kB instead of 810 kB) with no
 /// visible change.
-fn encode_png(pm: &Pixmap, rgb: bool) -> Result<Vec<u8>, String> {
+pub fn encode_png(pm: &Pixmap, rgb: bool) -> Result<Vec<u8>, String> {
     // Everything is drawn over an opaque background, so premultiplied RGBA is plain RGBA.
     let pixels: Vec<[u8; 3]> = pm
         .data()

@@ -14,8 +14,9 @@ use std::path::{Path, PathBuf};
 
 /// The kinds of file `dem render` reads, for messages.
 pub const KINDS: &str = "a checkpoint (dem.checkpoint/1, ckpt-*.json), a last-good-state.json, \
-                         a specimen file (dem.specimen/1) or a clump template \
-                         (clumpgen.template/1)";
+                         a specimen file (dem.specimen/1), a clump template \
+                         (clumpgen.template/1), a VTK snapshot (snap-*.vtp) or a series \
+                         (snapshots.pvd)";
 
 /// One disc to draw (metres, m/s).
 #[derive(Clone, Debug)]
@@ -71,6 +72,8 @@ pub enum Kind {
     Specimen,
     /// A clump template.
     Template,
+    /// A VTK disc snapshot (`snap-*.vtp`).
+    Snapshot,
 }
 
 /// Everything `dem render` draws, in metres.
@@ -104,7 +107,19 @@ pub struct Picture {
 /// Errors name the file and say why.
 pub fn load(path: &Path, outline: Option<&Path>) -> Result<Picture, String> {
     let file = path.display().to_string();
+    if path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("vtp"))
+    {
+        return super::vtk::load_vtp(path, None);
+    }
     let text = std::fs::read_to_string(path).map_err(|e| format!("{file}: cannot read: {e}"))?;
+    if text.trim_start().starts_with('<') {
+        return Err(format!(
+            "{file}: an XML file; dem render reads VTK snapshots by their name (snap-*.vtp, or a \
+             .pvd series), else {KINDS}"
+        ));
+    }
     /// Only the fields that tell the kinds apart (the rest is skipped, not stored).
     #[derive(Deserialize)]
     struct Peek {
@@ -201,7 +216,7 @@ pub fn short_name(path: &Path) -> String {
 }
 
 /// `step 13,884,535   t = 10.100 ms`.
-fn step_time(step: u64, t: f64) -> String {
+pub fn step_time(step: u64, t: f64) -> String {
     let digits = step.to_string();
     let grouped: Vec<&str> = digits
         .as_bytes()
@@ -226,7 +241,7 @@ fn seconds(t: f64) -> String {
 }
 
 /// `1583 discs, 3175 bonds (412 broken), 4 walls`.
-fn counts(p: &Picture) -> String {
+pub fn counts(p: &Picture) -> String {
     let mut s = format!("{} discs", p.discs.len());
     if !p.bonds.is_empty() {
         let broken = p.bonds.iter().filter(|b| !b.intact).count();
@@ -244,7 +259,7 @@ fn counts(p: &Picture) -> String {
 /// Grain keys of discs given their rigid-clump index (or `FREE`), their group and their id:
 /// a clump's discs share their clump; other discs share their group where the groups tell
 /// grains apart (not all equal), else each disc is its own grain.
-fn grain_keys(body: &[u32], group: &[u32], id: &[u32]) -> Vec<u64> {
+pub fn grain_keys(body: &[u32], group: &[u32], id: &[u32]) -> Vec<u64> {
     let groups_vary = group.windows(2).any(|w| w[0] != w[1]);
     (0..body.len())
         .map(|k| {

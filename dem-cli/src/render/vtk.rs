@@ -1,0 +1,458 @@
+//! Reading back the VTK files `dem run` writes (dem-core's `output::vtk`): a disc snapshot
+//! `snap-*.vtp` (points, point arrays `radius`, `velocity`, `id`, `body`, `group`, `material`;
+//! bonds as line cells with `bond_state`, `bond_group`), the walls beside it (`walls-*.vtp`,
+//! one line cell per wall) and the `snapshots.pvd` collection. Only the ASCII XML PolyData our
+//! writer emits is read, by a small hand parser; binary, appended or other VTK flavours are
+//! refused with a message.
+
+use super::load::{counts, grain_keys, short_name, step_time, Bond, Disc, Kind, Picture, WallLine};
+use dem_core::state::FREE;
+use std::path::{Path, PathBuf};
+
+/// One `<DataArray>`: its section (`PointData`, `CellData`, `Points`, `Lines`, …), name,
+/// components and values (as text tokens are parsed to f64: ids up to 2^53 stay exact).
+struct Array {
+    section: String,
+    name: String,
+    comps: usize,
+    values: Vec<f64>,
+}
+
+/// The value of attribute `key` in the tag text `tag` (`key="value"`).
+fn attr<'a>(tag: &'a str, key: &str) -> Option<&'a str> {
+    let pat = format!(" {key}=\"");
+    let i = tag.find(&pat)? + pat.len();
+    let rest = &tag[i..];
+    rest.find('"').map(|j| &rest[..j])
+}
+
+/// A parsed `.vtp`: its piece's counts and its arrays.
+struct PolyData {
+    points: usize,
+    lines: usize,
+    arrays: Vec<Array>,
+}
+
+impl PolyData {
+    fn get(&self, section: &str, name: &str) -> Option<&Array> {
+        self.arrays
+            .iter()
+            .find(|a| a.section == section && a.name == name)
+    }
+}
+
+/// Parses the ASCII PolyData in `text` (from `file`, for messages).
+fn parse_polydata(text: &str, file: &str) -> Result<PolyData, String> {
+    let head = text
+        .find("<VTKFile")
+        .map(|i| &text[i..i + text[i..].find('>').unwrap_or(text.len() - i)])
+        .ok_or_else(|| format!("{file}: not a VTK XML file (no <VTKFile> element)"))?;
+    match attr(head, "type") {
+        Some("PolyData") => {}
+        Some(other) => {
+            return Err(format!(
+                "{file}: VTK type {other:?}; dem render reads the PolyData snapshots (snap-*.vtp) \
+                 dem run writes"
+            ))
+        }
+        None => return Err(format!("{file}: <VTKFile> has no type attribute")),
+    }
+    if text.contains("<AppendedData") {
+        return Err(format!(
+            "{file}: appended (binary) VTK data; dem render reads only the ASCII snapshots dem \
+             run writes"
+        ));
+    }
+    if !text.contains("</VTKFile>") {
+        return Err(format!("{file}: truncated (no closing </VTKFile>)"));
+    }
+    let piece = text
+        .find("<Piece")
+        .map(|i| &text[i..i + text[i..].find('>').unwrap_or(0)])
+        .ok_or_else(|| format!("{file}: no <Piece> element"))?;
+    let count = |key: &str| -> Result<usize, String> {
+        match attr(piece, key) {
+            None => Ok(0),
+            Some(v) => v
+                .trim()
+                .parse()
+                .map_err(|e| format!("{file}: <Piece> {key}={v:?}: {e}")),
+        }
+    };
+    let points = count("NumberOfPoints")?;
+    let lines = count("NumberOfLines")?;
+    for key in ["NumberOfVerts", "NumberOfStrips", "NumberOfPolys"] {
+        if count(key)? != 0 {
+            return Err(format!(
+                "{file}: <Piece> {key} is not 0; dem render reads the disc and wall snapshots \
+                 dem run writes (points and lines only)"
+            ));
+        }
+    }
+    let sections = [
+        "<PointData",
+        "<CellData",
+        "<Points",
+        "<Lines",
+        "<Verts",
+        "<Polys",
+        "<Strips",
+    ];
+    let mut arrays = Vec::new();
+    let mut pos = 0;
+    while let Some(i) = text[pos..].find("<DataArray") {
+        let start = pos + i;
+        let section = sections
+            .iter()
+            .filter_map(|s| text[..start].rfind(s).map(|k| (k, &s[1..])))
+            .max_by_key(|(k, _)| *k)
+            .map(|(_, s)| s.to_string())
+            .unwrap_or_default();
+        let tag_end = text[start..]
+            .find('>')
+            .map(|k| start + k)
+            .ok_or_else(|| format!("{file}: truncated inside a <DataArray> tag"))?;
+        let tag = &text[start..tag_end];
+        let name = attr(tag, "Name").unwrap_or("").to_string();
+        let what = format!("{file}: array {name:?} ({section})");
+        match attr(tag, "format") {
+            Some("ascii") => {}
+            Some(f) => {
+                return Err(format!(
+                    "{what}: format {f:?}; dem render reads only ASCII VTK (the format dem run \
+                     writes)"
+                ))
+            }
+            None => return Err(format!("{what}: no format attribute")),
+        }
+        let comps = match attr(tag, "NumberOfComponents") {
+            None => 1,
+            Some(c) => c
+                .parse::<usize>()
+                .ok()
+                .filter(|&c| c >= 1)
+                .ok_or_else(|| format!("{what}: NumberOfComponents={c:?}"))?,
+        };
+        let body_end = text[tag_end..]
+            .find("</DataArray>")
+            .map(|k| tag_end + k)
+            .ok_or_else(|| format!("{what}: truncated (no closing </DataArray>)"))?;
+        let values = text[tag_end + 1..body_end]
+            .split_ascii_whitespace()
+            .enumerate()
+            .map(|(k, t)| {
+                t.parse::<f64>()
+                    .map_err(|_| format!("{what}: value {k} is {t:?}, not a number"))
+            })
+            .collect::<Result<Vec<f64>, String>>()?;
+        if values.len() % comps != 0 {
+            return Err(format!(
+                "{what}: {} values are not whole tuples of {comps}",
+                values.len()
+            ));
+        }
+        arrays.push(Array {
+            section,
+            name,
+            comps,
+            values,
+        });
+        pos = body_end;
+    }
+    Ok(PolyData {
+        points,
+        lines,
+        arrays,
+    })
+}
+
+/// An array of `section` with `n` tuples of `comps` (the count checked), or `None` if absent.
+fn sized<'a>(
+    pd: &'a PolyData,
+    file: &str,
+    section: &str,
+    name: &str,
+    comps: usize,
+    n: usize,
+) -> Result<Option<&'a [f64]>, String> {
+    let Some(a) = pd.get(section, name) else {
+        return Ok(None);
+    };
+    if a.comps != comps || a.values.len() != n * comps {
+        return Err(format!(
+            "{file}: array {name:?} ({section}) has {} values in tuples of {}; expected {n} \
+             tuples of {comps}",
+            a.values.len(),
+            a.comps
+        ));
+    }
+    Ok(Some(&a.values))
+}
+
+/// Line cells as index lists (connectivity split at the offsets), checked against `points`.
+fn line_cells(pd: &PolyData, file: &str) -> Result<Vec<Vec<usize>>, String> {
+    if pd.lines == 0 {
+        return Ok(Vec::new());
+    }
+    let missing = |n: &str| format!("{file}: {} lines but no {n:?} array in <Lines>", pd.lines);
+    let conn = pd
+        .get("Lines", "connectivity")
+        .ok_or_else(|| missing("connectivity"))?;
+    let offs = pd
+        .get("Lines", "offsets")
+        .ok_or_else(|| missing("offsets"))?;
+    if offs.values.len() != pd.lines {
+        return Err(format!(
+            "{file}: {} line offsets for {} lines",
+            offs.values.len(),
+            pd.lines
+        ));
+    }
+    let mut cells = Vec::with_capacity(pd.lines);
+    let mut from = 0usize;
+    for (k, &end) in offs.values.iter().enumerate() {
+        let end = end as usize;
+        if end < from || end > conn.values.len() {
+            return Err(format!(
+                "{file}: line {k}: offset {end} is outside the connectivity (0..={})",
+                conn.values.len()
+            ));
+        }
+        let cell: Vec<usize> = conn.values[from..end].iter().map(|&v| v as usize).collect();
+        if let Some(&bad) = cell.iter().find(|&&v| v >= pd.points) {
+            return Err(format!(
+                "{file}: line {k} names point {bad}; the file has {} points",
+                pd.points
+            ));
+        }
+        cells.push(cell);
+        from = end;
+    }
+    Ok(cells)
+}
+
+/// The step of a `snap-000000100.vtp` name.
+fn step_of(path: &Path) -> Option<u64> {
+    let name = path.file_name()?.to_str()?;
+    name.strip_prefix("snap-")?
+        .strip_suffix(".vtp")?
+        .parse()
+        .ok()
+}
+
+/// The time of `path` as `snapshots.pvd` beside it lists it, if it does.
+fn time_beside(path: &Path) -> Option<f64> {
+    let pvd = path.parent()?.join("snapshots.pvd");
+    let name = path.file_name()?.to_str()?;
+    read_pvd(&pvd)
+        .ok()?
+        .into_iter()
+        .find(|(_, f)| f.file_name().and_then(|n| n.to_str()) == Some(name))
+        .map(|(t, _)| t)
+}
+
+/// Reads a disc snapshot `snap-*.vtp` (with `walls-*.vtp` beside it when present); `time`
+/// (s) from the collection, else looked up in `snapshots.pvd` beside the file.
+pub fn load_vtp(path: &Path, time: Option<f64>) -> Result<Picture, String> {
+    let file = path.display().to_string();
+    let text = std::fs::read_to_string(path).map_err(|e| format!("{file}: cannot read: {e}"))?;
+    let pd = parse_polydata(&text, &file)?;
+    let n = pd.points;
+    let pts = sized(&pd, &file, "Points", "points", 3, n)?
+        .ok_or_else(|| format!("{file}: no <Points> array (the disc centres)"))?;
+    let r = sized(&pd, &file, "PointData", "radius", 1, n)?.ok_or_else(|| {
+        format!(
+            "{file}: no point array \"radius\"; dem render reads the disc snapshots dem run \
+             writes (snap-*.vtp)"
+        )
+    })?;
+    let vel = sized(&pd, &file, "PointData", "velocity", 3, n)?;
+    let int = |name: &str| -> Result<Option<Vec<u32>>, String> {
+        Ok(sized(&pd, &file, "PointData", name, 1, n)?.map(|v| {
+            v.iter()
+                .map(|&x| if x < 0.0 { FREE } else { x as u32 })
+                .collect()
+        }))
+    };
+    let body = int("body")?.unwrap_or_else(|| vec![FREE; n]);
+    let group = int("group")?.unwrap_or_else(|| vec![0; n]);
+    let id = int("id")?.unwrap_or_else(|| (0..n as u32).collect());
+    let material = int("material")?;
+    let keys = grain_keys(&body, &group, &id);
+    let discs = (0..n)
+        .map(|k| Disc {
+            x: pts[3 * k],
+            y: pts[3 * k + 1],
+            r: r[k],
+            speed: vel.map_or(0.0, |v| v[3 * k].hypot(v[3 * k + 1])),
+            material: material.as_ref().map_or(0, |m| m[k] as u16),
+            grain: keys[k],
+        })
+        .collect();
+    let cells = line_cells(&pd, &file)?;
+    let state = sized(&pd, &file, "CellData", "bond_state", 1, cells.len())?;
+    let bgroup = sized(&pd, &file, "CellData", "bond_group", 1, cells.len())?;
+    let mut bonds = Vec::with_capacity(cells.len());
+    for (k, c) in cells.iter().enumerate() {
+        let [i, j] = c[..] else {
+            return Err(format!(
+                "{file}: line {k} has {} points; a bond joins two discs",
+                c.len()
+            ));
+        };
+        bonds.push(Bond {
+            i,
+            j,
+            group: bgroup.map_or(0, |g| g[k] as u16),
+            intact: state.is_none_or(|s| s[k] != 0.0),
+            broke_at: None,
+            width: 0.0,
+        });
+    }
+    let ngroups = bonds
+        .iter()
+        .map(|b| b.group as usize + 1)
+        .max()
+        .unwrap_or(0);
+    let mut notes = Vec::new();
+    let walls = match walls_beside(path) {
+        Some(w) if w.is_file() => load_walls(&w)?,
+        _ => Vec::new(),
+    };
+    if vel.is_none() {
+        notes.push(format!("{file}: no \"velocity\" array; speeds drawn as 0"));
+    }
+    let mut p = Picture {
+        kind: Kind::Snapshot,
+        discs,
+        bonds,
+        bond_groups: (0..ngroups).map(|g| format!("bond group {g}")).collect(),
+        materials: Vec::new(),
+        walls,
+        outline: None,
+        centroid: None,
+        clump_centroid: None,
+        caption: Vec::new(),
+        notes,
+    };
+    let time = time.or_else(|| time_beside(path));
+    let when = match (step_of(path), time) {
+        (Some(s), Some(t)) => step_time(s, t),
+        (Some(s), None) => step_time(s, f64::NAN)
+            .split("   t =")
+            .next()
+            .unwrap_or("")
+            .to_string(),
+        (None, Some(t)) => step_time(0, t)
+            .split("   ")
+            .nth(1)
+            .unwrap_or("")
+            .to_string(),
+        (None, None) => String::new(),
+    };
+    p.caption = vec![
+        format!("{}   {when}", short_name(path))
+            .trim_end()
+            .to_string(),
+        counts(&p),
+    ];
+    Ok(p)
+}
+
+/// `walls-N.vtp` beside `snap-N.vtp`.
+fn walls_beside(path: &Path) -> Option<PathBuf> {
+    let name = path.file_name()?.to_str()?;
+    let rest = name.strip_prefix("snap-")?;
+    Some(path.with_file_name(format!("walls-{rest}")))
+}
+
+/// The walls of a `walls-*.vtp` (one polyline per line cell; the file does not keep names).
+fn load_walls(path: &Path) -> Result<Vec<WallLine>, String> {
+    let file = path.display().to_string();
+    let text = std::fs::read_to_string(path).map_err(|e| format!("{file}: cannot read: {e}"))?;
+    let pd = parse_polydata(&text, &file)?;
+    let pts = sized(&pd, &file, "Points", "points", 3, pd.points)?
+        .ok_or_else(|| format!("{file}: no <Points> array (the wall vertices)"))?;
+    Ok(line_cells(&pd, &file)?
+        .into_iter()
+        .enumerate()
+        .filter(|(_, c)| c.len() >= 2)
+        .map(|(k, c)| WallLine {
+            name: format!("wall {k}"),
+            points: c.iter().map(|&v| [pts[3 * v], pts[3 * v + 1]]).collect(),
+        })
+        .collect())
+}
+
+/// The disc snapshots of a `.pvd` collection in time order: (time in s, path). Wall files
+/// (part 1) are skipped: each snapshot finds its own beside it.
+pub fn read_pvd(path: &Path) -> Result<Vec<(f64, PathBuf)>, String> {
+    let file = path.display().to_string();
+    let text = std::fs::read_to_string(path).map_err(|e| format!("{file}: cannot read: {e}"))?;
+    if !text.contains("type=\"Collection\"") {
+        return Err(format!(
+            "{file}: not a VTK collection (no <VTKFile type=\"Collection\">)"
+        ));
+    }
+    if !text.contains("</VTKFile>") {
+        return Err(format!("{file}: truncated (no closing </VTKFile>)"));
+    }
+    let dir = path.parent().unwrap_or(Path::new("."));
+    let mut out = Vec::new();
+    let mut pos = 0;
+    while let Some(i) = text[pos..].find("<DataSet") {
+        let start = pos + i;
+        let end = text[start..]
+            .find('>')
+            .map(|k| start + k)
+            .ok_or_else(|| format!("{file}: truncated inside a <DataSet> tag"))?;
+        let tag = &text[start..end];
+        let f = attr(tag, "file")
+            .ok_or_else(|| format!("{file}: a <DataSet> has no file attribute"))?
+            .replace("&quot;", "\"")
+            .replace("&lt;", "<")
+            .replace("&gt;", ">")
+            .replace("&amp;", "&");
+        let t: f64 = attr(tag, "timestep")
+            .unwrap_or("0")
+            .parse()
+            .map_err(|e| format!("{file}: <DataSet file=\"{f}\"> timestep: {e}"))?;
+        pos = end;
+        let part = attr(tag, "part").unwrap_or("0");
+        let is_walls = Path::new(&f)
+            .file_name()
+            .and_then(|n| n.to_str())
+            .is_some_and(|n| n.starts_with("walls-"));
+        if part != "0" || is_walls {
+            continue;
+        }
+        out.push((t, dir.join(&f)));
+    }
+    if out.is_empty() {
+        return Err(format!("{file}: the collection lists no disc snapshot"));
+    }
+    out.sort_by(|a, b| a.0.total_cmp(&b.0));
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn attributes_and_arrays_are_read_and_binary_refused() {
+        let t = "<VTKFile type=\"PolyData\">\n<PolyData><Piece NumberOfPoints=\"2\" NumberOfLines=\"0\">\n\
+                 <PointData><DataArray type=\"Float64\" Name=\"radius\" format=\"ascii\">\n0.5 0.25\n</DataArray></PointData>\n\
+                 <Points><DataArray type=\"Float64\" Name=\"points\" NumberOfComponents=\"3\" format=\"ascii\">\n0 0 0 1 2 0\n</DataArray></Points>\n\
+                 </Piece></PolyData></VTKFile>\n";
+        let pd = parse_polydata(t, "f.vtp").unwrap();
+        assert_eq!(pd.points, 2);
+        assert_eq!(pd.get("PointData", "radius").unwrap().values, [0.5, 0.25]);
+        assert_eq!(pd.get("Points", "points").unwrap().comps, 3);
+        let b = t.replace("format=\"ascii\"", "format=\"binary\"");
+        let e = parse_polydata(&b, "f.vtp").err().unwrap();
+        assert!(e.contains("f.vtp") && e.contains("binary"), "{e}");
+        let e = parse_polydata(&t[..t.len() / 2], "f.vtp").err().unwrap();
+        assert!(e.contains("truncated"), "{e}");
+    }
+}
