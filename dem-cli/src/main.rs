@@ -38,8 +38,9 @@ enum Command {
     /// Calibrate micro-parameters against a material's measured properties (UCS, bending and
     /// Brazilian tests): writes model.json (for `dem test --model`) and the calibration table.
     Calibrate(calibrate::CalibrateArgs),
-    /// Draw a checkpoint, last-good-state.json, specimen file or clump template as a PNG
-    /// picture (discs coloured by grain, bond group, speed or material; bonds, walls, tool).
+    /// Draw a checkpoint, last-good-state.json, specimen file, clump template or VTK snapshot
+    /// as a PNG picture (discs coloured by grain, bond group, speed or material; bonds, walls,
+    /// tool), or a snapshots.pvd series as an animated GIF (or MP4 through ffmpeg).
     Render(render::RenderArgs),
     /// Speed benchmarks; the last line printed is the figure.
     #[command(subcommand)]
