@@ -1,7 +1,7 @@
 //! `dem`: the command line of the workspace. Argument parsing, progress and messages only; the
 //! work is done by the libraries.
 
-use clap::{Parser, Subcommand};
+use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 use std::process::ExitCode;
 
 mod bench;
@@ -54,9 +54,30 @@ enum Command {
     Schema(schema::SchemaArgs),
 }
 
+/// Every option that takes one value takes it even when it starts with `-`, so `--width -5mm`
+/// reaches the length parser and is refused there by name ("--width -5mm: must be positive")
+/// instead of clap's "unexpected argument '-5' found". Applied to every subcommand, and by
+/// `dem sweep plan` to the test commands it checks cases against.
+pub(crate) fn negative_values(cmd: clap::Command) -> clap::Command {
+    cmd.mut_args(|a| {
+        let one = a
+            .get_num_args()
+            .is_none_or(|r| r.min_values() == 1 && r.max_values() == 1);
+        if !a.is_positional() && a.get_action().takes_values() && one {
+            a.allow_hyphen_values(true)
+        } else {
+            a
+        }
+    })
+    .mut_subcommands(negative_values)
+}
+
 fn main() -> ExitCode {
     default_sigpipe();
-    let cli = Cli::parse();
+    let cli = match Cli::from_arg_matches(&negative_values(Cli::command()).get_matches()) {
+        Ok(cli) => cli,
+        Err(e) => e.exit(),
+    };
     let result = match cli.command {
         Command::Clump(a) => clump::run(a),
         Command::Run(a) => run::run(a),

@@ -154,3 +154,19 @@ fn bad_arguments_name_the_flag_or_field() {
     assert_eq!(o.status.code(), Some(2));
     assert!(text(&o).contains("--method"), "{}", text(&o));
 }
+
+#[test]
+fn a_lab_test_of_too_many_steps_is_refused_before_it_runs() {
+    // Issue 20, bounded work: a platen speed of 1 nm/s asks for ~3e13 steps; before, the test
+    // started stepping silently (as `dem run` did before it refused above 1e9 steps).
+    let dir = tmp("too-many-steps");
+    let o = ucs(dir.to_str().unwrap(), &["--speed", "1e-9m/s"]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    let t = text(&o);
+    assert!(
+        t.contains("ucs.json") && t.contains("steps of dt") && t.contains("1000000000"),
+        "{t}"
+    );
+    assert!(!dir.join("ucs.result.json").exists());
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -177,6 +177,13 @@ pub fn parse(text: &str, file: &str) -> Result<Checkpoint, CheckpointError> {
             reason: format!("schema is {:?}, expected {SCHEMA:?}", c.schema),
         });
     }
+    let mut c = c;
+    c.world
+        .check_restored()
+        .map_err(|e| CheckpointError::Format {
+            file: file.to_string(),
+            reason: format!("its world is not consistent: {e}"),
+        })?;
     Ok(c)
 }
 

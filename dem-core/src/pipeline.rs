@@ -121,6 +121,130 @@ impl World {
         Ok(w)
     }
 
+    /// Makes a world read back from a checkpoint safe to step: deserialisation takes any
+    /// values the file holds, and a checkpoint without a checksum (older files, or one edited
+    /// by hand) may hold arrays of different lengths, indices out of range or non-finite
+    /// values, which the step would meet as an out-of-range index or a failed assertion
+    /// ("neighbour list out of date": found by fuzzing the checkpoint reader, issue 20). Checks
+    /// what [`World::try_new`] checks, then the saved derived data: the neighbour list and its
+    /// contact history, the disc caches, wall pairs, time steps, loads and bonds; rebuilds the
+    /// id index (a function of the ids). A consistent checkpoint is unchanged, so a restart
+    /// stays bit-identical.
+    pub fn check_restored(&mut self) -> Result<(), WorldError> {
+        validate(&self.state, &self.params, &self.laws)?;
+        self.rebuild_index();
+        let bad = |what: String| Err(WorldError::Restored(what));
+        let n = self.state.discs.len();
+        let c = &self.cache;
+        // (The viscous coefficients are empty without viscous damping.)
+        let visc = if c.visc_t.is_empty() && c.visc_r.is_empty() {
+            0
+        } else {
+            n
+        };
+        for (name, len, want) in [
+            ("minv_contact", c.minv_contact.len(), n),
+            ("inv_m", c.inv_m.len(), n),
+            ("inv_i", c.inv_i.len(), n),
+            ("visc_t", c.visc_t.len(), visc),
+            ("visc_r", c.visc_r.len(), visc),
+            ("k_trans", c.k_trans.len(), n),
+            ("k_rot", c.k_rot.len(), n),
+        ] {
+            if len != want {
+                return bad(format!("disc cache {name} has {len} entries for {n} discs"));
+            }
+        }
+        let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
+        if ![
+            &c.minv_contact,
+            &c.inv_m,
+            &c.inv_i,
+            &c.visc_t,
+            &c.visc_r,
+            &c.k_trans,
+            &c.k_rot,
+        ]
+        .iter()
+        .all(|v| finite(v))
+        {
+            return bad("the disc cache holds a non-finite value".into());
+        }
+        let nb = &self.nb;
+        let np = nb.nbr.len();
+        let offsets_ok = |start: &[u32]| {
+            start.len() == n + 1
+                && start.first() == Some(&0)
+                && start.windows(2).all(|w| w[0] <= w[1])
+                && start[n] as usize == np
+        };
+        if !offsets_ok(&nb.start) || !offsets_ok(&nb.rstart) {
+            return bad(format!(
+                "neighbour list offsets do not fit {n} discs and {np} pairs"
+            ));
+        }
+        if nb.us.len() != np
+            || nb.mr.len() != np
+            || !(nb.g0.is_empty() || nb.g0.len() == np)
+            || nb.rpair.len() != np
+            || nb.x0.len() != n
+            || nb.y0.len() != n
+        {
+            return bad("neighbour list arrays have different lengths".into());
+        }
+        if nb.nbr.iter().any(|&j| j as usize >= n) || nb.rpair.iter().any(|&p| p as usize >= np) {
+            return bad("neighbour list index out of range".into());
+        }
+        let lists_finite = [&nb.us, &nb.mr, &nb.g0, &nb.x0, &nb.y0]
+            .iter()
+            .all(|v| finite(v));
+        if !lists_finite || !nb.skin.is_finite() || nb.skin < 0.0 {
+            return bad("neighbour list holds a non-finite value".into());
+        }
+        let nw = self.state.walls.len();
+        let w = &nb.walls;
+        // (`wall0` of another length only forces a rebuild: `Neighbors::max_wall_disp`.)
+        if w.disc.len() != w.wall.len()
+            || w.us.len() != w.wall.len()
+            || w.mr.len() != w.wall.len()
+            || w.wall.iter().any(|&k| k as usize >= nw)
+            || w.disc.iter().any(|&i| i as usize >= n)
+            || !finite(&w.us)
+            || !finite(&w.mr)
+            || !nb.wall0.iter().flatten().all(|x| x.is_finite())
+            || !nb.wall0_via.iter().flatten().all(|x| x.is_finite())
+        {
+            return bad(format!("wall contacts do not fit {nw} walls and {n} discs"));
+        }
+        for (name, dt) in [("dt", self.dt), ("dt_prev", self.dt_prev)] {
+            if !(dt > 0.0 && dt.is_finite()) {
+                return bad(format!("{name} = {dt} must be positive"));
+            }
+        }
+        if self.dt_crit.is_nan() || self.dt_crit < 0.0 {
+            return bad(format!("dt_crit = {} must be ≥ 0", self.dt_crit));
+        }
+        if self.offsets.values().any(|g| !g.is_finite()) {
+            return bad("a reference gap is not finite".into());
+        }
+        for l in &self.loads {
+            if self.index_of_id(l.id).is_none() {
+                return bad(format!(
+                    "external load on disc id {}, which does not exist",
+                    l.id
+                ));
+            }
+            if !(l.force.iter().all(|f| f.is_finite()) && l.torque.is_finite()) {
+                return bad(format!("external load on disc id {} is not finite", l.id));
+            }
+        }
+        if let Some(b) = &self.bonds {
+            b.check_restored(n)
+                .map_err(|e| WorldError::Restored(e.to_string()))?;
+        }
+        Ok(())
+    }
+
     /// Advance one time step (see the design doc for the stage order).
     pub fn step(&mut self) {
         self.step_inner(false);

@@ -19,6 +19,8 @@ pub enum WorldError {
     Params(String),
     #[error("cannot set the time step: {0}")]
     TimeStep(String),
+    #[error("{0}")]
+    Restored(String),
 }
 
 pub(crate) fn validate(st: &State, p: &Params, laws: &ContactLaws) -> Result<(), WorldError> {

@@ -138,6 +138,49 @@ fn restart_continues_bit_identically() {
 }
 
 #[test]
+fn a_checkpoint_whose_world_does_not_fit_is_refused_by_name() {
+    // Issue 20, found by fuzzing the checkpoint reader: a checkpoint without its checksum
+    // field (older files are read so) whose world had a neighbour index out of range passed
+    // the reader and stopped the next step on an assertion ("neighbour list out of date").
+    let p = examples().join("clumps-settling.json");
+    let out = tmp("inconsistent");
+    run(&p, &out, 40, None);
+    let text = std::fs::read_to_string(out.join("ckpt-final.json")).unwrap();
+    let mut good: serde_json::Value = serde_json::from_str(&text).unwrap();
+    good.as_object_mut().unwrap().remove("checksum");
+    // Unchanged but for the checksum: read, and it steps.
+    let mut c = dem_core::checkpoint::parse(&good.to_string(), "c.json").unwrap();
+    c.world.step();
+    type Edit = fn(&mut serde_json::Value);
+    let edits: [(&str, Edit); 7] = [
+        ("neighbour index", |w| w["nb"]["nbr"][0] = 1_000_000.into()),
+        ("neighbour offsets", |w| {
+            w["nb"]["start"].as_array_mut().unwrap().pop();
+        }),
+        ("disc cache", |w| {
+            w["cache"]["inv_m"].as_array_mut().unwrap().pop();
+        }),
+        ("bond disc", |w| w["bonds"]["i"][0] = 99_999.into()),
+        ("bond group", |w| w["bonds"]["group"][0] = 7.into()),
+        ("time step", |w| w["dt"] = (-1.0).into()),
+        ("disc radius", |w| w["state"]["discs"]["r"][0] = 0.0.into()),
+    ];
+    for (what, edit) in edits {
+        let mut v = good.clone();
+        edit(&mut v["world"]);
+        let e = dem_core::checkpoint::parse(&v.to_string(), "c.json")
+            .err()
+            .unwrap_or_else(|| panic!("{what}: must be refused"))
+            .to_string();
+        assert!(
+            e.starts_with("c.json") && e.contains("not consistent"),
+            "{what}: {e}"
+        );
+    }
+    std::fs::remove_dir_all(&out).unwrap();
+}
+
+#[test]
 fn restart_refuses_another_scene() {
     let p = examples().join("two-disc-impact.json");
     let out = tmp("refuse");

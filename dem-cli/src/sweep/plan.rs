@@ -51,7 +51,9 @@ struct FlagInfo {
 /// The `dem test <kind>` flags (long name → info).
 fn test_flags(kind: &str) -> Result<(clap::Command, BTreeMap<String, FlagInfo>), String> {
     use clap::Subcommand;
-    let test = crate::test::TestKind::augment_subcommands(clap::Command::new("test"));
+    let test = crate::negative_values(crate::test::TestKind::augment_subcommands(
+        clap::Command::new("test"),
+    ));
     let sub = test
         .find_subcommand(kind)
         .cloned()

@@ -100,6 +100,8 @@ pub enum BondError {
     DuplicateGroup(String),
     #[error("too many bond groups ({0}; at most 65535)")]
     TooManyGroups(usize),
+    #[error("bonds read back from a checkpoint: {0}")]
+    Restored(String),
     #[error("bond group index {0} does not exist")]
     UnknownGroup(usize),
     #[error("bond group `{0}` does not exist")]

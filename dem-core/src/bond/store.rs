@@ -579,6 +579,82 @@ impl Bonds {
         self.released
     }
 
+    /// Checks a store read back from a checkpoint against `n_discs` discs: the groups as
+    /// [`Bonds::new`] checks them, arrays of one length, disc indices in range and distinct,
+    /// group indices that exist, known status codes, finite forces and positive radii and
+    /// thickness. A hand-edited or corrupted checkpoint without a checksum gets this message
+    /// instead of an out-of-range index inside the bond kernel (found by fuzzing, issue 20).
+    pub fn check_restored(&self, n_discs: usize) -> Result<(), BondError> {
+        let bad = |what: String| Err(BondError::Restored(what));
+        let mut names = HashSet::new();
+        for g in &self.groups {
+            g.validate()?;
+            if !names.insert(g.name.as_str()) {
+                return Err(BondError::DuplicateGroup(g.name.clone()));
+            }
+        }
+        let n = self.id.len();
+        let lens = [
+            self.i.len(),
+            self.j.len(),
+            self.group.len(),
+            self.g0.len(),
+            self.rbar.len(),
+            self.fn_.len(),
+            self.fs.len(),
+            self.m.len(),
+            self.status.len(),
+        ];
+        if lens.iter().any(|&l| l != n) {
+            return bad(format!(
+                "bond arrays have different lengths ({n} ids, {lens:?})"
+            ));
+        }
+        if self.broken.len() != self.groups.len() {
+            return bad(format!(
+                "{} broken counts for {} groups",
+                self.broken.len(),
+                self.groups.len()
+            ));
+        }
+        if !(self.thickness > 0.0 && self.thickness.is_finite()) {
+            return bad(format!("thickness {} must be positive", self.thickness));
+        }
+        if !self.released.is_finite() {
+            return bad("released energy is not finite".into());
+        }
+        for b in 0..n {
+            let (i, j) = (self.i[b] as usize, self.j[b] as usize);
+            let id = self.id[b];
+            if i >= n_discs || j >= n_discs || i == j {
+                return bad(format!("bond {id} joins discs {i} and {j} of {n_discs}"));
+            }
+            if self.group[b] as usize >= self.groups.len() {
+                return bad(format!("bond {id}: group {} does not exist", self.group[b]));
+            }
+            if self.status[b] >= NEW {
+                return bad(format!("bond {id}: status code {}", self.status[b]));
+            }
+            if !(self.rbar[b] > 0.0 && self.rbar[b].is_finite()) {
+                return bad(format!(
+                    "bond {id}: radius {} must be positive",
+                    self.rbar[b]
+                ));
+            }
+            let v = [self.g0[b], self.fn_[b], self.fs[b], self.m[b]];
+            if v.iter().any(|x| !x.is_finite()) {
+                return bad(format!("bond {id}: non-finite gap, force or moment"));
+            }
+            if id >= self.next_id {
+                return bad(format!(
+                    "bond id {id} is not below next_id {}",
+                    self.next_id
+                ));
+            }
+        }
+        Ok(())
+    }
+
     /// Follow a reordering of the discs (`new_index_of_old[old] = new`), then sort the bonds by
     /// their smaller disc index so the kernel walks the discs in memory order.
     pub fn remap(&mut self, new_index_of_old: &[u32]) {

@@ -64,4 +64,11 @@ pub enum LabError {
     Param { field: String, reason: String },
     #[error("{dir}: stopped at step {step} before the end (max_steps); run it again to continue from its last checkpoint")]
     Stopped { dir: String, step: u64 },
+    #[error("{scene}: the test needs {steps} steps of dt = {dt:.3e} s, more than the {limit} a lab test runs; check the stiffness and density (dt scales with sqrt(mass/stiffness)), the loading speed and the specimen size, or run the written scene with `dem run --yes`")]
+    TooManySteps {
+        scene: String,
+        steps: u64,
+        dt: f64,
+        limit: u64,
+    },
 }
