@@ -19,6 +19,8 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 /// The lab tests.
+// Parsed once per process: the size of the largest variant is of no account.
+#[allow(clippy::large_enum_variant)]
 #[derive(Subcommand)]
 pub enum TestKind {
     /// Uniaxial compression between two platens: E, ν (10–50 % pre-peak band) and UCS.

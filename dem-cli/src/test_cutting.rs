@@ -10,8 +10,9 @@ use clap::Args;
 use dem_core::lab::cutting::{self, CuttingResult, CuttingTest};
 use dem_core::lab::tool::ToolModel;
 use dem_core::lab::LabModel;
-use dem_core::specimen::io;
+use dem_core::specimen::{io, GrainMode, Method, SpecimenParams};
 use indicatif::{ProgressBar, ProgressStyle};
+use serde::{Deserialize, Serialize};
 use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -46,6 +47,26 @@ pub struct CuttingArgs {
     /// Generation: smallest template disc radius with unit (improved).
     #[arg(long)]
     pub template_r_min: Option<String>,
+    /// Generation: which grains are irregular (orc, improved; as `dem specimen`): `all` (every
+    /// cell of a Voronoi tessellation of --grain-size) or `few` (S0: a few synthetic grains
+    /// in the traditional packing, as many as give S0's disc ratio). A traditional specimen
+    /// has no irregular grains: ignored for it.
+    #[arg(long, default_value = "all")]
+    pub irregular: String,
+    /// Generation, with `--irregular few`: this many irregular grains instead of S0's ratio.
+    #[arg(long)]
+    pub irregular_count: Option<usize>,
+    /// Generation, with `--irregular few`: equivalent diameter of the irregular grains with
+    /// unit (default --grain-size).
+    #[arg(long)]
+    pub irregular_size: Option<String>,
+    /// Generation: build the specimen with --model's density and micro-parameters (E = its
+    /// contact modulus, σ_t = its grain-boundary tensile strength, σ0 = 1 % of σ_t) instead of
+    /// a material's, and run with the model's r_mean set to the specimen's (r_min + r_max)/2
+    /// (bond stiffness k̄_n = Ē_c/(2r̄) follows the radii), as validation's Table 2 does.
+    /// Needs --model; --material, --density, --youngs and --tensile are refused with it.
+    #[arg(long)]
+    pub specimen_from_model: bool,
     /// Generation: material file (data/materials/*.json).
     #[arg(long)]
     pub material: Option<PathBuf>,
@@ -104,6 +125,9 @@ pub struct CuttingArgs {
     /// Safety factor of the automatic time step (default 0.3).
     #[arg(long)]
     pub dt_factor: Option<f64>,
+    /// Start of the steady window as a multiple of a_p (default 2).
+    #[arg(long)]
+    pub window_start: Option<f64>,
     /// Target number of history rows (default 4000).
     #[arg(long)]
     pub history_rows: Option<u64>,
@@ -119,8 +143,12 @@ pub struct CuttingArgs {
     /// with instead of the specimen's own micro-parameters.
     #[arg(long)]
     pub model: Option<PathBuf>,
-    /// Output folder: cutting.scene.json, the run's outputs, cutting.forces.csv,
-    /// cutting.result.json.
+    /// Resolve the specimen parameters, model and test, write them to
+    /// `<out>/cutting.inputs.json` and print them; generate and run nothing.
+    #[arg(long)]
+    pub dry_run: bool,
+    /// Output folder: cutting.inputs.json, cutting.scene.json, the run's outputs,
+    /// cutting.forces.csv, cutting.result.json.
     #[arg(long)]
     pub out: PathBuf,
     /// Worker threads, at least 1 (default: all cores); results do not depend on it.
@@ -199,6 +227,9 @@ impl CuttingArgs {
         if let Some(v) = self.local_damping {
             t.local_damping = v;
         }
+        if let Some(v) = self.window_start {
+            t.window_start = v;
+        }
         if let Some(v) = self.history_rows {
             t.history_rows = v;
         }
@@ -246,30 +277,26 @@ impl CuttingArgs {
         })
     }
 
-    /// The model: `--model`, else the specimen's own.
-    pub fn model(&self, specimen: &std::path::Path) -> Result<LabModel, String> {
-        match &self.model {
-            Some(p) => {
-                let text =
-                    std::fs::read_to_string(p).map_err(|e| format!("{}: {e}", p.display()))?;
-                serde_json::from_str(&text).map_err(|e| format!("--model {}: {e}", p.display()))
-            }
-            None => cutting::model_from_specimen(specimen).map_err(|e| e.to_string()),
-        }
+    /// The `--model` file, if given.
+    pub fn model_file(&self) -> Result<Option<LabModel>, String> {
+        let Some(p) = &self.model else {
+            return Ok(None);
+        };
+        let text =
+            std::fs::read_to_string(p).map_err(|e| format!("--model {}: {e}", p.display()))?;
+        serde_json::from_str(&text)
+            .map(Some)
+            .map_err(|e| format!("--model {}: {e}", p.display()))
     }
 
-    /// The specimen file: `--specimen`, else one generated from the specimen flags (the shared
-    /// lab-test flags, `crate::test::LabArgs`) into `<out>/specimen.json`, with its summary and
-    /// scene beside it as `dem specimen` writes them.
-    fn specimen_file(&self) -> Result<PathBuf, String> {
-        if let Some(p) = &self.specimen {
-            return Ok(p.clone());
-        }
+    /// The shared lab-test flags of the specimen to generate (density, E and σ_t from
+    /// `model` with --specimen-from-model).
+    fn lab_args(&self, model: Option<&LabModel>) -> Result<LabArgs, String> {
         let need = |v: &Option<String>, f: &str| {
             v.clone()
                 .ok_or_else(|| format!("give --specimen, or {f} (and the other specimen flags)"))
         };
-        let lab = LabArgs {
+        let mut lab = LabArgs {
             method: self.method.clone(),
             r_min: need(&self.r_min, "--r-min")?,
             r_max: need(&self.r_max, "--r-max")?,
@@ -289,12 +316,61 @@ impl CuttingArgs {
             threads: self.threads,
             dt_factor: self.dt_factor,
         };
+        if self.specimen_from_model {
+            let m = model.ok_or("--specimen-from-model needs --model")?;
+            for (given, flag) in [
+                (self.material.is_some(), "--material"),
+                (self.density.is_some(), "--density"),
+                (self.youngs.is_some(), "--youngs"),
+                (self.tensile.is_some(), "--tensile"),
+            ] {
+                if given {
+                    return Err(format!(
+                        "{flag}: --specimen-from-model takes the density and moduli from \
+                         --model; leave {flag} out"
+                    ));
+                }
+            }
+            // Shortest round-trip text: parsed back to the same f64.
+            lab.density = Some(m.density);
+            lab.youngs = Some(format!("{}Pa", m.micro.contact_modulus));
+            lab.tensile = Some(format!("{}Pa", m.micro.boundary_tensile));
+        }
+        Ok(lab)
+    }
+
+    /// The parameters of the specimen to generate (without --specimen): the specimen flags,
+    /// `--irregular` (a traditional specimen keeps the default grain mode: it has no irregular
+    /// grains) and, with --specimen-from-model, the model's micro-parameters.
+    pub fn specimen_params(&self, model: Option<&LabModel>) -> Result<SpecimenParams, String> {
+        let lab = self.lab_args(model)?;
         let w = parse_length(&self.width, "--width")?;
         let h = parse_length(&self.height, "--height")?;
-        let p = lab.specimen_params(w, h)?;
-        let name = match &self.material {
-            Some(m) => read_material(m)?.0,
-            None => dem_core::specimen::DEFAULT_MATERIAL.to_string(),
+        let mut p = lab.specimen_params(w, h)?;
+        p.grains = crate::specimen::grain_mode(
+            &p,
+            &self.irregular,
+            self.irregular_count,
+            self.irregular_size.as_deref(),
+        )?;
+        if p.method == Method::Traditional {
+            p.grains = GrainMode::All;
+        }
+        if self.specimen_from_model {
+            if let Some(m) = model {
+                p.micro = m.micro.clone();
+            }
+        }
+        p.validate().map_err(|e| e.to_string())?;
+        Ok(p)
+    }
+
+    /// Generates the specimen of `p` into `<out>/specimen.json`, with its summary and scene
+    /// beside it as `dem specimen` writes them.
+    fn generate(&self, p: &SpecimenParams) -> Result<PathBuf, String> {
+        let name = match (&self.material, self.specimen_from_model) {
+            (Some(m), false) => read_material(m)?.0,
+            _ => dem_core::specimen::DEFAULT_MATERIAL.to_string(),
         };
         std::fs::create_dir_all(&self.out).map_err(|e| format!("{}: {e}", self.out.display()))?;
         let path = self.out.join("specimen.json");
@@ -306,8 +382,12 @@ impl CuttingArgs {
             path.display()
         );
         let bar = progress_bar();
-        let s = lab.pool()?.install(|| {
-            dem_core::specimen::generate(&p, &mut |pr| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(self.threads.unwrap_or(0))
+            .build()
+            .map_err(|e| e.to_string())?;
+        let s = pool.install(|| {
+            dem_core::specimen::generate(p, &mut |pr| {
                 bar.set_prefix(pr.stage);
                 bar.set_position((pr.fraction.clamp(0.0, 1.0) * 1000.0) as u64);
             })
@@ -321,10 +401,61 @@ impl CuttingArgs {
             .map_err(|e| e.to_string())?;
         Ok(path)
     }
+
+    /// What the cut runs: the specimen (parameters, or the file), the model (`None` until a
+    /// generated specimen's own model is known: no --model) and the test.
+    pub fn inputs(&self) -> Result<Inputs, String> {
+        let test = self.test()?;
+        let mut model = self.model_file()?;
+        let specimen = match &self.specimen {
+            Some(_) if self.specimen_from_model => {
+                return Err(
+                    "--specimen-from-model builds the specimen: leave out --specimen".to_string(),
+                )
+            }
+            Some(_) => None,
+            None => Some(self.specimen_params(model.as_ref())?),
+        };
+        if let (true, Some(m), Some(p)) = (self.specimen_from_model, model.as_mut(), &specimen) {
+            m.r_mean = 0.5 * (p.r_min + p.r_max);
+        }
+        Ok(Inputs {
+            specimen,
+            specimen_file: self.specimen.as_ref().map(|p| p.display().to_string()),
+            model,
+            test,
+        })
+    }
+}
+
+/// The inputs of a cut, `<out>/cutting.inputs.json` ([`INPUTS_FILE`]): written before the
+/// specimen is generated (and again once its model is known), so a sweep's case folder says
+/// what it runs (validation matches cases to its own runs by it).
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Inputs {
+    /// The parameters of the generated specimen; `null` with --specimen.
+    pub specimen: Option<SpecimenParams>,
+    /// The --specimen file, if given.
+    pub specimen_file: Option<String>,
+    /// The material model the cut runs with; `null` until a generated specimen's own is known
+    /// (no --model).
+    pub model: Option<LabModel>,
+    pub test: CuttingTest,
+}
+
+/// File name of [`Inputs`] in the output folder.
+pub const INPUTS_FILE: &str = "cutting.inputs.json";
+
+fn write_inputs(out: &std::path::Path, i: &Inputs) -> Result<String, String> {
+    let text = serde_json::to_string_pretty(i).map_err(|e| e.to_string())? + "\n";
+    std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
+    io::write_atomic(&out.join(INPUTS_FILE), &text).map_err(|e| e.to_string())?;
+    Ok(text)
 }
 
 pub fn run(a: CuttingArgs) -> Result<ExitCode, String> {
-    let test = a.test()?;
+    let mut inputs = a.inputs()?;
+    let test = inputs.test.clone();
     if a.specimen.is_none() {
         // The specimen to be generated is --width × --height: check before generating it.
         let w = parse_length(&a.width, "--width")?;
@@ -335,14 +466,31 @@ pub fn run(a: CuttingArgs) -> Result<ExitCode, String> {
         );
         a.check_geometry(&test, [0.0, w, 0.0, h], &what)?;
     }
-    let specimen = a.specimen_file()?;
+    let text = write_inputs(&a.out, &inputs)?;
+    if a.dry_run {
+        print!("{text}");
+        return Ok(ExitCode::SUCCESS);
+    }
+    let specimen = match (&inputs.specimen, &a.specimen) {
+        (_, Some(f)) => f.clone(),
+        (Some(p), None) => a.generate(p)?,
+        (None, None) => return Err("give --specimen, or the specimen flags".into()),
+    };
     let info = cutting::SpecimenInfo::read(&specimen).map_err(|e| e.to_string())?;
     a.check_geometry(
         &test,
         info.extent,
         &format!("specimen {}", specimen.display()),
     )?;
-    let model = a.model(&specimen)?;
+    let model = match inputs.model.clone() {
+        Some(m) => m,
+        None => {
+            let m = cutting::model_from_specimen(&specimen).map_err(|e| e.to_string())?;
+            inputs.model = Some(m.clone());
+            write_inputs(&a.out, &inputs)?;
+            m
+        }
+    };
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(a.threads.unwrap_or(0))
         .build()

@@ -84,9 +84,19 @@ fn cutting_generates_cuts_and_reports() {
         "history.csv",
         "cutting.forces.csv",
         "cutting.result.json",
+        "cutting.inputs.json",
     ] {
         assert!(out.join(f).exists(), "{f}");
     }
+    // The inputs: the generated specimen's parameters, its own model (no --model), the test.
+    let i: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("cutting.inputs.json")).unwrap())
+            .unwrap();
+    assert_eq!(i["specimen"]["seed"], 2);
+    assert_eq!(i["specimen"]["r_min"].as_f64().unwrap(), 0.1e-3);
+    assert!(i["model"]["micro"]["contact_modulus"].as_f64().unwrap() > 0.0);
+    assert_eq!(i["test"]["depth"].as_f64().unwrap(), 0.4e-3);
+    assert!(i["specimen_file"].is_null());
     let r: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("cutting.result.json")).unwrap())
             .unwrap();
@@ -142,6 +152,113 @@ fn bad_arguments_are_messages() {
     ]);
     assert_eq!(o.status.code(), Some(2));
     assert!(text(&o).contains("missing.json"), "{}", text(&o));
+    // --specimen-from-model: needs --model, refuses a material and a given specimen.
+    let model = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../data/models/si3n4.model.json"
+    );
+    let gen = ["test", "cutting", "--r-min", "0.1mm", "--r-max", "0.16mm"];
+    for (extra, want) in [
+        (
+            vec!["--specimen-from-model"],
+            "--specimen-from-model needs --model",
+        ),
+        (
+            vec![
+                "--specimen-from-model",
+                "--model",
+                model,
+                "--material",
+                &material(),
+            ],
+            "--material",
+        ),
+        (
+            vec![
+                "--specimen-from-model",
+                "--model",
+                model,
+                "--specimen",
+                "s.json",
+            ],
+            "leave out --specimen",
+        ),
+        (
+            vec!["--irregular", "some", "--material", &material()],
+            "--irregular",
+        ),
+    ] {
+        let mut args: Vec<&str> = gen.to_vec();
+        args.extend(extra.iter().copied());
+        let o_dir = out.to_str().unwrap();
+        args.extend(["--out", o_dir]);
+        let o = dem(&args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", text(&o));
+        assert!(text(&o).contains(want), "{args:?}: {}", text(&o));
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `--dry-run` resolves and writes the inputs, runs nothing; `--specimen-from-model` takes
+/// the model's micro-parameters and sets its r_mean to the specimen's radii; `--irregular few`
+/// is kept for ORC and dropped for traditional; `--window-start` sets the window.
+#[test]
+fn dry_run_writes_the_inputs_and_runs_nothing() {
+    let dir = tmp("dry");
+    let model = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../data/models/si3n4.model.json"
+    );
+    let m: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(model).unwrap()).unwrap();
+    for method in ["orc", "traditional"] {
+        let out = dir.join(method);
+        let o = dem(&[
+            "test",
+            "cutting",
+            "--method",
+            method,
+            "--r-min",
+            "0.175mm",
+            "--r-max",
+            "0.285mm",
+            "--grain-size",
+            "0.86mm",
+            "--irregular",
+            "few",
+            "--model",
+            model,
+            "--specimen-from-model",
+            "--window-start",
+            "1.5",
+            "--dry-run",
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        let t = text(&o);
+        assert!(o.status.success(), "{t}");
+        let file = std::fs::read_to_string(out.join("cutting.inputs.json")).unwrap();
+        assert!(t.contains(file.trim()), "printed: {t}");
+        assert!(!out.join("specimen.json").exists() && !out.join("cutting.scene.json").exists());
+        let i: serde_json::Value = serde_json::from_str(&file).unwrap();
+        assert_eq!(i["specimen"]["micro"], m["micro"]);
+        assert_eq!(i["specimen"]["density"], m["density"]);
+        assert_eq!(
+            i["specimen"]["iso_stress"].as_f64().unwrap(),
+            0.01 * m["micro"]["boundary_tensile"].as_f64().unwrap()
+        );
+        assert_eq!(
+            i["model"]["r_mean"].as_f64().unwrap(),
+            0.5 * (0.175e-3 + 0.285e-3)
+        );
+        assert_eq!(i["test"]["window_start"].as_f64().unwrap(), 1.5);
+        // Few irregular grains for ORC; a traditional specimen has none.
+        assert_eq!(
+            i["specimen"]["grains"].get("few").is_some(),
+            method == "orc",
+            "{file}"
+        );
+    }
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -362,6 +362,18 @@ fn study_files_bad_and_good() {
     let study = validator("study");
     let dir = tmp("studies");
     let shipped = read(&root().join("examples/studies/cutting-demo.json"));
+    // The shipped study files of Table 2 and the speed study (a `sets` axis).
+    for f in [
+        "data/studies/table2.sweep.json",
+        "data/studies/speed-damping.sweep.json",
+    ] {
+        let v = read(&root().join(f));
+        assert!(
+            errors(&study, f, &v).is_empty(),
+            "{f}: {:?}",
+            errors(&study, f, &v)
+        );
+    }
     // Forms the reader takes: a range, a seed range, `null` for an absent list, zip.
     let mut good = shipped.clone();
     good["combine"] = json!("zip");

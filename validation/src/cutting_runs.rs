@@ -138,10 +138,93 @@ pub struct Finished {
     pub name: String,
     pub record: RunRecord,
     pub result_file: String,
-    /// Read from an earlier run with the same key instead of run now.
+    /// Read from an earlier run with the same key instead of run now (or from a sweep).
     pub resumed: bool,
     #[serde(skip)]
     pub result: CuttingResult,
+    /// The run's folder (`<work>/<name>`, or a sweep's `cases/<key>`).
+    #[serde(skip)]
+    pub dir: PathBuf,
+}
+
+/// Where the cutting runs come from.
+#[derive(Clone, Copy, Debug)]
+pub enum Source<'a> {
+    /// Run here into the work folder ([`run_jobs`]): those not finished are run or listed.
+    Here(Missing),
+    /// The done cases of a `dem sweep` folder ([`crate::sweep_runs`]); the others are listed
+    /// as not run.
+    Sweep(&'a Path),
+}
+
+/// The jobs' runs from `source`: [`run_jobs`] into `work`, or read from a sweep folder.
+pub fn outcome(
+    jobs: &[Job],
+    work: &Path,
+    source: Source,
+    progress: &(dyn Fn(&str) + Sync),
+) -> Result<Outcome, String> {
+    match source {
+        Source::Here(m) => Ok(run_jobs(jobs, work, m, progress)),
+        Source::Sweep(dir) => crate::sweep_runs::read(jobs, dir, progress),
+    }
+}
+
+/// The key of a run: its specimen parameters, model and test as pretty JSON (`run.key.json`).
+pub fn key_text(
+    specimen: &SpecimenParams,
+    model: &LabModel,
+    test: &CuttingTest,
+) -> Result<String, String> {
+    serde_json::to_string_pretty(&(specimen, model, test)).map_err(|e| e.to_string())
+}
+
+/// The key of a job ([`key_text`]).
+pub fn key_of(j: &Job) -> String {
+    key_text(&j.specimen, &j.model, &j.test).expect("job key serialises")
+}
+
+/// The record of a finished run of `job` in `dir` (its result `res`; `cpu`: CPU time, s).
+pub fn finished(
+    job: &Job,
+    res: CuttingResult,
+    dir: &Path,
+    cpu: Option<f64>,
+    resumed: bool,
+) -> Finished {
+    let hist = HistoryStats::read(dir, &res, job.specimen.grain_size);
+    Finished {
+        name: job.name.clone(),
+        record: RunRecord {
+            method: job.specimen.method.name().into(),
+            depth_mm: (job.test.depth * 1e9).round() / 1e6,
+            speed_m_s: job.test.speed,
+            seed: job.specimen.seed,
+            peak_n: res.main_force.peak,
+            mean_n: res.main_force.mean,
+            thickness_m: res.thickness,
+            discs: res.discs,
+            steps: res.run.steps,
+            wall_time_s: res.run.wall_time_s,
+            cpu_time_s: cpu,
+            peak_avg_n: hist.peak_avg_n,
+            max_overlap_fraction: res.run.max_overlap_fraction,
+            broken_total: Some(res.broken_total),
+            broken_intra_grain: Some(
+                res.broken_bonds
+                    .iter()
+                    .filter(|b| b.group == "intra_grain")
+                    .map(|b| b.tension + b.shear)
+                    .sum(),
+            ),
+            median_n: hist.run.map(|s| s.median),
+            top5_work_share: hist.run.and_then(|s| s.top5_work_share),
+        },
+        result_file: dir.join(cutting::RESULT_FILE).display().to_string(),
+        resumed,
+        result: res,
+        dir: dir.to_path_buf(),
+    }
 }
 
 /// Key file of a finished run.
@@ -251,9 +334,6 @@ pub fn run_jobs(
     progress: &(dyn Fn(&str) + Sync),
 ) -> Outcome {
     let errors = Mutex::new(Vec::new());
-    let key_of = |j: &Job| {
-        serde_json::to_string_pretty(&(&j.specimen, &j.model, &j.test)).expect("job key serialises")
-    };
     // Runs finished earlier with the same key need no specimen.
     let before: Vec<Option<CuttingResult>> = jobs
         .iter()
@@ -370,7 +450,6 @@ pub fn run_jobs(
         *n += 1;
         match r {
             Ok(res) => {
-                let hist = HistoryStats::read(&dir, &res, job.specimen.grain_size);
                 progress(&format!(
                     "[{}/{total}] {}: peak {:.4e} N, mean {:.4e} N, {} steps, {:.1} s{}",
                     *n,
@@ -394,37 +473,7 @@ pub fn run_jobs(
                         String::new()
                     }
                 ));
-                Some(Finished {
-                    name: job.name.clone(),
-                    record: RunRecord {
-                        method: job.specimen.method.name().into(),
-                        depth_mm: (job.test.depth * 1e9).round() / 1e6,
-                        speed_m_s: job.test.speed,
-                        seed: job.specimen.seed,
-                        peak_n: res.main_force.peak,
-                        mean_n: res.main_force.mean,
-                        thickness_m: res.thickness,
-                        discs: res.discs,
-                        steps: res.run.steps,
-                        wall_time_s: res.run.wall_time_s,
-                        cpu_time_s: cpu,
-                        peak_avg_n: hist.peak_avg_n,
-                        max_overlap_fraction: res.run.max_overlap_fraction,
-                        broken_total: Some(res.broken_total),
-                        broken_intra_grain: Some(
-                            res.broken_bonds
-                                .iter()
-                                .filter(|b| b.group == "intra_grain")
-                                .map(|b| b.tension + b.shear)
-                                .sum(),
-                        ),
-                        median_n: hist.run.map(|s| s.median),
-                        top5_work_share: hist.run.and_then(|s| s.top5_work_share),
-                    },
-                    result_file: dir.join(cutting::RESULT_FILE).display().to_string(),
-                    resumed,
-                    result: res,
-                })
+                Some(finished(job, res, &dir, cpu, resumed))
             }
             Err(e) => {
                 let record = serde_json::json!({ "error": e, "key": key });

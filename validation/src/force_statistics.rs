@@ -90,6 +90,12 @@ pub fn load_run(dir: &Path) -> Result<LoadedRun, String> {
         .file_name()
         .and_then(|n| n.to_str())
         .ok_or_else(|| format!("{}: no folder name", dir.display()))?;
+    load_run_named(dir, name)
+}
+
+/// Reads the run in `dir` as [`load_run`] does, its method, depth, speed and seed from `name`
+/// (a sweep case's folder is named by its key, not by the run).
+pub fn load_run_named(dir: &Path, name: &str) -> Result<LoadedRun, String> {
     let (method, depth_mm, speed_m_s, seed) =
         parse_name(name).ok_or_else(|| format!("{name}: not <method>-d<a_p>-v<v>-s<seed>"))?;
     let rf = dir.join(dem_core::lab::cutting::RESULT_FILE);
@@ -149,16 +155,13 @@ pub fn cell_peak(
     )
 }
 
-/// The seed-averaged peaks at [`PEAK_WIDTH_AP`] of the finished runs in `work/<name>` for
-/// each of `names`, one per cell (N at the runs' thickness); a cell whose window holds no
-/// stretch of that width (a short cut) has none. Errors: a run that cannot be read.
-pub fn seed_averaged(
-    work: &Path,
-    names: &[&str],
-) -> Result<Vec<crate::table2::SeedAveraged>, String> {
-    let runs: Vec<LoadedRun> = names
+/// The seed-averaged peaks at [`PEAK_WIDTH_AP`] of the finished runs `(folder, name)` (names
+/// as [`parse_name`] reads), one per cell (N at the runs' thickness); a cell whose window
+/// holds no stretch of that width (a short cut) has none. Errors: a run that cannot be read.
+pub fn seed_averaged(runs: &[(&Path, &str)]) -> Result<Vec<crate::table2::SeedAveraged>, String> {
+    let runs: Vec<LoadedRun> = runs
         .iter()
-        .map(|n| load_run(&work.join(n)))
+        .map(|(d, n)| load_run_named(d, n))
         .collect::<Result<_, _>>()?;
     let mut out = vec![];
     for c in cells(&runs) {

@@ -15,6 +15,7 @@ pub mod stability;
 pub mod study;
 pub mod study_findings;
 pub mod study_row;
+pub mod sweep_runs;
 pub mod table1;
 pub mod table2;
 pub mod table2_section;

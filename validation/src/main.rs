@@ -46,6 +46,11 @@ struct Args {
     /// specimens) into <out>/<study name>/ instead of the report; finished runs are read back.
     #[arg(long)]
     study: Option<PathBuf>,
+    /// Read the cutting runs of Table 2 (or of `--study`) from the done cases of this `dem
+    /// sweep` folder instead of running them (docs/sweep.md, "Table 2 on a cluster"); the runs
+    /// not done there are listed as not run. Without --only, the report is Table 2 alone.
+    #[arg(long)]
+    sweep: Option<PathBuf>,
 }
 
 fn main() -> ExitCode {
@@ -53,12 +58,16 @@ fn main() -> ExitCode {
     if let Some(f) = &a.study {
         let progress = |m: &str| eprintln!("{m}");
         let r = validation::study::StudySpec::read(f).and_then(|s| {
-            let missing = if a.finished_only {
-                validation::cutting_runs::Missing::List
-            } else {
-                validation::cutting_runs::Missing::Run
+            let source = match (&a.sweep, a.finished_only) {
+                (Some(d), _) => validation::cutting_runs::Source::Sweep(d),
+                (None, true) => {
+                    validation::cutting_runs::Source::Here(validation::cutting_runs::Missing::List)
+                }
+                (None, false) => {
+                    validation::cutting_runs::Source::Here(validation::cutting_runs::Missing::Run)
+                }
             };
-            validation::study::run(&s, &a.data, &a.out, missing, &progress).map(|r| (s, r))
+            validation::study::run(&s, &a.data, &a.out, source, &progress).map(|r| (s, r))
         });
         return match r {
             Ok((s, (rows, errors))) => {
@@ -97,7 +106,11 @@ fn main() -> ExitCode {
         covers: if a.quick { vec![0.9, 0.95] } else { a.covers },
         repeats: if a.quick { 1 } else { a.repeats },
         quick: a.quick,
-        only: a.only,
+        only: if a.sweep.is_some() && a.only.is_empty() {
+            vec!["table2".to_string()]
+        } else {
+            a.only
+        },
         table2: validation::table2_section::Subset {
             methods,
             seeds: a.seeds,
@@ -107,6 +120,7 @@ fn main() -> ExitCode {
         } else {
             validation::cutting_runs::Missing::Run
         },
+        sweep: a.sweep,
     };
     match validation::report::run(&o) {
         Ok(_) => {

@@ -63,14 +63,14 @@ pub struct RemovalCell {
     pub deepest_crack_mm: MeanSe,
 }
 
-/// The removal figures of the finished runs `work/<name>` (names as
+/// The removal figures of the finished runs `(folder, name)` (names as
 /// [`crate::force_statistics::parse_name`] reads), one per cell in the order first seen.
-pub fn cells(work: &Path, names: &[&str]) -> Result<Vec<RemovalCell>, String> {
+pub fn cells(runs: &[(&Path, &str)]) -> Result<Vec<RemovalCell>, String> {
     let mut groups: Vec<((String, f64, f64), Vec<CuttingResult>)> = vec![];
-    for n in names {
+    for (dir, n) in runs {
         let (m, d, v, _) = crate::force_statistics::parse_name(n)
             .ok_or_else(|| format!("{n}: not <method>-d<a_p>-v<v>-s<seed>"))?;
-        let f = work.join(n).join(RESULT_FILE);
+        let f = dir.join(RESULT_FILE);
         let text = std::fs::read_to_string(&f).map_err(|e| format!("{}: {e}", f.display()))?;
         let r: CuttingResult =
             serde_json::from_str(&text).map_err(|e| format!("{}: {e}", f.display()))?;

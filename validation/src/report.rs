@@ -30,6 +30,8 @@ pub struct ReportOptions {
     /// Cutting runs (Table 2, convergence) not finished in `out` yet: run them, or only list
     /// them (a report of what is done so far).
     pub missing: crate::cutting_runs::Missing,
+    /// Table 2's runs from this `dem sweep` folder instead of run here.
+    pub sweep: Option<PathBuf>,
 }
 
 /// Section names, in the order they run.
@@ -133,8 +135,12 @@ fn stability_section(o: &ReportOptions, _: &mut Shared) -> Result<Section, Strin
 
 /// Table 2: the cutting runs, the table, its plots.
 fn table2_section(o: &ReportOptions, sh: &mut Shared) -> Result<Section, String> {
+    let source = match &o.sweep {
+        Some(d) => crate::cutting_runs::Source::Sweep(d),
+        None => crate::cutting_runs::Source::Here(o.missing),
+    };
     let (s, scale, reused) =
-        crate::table2_section::section(&o.data, &o.out, o.quick, &o.table2, o.missing)?;
+        crate::table2_section::section(&o.data, &o.out, o.quick, &o.table2, source)?;
     sh.force_scale = Some(scale);
     sh.reused.add(reused);
     Ok(s)

@@ -13,7 +13,7 @@
 //! tool's work (local/viscous damping, friction, bond breakage, kinetic energy left), the
 //! machined surface and residual cracks, chips, time step, steps and CPU time.
 
-use crate::cutting_runs::{run_jobs, Job, Missing};
+use crate::cutting_runs::{outcome, Job, Plan, Source};
 use dem_core::lab::analysis::moving_mean_peak;
 use dem_core::lab::cutting::{CuttingResult, CuttingTest};
 use dem_core::specimen::{Method, SpecimenParams};
@@ -95,7 +95,12 @@ impl StudySpec {
     /// The jobs: variants × methods × depths × speeds × seeds, on the full Table 2 plan's
     /// specimens and model.
     pub fn jobs(&self, data: &Path) -> Result<Vec<Job>, String> {
-        let plan = crate::table2_section::plan(data, false)?;
+        self.jobs_on(&crate::table2_section::plan(data, false)?)
+    }
+
+    /// The jobs on `plan`'s specimen and model (its methods, depths, speeds, seeds and test
+    /// are not used: the study gives its own).
+    pub fn jobs_on(&self, plan: &Plan) -> Result<Vec<Job>, String> {
         let mut jobs = vec![];
         for v in &self.variants {
             for m in &self.methods {
@@ -220,16 +225,29 @@ pub fn row(variant: &str, job: &Job, res: &CuttingResult, dir: &Path, cpu: Optio
     }
 }
 
-/// Runs a study into `out/<name>/` and writes `study.json` (rows) and `study.md` (per variant,
-/// method, depth and speed: seed means and standard errors). Returns the rows and the errors.
+/// Runs a study into `out/<name>/` (or reads its runs from a sweep folder: `source`) and
+/// writes `study.json` (rows) and `study.md` (per variant, method, depth and speed: seed means
+/// and standard errors). Returns the rows and the errors.
 pub fn run(
     spec: &StudySpec,
     data: &Path,
     out: &Path,
-    missing: Missing,
+    source: Source,
     progress: &(dyn Fn(&str) + Sync),
 ) -> Result<(Vec<Row>, Vec<String>), String> {
-    let jobs = spec.jobs(data)?;
+    let plan = crate::table2_section::plan(data, false)?;
+    run_on(spec, &plan, out, source, progress)
+}
+
+/// [`run`] on `plan`'s specimen and model ([`StudySpec::jobs_on`]).
+pub fn run_on(
+    spec: &StudySpec,
+    plan: &Plan,
+    out: &Path,
+    source: Source,
+    progress: &(dyn Fn(&str) + Sync),
+) -> Result<(Vec<Row>, Vec<String>), String> {
+    let jobs = spec.jobs_on(plan)?;
     let dir = out.join(&spec.name);
     let work = dir.join("runs");
     progress(&format!(
@@ -238,7 +256,7 @@ pub fn run(
         jobs.len(),
         work.display()
     ));
-    let o = run_jobs(&jobs, &work, missing, progress);
+    let o = outcome(&jobs, &work, source, progress)?;
     let mut rows = vec![];
     for fin in &o.finished {
         let Some(job) = jobs.iter().find(|j| j.name == fin.name) else {
@@ -253,18 +271,37 @@ pub fn run(
             variant,
             job,
             &fin.result,
-            &work.join(&fin.name),
+            &fin.dir,
             fin.record.cpu_time_s,
         ));
     }
     let json = serde_json::to_string_pretty(&serde_json::json!({
-        "study": spec, "rows": rows, "errors": o.errors}))
+        "study": spec, "rows": rows, "errors": o.errors, "not_run": o.missing}))
     .map_err(|e| e.to_string())?;
     crate::page::write(&dir, "study.json", &json)?;
     let mut md = markdown(spec, &rows, &o.errors);
+    if !o.missing.is_empty() {
+        let _ = writeln!(
+            md,
+            "\n**Not run yet** ({} of the study's {} runs{}): {}",
+            o.missing.len(),
+            jobs.len(),
+            match source {
+                Source::Sweep(d) => format!("; not done in the sweep `{}`", d.display()),
+                Source::Here(_) => String::new(),
+            },
+            o.missing.join(", ")
+        );
+    }
     md.push('\n');
     md.push_str(&crate::study_findings::markdown(&rows));
-    for (file, svg) in plots(spec, &rows, &work)? {
+    let dir_of = |name: &str| {
+        o.finished
+            .iter()
+            .find(|f| f.name == name)
+            .map(|f| f.dir.clone())
+    };
+    for (file, svg) in plots(spec, &rows, &dir_of)? {
         crate::page::write(&dir, &file, &svg)?;
         let _ = writeln!(md, "\n![{file}]({file})");
     }
@@ -294,7 +331,11 @@ fn smooth(x: &[f64], f: &[f64], w: f64) -> Vec<(f64, f64)> {
 /// against travel (moving mean over a_p), one line per variant (`forces-<method>-d<a_p>-v<v>.svg`);
 /// with several speeds, the seed-mean window force against speed, one line per variant and
 /// method (`speed.svg`).
-pub fn plots(spec: &StudySpec, rows: &[Row], work: &Path) -> Result<Vec<(String, String)>, String> {
+pub fn plots(
+    spec: &StudySpec,
+    rows: &[Row],
+    dir_of: &dyn Fn(&str) -> Option<std::path::PathBuf>,
+) -> Result<Vec<(String, String)>, String> {
     use crate::plot::{lines, Series};
     let mut out = vec![];
     let seed = spec.seeds[0];
@@ -307,8 +348,9 @@ pub fn plots(spec: &StudySpec, rows: &[Row], work: &Path) -> Result<Vec<(String,
                 let mut series = vec![];
                 for var in &spec.variants {
                     let run = format!("{}-{}-d{}-v{}-s{seed}", var.name, method.name(), d, v);
-                    let file = work.join(&run).join(dem_core::lab::cutting::FORCES_FILE);
-                    if let Some((x, f)) = crate::force_statistics::main_force(&file) {
+                    let file = dir_of(&run).map(|d| d.join(dem_core::lab::cutting::FORCES_FILE));
+                    if let Some((x, f)) = file.and_then(|f| crate::force_statistics::main_force(&f))
+                    {
                         let pts = smooth(&x, &f, d * 1e-3)
                             .into_iter()
                             .map(|(a, b)| (a * 1e3, b * 1e-3))

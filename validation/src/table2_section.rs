@@ -3,7 +3,7 @@
 //! ([`crate::table2`]), a bar chart ours vs paper and the force histories of the three methods
 //! at a_p = 1 mm, v = 1 m/s.
 
-use crate::cutting_runs::{run_plan, Missing, Plan, Reused};
+use crate::cutting_runs::{outcome, Plan, Reused, Source};
 use crate::page::{json, Figure, Section};
 use crate::plot::{self, Series};
 use crate::table2::{self, PaperTable2, METHODS};
@@ -114,15 +114,15 @@ pub struct Subset {
     pub seeds: Vec<u64>,
 }
 
-/// Runs the plan (or its `subset`) into `out/table2-runs` and builds the section; also returns
-/// the factor that turns N at the run thickness into kN at the fitted thickness, and the runs
-/// read back from earlier calls.
+/// Runs the plan (or its `subset`) into `out/table2-runs`, or reads its runs from a sweep
+/// folder (`source`), and builds the section; also returns the factor that turns N at the run
+/// thickness into kN at the fitted thickness, and the runs read back from earlier calls.
 pub fn section(
     data: &Path,
     out: &Path,
     quick: bool,
     subset: &Subset,
-    missing: Missing,
+    source: Source,
 ) -> Result<(Section, f64, Reused), String> {
     let mut plan = plan(data, quick)?;
     if !subset.methods.is_empty() {
@@ -136,13 +136,16 @@ pub fn section(
     }
     let paper = PaperTable2::read(&data.join("reference/ye_xu_2010_table2.json"))?;
     let work = out.join("table2-runs");
-    let outcome = run_plan(&plan, &work, missing, &|l| eprintln!("  {l}"));
+    let outcome = outcome(&plan.jobs(), &work, source, &|l| eprintln!("  {l}"))?;
     let reused = outcome.reused();
     let (runs, mut errors, not_run) = (outcome.finished, outcome.errors, outcome.missing);
     let partial = !subset.methods.is_empty() || !subset.seeds.is_empty() || !not_run.is_empty();
     let records: Vec<_> = runs.iter().map(|r| r.record.clone()).collect();
-    let names: Vec<&str> = runs.iter().map(|r| r.name.as_str()).collect();
-    let seed_avg = crate::force_statistics::seed_averaged(&work, &names).unwrap_or_else(|e| {
+    let names: Vec<(&Path, &str)> = runs
+        .iter()
+        .map(|r| (r.dir.as_path(), r.name.as_str()))
+        .collect();
+    let seed_avg = crate::force_statistics::seed_averaged(&names).unwrap_or_else(|e| {
         errors.push(format!("seed-averaged peaks: {e}"));
         vec![]
     });
@@ -154,8 +157,11 @@ pub fn section(
         .collect();
     if !quick && !check.is_empty() && check.len() < runs.len() {
         let recs: Vec<_> = check.iter().map(|r| r.record.clone()).collect();
-        let names: Vec<&str> = check.iter().map(|r| r.name.as_str()).collect();
-        match crate::force_statistics::seed_averaged(&work, &names)
+        let names: Vec<(&Path, &str)> = check
+            .iter()
+            .map(|r| (r.dir.as_path(), r.name.as_str()))
+            .collect();
+        match crate::force_statistics::seed_averaged(&names)
             .and_then(|sa| table2::assemble_with(&recs, &paper, &sa))
         {
             Ok(c) => {
@@ -211,10 +217,12 @@ pub fn section(
     )?;
     let mut series = vec![];
     for m in METHODS {
-        let f = work
-            .join(format!("{m}-d1-v1-s{}", plan.seeds[0]))
-            .join(dem_core::lab::cutting::FORCES_FILE);
-        if let Some(points) = force_series(&f, scale) {
+        let name = format!("{m}-d1-v1-s{}", plan.seeds[0]);
+        let f = runs
+            .iter()
+            .find(|r| r.name == name)
+            .map(|r| r.dir.join(dem_core::lab::cutting::FORCES_FILE));
+        if let Some(points) = f.and_then(|f| force_series(&f, scale)) {
             series.push(Series {
                 name: m.into(),
                 points,
@@ -248,9 +256,17 @@ pub fn section(
         records.len(),
         total_time
     );
+    if let Source::Sweep(d) = source {
+        md += &format!(
+            "The runs were made by `dem sweep` in `{}` (its done cases, matched to the plan's \
+             runs by the specimen, model and test they ran: docs/sweep.md, \"Table 2 on a \
+             cluster\").\n\n",
+            d.display()
+        );
+    }
     md += &t.markdown().replacen("## Table 2", "### Table 2", 1);
     // The removal mode against S0's description, and its picture.
-    let (removal, removal_checks) = match crate::removal_table::cells(&work, &names) {
+    let (removal, removal_checks) = match crate::removal_table::cells(&names) {
         Ok(c) => {
             let k = crate::removal_table::checks(&c);
             (c, k)
@@ -291,9 +307,18 @@ pub fn section(
     md += &crate::table2_why::per_cell_markdown(&per_cell);
     md += &crate::table2_why::markdown(&why);
     if !not_run.is_empty() {
+        let how = match source {
+            Source::Sweep(d) => format!(
+                "not done in the sweep `{}` yet: run them there (`dem sweep run`, or submit \
+                 its `slurm.sbatch` again) and build the report again",
+                d.display()
+            ),
+            Source::Here(_) => "a later call without `--finished-only` runs them, reading \
+                                back the finished ones"
+                .to_string(),
+        };
         md += &format!(
-            "\n**Not run yet** ({} of the plan's {} runs; a later call without \
-             `--finished-only` runs them, reading back the finished ones): {}\n",
+            "\n**Not run yet** ({} of the plan's {} runs; {how}): {}\n",
             not_run.len(),
             plan.jobs().len(),
             not_run.join(", ")

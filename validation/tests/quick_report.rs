@@ -32,6 +32,7 @@ fn quick_report_writes_sane_json_for_every_section() {
         only: vec![],
         table2: Default::default(),
         missing: Default::default(),
+        sweep: None,
     };
     let md = run(&o).expect("quick report runs");
     for f in ["index.md", "index.html", "environment.json", "table1.json"] {

@@ -171,14 +171,24 @@ pub fn cases(file: &Path, p: &Parsed) -> Result<Vec<Case>, String> {
         base.push((flag.clone(), resolve(file, &field, &flag, &text, info)?));
     }
     base.sort_by(|a, b| a.0.cmp(&b.0));
-    // Axis values, resolved once each.
-    let mut axes: Vec<Vec<Resolved>> = Vec::new();
+    // Axis values, resolved once each: per axis, per value, the flags it gives.
+    let mut axes: Vec<Vec<Vec<(String, Resolved)>>> = Vec::new();
     for (i, a) in p.axes.iter().enumerate() {
-        let info = lookup(&a.flag, &format!("axes[{i}].flag"))?;
         let mut vs = Vec::new();
-        for (j, v) in a.values.iter().enumerate() {
-            let field = format!("axes[{i}].values[{j}]");
-            vs.push(resolve(file, &field, &a.flag, v, info)?);
+        for j in 0..a.values.len() {
+            let mut fs = Vec::new();
+            for (flag, v) in a.flags_of(j) {
+                let (flag_field, field) = if a.sets.is_empty() {
+                    (format!("axes[{i}].flag"), format!("axes[{i}].values[{j}]"))
+                } else {
+                    let f = format!("axes[{i}].sets[{j}].flags.{flag}");
+                    (f.clone(), f)
+                };
+                let info = lookup(&flag, &flag_field)?;
+                let r = resolve(file, &field, &flag, &v, info)?;
+                fs.push((flag, r));
+            }
+            vs.push(fs);
         }
         axes.push(vs);
     }
@@ -203,7 +213,8 @@ pub fn cases(file: &Path, p: &Parsed) -> Result<Vec<Case>, String> {
             };
         }
         let mut argv = vec!["test".to_string(), kind.to_string()];
-        let mut key_flags = serde_json::Map::new();
+        // Sorted by flag whatever the order given (and whatever map serde_json has).
+        let mut key_flags: BTreeMap<String, Value> = BTreeMap::new();
         let mut push = |flag: &str, r: &Resolved| {
             if let Some(arg) = &r.arg {
                 argv.push(format!("--{flag}"));
@@ -218,10 +229,16 @@ pub fn cases(file: &Path, p: &Parsed) -> Result<Vec<Case>, String> {
         }
         let mut case_axes = Vec::new();
         for (j, a) in p.axes.iter().enumerate() {
-            push(&a.flag, &axes[j][pick[j]]);
+            for (flag, r) in &axes[j][pick[j]] {
+                push(flag, r);
+            }
             case_axes.push((a.flag.clone(), a.values[pick[j]].clone()));
         }
-        let key_json = json!({"test": kind, "flags": Value::Object(key_flags)}).to_string();
+        let key_json = json!({
+            "test": kind,
+            "flags": Value::Object(key_flags.into_iter().collect())
+        })
+        .to_string();
         let case = Case {
             index,
             key: hex(&Sha256::digest(key_json.as_bytes())),
@@ -432,6 +449,92 @@ mod tests {
         assert!(
             e.contains("axes[0].values[0]") && e.contains("switch"),
             "{e}"
+        );
+    }
+
+    #[test]
+    fn sets_axes_give_several_flags_per_value() {
+        let c = plan(
+            r#"{"name":"s","base":{"test":"cutting","flags":{"r-min":"0.1mm","r-max":"0.2mm"}},
+                "axes":[{"name":"damping","sets":[
+                    {"name":"local","flags":{"local-damping":0.7}},
+                    {"name":"viscous","flags":{"local_damping":0,"contact-damping":0.2}},
+                    {"name":"none"}]},
+                  {"flag":"depth","values":["1mm","2mm"]}]}"#,
+        )
+        .unwrap();
+        assert_eq!(c.len(), 6);
+        assert_eq!(
+            c[2].axes,
+            vec![
+                ("damping".to_string(), "viscous".to_string()),
+                ("depth".to_string(), "1mm".to_string())
+            ]
+        );
+        let tail: Vec<&str> = c[2].argv[6..].iter().map(String::as_str).collect();
+        assert_eq!(
+            tail,
+            [
+                "--contact-damping",
+                "0.2",
+                "--local-damping",
+                "0",
+                "--depth",
+                "1mm"
+            ]
+        );
+        assert_eq!(c[4].argv[6..], ["--depth", "1mm"].map(String::from));
+        // The key is the flags': a set giving the base's flags is the same case.
+        let d = plan(
+            r#"{"name":"t","base":{"test":"cutting","flags":{"r-min":"0.1mm","r-max":"0.2mm",
+                "depth":"1mm"}},"axes":[{"name":"x","sets":[{"name":"a","flags":{
+                "contact-damping":0.2,"local-damping":0}}]}]}"#,
+        )
+        .unwrap();
+        assert_eq!(d[0].key, c[2].key);
+        let bad = |axes: &str, want: &[&str]| {
+            let e = plan(&format!(
+                r#"{{"name":"s","base":{{"test":"cutting","flags":{{"depth":"1mm"}}}},"axes":{axes}}}"#
+            ))
+            .unwrap_err();
+            for w in want {
+                assert!(e.contains(w), "{axes}: {e}");
+            }
+        };
+        bad(
+            r#"[{"name":"d","sets":[{"name":"a","flags":{"depth":"2mm"}}]}]"#,
+            &["axes[0].sets[0].flags.depth", "base.flags"],
+        );
+        bad(
+            r#"[{"flag":"speed","values":[1]},{"name":"d","sets":[{"name":"a","flags":{"speed":2}}]}]"#,
+            &["axes[1].sets[0].flags.speed", "axes[0]"],
+        );
+        bad(
+            r#"[{"name":"d","sets":[{"name":"a","flags":{"tool-friction":0.1}}]},
+                {"name":"e","sets":[{"name":"b","flags":{"tool-friction":0.2}}]}]"#,
+            &["axes[0].sets[0].flags.tool-friction", "axes[1]"],
+        );
+        bad(
+            r#"[{"flag":"d","sets":[{"name":"a"}]}]"#,
+            &["axes[0].flag", "name"],
+        );
+        bad(r#"[{"sets":[{"name":"a"}]}]"#, &["axes[0].name", "missing"]);
+        bad(r#"[{"name":"d","sets":[]}]"#, &["axes[0].sets", "empty"]);
+        bad(
+            r#"[{"name":"d","sets":[{"name":"a"},{"name":"a"}]}]"#,
+            &["axes[0].sets[1].name", "twice"],
+        );
+        bad(
+            r#"[{"name":"d","sets":[{"name":"a","flags":{"speeed":2}}]}]"#,
+            &["axes[0].sets[0].flags.speeed", "not a flag"],
+        );
+        bad(
+            r#"[{"name":"d","sets":[{"name":"a","flags":{"speed":[2]}}]}]"#,
+            &["axes[0].sets[0].flags.speed", "not a string"],
+        );
+        bad(
+            r#"[{"name":"d","values":[1]}]"#,
+            &["axes[0].name", "only a sets axis"],
         );
     }
 }

@@ -58,18 +58,27 @@ pub enum Combine {
     Zip,
 }
 
-/// One axis: a flag and its values (a list, a range, or seeds; exactly one of the three).
+/// One axis: a flag and its values (a list, a range, or seeds), or named flag sets (`sets`);
+/// exactly one of the four.
 #[derive(Debug, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 #[schemars(extend("oneOf" = [
     {"required": ["values"], "properties": {"values": {"type": "array"}}},
     {"required": ["range"], "properties": {"range": {"type": "object"}}},
-    {"required": ["seeds"], "properties": {"seeds": {"type": ["array", "object"]}}}
+    {"required": ["seeds"], "properties": {"seeds": {"type": ["array", "object"]}}},
+    {"required": ["sets", "name"], "properties": {"sets": {"type": "array"}}}
 ]))]
 pub struct Axis {
-    /// The flag (`depth`); `seed` when `seeds` is given and this is left out.
+    /// The flag (`depth`); `seed` when `seeds` is given and this is left out. Not with `sets`.
     #[serde(default)]
     pub flag: Option<String>,
+    /// A `sets` axis: its name (the column of `dem sweep collect`). Only with `sets`.
+    #[serde(default)]
+    pub name: Option<String>,
+    /// Named flag sets: each value of the axis gives several flags at once (`{"name":
+    /// "viscous", "flags": {"local-damping": 0, "contact-damping": 0.2}}`).
+    #[serde(default)]
+    pub sets: Option<Vec<FlagSet>>,
     /// The flag's values, as the command line takes them (`"0.5mm"`, `2`, `true`).
     #[serde(default)]
     #[schemars(schema_with = "values_schema")]
@@ -82,6 +91,18 @@ pub struct Axis {
     #[serde(default)]
     #[schemars(schema_with = "seeds_schema")]
     pub seeds: Option<Value>,
+}
+
+/// One value of a `sets` axis: a name and the flags it gives (as `base.flags`).
+#[derive(Debug, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct FlagSet {
+    /// The value's name in the axis column (`viscous`).
+    pub name: String,
+    /// Flag → value, as in `base.flags`; may be empty (the test's defaults).
+    #[serde(default)]
+    #[schemars(schema_with = "flag_map_schema")]
+    pub flags: std::collections::BTreeMap<String, Value>,
 }
 
 /// A range axis: `steps` values from `from` to `to` inclusive.
@@ -154,11 +175,25 @@ pub struct Output {
 /// An axis with its values as command-line strings.
 #[derive(Debug, Clone, PartialEq)]
 pub struct AxisValues {
-    /// Long flag name (`depth`, `r-min`).
+    /// Long flag name (`depth`, `r-min`); a `sets` axis: its name.
     pub flag: String,
+    /// The values; a `sets` axis: the sets' names.
     pub values: Vec<String>,
     /// The seed axis (aggregated over by `collect`).
     pub seed: bool,
+    /// A `sets` axis: per value, its flags (long name, value as text); empty otherwise.
+    pub sets: Vec<Vec<(String, String)>>,
+}
+
+impl AxisValues {
+    /// The flags value `k` gives: `[(flag, value)]`, or a set's flags.
+    pub fn flags_of(&self, k: usize) -> Vec<(String, String)> {
+        if self.sets.is_empty() {
+            vec![(self.flag.clone(), self.values[k].clone())]
+        } else {
+            self.sets[k].clone()
+        }
+    }
 }
 
 /// A study read and checked for its structure: the axes expanded to values.
@@ -209,11 +244,38 @@ pub fn parse(bytes: &[u8], path: &Path) -> Result<Parsed, String> {
         return Err(format!("{file}: field axes: more than one seeds axis"));
     }
     for (i, a) in axes.iter().enumerate() {
+        let what = if a.sets.is_empty() { "flag" } else { "name" };
         if let Some(j) = axes[..i].iter().position(|b| b.flag == a.flag) {
             return Err(format!(
-                "{file}: field axes[{i}].flag: {:?} is already axes[{j}]",
+                "{file}: field axes[{i}].{what}: {:?} is already axes[{j}]",
                 a.flag
             ));
+        }
+        // A set's flags: in no other place (base, a flag axis, another sets axis).
+        for (j, set) in a.sets.iter().enumerate() {
+            for (f, _) in set {
+                let field = format!("{file}: field axes[{i}].sets[{j}].flags.{f}");
+                if study.base.flags.keys().any(|k| canonical_flag(k) == *f) {
+                    return Err(format!(
+                        "{field}: {f:?} is also in base.flags (give it in one place)"
+                    ));
+                }
+                for (k, b) in axes.iter().enumerate() {
+                    let clash = if b.sets.is_empty() {
+                        b.flag == *f
+                    } else {
+                        k != i && b.sets.iter().any(|s| s.iter().any(|(g, _)| g == f))
+                    };
+                    if clash {
+                        return Err(format!(
+                            "{field}: {f:?} is also given by axes[{k}] (give it in one place)"
+                        ));
+                    }
+                }
+            }
+        }
+        if !a.sets.is_empty() {
+            continue;
         }
         if study.base.flags.keys().any(|k| canonical_flag(k) == a.flag) {
             return Err(format!(
@@ -279,9 +341,24 @@ pub fn scalar_text(v: &Value) -> Option<String> {
 }
 
 fn axis_values(a: &Axis, field: &str) -> Result<AxisValues, String> {
-    let given = [a.values.is_some(), a.range.is_some(), a.seeds.is_some()];
+    let given = [
+        a.values.is_some(),
+        a.range.is_some(),
+        a.seeds.is_some(),
+        a.sets.is_some(),
+    ];
     if given.iter().filter(|g| **g).count() != 1 {
-        return Err(format!("{field}: give exactly one of values, range, seeds"));
+        return Err(format!(
+            "{field}: give exactly one of values, range, seeds, sets"
+        ));
+    }
+    if let Some(sets) = &a.sets {
+        return sets_values(a, sets, field);
+    }
+    if a.name.is_some() {
+        return Err(format!(
+            "{field}.name: only a sets axis has a name (this axis is named by its flag)"
+        ));
     }
     let flag = match (&a.flag, &a.seeds) {
         (Some(f), _) => canonical_flag(f),
@@ -312,6 +389,55 @@ fn axis_values(a: &Axis, field: &str) -> Result<AxisValues, String> {
         flag,
         values,
         seed: a.seeds.is_some(),
+        sets: Vec::new(),
+    })
+}
+
+/// A `sets` axis: its name, the sets' names and their flags (canonical long names).
+fn sets_values(a: &Axis, sets: &[FlagSet], field: &str) -> Result<AxisValues, String> {
+    if a.flag.is_some() {
+        return Err(format!(
+            "{field}.flag: a sets axis gives its flags in sets[].flags; name it with name"
+        ));
+    }
+    let name = a.name.as_deref().map(str::trim).unwrap_or_default();
+    if name.is_empty() {
+        return Err(format!(
+            "{field}.name: missing or empty (a sets axis needs a name: its column)"
+        ));
+    }
+    if sets.is_empty() {
+        return Err(format!("{field}.sets: empty list"));
+    }
+    let (mut values, mut flags) = (Vec::new(), Vec::new());
+    for (j, s) in sets.iter().enumerate() {
+        let n = s.name.trim();
+        if n.is_empty() || values.iter().any(|v| v == n) {
+            return Err(format!(
+                "{field}.sets[{j}].name: {:?} is empty or given twice",
+                s.name
+            ));
+        }
+        values.push(n.to_string());
+        let mut fs = Vec::new();
+        for (f, v) in &s.flags {
+            let text = scalar_text(v).ok_or_else(|| {
+                format!("{field}.sets[{j}].flags.{f}: {v} is not a string, number or boolean")
+            })?;
+            let flag = canonical_flag(f);
+            if flag.is_empty() || fs.iter().any(|(g, _): &(String, String)| *g == flag) {
+                return Err(format!("{field}.sets[{j}].flags.{f}: empty or given twice"));
+            }
+            fs.push((flag, text));
+        }
+        fs.sort();
+        flags.push(fs);
+    }
+    Ok(AxisValues {
+        flag: name.to_string(),
+        values,
+        seed: false,
+        sets: flags,
     })
 }
 
