@@ -1,15 +1,18 @@
 //! One grain, outline to template: properties → fill → mass solve (→ repair) → template.
 
 use crate::cover::Circle;
-use crate::descriptors::shape_descriptors;
+use crate::descriptors::{shape_descriptors, ShapeDescriptors};
 use crate::fill::{FillParams, Filler, StopReason};
+use crate::lattice::{lattice_fill, MAX_LATTICE_NODES};
 use crate::massfit::{
-    fit_masses, fit_masses_plain, inertia_about_origin, residuals, MassFitError, MassTargets,
+    fit_masses, fit_masses_interior, fit_masses_plain, inertia_about_origin, residuals,
+    MassFitError, MassTargets,
 };
 use crate::outline::Outline;
-use crate::props::polygon_props;
+use crate::props::{polygon_props, PolygonProps};
 use crate::template::{
-    CoverRecord, Disc, FillRecord, MassProps, Method, Shape, Source, Template, SCHEMA,
+    CoverRecord, Disc, FillRecord, LatticeRecord, MassProps, Method, Shape, Source, Template,
+    SCHEMA, SCHEMA_LATTICE,
 };
 use serde::{Deserialize, Serialize};
 
@@ -80,6 +83,18 @@ pub struct ClumpParams {
     /// seeds 7 and 8 each have a grain whose template failed).
     #[serde(default = "rescue_default", skip_serializing_if = "is_rescue_default")]
     pub rescue: bool,
+    /// The lattice of `method: lattice` ([`crate::lattice`]); `None` for the other methods.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub lattice: Option<LatticeParams>,
+}
+
+/// Parameters of the lattice fill (`dem clump --method lattice --spacing S`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct LatticeParams {
+    /// Node spacing S: metres or a fraction of the grain's equivalent radius.
+    pub spacing: Length,
+    /// Node disc radius as a fraction of S/2, in (0, 1] (1: neighbours touch).
+    pub node_radius: f64,
 }
 
 fn rescue_default() -> bool {
@@ -105,6 +120,7 @@ impl Default for ClumpParams {
             tolerance: 1e-10,
             max_repairs: 8,
             rescue: true,
+            lattice: None,
         }
     }
 }
@@ -127,6 +143,13 @@ pub enum ClumpError {
     },
     #[error(transparent)]
     Template(#[from] crate::template::TemplateError),
+    /// The lattice cannot be built for this grain (`field`: `spacing` or `node-radius`).
+    #[error("{file}: {field}: {reason}")]
+    Lattice {
+        file: String,
+        field: &'static str,
+        reason: String,
+    },
 }
 
 impl From<crate::error::OutlineError> for ClumpError {
@@ -140,7 +163,8 @@ impl From<crate::error::OutlineError> for ClumpError {
 #[error("{name} {value}: {reason}")]
 pub struct ParamError {
     /// The parameter, named as the `dem clump` flag (`cover`, `density`, `thickness`,
-    /// `max-discs`, `raster`, `rmin`, `rmax`) or the field (`mass_floor`, `tolerance`).
+    /// `max-discs`, `raster`, `rmin`, `rmax`, `spacing`, `node-radius`) or the field
+    /// (`mass_floor`, `tolerance`).
     pub name: &'static str,
     pub value: String,
     pub reason: String,
@@ -210,6 +234,33 @@ impl ClumpParams {
             if !positive(v) {
                 return bad(name, &v, "must be positive");
             }
+        }
+        match (self.method, self.lattice) {
+            (Method::Lattice, None) => {
+                return bad(
+                    "spacing",
+                    &"(none)",
+                    "the lattice method needs a node spacing",
+                )
+            }
+            (Method::Lattice, Some(l)) => {
+                let (Length::Metres(s) | Length::OfReq(s)) = l.spacing;
+                if !positive(s) {
+                    return bad("spacing", &s, "must be positive and finite");
+                }
+                let f = l.node_radius;
+                if !(f.is_finite() && f > 0.0 && f <= 1.0) {
+                    return bad("node-radius", &f, "a fraction of S/2 in (0, 1]");
+                }
+            }
+            (_, Some(_)) => {
+                return bad(
+                    "spacing",
+                    &self.method.name(),
+                    "a spacing is for the lattice method only",
+                )
+            }
+            (_, None) => {}
         }
         // Of one kind the two radii compare for every grain; mixed, per grain.
         match (self.r_min, self.r_max) {
@@ -388,6 +439,9 @@ pub fn make_template(outline: &Outline, p: &ClumpParams) -> Result<Template, Clu
         .map(|q| [q[0] - c[0], q[1] - c[1]])
         .collect();
     let r_eq = shape.r_eq;
+    if p.method == Method::Lattice {
+        return lattice_template(outline, p, &pts, &props, &shape);
+    }
     let (r_min, r_max) = (p.r_min.resolve(r_eq), p.r_max.resolve(r_eq));
     if !(r_min > 0.0 && r_max >= r_min) {
         return Err(ClumpError::Params {
@@ -433,6 +487,8 @@ pub fn make_template(outline: &Outline, p: &ClumpParams) -> Result<Template, Clu
     let uniform = |d: &Circle| p.density * p.thickness * std::f64::consts::PI * d.r * d.r;
     let mut repairs = 0;
     let discs: Vec<Disc> = match p.method {
+        // Returned above, before the fill.
+        Method::Lattice => return lattice_template(outline, p, &pts, &props, &shape),
         Method::Orc => filler
             .discs
             .iter()
@@ -505,19 +561,8 @@ pub fn make_template(outline: &Outline, p: &ClumpParams) -> Result<Template, Clu
         schema: SCHEMA.to_string(),
         id: outline.name.clone(),
         generator: format!("clumpgen {}", env!("CARGO_PKG_VERSION")),
-        source: Source {
-            file: outline.source.clone(),
-            sha256: outline.sha256.clone(),
-            units: outline.units.name(),
-            vertices: outline.points.len(),
-            centroid_m: [outline.origin[0] + c[0], outline.origin[1] + c[1]],
-            grain: outline.grain.clone(),
-            warnings: outline.warnings.clone(),
-        },
-        units: [("length", "m"), ("mass", "kg"), ("inertia", "kg m^2")]
-            .into_iter()
-            .map(|(a, b)| (a.to_string(), b.to_string()))
-            .collect(),
+        source: source_record(outline, c),
+        units: units_record(),
         density: p.density,
         thickness: p.thickness,
         method: p.method,
@@ -542,16 +587,152 @@ pub fn make_template(outline: &Outline, p: &ClumpParams) -> Result<Template, Clu
             bound: cover_bound,
             union_area: cover * props.area,
         },
-        shape: Shape {
-            area: props.area,
-            perimeter: props.perimeter,
-            j: props.j,
-            principal_angle: props.principal_angle,
-            r_eq,
-            aspect_ratio: shape.aspect_ratio,
-            circularity: shape.circularity,
-            solidity: shape.solidity,
+        shape: shape_record(&props, &shape),
+        lattice: None,
+    })
+}
+
+fn source_record(outline: &Outline, c: [f64; 2]) -> Source {
+    Source {
+        file: outline.source.clone(),
+        sha256: outline.sha256.clone(),
+        units: outline.units.name(),
+        vertices: outline.points.len(),
+        centroid_m: [outline.origin[0] + c[0], outline.origin[1] + c[1]],
+        grain: outline.grain.clone(),
+        warnings: outline.warnings.clone(),
+    }
+}
+
+fn units_record() -> std::collections::BTreeMap<String, String> {
+    [("length", "m"), ("mass", "kg"), ("inertia", "kg m^2")]
+        .into_iter()
+        .map(|(a, b)| (a.to_string(), b.to_string()))
+        .collect()
+}
+
+fn shape_record(props: &PolygonProps, shape: &ShapeDescriptors) -> Shape {
+    Shape {
+        area: props.area,
+        perimeter: props.perimeter,
+        j: props.j,
+        principal_angle: props.principal_angle,
+        r_eq: shape.r_eq,
+        aspect_ratio: shape.aspect_ratio,
+        circularity: shape.circularity,
+        solidity: shape.solidity,
+    }
+}
+
+/// The lattice method for one grain: [`crate::lattice::lattice_fill`] places the nodes and
+/// links, then the improved method's mass solve gives every node a positive mass such that
+/// mass, centroid and inertia are the grain's, closest to the prior of one lattice cell's mass
+/// per node, `ρ·t·(√3/2)·S²` (scaled to the grain mass by the solve): its closed form without
+/// active bounds ([`fit_masses_interior`]) when every mass stays above its floor, else the
+/// active-set solve ([`fit_masses`]). No repair discs: the nodes are the lattice.
+fn lattice_template(
+    outline: &Outline,
+    p: &ClumpParams,
+    pts: &[[f64; 2]],
+    props: &PolygonProps,
+    shape: &ShapeDescriptors,
+) -> Result<Template, ClumpError> {
+    let file = outline.source.clone();
+    let lp = p.lattice.ok_or_else(|| ClumpError::Lattice {
+        file: file.clone(),
+        field: "spacing",
+        reason: "the lattice method needs a node spacing".into(),
+    })?;
+    let r_eq = shape.r_eq;
+    let s = lp.spacing.resolve(r_eq);
+    let fill = lattice_fill(pts, s, lp.node_radius).map_err(|e| ClumpError::Lattice {
+        file: file.clone(),
+        field: e.field,
+        reason: e.reason,
+    })?;
+    let r = fill.radius;
+    let n = fill.nodes.len();
+    let xyr: Vec<[f64; 3]> = fill.nodes.iter().map(|q| [q[0], q[1], r]).collect();
+    let cell = 3f64.sqrt() / 2.0 * s * s;
+    let prior = vec![p.density * p.thickness * cell; n];
+    let t = MassTargets {
+        mass: p.density * p.thickness * props.area,
+        inertia: p.density * p.thickness * props.j,
+        length: r_eq,
+    };
+    // The bounds are usually inactive on a lattice: the closed form first, the active-set
+    // solve with the bounds when a mass would fall below its floor.
+    let (m, res) = match fit_masses_interior(&xyr, &prior, &t, p.mass_floor, p.tolerance) {
+        Some(fit) => fit,
+        None => fit_masses(&xyr, &prior, &t, p.mass_floor, p.tolerance).map_err(|e| {
+            ClumpError::MassFit {
+                file: file.clone(),
+                discs: n,
+                repairs: 0,
+                source: e,
+            }
+        })?,
+    };
+    let discs: Vec<Disc> = fill
+        .nodes
+        .iter()
+        .zip(&m)
+        .map(|(q, &m)| Disc {
+            x: q[0],
+            y: q[1],
+            r,
+            m,
+        })
+        .collect();
+    let target = MassProps {
+        mass: t.mass,
+        centroid: [0.0, 0.0],
+        inertia: t.inertia,
+        inertia_own: t.inertia,
+        area: props.area,
+    };
+    // Node discs do not overlap (centres at least S apart, radii at most S/2), so their union
+    // is the sum of their areas.
+    let union = n as f64 * std::f64::consts::PI * r * r;
+    Ok(Template {
+        schema: SCHEMA_LATTICE.to_string(),
+        id: outline.name.clone(),
+        generator: format!("clumpgen {}", env!("CARGO_PKG_VERSION")),
+        source: source_record(outline, props.centroid),
+        units: units_record(),
+        density: p.density,
+        thickness: p.thickness,
+        method: Method::Lattice,
+        fill: FillRecord {
+            cover_target: 0.0,
+            r_min: r,
+            r_max: r,
+            max_discs: MAX_LATTICE_NODES,
+            raster: 0,
+            stop: StopReason::Lattice,
+            repair_discs: 0,
+            inside_tolerance: 0.0,
+            mass_floor: p.mass_floor,
+            prior: "one lattice cell per node: rho * t * (sqrt(3)/2) * S^2, scaled to the grain \
+                    mass"
+                .into(),
         },
+        achieved: mass_props(&discs),
+        discs,
+        target,
+        residuals: res,
+        cover: CoverRecord {
+            value: union / props.area,
+            bound: 16.0 * f64::EPSILON * n as f64 * union / props.area,
+            union_area: union,
+        },
+        shape: shape_record(props, shape),
+        lattice: Some(LatticeRecord {
+            spacing: s,
+            node_radius_fraction: lp.node_radius,
+            offset: fill.offset,
+            links: fill.links,
+        }),
     })
 }
 

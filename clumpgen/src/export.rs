@@ -274,6 +274,11 @@ fn provenance(t: &Template, template_name: &str, format: &str) -> Vec<String> {
             "classic ORC: disc masses rho t pi r^2 (overlaps counted twice); the clump's mass \
              properties are not the grain's"
         }
+        crate::template::Method::Lattice => {
+            "lattice (S3): nodes of a triangular lattice, masses solved so that the clump's \
+             mass, centroid and moment of inertia are the grain's; the lattice links are not \
+             exported (the clump is rigid here)"
+        }
     };
     vec![
         format!(

@@ -45,6 +45,9 @@ pub enum StopReason {
     MaxDiscs,
     /// No place is left that can hold a disc of radius `r_min`.
     NoRoom,
+    /// A lattice template: the nodes are every lattice point whose disc fits; there is no cover
+    /// target (`crate::lattice`).
+    Lattice,
 }
 
 /// The discs and the cover they reach.

@@ -16,6 +16,10 @@
 //! template::Template         versioned JSON, written atomically; Template::load reads it back
 //! ```
 //!
+//! With `method: lattice` ([`lattice`], crushable grains, S3) the fill is a triangular node
+//! lattice of spacing S instead, with its links; the mass solve is the same.
+//! [`lattice_elastic`] gives the lattice's equivalent E and ν and their inverse.
+//!
 //! [`batch::run_batch`] runs many grains in parallel (a clump library); [`export`] writes a
 //! template for PFC2D, YADE, LAMMPS or MercuryDPM beside it.
 
@@ -29,6 +33,8 @@ pub mod fill;
 pub mod geom;
 pub mod hausdorff;
 pub mod io;
+pub mod lattice;
+pub mod lattice_elastic;
 pub mod massfit;
 pub mod outline;
 pub mod props;
@@ -39,6 +45,7 @@ pub mod units;
 pub use clump::{make_template, ClumpError, ClumpParams, Length, ParamError};
 pub use descriptors::{convex_hull, shape_descriptors, ShapeDescriptors};
 pub use error::OutlineError;
+pub use lattice_elastic::{lattice_elastic, link_stiffness, Elastic, LinkStiffness};
 pub use outline::{
     find_self_intersection, parse_outline, read_outline, resample, Outline, ReadOptions, SelfHit,
 };

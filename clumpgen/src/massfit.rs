@@ -216,6 +216,62 @@ pub fn fit_masses(
     }
 }
 
+/// The same problem as [`fit_masses`] (`min Σ (m_i − m0_i)²/m0_i` subject to the four
+/// consistency equations), solved as if no bound were active: by the Lagrange conditions the
+/// solution is `m_i = m0_i·(1 + a_iᵀλ)`, `a_i = (1, x_i, y_i, r_i²/2 + x_i² + y_i²)`, with the
+/// 4×4 system `(Σ m0_i a_i a_iᵀ) λ = b − Σ m0_i a_i` (scaled units as in [`fit_masses`], two
+/// rounds of iterative refinement). When every mass is then at least `eps·m0_i` this is the
+/// optimum of the bounded problem too (its bound multipliers are zero, so the KKT conditions
+/// hold); otherwise `None` and [`fit_masses`] must solve it with the bounds. For many discs
+/// that fill a grain evenly (a lattice, `crate::lattice`) the bounds are inactive and this is
+/// `O(n)`.
+pub fn fit_masses_interior(
+    xyr: &[[f64; 3]],
+    prior: &[f64],
+    t: &MassTargets,
+    eps: f64,
+    tol: f64,
+) -> Option<(Vec<f64>, Residuals)> {
+    let n = xyr.len();
+    if n == 0 || prior.len() != n {
+        return None;
+    }
+    let l = t.length;
+    let a: Vec<Vector4<f64>> = xyr
+        .iter()
+        .map(|d| {
+            let (x, y, r) = (d[0] / l, d[1] / l, d[2] / l);
+            Vector4::new(1.0, x, y, 0.5 * r * r + x * x + y * y)
+        })
+        .collect();
+    let b = Vector4::new(1.0, 0.0, 0.0, t.inertia / (t.mass * l * l));
+    let psum: f64 = prior.iter().sum();
+    let m0: Vec<f64> = prior.iter().map(|p| p / psum).collect();
+    let mut k = Matrix4::zeros();
+    for i in 0..n {
+        k += a[i] * a[i].transpose() * m0[i];
+    }
+    let lu = k.lu();
+    let mut m = m0.clone();
+    for _ in 0..3 {
+        let mut r = b;
+        for i in 0..n {
+            r -= a[i] * m[i];
+        }
+        let y = lu.solve(&r)?;
+        for i in 0..n {
+            m[i] += m0[i] * a[i].dot(&y);
+        }
+    }
+    // (NaN masses fail too.)
+    if !(0..n).all(|i| m[i].is_finite() && m[i] >= eps * m0[i]) {
+        return None;
+    }
+    let masses: Vec<f64> = m.iter().map(|mi| mi * t.mass).collect();
+    let res = residuals(xyr, &masses, t);
+    (res.max() <= tol).then_some((masses, res))
+}
+
 /// [`fit_masses`] without the careful refit: the fit of the versions before 2026-11-27, kept
 /// for templates that must not change ([`crate::ClumpParams::rescue`]).
 pub fn fit_masses_plain(
@@ -406,6 +462,46 @@ mod tests {
             length: 1.0,
         };
         assert!(fit_masses(&d, &[1.0; 3], &t, 1e-3, 1e-9).is_err());
+    }
+
+    #[test]
+    fn interior_closed_form_is_the_bounded_optimum_when_no_bound_is_active() {
+        // A hexagon of discs and one at the centre; the target inertia a little above the
+        // uniform masses' inertia, so no mass comes near its floor.
+        let mut d = vec![[0.0, 0.0, 0.5]];
+        for k in 0..6 {
+            let a = k as f64 * std::f64::consts::PI / 3.0 + 0.1;
+            d.push([a.cos(), a.sin(), 0.5]);
+        }
+        let prior = [1.0; 7];
+        let t = MassTargets {
+            mass: 7.0,
+            inertia: 7.0 * 0.85,
+            length: 1.0,
+        };
+        let (mi, ri) = fit_masses_interior(&d, &prior, &t, 1e-3, 1e-12).unwrap();
+        let (ma, _) = fit_masses(&d, &prior, &t, 1e-3, 1e-12).unwrap();
+        assert!(ri.max() < 1e-14, "{ri:?}");
+        for (a, b) in mi.iter().zip(&ma) {
+            assert!((a - b).abs() < 1e-9, "{mi:?} vs {ma:?}");
+        }
+        // Discs on a line: the 4×4 system is singular, no closed form (the caller falls back).
+        let line = [[-1.0, 0.0, 0.5], [0.0, 0.0, 0.5], [1.0, 0.0, 0.5]];
+        let t = MassTargets {
+            mass: 1.0,
+            inertia: 0.3,
+            length: 1.0,
+        };
+        assert!(fit_masses_interior(&line, &[1.0; 3], &t, 1e-3, 1e-12).is_none());
+        // A target that needs a mass below its floor (the centre disc at 0.035 of its prior,
+        // the floor at half of it): none either.
+        let t = MassTargets {
+            mass: 7.0,
+            inertia: 7.0 * 1.12,
+            length: 1.0,
+        };
+        assert!(fit_masses_interior(&d, &prior, &t, 1e-3, 1e-12).is_some());
+        assert!(fit_masses_interior(&d, &prior, &t, 0.5, 1e-12).is_none());
     }
 
     #[test]

@@ -7,8 +7,19 @@ use crate::massfit::Residuals;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
-/// Schema identifier written in every template; bump on incompatible change.
+/// Schema identifier written in every template without a lattice; bump on incompatible
+/// change.
 pub const SCHEMA: &str = "clumpgen.template/1";
+
+/// Schema identifier of a lattice template (`method: lattice`): version 1 plus the `lattice`
+/// record (spacing, node radius, links). Written only for lattice templates, so templates of the
+/// other methods stay byte for byte what they were; readers accept both.
+pub const SCHEMA_LATTICE: &str = "clumpgen.template/2";
+
+/// Whether `schema` is one this version reads ([`SCHEMA`] or [`SCHEMA_LATTICE`]).
+pub fn is_template_schema(schema: &str) -> bool {
+    schema == SCHEMA || schema == SCHEMA_LATTICE
+}
 
 /// How the disc masses were assigned.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -19,6 +30,10 @@ pub enum Method {
     Improved,
     /// Classic ORC (Ashmawy et al. 2003): uniform-density discs summed, overlaps counted twice.
     Orc,
+    /// Triangular node lattice (S3, crushable grains; `crate::lattice`): nodes as discs of one
+    /// radius, masses solved as for `Improved`; the template has a `lattice` record with the
+    /// links (schema `clumpgen.template/2`).
+    Lattice,
 }
 
 impl Method {
@@ -26,6 +41,7 @@ impl Method {
         match self {
             Method::Improved => "improved",
             Method::Orc => "orc",
+            Method::Lattice => "lattice",
         }
     }
 }
@@ -125,12 +141,31 @@ pub struct Shape {
     pub solidity: f64,
 }
 
+/// The lattice of a `lattice` template (schema `clumpgen.template/2`): the nodes are the
+/// template's `discs`, in the same order.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
+pub struct LatticeRecord {
+    /// Node spacing S (m): lattice neighbours are S apart.
+    pub spacing: f64,
+    /// Node disc radius as a fraction of S/2 (1: neighbours touch).
+    pub node_radius_fraction: f64,
+    /// Lattice offset o (m, centroid frame): nodes at o + i·(S, 0) + j·(S/2, S√3/2).
+    pub offset: [f64; 2],
+    /// Links between lattice neighbours (nodes `i < j`, indices into `discs`).
+    pub links: Vec<crate::lattice::Link>,
+}
+
 /// A clump template (see the module docs).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub struct Template {
-    /// Always `"clumpgen.template/1"`; readers reject anything else.
-    #[cfg_attr(feature = "schema", schemars(extend("const" = "clumpgen.template/1")))]
+    /// `"clumpgen.template/1"`, or `"clumpgen.template/2"` for a lattice template (version 1
+    /// plus `lattice`); readers reject anything else.
+    #[cfg_attr(
+        feature = "schema",
+        schemars(extend("enum" = ["clumpgen.template/1", "clumpgen.template/2"]))
+    )]
     pub schema: String,
     pub id: String,
     pub generator: String,
@@ -149,6 +184,9 @@ pub struct Template {
     pub residuals: Residuals,
     pub cover: CoverRecord,
     pub shape: Shape,
+    /// Lattice templates only (schema `clumpgen.template/2`): spacing and links.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub lattice: Option<LatticeRecord>,
 }
 
 /// Errors reading or writing a template.
@@ -164,7 +202,7 @@ pub enum TemplateError {
         file: String,
         source: serde_json::Error,
     },
-    #[error("{file}: schema is {found:?}, expected {SCHEMA:?}")]
+    #[error("{file}: schema is {found:?}, expected {SCHEMA:?} or {SCHEMA_LATTICE:?}")]
     Schema { file: String, found: String },
     #[error("{file}: field {field}: {reason}")]
     Field {
@@ -239,11 +277,32 @@ impl Template {
             field,
             reason: reason.to_string(),
         };
-        if self.schema != SCHEMA {
+        if !is_template_schema(&self.schema) {
             return Err(TemplateError::Schema {
                 file: file.to_string(),
                 found: self.schema.clone(),
             });
+        }
+        let v2 = self.schema == SCHEMA_LATTICE;
+        if v2 != (self.method == Method::Lattice) {
+            return Err(bad(
+                "method".into(),
+                &format!(
+                    "method {} needs schema {:?}",
+                    self.method.name(),
+                    if v2 { SCHEMA } else { SCHEMA_LATTICE }
+                ),
+            ));
+        }
+        if v2 != self.lattice.is_some() {
+            return Err(bad(
+                "lattice".into(),
+                if v2 {
+                    "a lattice template (clumpgen.template/2) needs its lattice record"
+                } else {
+                    "only lattice templates (clumpgen.template/2) have a lattice record"
+                },
+            ));
         }
         for (name, v) in [("density", self.density), ("thickness", self.thickness)] {
             if !(v.is_finite() && v > 0.0) {
@@ -277,6 +336,63 @@ impl Template {
             ];
             if vals.iter().any(|v| !v.is_finite()) {
                 return Err(bad(name.into(), "contains a non-finite number"));
+            }
+        }
+        if let Some(l) = &self.lattice {
+            self.check_lattice(l, file)?;
+        }
+        Ok(())
+    }
+
+    /// The lattice record: positive spacing, fraction in (0, 1], links between existing nodes
+    /// `i < j` at distance `spacing` (1e-9 relative), none twice.
+    fn check_lattice(&self, l: &LatticeRecord, file: &str) -> Result<(), TemplateError> {
+        let bad = |field: String, reason: String| TemplateError::Field {
+            file: file.to_string(),
+            field,
+            reason,
+        };
+        if !(l.spacing.is_finite() && l.spacing > 0.0) {
+            return Err(bad(
+                "lattice.spacing".into(),
+                "must be a positive finite number".into(),
+            ));
+        }
+        let f = l.node_radius_fraction;
+        if !(f.is_finite() && f > 0.0 && f <= 1.0) {
+            return Err(bad(
+                "lattice.node_radius_fraction".into(),
+                "must be in (0, 1]".into(),
+            ));
+        }
+        if !(l.offset[0].is_finite() && l.offset[1].is_finite()) {
+            return Err(bad("lattice.offset".into(), "not finite".into()));
+        }
+        let n = self.discs.len();
+        let mut seen = std::collections::HashSet::new();
+        for (k, link) in l.links.iter().enumerate() {
+            if !(link.i < link.j && link.j < n) {
+                return Err(bad(
+                    format!("lattice.links[{k}]"),
+                    format!(
+                        "nodes {} and {} must satisfy i < j < {n} (the number of discs)",
+                        link.i, link.j
+                    ),
+                ));
+            }
+            if !seen.insert((link.i, link.j)) {
+                return Err(bad(format!("lattice.links[{k}]"), "repeated link".into()));
+            }
+            let (a, b) = (&self.discs[link.i], &self.discs[link.j]);
+            let d = (a.x - b.x).hypot(a.y - b.y);
+            if (d - l.spacing).abs() > 1e-9 * l.spacing {
+                return Err(bad(
+                    format!("lattice.links[{k}]"),
+                    format!(
+                        "nodes {} and {} are {d:e} m apart, not the spacing {:e} m",
+                        link.i, link.j, l.spacing
+                    ),
+                ));
             }
         }
         Ok(())

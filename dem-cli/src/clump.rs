@@ -4,6 +4,7 @@ use clap::Args;
 use clumpgen::batch::{
     collect_inputs_except, plan, plan_clashes, run_plan, BatchItem, BatchOptions, SUMMARY_FILE,
 };
+use clumpgen::clump::LatticeParams;
 use clumpgen::export::Format;
 use clumpgen::outline::{
     GrainOptions, MaskMode, MultiKind, MAX_RESAMPLE, MAX_RESAMPLE_WHY, MULTI_EXTENSIONS,
@@ -37,9 +38,18 @@ pub struct ClumpArgs {
     /// Largest number of discs per clump, at most 1000 (the paper's cutting specimens use 9).
     #[arg(long, default_value_t = ClumpParams::default().max_discs)]
     max_discs: usize,
-    /// `improved` (exact mass, centroid, inertia) or `orc` (summed uniform discs).
+    /// `improved` (exact mass, centroid, inertia), `orc` (summed uniform discs) or `lattice`
+    /// (triangular node lattice of spacing --spacing with its links, exact mass, centroid,
+    /// inertia; docs/lattice.md).
     #[arg(long, default_value = "improved")]
     method: String,
+    /// Lattice node spacing S for --method lattice: a fraction of the grain's equivalent
+    /// radius (`0.1`) or a length with unit (`50um`, `0.2mm`).
+    #[arg(long)]
+    spacing: Option<String>,
+    /// Lattice node disc radius as a fraction of S/2, in (0, 1] (1: neighbours touch).
+    #[arg(long, default_value_t = 1.0)]
+    node_radius: f64,
     /// Grain density (kg/m^3).
     #[arg(long, default_value_t = 2650.0)]
     density: f64,
@@ -128,7 +138,19 @@ pub fn run(a: ClumpArgs) -> Result<ExitCode, String> {
     let method = match a.method.as_str() {
         "improved" => Method::Improved,
         "orc" => Method::Orc,
-        m => return Err(format!("--method {m:?}: expected improved or orc")),
+        "lattice" => Method::Lattice,
+        m => return Err(format!("--method {m:?}: expected improved, orc or lattice")),
+    };
+    let lattice = match (method, a.spacing.as_deref()) {
+        (Method::Lattice, None) => {
+            return Err("--method lattice needs --spacing S (e.g. 0.1 or 50um)".into())
+        }
+        (Method::Lattice, Some(s)) => Some(LatticeParams {
+            spacing: parse_length(s, "spacing")?,
+            node_radius: a.node_radius,
+        }),
+        (_, Some(_)) => return Err("--spacing is for --method lattice".into()),
+        (_, None) => None,
     };
     let units = match (a.units.as_deref(), a.px_scale) {
         (None, Some(_)) => return Err("--px-scale is for --units px; give --units px".into()),
@@ -144,6 +166,7 @@ pub fn run(a: ClumpArgs) -> Result<ExitCode, String> {
         r_max: parse_length(&a.rmax, "rmax")?,
         max_discs: a.max_discs,
         raster: a.raster,
+        lattice,
         ..ClumpParams::default()
     };
     // Errors of the batch's own flags are one usage error, not one failure per grain.
@@ -151,6 +174,7 @@ pub fn run(a: ClumpArgs) -> Result<ExitCode, String> {
         let value = match e.name {
             "rmin" => a.rmin.clone(),
             "rmax" => a.rmax.clone(),
+            "spacing" => a.spacing.clone().unwrap_or_default(),
             _ => e.value.clone(),
         };
         format!("--{} {value}: {}", e.name, e.reason)

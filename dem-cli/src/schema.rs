@@ -47,7 +47,7 @@ impl Kind {
     fn title(self) -> &'static str {
         match self {
             Kind::Scene => "dem.scene/1 scene file (dem run)",
-            Kind::Template => "clumpgen.template/1 clump template (dem clump)",
+            Kind::Template => "clumpgen.template/1 (or /2, lattice) clump template (dem clump)",
             Kind::Specimen => "dem.specimen/1 specimen file (dem specimen)",
             Kind::Study => "study file (dem sweep plan)",
             Kind::CuttingParams => "cutting-test parameters (dem test cutting --params)",

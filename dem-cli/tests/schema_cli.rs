@@ -292,7 +292,7 @@ fn templates_specimens_and_cutting_params_bad_and_good() {
         ),
         ("no discs", json!({"discs": null})),
         ("unknown method", json!({"method": "voronoi"})),
-        ("other schema", json!({"schema": "clumpgen.template/2"})),
+        ("other schema", json!({"schema": "clumpgen.template/3"})),
     ] {
         let mut v = shipped.clone();
         for (k, x) in edit.as_object().unwrap() {

@@ -1,7 +1,7 @@
 //! What `dem render` draws, read from a file: a checkpoint (`dem.checkpoint/1`), a
 //! `last-good-state.json` (a bare solver state, no schema), a specimen file (`dem.specimen/1`)
-//! or a clump template (`clumpgen.template/1`), told apart by the file's `schema` field. Every
-//! kind becomes one [`Picture`]: discs, bonds, walls, an outline, caption lines, in metres.
+//! or a clump template (`clumpgen.template/1`, or `/2` with a lattice), told apart by the file's
+//! `schema` field. Every kind becomes one [`Picture`]: discs, bonds, walls, an outline, caption lines, in metres.
 
 use clumpgen::template::Template;
 use dem_core::bond::BondStatus;
@@ -15,7 +15,7 @@ use std::path::{Path, PathBuf};
 /// The kinds of file `dem render` reads, for messages.
 pub const KINDS: &str = "a checkpoint (dem.checkpoint/1, ckpt-*.json), a last-good-state.json, \
                          a specimen file (dem.specimen/1), a clump template \
-                         (clumpgen.template/1), a VTK snapshot (snap-*.vtp) or a series \
+                         (clumpgen.template/1 or /2), a VTK snapshot (snap-*.vtp) or a series \
                          (snapshots.pvd)";
 
 /// One disc to draw (metres, m/s).
@@ -168,7 +168,7 @@ pub fn load(path: &Path, outline: Option<&Path>) -> Result<Picture, String> {
                 .map_err(|e| format!("{file}: not a specimen file: {e}"))?;
             from_specimen(&s, path)
         }
-        Some(clumpgen::template::SCHEMA) => {
+        Some(clumpgen::template::SCHEMA | clumpgen::template::SCHEMA_LATTICE) => {
             let t = Template::from_json(&text, &file).map_err(|e| e.to_string())?;
             Ok(from_template(&t, path, outline))
         }

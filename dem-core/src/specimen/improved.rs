@@ -150,6 +150,7 @@ pub fn outline_template(
             // A specimen's seed must give the specimen its run keys were made with: no rescue
             // of failed fits (it would turn some failed or retried templates into others).
             rescue: false,
+            lattice: None,
         };
         match make_template(&outline, &cp) {
             Ok(t) => return Ok((t, attempt > 0)),

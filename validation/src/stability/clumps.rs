@@ -139,6 +139,7 @@ pub fn hand_template(id: &str, members: &[[f64; 3]], density: f64) -> Template {
             circularity: 1.0,
             solidity: 1.0,
         },
+        lattice: None,
     }
 }
 
