@@ -18,7 +18,7 @@
 //!
 //! With `method: lattice` ([`lattice`], crushable grains, S3) the fill is a triangular node
 //! lattice of spacing S instead, with its links; the mass solve is the same.
-//! [`lattice_elastic`] gives the lattice's equivalent E and ν and their inverse.
+//! [`lattice_elastic()`] gives the lattice's equivalent E and ν and their inverse.
 //!
 //! [`batch::run_batch`] runs many grains in parallel (a clump library); [`export`] writes a
 //! template for PFC2D, YADE, LAMMPS or MercuryDPM beside it.

@@ -26,7 +26,7 @@
 //! one disc nearly the grain, repair discs on the ring `s ≈ k²`), the rows `1` and `s_i` of the
 //! plain system are nearly parallel and the 4×4 solves lose the inertia equation to round-off
 //! (the smallest singular value falls below the SVD cut-off). So if the plain system fails, the
-//! fit is repeated ([`Mode::Careful`]) with the inertia row replaced by `(s_i − k²)/σ`,
+//! fit is repeated (`Mode::Careful`) with the inertia row replaced by `(s_i − k²)/σ`,
 //! `σ = max |s_i − k²|` (a row operation and a row scaling: the same solutions, equilibrated
 //! rows), with Lawson & Hanson's guard against a column that cannot enter the NNLS passive set
 //! (it is set aside instead of entering and leaving again until the iteration limit), and with

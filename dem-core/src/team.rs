@@ -9,7 +9,7 @@
 //! docs/performance.md, ninth round). Here
 //! the calling thread runs part 0 itself and `T − 1` helper threads, kept per calling thread,
 //! run the others; between regions the helpers spin on a generation counter for up to
-//! [`SPIN`] before parking (so an idle world costs no CPU), and the caller spins until they
+//! `SPIN` before parking (so an idle world costs no CPU), and the caller spins until they
 //! are done.
 //!
 //! `T` is `rayon::current_num_threads()` at the call (at most the cores there are, see

@@ -4,7 +4,7 @@ use crate::contact::ContactLaws;
 use crate::params::Params;
 use crate::state::{State, FREE};
 
-/// Bad input to [`World::try_new`].
+/// Bad input to [`crate::World::try_new`].
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum WorldError {
     #[error("disc {id}: {reason}")]
@@ -95,6 +95,55 @@ pub(crate) fn validate(st: &State, p: &Params, laws: &ContactLaws) -> Result<(),
         return Err(WorldError::Clump {
             index: 0,
             reason: "member_start has the wrong length".into(),
+        });
+    }
+    // Every array of one length, member offsets rising to the member count (a checkpoint's
+    // clumps arrive as the file has them: found by fuzzing, issue 20).
+    let nc = cl.len();
+    let per_clump = [
+        cl.y.len(),
+        cl.theta.len(),
+        cl.vx.len(),
+        cl.vy.len(),
+        cl.omega.len(),
+        cl.m.len(),
+        cl.inertia.len(),
+        cl.fx.len(),
+        cl.fy.len(),
+        cl.torque.len(),
+    ];
+    let nm = cl.members.len();
+    if per_clump.iter().any(|&l| l != nc)
+        || !(cl.template.is_empty() || cl.template.len() == nc)
+        || cl.offset_x.len() != nm
+        || cl.offset_y.len() != nm
+        || (nc > 0
+            && (cl.member_start[0] != 0
+                || cl.member_start.windows(2).any(|w| w[0] > w[1])
+                || cl.member_start[nc] as usize != nm))
+    {
+        return Err(WorldError::Clump {
+            index: 0,
+            reason: "clump arrays have different lengths or member offsets that do not fit".into(),
+        });
+    }
+    let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
+    if ![
+        &cl.x,
+        &cl.y,
+        &cl.theta,
+        &cl.vx,
+        &cl.vy,
+        &cl.omega,
+        &cl.offset_x,
+        &cl.offset_y,
+    ]
+    .iter()
+    .all(|v| finite(v))
+    {
+        return Err(WorldError::Clump {
+            index: 0,
+            reason: "a clump position, velocity or member offset is not finite".into(),
         });
     }
     for c in 0..cl.len() {

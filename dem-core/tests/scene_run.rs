@@ -152,7 +152,7 @@ fn a_checkpoint_whose_world_does_not_fit_is_refused_by_name() {
     let mut c = dem_core::checkpoint::parse(&good.to_string(), "c.json").unwrap();
     c.world.step();
     type Edit = fn(&mut serde_json::Value);
-    let edits: [(&str, Edit); 7] = [
+    let edits: [(&str, Edit); 9] = [
         ("neighbour index", |w| w["nb"]["nbr"][0] = 1_000_000.into()),
         ("neighbour offsets", |w| {
             w["nb"]["start"].as_array_mut().unwrap().pop();
@@ -164,6 +164,13 @@ fn a_checkpoint_whose_world_does_not_fit_is_refused_by_name() {
         ("bond group", |w| w["bonds"]["group"][0] = 7.into()),
         ("time step", |w| w["dt"] = (-1.0).into()),
         ("disc radius", |w| w["state"]["discs"]["r"][0] = 0.0.into()),
+        ("contact law table", |w| w["laws"]["n"] = 3.into()),
+        ("clump member offsets", |w| {
+            w["state"]["clumps"]["offset_x"]
+                .as_array_mut()
+                .unwrap()
+                .pop();
+        }),
     ];
     for (what, edit) in edits {
         let mut v = good.clone();

@@ -19,8 +19,11 @@ pub const SEEDS: [(&str, &str); 4] = [
     ("study", "data/studies"),
 ];
 
+/// A fuzz target's body: any bytes in, no panic.
+pub type Target = fn(&[u8]);
+
 /// The targets by name, as `fuzz_targets/` and the corpus folders name them.
-pub const TARGETS: [(&str, fn(&[u8])); 6] = [
+pub const TARGETS: [(&str, Target); 6] = [
     ("outline", outline),
     ("template", template),
     ("scene", scene),

@@ -5,8 +5,8 @@
 //! Every case is written as a plain scene file (`dem.scene/1`, plus the template or outline it
 //! needs) into `<out>/stability/`, so a user can re-run it with `dem run <case>.json`. The suite
 //! then loads that file with [`dem_core::scene::load`], builds it with
-//! [`dem_core::scene::build`] and steps it, every `sample_every` steps running the guard
-//! ([`World::guard`]: finite values, overlap ≤ 0.3 of the smaller radius, kinetic energy ≤ 2×
+//! `dem_core::scene::build` and steps it, every `sample_every` steps running the guard
+//! (`World::guard`: finite values, overlap ≤ 0.3 of the smaller radius, kinetic energy ≤ 2×
 //! the energy supplied) and sampling the energy balance error, the largest overlap and the time
 //! step.
 //!
@@ -181,7 +181,7 @@ pub fn write_cases(out: &Path, quick: bool) -> Result<Vec<CaseSpec>, StabilityEr
 }
 
 /// Runs the suite: writes every case into `<out>/stability/` and runs it; `progress` gets a
-/// line per case. `quick` = the short CI versions (step counts in [`cases`]).
+/// line per case. `quick` = the short CI versions (step counts in `cases`).
 pub fn run_suite(
     out: &Path,
     quick: bool,

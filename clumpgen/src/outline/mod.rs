@@ -10,7 +10,7 @@
 //! Multi-grain files ([`read_grains`]): binary masks and labelled images (PNG, TIFF; `raster`
 //! module: one grain per 4-connected component or label value, outline along pixel edges) and
 //! GIS polygons (GeoJSON, WKT; `gis` module: one grain per polygon). Each of their grains goes
-//! through steps 2-7 below ([`finish`]) on its own, so a bad grain fails alone, named by
+//! through steps 2-7 below (`finish`) on its own, so a bad grain fails alone, named by
 //! file and grain.
 //!
 //! Hand-written and `geo` code: `geo` (with `geo-types`, the common form of the `geojson` and

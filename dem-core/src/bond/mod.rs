@@ -10,7 +10,7 @@
 //! the two discs' positions and velocities, so they are computed per bond (in parallel with rayon
 //! when there are many bonds and more than one thread) into per-bond slots; the per-disc sums are
 //! then gathered, in parallel over discs, each disc adding its bonds in bond-store order
-//! ([`incidence`]). With one thread the two passes are fused into a scatter in bond order, the
+//! (`incidence`). With one thread the two passes are fused into a scatter in bond order, the
 //! same arithmetic in the same order. Results are bit-identical for any thread count.
 
 pub mod attach;

@@ -165,6 +165,47 @@ impl ContactLaws {
         true
     }
 
+    /// Checks a table read back from a checkpoint (deserialisation takes any sizes): at least
+    /// one material, n² laws and n² rolling entries, finite parameters. Found by fuzzing the
+    /// checkpoint reader (issue 20): `n` larger than the table indexed past its end.
+    pub fn check_table(&self) -> Result<(), String> {
+        let n = self.n;
+        if n == 0 || self.models.len() != n * n || self.rolling.len() != n * n {
+            return Err(format!(
+                "contact laws: {} laws and {} rolling entries for {n} materials (need {n}²)",
+                self.models.len(),
+                self.rolling.len()
+            ));
+        }
+        let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
+        for m in &self.models {
+            let ok = match m {
+                ContactModel::Linear(l) => {
+                    let d = match l.damping {
+                        NormalDamping::Ratio(z) => z,
+                        NormalDamping::Gamma(g) => g,
+                    };
+                    finite(&[l.kn, l.ks, l.shear_damping, l.mu, d])
+                }
+                ContactModel::HertzMindlin(h) => {
+                    finite(&[h.e_star, h.g_star, h.eta, h.restitution, h.mu])
+                }
+            };
+            if !ok {
+                return Err("contact laws: a law has a non-finite parameter".into());
+            }
+        }
+        if !self
+            .rolling
+            .iter()
+            .flatten()
+            .all(|r| finite(&[r.mu_r, r.stiffness_factor]))
+        {
+            return Err("contact laws: a rolling resistance is not finite".into());
+        }
+        Ok(())
+    }
+
     /// Index of material pair (a, b); materials beyond the table use the last row.
     #[inline(always)]
     pub fn index(&self, a: u16, b: u16) -> usize {

@@ -17,7 +17,7 @@
 //! [f_x, f_y, torque, ·] (32 bytes): one vector addition per pair for j and a vector running
 //! sum for i, instead of three scalar read-modify-writes and three scalar sums. Lane by lane
 //! these are the additions of the portable scatter, in the same order; the accumulators start
-//! at +0.0 like the force arrays on the portable path (which [`pass`] clears), so copying them
+//! at +0.0 like the force arrays on the portable path (which `pass` clears), so copying them
 //! into `fx, fy, tq` at the end of each range gives the same bits (signed zeros included). Shared discs are untouched in the
 //! accumulators (+0.0 copied) and get their sums in the second pass as before.
 

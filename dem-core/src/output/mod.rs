@@ -1,5 +1,5 @@
 //! Run outputs: history CSV ([`history`]), VTK PolyData snapshots and their ParaView collection
-//! ([`vtk`]), the run summary ([`summary`]) and the bond break log ([`breaks`]).
+//! ([`vtk`]), the run summary ([`summary`]) and the bond break log (`breaks`).
 //!
 //! Every file is written atomically (temporary file in the same folder, then rename), so a
 //! reader or a crashed run never sees half a file, and every writer refuses non-finite numbers:

@@ -1,5 +1,5 @@
 //! A scene after loading: every value in SI, every name resolved to an index, every template
-//! loaded, every check passed. [`super::build`] turns it into a `World`.
+//! loaded, every check passed. `super::build` turns it into a `World`.
 
 use super::schema::{Between, ClumpMode, LawName};
 use crate::bond::BondGroup;
@@ -72,7 +72,7 @@ pub enum PairStiffness {
     /// Linear spring-dashpot: kn, ks (N/m).
     Linear { kn: f64, ks: f64 },
     /// Hertz-Mindlin: effective modulus E* and effective shear modulus G* (rules in
-    /// [`super::mix`]).
+    /// `super::mix`).
     Hertz { e_star: f64, g_star: f64 },
 }
 
