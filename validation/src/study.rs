@@ -294,7 +294,7 @@ pub fn run_on(
         );
     }
     md.push('\n');
-    md.push_str(&crate::study_findings::markdown(&rows));
+    md.push_str(&crate::study_findings::markdown(&rows, &spec.speeds_m_s));
     let dir_of = |name: &str| {
         o.finished
             .iter()

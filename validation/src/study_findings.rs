@@ -163,8 +163,11 @@ pub fn series(rows: &[Row]) -> Vec<SpeedSeries> {
 }
 
 /// The findings as Markdown: a table of forces per seed and speed for each series, then one
-/// line per series with the exponent, the 1 → 2 m/s trend and the quasi-static limit.
-pub fn markdown(rows: &[Row]) -> String {
+/// line per series with the exponent, the 1 → 2 m/s trend and the quasi-static limit. A series
+/// that lacks one of the study's `planned` speeds gets its table and a line naming the speeds
+/// not run yet, but no verdicts: with a speed missing, the speeds either side of it are not
+/// neighbours.
+pub fn markdown(rows: &[Row], planned: &[f64]) -> String {
     let all = series(rows);
     let mut s = String::from(
         "## Findings: force against speed\n\nCriteria (fixed before the study ran; \
@@ -209,6 +212,20 @@ pub fn markdown(rows: &[Row]) -> String {
             cells.join(" | "),
             exp(x.exponent(&m))
         );
+        let missing: Vec<String> = planned
+            .iter()
+            .filter(|v| !x.speeds.contains(v))
+            .map(|v| format!("{v}"))
+            .collect();
+        if !missing.is_empty() {
+            let _ = writeln!(
+                s,
+                "Incomplete: no run yet at {} m/s, so no verdict on neighbouring speeds, the \
+                 quasi-static limit or the 1 → 2 m/s trend.\n",
+                missing.join(", ")
+            );
+            continue;
+        }
         let same: Vec<String> = (0..x.speeds.len() - 1)
             .map(|k| {
                 let verdict = match x.independent(k) {
@@ -282,7 +299,7 @@ mod tests {
         assert!((s.exponent(&s.force[0]).unwrap() - 1.0).abs() < 1e-12);
         assert_eq!(s.quasi_static_limit(), None);
         assert_eq!(s.independent(0), Some(false));
-        let md = markdown(&rows);
+        let md = markdown(&rows, &[0.25, 0.5, 1.0, 2.0]);
         assert!(md.contains("rises in 2 of 2 seeds"), "{md}");
         assert!(md.contains("not reached at or above 0.25 m/s"), "{md}");
     }
@@ -316,8 +333,12 @@ mod tests {
         assert_eq!(all.len(), 2);
         assert_eq!(all[0].trend_1_to_2(), vec![(1, 0.8)]);
         assert_eq!(all[1].speeds, vec![1.0]);
-        let md = markdown(&rows);
+        let md = markdown(&rows, &[1.0, 2.0]);
         assert!(md.contains("rises in 0 of 1 seeds"), "{md}");
+        // With a planned speed missing from a series: its table, no verdicts.
+        let md = markdown(&rows, &[1.0, 2.0, 4.0]);
+        assert!(md.contains("Incomplete: no run yet at 4 m/s"), "{md}");
+        assert!(!md.contains("Quasi-static limit"), "{md}");
         assert!(
             !md.contains("undamped damping"),
             "one speed: no series table\n{md}"
