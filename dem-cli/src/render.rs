@@ -63,8 +63,7 @@ pub struct RenderArgs {
         long,
         value_name = "PX",
         default_value_t = 1200,
-        value_parser = parse_width,
-        allow_hyphen_values = true
+        value_parser = parse_width
     )]
     width: u32,
     /// Disc colours: grain (rigid or bonded clump, specimen grain; touching grains differ;
@@ -85,8 +84,7 @@ pub struct RenderArgs {
     #[arg(
         long,
         value_name = "XMIN,XMAX,YMIN,YMAX",
-        value_parser = parse_view,
-        allow_hyphen_values = true
+        value_parser = parse_view
     )]
     view: Option<[f64; 4]>,
     /// Top of the speed scale in m/s (default: the largest speed in the file).

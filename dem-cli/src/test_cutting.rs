@@ -96,7 +96,7 @@ pub struct CuttingArgs {
     #[arg(long)]
     pub length: Option<String>,
     /// Rake angle in degrees (default 0; positive leans the rake face back).
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long)]
     pub rake_angle: Option<f64>,
     /// Clearance angle in degrees (default 7).
     #[arg(long)]

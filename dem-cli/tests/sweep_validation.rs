@@ -19,7 +19,8 @@ use serde_json::{json, Value};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
-use validation::cutting_runs::{key_of, key_text, outcome, Job, Missing, Source};
+use validation::cutting_runs::{key_of, key_text, Job, Missing};
+use validation::sweep_runs::{outcome, Source};
 
 fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("..")

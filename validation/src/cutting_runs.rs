@@ -147,29 +147,6 @@ pub struct Finished {
     pub dir: PathBuf,
 }
 
-/// Where the cutting runs come from.
-#[derive(Clone, Copy, Debug)]
-pub enum Source<'a> {
-    /// Run here into the work folder ([`run_jobs`]): those not finished are run or listed.
-    Here(Missing),
-    /// The done cases of a `dem sweep` folder ([`crate::sweep_runs`]); the others are listed
-    /// as not run.
-    Sweep(&'a Path),
-}
-
-/// The jobs' runs from `source`: [`run_jobs`] into `work`, or read from a sweep folder.
-pub fn outcome(
-    jobs: &[Job],
-    work: &Path,
-    source: Source,
-    progress: &(dyn Fn(&str) + Sync),
-) -> Result<Outcome, String> {
-    match source {
-        Source::Here(m) => Ok(run_jobs(jobs, work, m, progress)),
-        Source::Sweep(dir) => crate::sweep_runs::read(jobs, dir, progress),
-    }
-}
-
 /// The key of a run: its specimen parameters, model and test as pretty JSON (`run.key.json`).
 pub fn key_text(
     specimen: &SpecimenParams,

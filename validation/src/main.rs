@@ -59,12 +59,12 @@ fn main() -> ExitCode {
         let progress = |m: &str| eprintln!("{m}");
         let r = validation::study::StudySpec::read(f).and_then(|s| {
             let source = match (&a.sweep, a.finished_only) {
-                (Some(d), _) => validation::cutting_runs::Source::Sweep(d),
+                (Some(d), _) => validation::sweep_runs::Source::Sweep(d),
                 (None, true) => {
-                    validation::cutting_runs::Source::Here(validation::cutting_runs::Missing::List)
+                    validation::sweep_runs::Source::Here(validation::cutting_runs::Missing::List)
                 }
                 (None, false) => {
-                    validation::cutting_runs::Source::Here(validation::cutting_runs::Missing::Run)
+                    validation::sweep_runs::Source::Here(validation::cutting_runs::Missing::Run)
                 }
             };
             validation::study::run(&s, &a.data, &a.out, source, &progress).map(|r| (s, r))

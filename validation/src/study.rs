@@ -13,7 +13,8 @@
 //! tool's work (local/viscous damping, friction, bond breakage, kinetic energy left), the
 //! machined surface and residual cracks, chips, time step, steps and CPU time.
 
-use crate::cutting_runs::{outcome, Job, Plan, Source};
+use crate::cutting_runs::{Job, Plan};
+use crate::sweep_runs::{outcome, Source};
 use dem_core::lab::analysis::moving_mean_peak;
 use dem_core::lab::cutting::{CuttingResult, CuttingTest};
 use dem_core::specimen::{Method, SpecimenParams};

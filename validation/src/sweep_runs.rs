@@ -10,14 +10,39 @@
 //! status` counts it) is read as a finished run; a failed one (`failed.json`) is an error
 //! naming it; a job without a done or failed case is listed as not run, as `--finished-only`
 //! lists the runs not made yet.
+//!
+//! [`outcome`] takes the runs from either source, run here or read from a sweep ([`Source`]).
 
-use crate::cutting_runs::{finished, key_of, key_text, Job, Outcome};
+use crate::cutting_runs::{finished, key_of, key_text, run_jobs, Job, Missing, Outcome};
 use dem_core::lab::cutting::{CuttingResult, CuttingTest, RESULT_FILE};
 use dem_core::lab::LabModel;
 use dem_core::specimen::SpecimenParams;
 use serde::Deserialize;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
+
+/// Where the cutting runs come from.
+#[derive(Clone, Copy, Debug)]
+pub enum Source<'a> {
+    /// Run here into the work folder ([`run_jobs`]): those not finished are run or listed.
+    Here(Missing),
+    /// The done cases of a `dem sweep` folder ([`read`]); the others are listed
+    /// as not run.
+    Sweep(&'a Path),
+}
+
+/// The jobs' runs from `source`: [`run_jobs`] into `work`, or read from a sweep folder.
+pub fn outcome(
+    jobs: &[Job],
+    work: &Path,
+    source: Source,
+    progress: &(dyn Fn(&str) + Sync),
+) -> Result<Outcome, String> {
+    match source {
+        Source::Here(m) => Ok(run_jobs(jobs, work, m, progress)),
+        Source::Sweep(dir) => read(jobs, dir, progress),
+    }
+}
 
 /// The inputs file `dem test cutting` writes into its output folder.
 pub const INPUTS_FILE: &str = "cutting.inputs.json";

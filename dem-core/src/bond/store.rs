@@ -105,19 +105,25 @@ fn mode_of(code: u8) -> BreakMode {
     }
 }
 
+/// The checks of a bond store's groups: at most `u16::MAX`, each valid, names unique.
+fn check_groups(groups: &[BondGroup]) -> Result<(), BondError> {
+    if groups.len() > u16::MAX as usize {
+        return Err(BondError::TooManyGroups(groups.len()));
+    }
+    let mut names = HashSet::new();
+    for g in groups {
+        g.validate()?;
+        if !names.insert(g.name.as_str()) {
+            return Err(BondError::DuplicateGroup(g.name.clone()));
+        }
+    }
+    Ok(())
+}
+
 impl Bonds {
     /// An empty store with these groups (validated; names must be unique).
     pub fn new(groups: Vec<BondGroup>) -> Result<Bonds, BondError> {
-        if groups.len() > u16::MAX as usize {
-            return Err(BondError::TooManyGroups(groups.len()));
-        }
-        let mut names = HashSet::new();
-        for g in &groups {
-            g.validate()?;
-            if !names.insert(g.name.as_str()) {
-                return Err(BondError::DuplicateGroup(g.name.clone()));
-            }
-        }
+        check_groups(&groups)?;
         let n = groups.len();
         Ok(Bonds {
             groups,
@@ -586,13 +592,7 @@ impl Bonds {
     /// instead of an out-of-range index inside the bond kernel (found by fuzzing, issue 20).
     pub fn check_restored(&self, n_discs: usize) -> Result<(), BondError> {
         let bad = |what: String| Err(BondError::Restored(what));
-        let mut names = HashSet::new();
-        for g in &self.groups {
-            g.validate()?;
-            if !names.insert(g.name.as_str()) {
-                return Err(BondError::DuplicateGroup(g.name.clone()));
-            }
-        }
+        check_groups(&self.groups)?;
         let n = self.id.len();
         let lens = [
             self.i.len(),
