@@ -93,7 +93,26 @@ pub fn run(a: CalibrateArgs) -> Result<ExitCode, String> {
         ..Options::default()
     };
     let out = a.lab.out.clone();
-    std::fs::create_dir_all(&out).map_err(|e| format!("{}: {e}", out.display()))?;
+    // The folder's lock (`run_lock`), keyed on the material file and the typed inputs.
+    let inputs = serde_json::to_value((
+        &p,
+        &start,
+        (&ucs, &bending, &brazilian),
+        (a.tol, a.max_iter, a.kic_beta),
+    ))
+    .map_err(|e| e.to_string())?;
+    let (_lock, notes) = crate::run_lock::acquire(
+        &out,
+        crate::run_lock::Claim {
+            command: "dem calibrate",
+            scene: &targets_file,
+            hash: &crate::run_lock::inputs_hash(&inputs),
+        },
+        a.lab.force,
+    )?;
+    for n in notes {
+        eprintln!("note: {n}");
+    }
     let bar = progress_bar();
     bar.set_prefix("calibrate");
     let pool = a.lab.pool()?;

@@ -31,8 +31,9 @@ pub struct RunArgs {
     /// by a process that still runs (or runs on another host); the lock is taken over.
     #[arg(long)]
     force: bool,
-    /// Run even if the scene needs more than `MAX_STEPS_UNASKED` steps (the time step and the
-    /// scene's duration are stated first; without this flag such a run is refused).
+    /// Run even if the scene needs more than 10⁹ steps, or its snapshots and checkpoints more
+    /// than 10 GB (the step count and the estimate are stated first; without this flag such a
+    /// run is refused).
     #[arg(long)]
     yes: bool,
 }
@@ -61,7 +62,16 @@ pub fn run(a: RunArgs) -> Result<ExitCode, String> {
         // the folder as it was.
         let mut sim = Simulation::new(scene, &opts).map_err(|e| e.to_string())?;
         check_step_count(&sim, a.yes)?;
-        let (_lock, notes) = crate::run_lock::acquire(&out, &file, &hash, a.force)?;
+        check_output_size(&sim, a.yes)?;
+        let (_lock, notes) = crate::run_lock::acquire(
+            &out,
+            crate::run_lock::Claim {
+                command: crate::run_lock::RUN,
+                scene: &file,
+                hash: &hash,
+            },
+            a.force,
+        )?;
         for n in notes {
             eprintln!("note: {n}");
         }
@@ -146,5 +156,58 @@ fn check_step_count(sim: &Simulation, yes: bool) -> Result<(), String> {
          to run it as it is",
         sim.scene.file.display(),
         discs as u64
+    ))
+}
+
+/// Above this many bytes of snapshots and checkpoints (estimated) `dem run` states the figure
+/// and refuses unless `--yes`: 10 GB, an order of magnitude above the largest output of the
+/// project's own runs (a 10 mm Table 2 cut, ~1,600 discs, 20 snapshots: ~30 MB).
+pub const MAX_OUTPUT_BYTES_UNASKED: f64 = 10e9;
+
+/// Bytes per disc of a VTK snapshot (with its contacts and bonds) and of a JSON checkpoint,
+/// measured on an improved-ORC cutting specimen (1,583 discs, 3,175 bonds: 0.55 MB and
+/// 1.30 MB; docs/reliability.md, "Checkpoints").
+const SNAPSHOT_BYTES_PER_DISC: f64 = 345.0;
+const CHECKPOINT_BYTES_PER_DISC: f64 = 820.0;
+
+/// The disk a run's snapshots and checkpoints will take, estimated from its step count, disc
+/// count and output intervals (the numbered checkpoints kept are bounded by
+/// `outputs.checkpoint_keep`; `ckpt-final` counts once).
+fn output_bytes(sim: &Simulation) -> f64 {
+    let steps = sim.total_steps();
+    let o = &sim.scene.outputs;
+    let discs = sim.world.state.discs.len() as f64;
+    let every = |k: u64| steps.checked_div(k).unwrap_or(0);
+    let snapshots = every(o.vtk_every) as f64;
+    let numbered = every(o.checkpoint_every);
+    let kept = match o.checkpoint_keep {
+        0 => numbered,
+        k => numbered.min(u64::from(k)),
+    };
+    discs * (snapshots * SNAPSHOT_BYTES_PER_DISC + (kept + 1) as f64 * CHECKPOINT_BYTES_PER_DISC)
+}
+
+/// Refuses a run whose outputs would fill more than [`MAX_OUTPUT_BYTES_UNASKED`] unless `yes`
+/// (issue 20: VTK output grew ~48 MB/min with no warning), naming the scene fields to change.
+fn check_output_size(sim: &Simulation, yes: bool) -> Result<(), String> {
+    let bytes = output_bytes(sim);
+    if bytes <= MAX_OUTPUT_BYTES_UNASKED || yes {
+        return Ok(());
+    }
+    let o = &sim.scene.outputs;
+    Err(format!(
+        "{}: the run's snapshots and checkpoints would take about {:.1} GB ({} steps, {} \
+         discs, a snapshot every {} steps (outputs.vtk_every), a checkpoint every {} steps \
+         (outputs.checkpoint_every), {} kept (outputs.checkpoint_keep, 0 = all)), more than \
+         the {:.0} GB written without asking. Raise the intervals, or give --yes to run it \
+         as it is",
+        sim.scene.file.display(),
+        bytes / 1e9,
+        sim.total_steps(),
+        sim.world.state.discs.len(),
+        o.vtk_every,
+        o.checkpoint_every,
+        o.checkpoint_keep,
+        MAX_OUTPUT_BYTES_UNASKED / 1e9
     ))
 }

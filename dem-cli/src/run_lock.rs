@@ -1,10 +1,15 @@
-//! The run folder's lock, `<out>/run.lock` (JSON: scene file, scene hash, pid, host, start
-//! time). It says which scene the folder's outputs belong to and which process writes them
-//! now, so two runs never mix their checkpoints, snapshots and `snapshots.pvd` in one folder:
+//! The run folder's lock, `<out>/run.lock` (JSON: the command, scene file, scene hash, pid,
+//! host, start time). It says which scene the folder's outputs belong to and which process
+//! writes them now, so two runs never mix their checkpoints, snapshots and `snapshots.pvd` in
+//! one folder. `dem run` takes it in its output folder; the lab tests take it where their run
+//! writes (`dem test cutting`: `--out`; `ucs`, `brazilian`, `bending`: `<out>/<test>.out`, the
+//! folder their scene `<out>/<test>.json` runs into, so `dem run` of that scene finds the same
+//! lock) and `dem calibrate` in `--out`; their "scene hash" is the SHA-256 of the test's typed
+//! inputs (specimen parameters, model, test), since the scene is only made after the specimen:
 //!
 //! * no lock: the run takes the folder;
-//! * a lock of the same scene (the same physics hash, `Scene::physics_hash`, so run control
-//!   and outputs may differ; or the same scene file, edited since, with a note) whose process
+//! * a lock of the same scene (the same hash, so run control and outputs may differ; or the
+//!   same scene file, edited since or written by another command, with a note) whose process
 //!   has ended: taken; a run that ended normally cleared its pid, one killed (kill -9, a
 //!   crash) left it, and that stale lock is taken over with a note;
 //! * a lock of another scene (another file and other physics): refused, naming the folder
@@ -27,6 +32,9 @@ const SCHEMA: &str = "dem.run-lock/1";
 /// What a lock file records.
 #[derive(Clone, Debug, PartialEq)]
 struct Record {
+    /// The command that took the lock (`dem run`, `dem test cutting`, ...; locks written
+    /// before the field existed are `dem run`'s).
+    command: String,
     scene: String,
     scene_hash: String,
     /// The process writing the folder now; none once its run has ended.
@@ -39,6 +47,7 @@ impl Record {
     fn to_json(&self) -> String {
         let v = json!({
             "schema": SCHEMA,
+            "command": self.command,
             "scene": self.scene,
             "scene_hash": self.scene_hash,
             "pid": self.pid,
@@ -67,7 +76,15 @@ impl Record {
                     .ok_or_else(|| format!("pid {p} is not a process id"))?,
             ),
         };
+        let command = match &v["command"] {
+            Value::Null => RUN.to_string(),
+            c => c
+                .as_str()
+                .map(str::to_string)
+                .ok_or_else(|| format!("command {c} is not text"))?,
+        };
         Ok(Record {
+            command,
             scene: s("scene")?,
             scene_hash: s("scene_hash")?,
             pid,
@@ -114,21 +131,48 @@ impl Drop for RunLock {
     }
 }
 
-/// Takes the lock of the output folder `out` (created if missing) for `scene` with physics
-/// hash `hash`; `force` takes it in every case. Returns the lock and notes to print (a stale
-/// lock taken over, a forced take-over). The error names the folder and, for a lock of
-/// another scene or a running one, that scene and process.
+/// The command of `dem run`.
+pub const RUN: &str = "dem run";
+
+/// Who asks for a folder: the command, the scene file its run runs, and the hash that says
+/// whether two runs are the same (`Scene::physics_hash` for `dem run`; the SHA-256 of the
+/// typed inputs, [`inputs_hash`], for the lab tests).
+pub struct Claim<'a> {
+    pub command: &'a str,
+    pub scene: &'a Path,
+    pub hash: &'a str,
+}
+
+/// SHA-256 (hex) of `value`'s JSON: the identity of a lab test's inputs in its lock.
+pub fn inputs_hash<T: serde::Serialize>(value: &T) -> String {
+    use sha2::{Digest, Sha256};
+    let text = serde_json::to_string(value).unwrap_or_default();
+    Sha256::digest(text.as_bytes())
+        .iter()
+        .map(|b| format!("{b:02x}"))
+        .collect()
+}
+
+/// Takes the lock of the output folder `out` (created if missing) for `claim`; `force` takes
+/// it in every case. Returns the lock and notes to print (a stale lock taken over, a forced
+/// take-over, a changed scene). The error names the folder and, for a lock of another scene
+/// or a running one, that scene, its command and its process.
 pub fn acquire(
     out: &Path,
-    scene: &Path,
-    hash: &str,
+    claim: Claim<'_>,
     force: bool,
 ) -> Result<(RunLock, Vec<String>), String> {
+    let Claim {
+        command,
+        scene,
+        hash,
+    } = claim;
     std::fs::create_dir_all(out)
         .map_err(|e| format!("{}: cannot create the output folder: {e}", out.display()))?;
     let path = out.join(LOCK_FILE);
     let scene = std::fs::canonicalize(scene).unwrap_or_else(|_| scene.to_path_buf());
     let me = Record {
+        command: command.to_string(),
         scene: scene.display().to_string(),
         scene_hash: hash.to_string(),
         pid: Some(std::process::id()),
@@ -186,8 +230,18 @@ pub fn acquire(
         )),
         Ok(old) => {
             let running = old.running();
-            if old.scene_hash != hash && old.scene == me.scene {
-                // The same scene file, edited: a fresh run replaces its outputs.
+            if old.scene == me.scene && old.command != me.command {
+                // The same scene file, run by another command (a lab test's scene run by
+                // `dem run`, or the other way round).
+                notes.push(format!(
+                    "{} held the run of {} by `{}`; its outputs are replaced",
+                    out.display(),
+                    old.scene,
+                    old.command
+                ));
+            } else if old.scene_hash != hash && old.scene == me.scene {
+                // The same scene file, edited (or a lab test with other inputs): a fresh run
+                // replaces its outputs.
                 notes.push(format!(
                     "{} changed since its run in {}; that run's outputs are replaced",
                     old.scene,
@@ -202,10 +256,11 @@ pub fn acquire(
                 };
                 if !force {
                     return Err(format!(
-                        "{}: the folder holds the run of another scene, {} (scene hash {}){now}; \
-                         give another --out, or --force to replace its outputs",
+                        "{}: the folder holds the run of another scene, {} by `{}` (scene hash \
+                         {}){now}; give another --out, or --force to replace its outputs",
                         out.display(),
                         old.scene,
+                        old.command,
                         old.scene_hash.chars().take(12).collect::<String>()
                     ));
                 }
@@ -217,10 +272,11 @@ pub fn acquire(
             } else if running {
                 if !force {
                     return Err(format!(
-                        "{}: scene {} is being run into this folder now by {}; wait for it to \
-                         end, or use --force if that process is gone",
+                        "{}: scene {} is being run into this folder now by `{}`, {}; wait for \
+                         it to end, or use --force if that process is gone",
                         out.display(),
                         old.scene,
+                        old.command,
                         old.who()
                     ));
                 }
@@ -278,7 +334,9 @@ fn process_alive(pid: u32) -> bool {
         };
         // SAFETY: signal 0 sends nothing; it only checks that the process exists.
         if unsafe { libc::kill(p, 0) } == 0 {
-            return true;
+            // A killed run whose parent died too stays a zombie until init reaps it (a `dem
+            // sweep` runner killed with its case): it exists, but runs no more.
+            return !zombie(pid);
         }
         std::io::Error::last_os_error().raw_os_error() == Some(libc::EPERM)
     }
@@ -288,6 +346,21 @@ fn process_alive(pid: u32) -> bool {
     }
 }
 
+/// Whether process `pid` has ended but not been reaped (state `Z` or `X` in
+/// `/proc/<pid>/stat`; false where there is no /proc).
+fn zombie(pid: u32) -> bool {
+    std::fs::read_to_string(format!("/proc/{pid}/stat"))
+        .ok()
+        .and_then(|s| {
+            // `pid (comm) state ...`: the command may hold spaces and parentheses.
+            let rest = &s[s.rfind(')')? + 1..];
+            rest.split_whitespace()
+                .next()
+                .map(|st| st == "Z" || st == "X")
+        })
+        .unwrap_or(false)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -295,6 +368,7 @@ mod tests {
     #[test]
     fn records_round_trip_and_bad_ones_are_named() {
         let r = Record {
+            command: RUN.into(),
             scene: "/a/s.json".into(),
             scene_hash: "ab".repeat(32),
             pid: Some(7),
@@ -305,8 +379,36 @@ mod tests {
         let released = Record { pid: None, ..r };
         assert_eq!(Record::parse(&released.to_json()).unwrap(), released);
         assert!(Record::parse("{}").unwrap_err().contains("schema"));
+        // A lock written before the command was recorded is `dem run`'s.
+        let old = released
+            .to_json()
+            .replace("  \"command\": \"dem run\",\n", "");
+        assert!(!old.contains("command"), "{old}");
+        assert_eq!(Record::parse(&old).unwrap(), released);
+        let bad = released.to_json().replace("\"dem run\"", "3");
+        assert!(
+            Record::parse(&bad).unwrap_err().contains("command"),
+            "{bad}"
+        );
         let zero = released.to_json().replace("null", "0");
         assert!(Record::parse(&zero).unwrap_err().contains("pid"), "{zero}");
+    }
+
+    #[cfg(target_os = "linux")]
+    #[test]
+    fn a_zombie_is_not_a_running_process() {
+        // A child that has exited and is not yet waited for is a zombie.
+        let mut child = std::process::Command::new("true").spawn().unwrap();
+        let pid = child.id();
+        let t0 = std::time::Instant::now();
+        while !zombie(pid) {
+            assert!(t0.elapsed().as_secs() < 10, "the child never exited");
+            std::thread::sleep(std::time::Duration::from_millis(5));
+        }
+        assert!(!process_alive(pid));
+        child.wait().unwrap();
+        assert!(!zombie(std::process::id()));
+        assert!(process_alive(1));
     }
 
     #[test]

@@ -90,6 +90,10 @@ pub struct SpecimenArgs {
     /// Worker threads, at least 1 (default: all cores); results do not depend on it.
     #[arg(long, value_parser = crate::parse_threads)]
     threads: Option<usize>,
+    /// Replace an existing `--out` file (and its scene and summary beside it); without it an
+    /// existing one is refused before anything is generated.
+    #[arg(long)]
+    force: bool,
 }
 
 /// `x.json` → `x.scene.json` beside it.
@@ -267,6 +271,18 @@ pub fn run(a: SpecimenArgs) -> Result<ExitCode, String> {
         a.irregular_size.as_deref(),
     )?;
     p.validate().map_err(|e| e.to_string())?;
+    // Never a silent overwrite (issue 20): the specimen file and the scene beside it (which
+    // the user may have edited) are refused before the minutes of generation, unless --force.
+    if !a.force {
+        for f in [a.out.clone(), scene_path(&a.out)] {
+            if f.exists() {
+                return Err(format!(
+                    "{}: exists; give another --out, or --force to replace it",
+                    f.display()
+                ));
+            }
+        }
+    }
     let material = a.material_name.unwrap_or(mat_name);
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(a.threads.unwrap_or(0))

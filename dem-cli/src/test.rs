@@ -96,6 +96,10 @@ pub struct LabArgs {
     /// Safety factor of the automatic time step (default: the test's).
     #[arg(long)]
     pub dt_factor: Option<f64>,
+    /// Run even if the test's output folder is locked by a run of another scene or one still
+    /// running (`run.lock`; a rerun of the same test is always allowed).
+    #[arg(long)]
+    pub force: bool,
 }
 
 impl LabArgs {
@@ -246,19 +250,45 @@ fn loading(
     Ok(l)
 }
 
+/// Takes the lock of the folder test `test`'s scene `<out>/<test>.json` runs into,
+/// `<out>/<test>.out` (`run_lock`), before anything is written; `inputs` (the test's typed
+/// inputs) say whether an earlier run there was the same test.
+fn lock_test(
+    lab: &LabArgs,
+    test: &str,
+    inputs: &serde_json::Value,
+) -> Result<crate::run_lock::RunLock, String> {
+    let command = format!("dem test {test}");
+    let (lock, notes) = crate::run_lock::acquire(
+        &lab.out.join(format!("{test}.out")),
+        crate::run_lock::Claim {
+            command: &command,
+            scene: &lab.out.join(format!("{test}.json")),
+            hash: &crate::run_lock::inputs_hash(inputs),
+        },
+        lab.force,
+    )?;
+    for n in notes {
+        eprintln!("note: {n}");
+    }
+    Ok(lock)
+}
+
 /// Generates (or reuses) the test's specimen `<out>/<test>.specimen.json` and runs `body` on it
-/// in the thread pool, with a progress bar for both.
+/// in the thread pool, with a progress bar for both, holding the test's run lock
+/// ([`lock_test`], keyed on `inputs`).
 fn with_specimen<T>(
     lab: &LabArgs,
     p: &SpecimenParams,
     shape: Shape,
-    test: &str,
+    (test, inputs): (&str, serde_json::Value),
     body: impl FnOnce(&TestSpecimen, &mut dyn FnMut(u64, u64)) -> Result<T, LabError> + Send,
 ) -> Result<(TestSpecimen, T), String>
 where
     T: Send,
 {
     let pool = lab.pool()?;
+    let _lock = lock_test(lab, test, &inputs)?;
     let file = lab.out.join(format!("{test}.specimen.json"));
     println!(
         "{test}: {} specimen, radii {:.4}-{:.4} mm, seed {} -> {}",
@@ -297,6 +327,15 @@ where
     Ok((spec, r))
 }
 
+/// A quasi-static test's typed inputs as one JSON value (their hash keys its run lock).
+fn inputs<T: serde::Serialize>(
+    p: &SpecimenParams,
+    model: &LabModel,
+    test: &T,
+) -> Result<serde_json::Value, String> {
+    serde_json::to_value((p, model, test)).map_err(|e| e.to_string())
+}
+
 fn print_run(run: &lab::common::RunFacts, result: &std::path::Path) {
     println!(
         "run: {} after {} steps (dt {:.3e} s), {} of {} bonds broken, {:.1} s",
@@ -319,9 +358,13 @@ fn ucs(a: UcsArgs) -> Result<ExitCode, String> {
         ..UcsTest::default()
     };
     test.validate().map_err(|e| e.to_string())?;
-    let (_, o) = with_specimen(&a.lab, &p, test.shape(), "ucs", |spec, pr| {
-        lab::ucs::run(&test, &model, spec, pr)
-    })?;
+    let (_, o) = with_specimen(
+        &a.lab,
+        &p,
+        test.shape(),
+        ("ucs", inputs(&p, &model, &test)?),
+        |spec, pr| lab::ucs::run(&test, &model, spec, pr),
+    )?;
     let r = &o.result;
     println!(
         "E = {:.2} GPa, ν = {:.3} ({:.0}-{:.0} % pre-peak band, {} rows), UCS = {:.1} MPa at axial strain {:.3e}",
@@ -351,9 +394,13 @@ fn brazilian(a: BrazilianArgs) -> Result<ExitCode, String> {
         ..BrazilianTest::default()
     };
     test.validate().map_err(|e| e.to_string())?;
-    let (_, o) = with_specimen(&a.lab, &p, test.shape(), "brazilian", |spec, pr| {
-        lab::brazilian::run(&test, &model, spec, pr)
-    })?;
+    let (_, o) = with_specimen(
+        &a.lab,
+        &p,
+        test.shape(),
+        ("brazilian", inputs(&p, &model, &test)?),
+        |spec, pr| lab::brazilian::run(&test, &model, spec, pr),
+    )?;
     let r = &o.result;
     println!(
         "σ_t = 2F/(πDt) = {:.1} MPa (peak load {:.4e} N, D = {:.3} mm, t = {} m)",
@@ -384,9 +431,13 @@ fn bending(a: BendingArgs) -> Result<ExitCode, String> {
         ..BendingTest::default()
     };
     test.validate().map_err(|e| e.to_string())?;
-    let (_, o) = with_specimen(&a.lab, &p, test.shape(), "bending", |spec, pr| {
-        lab::bending::run(&test, &model, spec, pr)
-    })?;
+    let (_, o) = with_specimen(
+        &a.lab,
+        &p,
+        test.shape(),
+        ("bending", inputs(&p, &model, &test)?),
+        |spec, pr| lab::bending::run(&test, &model, spec, pr),
+    )?;
     let r = &o.result;
     println!(
         "σ_f = 3FL/(2bh²) = {:.1} MPa (peak load {:.4e} N, L = {:.3} mm, h = {:.3} mm, b = t = {} m)",

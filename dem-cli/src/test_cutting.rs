@@ -154,6 +154,10 @@ pub struct CuttingArgs {
     /// Worker threads, at least 1 (default: all cores); results do not depend on it.
     #[arg(long, value_parser = crate::parse_threads)]
     pub threads: Option<usize>,
+    /// Run even if `--out` is locked by a run of another scene or one still running
+    /// (`run.lock`; a rerun of the same cut is always allowed).
+    #[arg(long)]
+    pub force: bool,
 }
 
 /// `1`, `2.5`, `1m/s`, `1 m/s` → m/s.
@@ -315,6 +319,7 @@ impl CuttingArgs {
             out: self.out.clone(),
             threads: self.threads,
             dt_factor: self.dt_factor,
+            force: self.force,
         };
         if self.specimen_from_model {
             let m = model.ok_or("--specimen-from-model needs --model")?;
@@ -465,6 +470,21 @@ pub fn run(a: CuttingArgs) -> Result<ExitCode, String> {
             a.width, a.height
         );
         a.check_geometry(&test, [0.0, w, 0.0, h], &what)?;
+    }
+    // The folder's lock (`run_lock`), before anything is written into it: keyed on the
+    // inputs as resolved from the flags, so a rerun (or the run after a --dry-run) of the same
+    // cut is the same run.
+    let (_lock, notes) = crate::run_lock::acquire(
+        &a.out,
+        crate::run_lock::Claim {
+            command: "dem test cutting",
+            scene: &a.out.join(cutting::SCENE_FILE),
+            hash: &crate::run_lock::inputs_hash(&inputs),
+        },
+        a.force,
+    )?;
+    for n in notes {
+        eprintln!("note: {n}");
     }
     let text = write_inputs(&a.out, &inputs)?;
     if a.dry_run {

@@ -401,3 +401,115 @@ fn cut_geometry_outside_the_specimen_is_refused() {
     assert!(!out.join("specimen.json").exists());
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The lab tests lock the folder their run writes (issue 20): `dem test cutting` its `--out`
+/// (keyed on its inputs: a rerun, or the run after a `--dry-run`, of the same cut is allowed,
+/// other inputs are allowed with a note), a quasi-static test `<out>/<test>.out`; a folder
+/// locked by a live process or by another scene's run is refused before anything is written,
+/// unless `--force`.
+#[test]
+fn lab_tests_lock_their_run_folder() {
+    let dir = tmp("lock");
+    let out = dir.join("cut");
+    let model = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../data/models/si3n4.model.json"
+    );
+    let cut = |speed: &str, extra: &[&str]| {
+        let mut args = vec![
+            "test",
+            "cutting",
+            "--method",
+            "traditional",
+            "--r-min",
+            "0.175mm",
+            "--r-max",
+            "0.285mm",
+            "--model",
+            model,
+            "--specimen-from-model",
+            "--speed",
+            speed,
+            "--dry-run",
+            "--out",
+            out.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        dem(&args)
+    };
+    let lock_file = out.join("run.lock");
+    let read_lock = || -> serde_json::Value {
+        serde_json::from_str(&std::fs::read_to_string(&lock_file).unwrap()).unwrap()
+    };
+    let o = cut("1", &[]);
+    assert!(o.status.success(), "{}", text(&o));
+    let lock = read_lock();
+    assert_eq!(lock["command"], "dem test cutting", "{lock}");
+    assert!(lock["pid"].is_null(), "released: {lock}");
+    assert!(lock["scene"]
+        .as_str()
+        .unwrap()
+        .ends_with("cutting.scene.json"));
+    // The same cut again: no note. Other inputs: allowed, with a note, and the hash changes.
+    let o = cut("1", &[]);
+    assert!(
+        o.status.success() && !text(&o).contains("note:"),
+        "{}",
+        text(&o)
+    );
+    let o = cut("2", &[]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(text(&o).contains("changed since its run"), "{}", text(&o));
+    assert_ne!(read_lock()["scene_hash"], lock["scene_hash"]);
+    // A live process holds the folder (this test's pid on this host): refused, nothing written.
+    let mut held = read_lock();
+    held["pid"] = serde_json::json!(std::process::id());
+    std::fs::write(&lock_file, held.to_string()).unwrap();
+    std::fs::remove_file(out.join("cutting.inputs.json")).unwrap();
+    let o = cut("2", &[]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    let t = text(&o);
+    assert!(
+        t.contains("being run into this folder now") && t.contains("`dem test cutting`"),
+        "{t}"
+    );
+    assert!(!out.join("cutting.inputs.json").exists(), "nothing written");
+    // The folder of another scene (a `dem run`, the lock's older form without `command`).
+    let other = serde_json::json!({"schema": "dem.run-lock/1", "scene": "/elsewhere/other.json",
+        "scene_hash": "ab".repeat(32), "pid": null, "host": "h", "started_unix_s": 1});
+    std::fs::write(&lock_file, other.to_string()).unwrap();
+    let o = cut("2", &[]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    let t = text(&o);
+    assert!(
+        t.contains("another scene, /elsewhere/other.json by `dem run`") && t.contains("--force"),
+        "{t}"
+    );
+    let o = cut("2", &["--force"]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(text(&o).contains("note: --force"), "{}", text(&o));
+    assert_eq!(read_lock()["command"], "dem test cutting");
+    // A quasi-static test locks `<out>/ucs.out`: held by a live process, it is refused before
+    // its specimen is generated.
+    let lab = dir.join("lab");
+    std::fs::create_dir_all(lab.join("ucs.out")).unwrap();
+    held["scene"] = serde_json::json!(lab.join("ucs.json").display().to_string());
+    held["command"] = serde_json::json!("dem test ucs");
+    std::fs::write(lab.join("ucs.out/run.lock"), held.to_string()).unwrap();
+    let o = dem(&[
+        "test",
+        "ucs",
+        "--r-min",
+        "0.1mm",
+        "--r-max",
+        "0.16mm",
+        "--material",
+        &material(),
+        "--out",
+        lab.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    assert!(text(&o).contains("`dem test ucs`"), "{}", text(&o));
+    assert!(!lab.join("ucs.specimen.json").exists(), "nothing generated");
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -26,6 +26,41 @@ fn text(o: &Output) -> String {
     )
 }
 
+/// Issue 20 (bounded work): a run whose snapshots and checkpoints would fill more than 10 GB
+/// (here 10⁸ steps of two discs with a snapshot every step: ~70 GB) is refused before anything
+/// is written, naming the estimate and the scene fields; `--max-steps` caps it.
+#[test]
+fn a_run_that_would_fill_the_disk_is_refused_unless_asked() {
+    let dir = tmp("disk");
+    let scene = tiny_scene(&dir);
+    let mut v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&scene).unwrap()).unwrap();
+    v["run"] = serde_json::json!({"steps": 100_000_000u64});
+    v["outputs"]["vtk_every"] = 1.into();
+    let p = dir.join("chatty.json");
+    std::fs::write(&p, v.to_string()).unwrap();
+    let out = dir.join("chatty.out");
+    let o = dem(&["run", p.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    let t = text(&o);
+    assert_eq!(o.status.code(), Some(2), "{t}");
+    assert!(
+        t.contains("chatty.json") && t.contains("69.8 GB") && t.contains("outputs.vtk_every"),
+        "{t}"
+    );
+    assert!(t.contains("--yes") && !t.contains("MAX_"), "{t}");
+    assert!(!out.exists(), "a refused run writes nothing");
+    let o = dem(&[
+        "run",
+        p.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--max-steps",
+        "10",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 /// Two discs meeting head-on between two walls, with every output on.
 fn tiny_scene(dir: &Path) -> PathBuf {
     let scene = serde_json::json!({

@@ -78,6 +78,48 @@ fn specimen_writes_file_summary_and_a_scene_that_runs() {
     let r = dem(&["run", scene.to_str().unwrap(), "--max-steps", "50"]);
     assert!(r.status.success(), "{}", text(&r));
     assert!(text(&r).contains(&format!("{n} discs")), "{}", text(&r));
+    // Never a silent overwrite: the same --out again is refused before generating (the file
+    // untouched); --force replaces it (with the same bytes: same seed).
+    let again = |extra: &[&str]| {
+        let mut args = vec![
+            "specimen",
+            "--method",
+            "traditional",
+            "--width",
+            "3mm",
+            "--height",
+            "1.5mm",
+            "--r-min",
+            "0.1mm",
+            "--r-max",
+            "0.16mm",
+            "--seed",
+            "5",
+            "--material",
+            &material(),
+            "--out",
+            out.to_str().unwrap(),
+        ]
+        .into_iter()
+        .map(String::from)
+        .collect::<Vec<_>>();
+        args.extend(extra.iter().map(|s| s.to_string()));
+        let a: Vec<&str> = args.iter().map(String::as_str).collect();
+        dem(&a)
+    };
+    let before = std::fs::read(&out).unwrap();
+    std::fs::write(&out, b"{}").unwrap();
+    let o = again(&[]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    let t = text(&o);
+    assert!(
+        t.contains("trad.json: exists") && t.contains("--force"),
+        "{t}"
+    );
+    assert_eq!(std::fs::read(&out).unwrap(), b"{}");
+    let o = again(&["--force"]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert_eq!(std::fs::read(&out).unwrap(), before);
     std::fs::remove_dir_all(&dir).ok();
 }
 
