@@ -182,7 +182,7 @@ pub fn clashes_with_exports(inputs: &[Input], out: &Path, exports: &[Format]) ->
             dest: Some(template_path(out, i)),
         })
         .collect();
-    clash_core(inputs, &entries, out, exports)
+    clash_core(inputs, &entries, out, exports, case_insensitive(out))
 }
 
 /// A template to be written: for input `input`, named `who` in messages.
@@ -192,8 +192,38 @@ struct Entry {
     dest: Option<PathBuf>,
 }
 
-/// The clashes of `entries` (indices in [`Clash::inputs`] are entry indices).
-fn clash_core(inputs: &[Input], entries: &[Entry], out: &Path, exports: &[Format]) -> Vec<Clash> {
+/// Whether the file system that holds `out` (or its nearest existing ancestor) folds case in
+/// file names (macOS and Windows by default): a probe file is created there under one spelling
+/// and looked up under another. False when nothing can be written there (the batch then fails
+/// on its first write anyway).
+fn case_insensitive(out: &Path) -> bool {
+    let Some(dir) = out.ancestors().find(|a| a.is_dir()) else {
+        return false;
+    };
+    let name = format!(".dem-case-probe-{}-Ab", std::process::id());
+    let probe = dir.join(&name);
+    if std::fs::OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .open(&probe)
+        .is_err()
+    {
+        return false;
+    }
+    let folded = dir.join(name.to_lowercase()).exists();
+    let _ = std::fs::remove_file(&probe);
+    folded
+}
+
+/// The clashes of `entries` (indices in [`Clash::inputs`] are entry indices); with
+/// `fold_case`, templates whose paths differ only in case clash too (one file there).
+fn clash_core(
+    inputs: &[Input],
+    entries: &[Entry],
+    out: &Path,
+    exports: &[Format],
+    fold_case: bool,
+) -> Vec<Clash> {
     let mut found = Vec::new();
     let canonical = |p: &Path| std::fs::canonicalize(p).ok();
     let input_files: std::collections::HashMap<PathBuf, usize> = inputs
@@ -204,6 +234,7 @@ fn clash_core(inputs: &[Input], entries: &[Entry], out: &Path, exports: &[Format
     let summary = out.join(SUMMARY_FILE);
     let mut by_template: std::collections::HashMap<PathBuf, usize> =
         std::collections::HashMap::new();
+    let mut by_folded: std::collections::HashMap<PathBuf, usize> = std::collections::HashMap::new();
     for (k, en) in entries.iter().enumerate() {
         let Some(t) = en.dest.clone() else { continue };
         if let Some(&first) = by_template.get(&t) {
@@ -220,6 +251,25 @@ fn clash_core(inputs: &[Input], entries: &[Entry], out: &Path, exports: &[Format
             continue;
         }
         by_template.insert(t.clone(), k);
+        if fold_case {
+            let key = PathBuf::from(t.to_string_lossy().to_lowercase());
+            if let Some(&first) = by_folded.get(&key) {
+                found.push(Clash {
+                    inputs: vec![first, k],
+                    message: format!(
+                        "{} and {} would be written as {} and {}, one file on this file system, \
+                         which does not tell upper from lower case: rename one of them, or \
+                         clump them into different --out folders",
+                        entries[first].who,
+                        en.who,
+                        entries[first].dest.as_deref().unwrap_or(&t).display(),
+                        t.display()
+                    ),
+                });
+                continue;
+            }
+            by_folded.insert(key, k);
+        }
         if t == summary {
             found.push(Clash {
                 inputs: vec![k],
@@ -452,7 +502,7 @@ pub fn plan_clashes(inputs: &[Input], p: &Plan, out: &Path, exports: &[Format]) 
             dest: j.dest.clone(),
         })
         .collect();
-    clash_core(inputs, &entries, out, exports)
+    clash_core(inputs, &entries, out, exports, case_insensitive(out))
 }
 
 /// Runs the batch on the current rayon pool: [`plan`], then [`run_plan`].
@@ -814,6 +864,38 @@ mod tests {
             c[0].message.contains("overwrite this outline itself"),
             "{c:?}"
         );
+        std::fs::remove_dir_all(&d).unwrap();
+    }
+
+    /// `G.csv` and `g.csv` get `G.json` and `g.json`: two files on Linux, one on a file system
+    /// that folds case (macOS, Windows), where the second would silently replace the first.
+    #[test]
+    fn names_differing_only_in_case_clash_where_case_is_folded() {
+        let d = tmp("case");
+        std::fs::write(d.join("G.csv"), SQUARE).unwrap();
+        std::fs::write(d.join("g.csv"), SQUARE).unwrap();
+        let inputs = collect_inputs(std::slice::from_ref(&d)).unwrap();
+        let out = d.join("out");
+        let entries: Vec<Entry> = inputs
+            .iter()
+            .enumerate()
+            .map(|(k, i)| Entry {
+                input: k,
+                who: i.path.display().to_string(),
+                dest: Some(out.join(i.relative.with_extension("json"))),
+            })
+            .collect();
+        assert!(clash_core(&inputs, &entries, &out, &[], false).is_empty());
+        let c = clash_core(&inputs, &entries, &out, &[], true);
+        assert_eq!(c.len(), 1, "{c:?}");
+        assert_eq!(c[0].inputs, [0, 1]);
+        assert!(
+            c[0].message.contains("upper from lower case") && c[0].message.contains("G.json"),
+            "{c:?}"
+        );
+        // This machine's /tmp tells case apart (a Linux file system): no clash in a batch.
+        assert!(!case_insensitive(&out));
+        assert!(clashes(&inputs, &out).is_empty());
         std::fs::remove_dir_all(&d).unwrap();
     }
 
