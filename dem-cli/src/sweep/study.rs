@@ -300,6 +300,20 @@ pub fn parse(bytes: &[u8], path: &Path) -> Result<Parsed, String> {
             }
         }
     }
+    let cases = match study.combine {
+        Combine::Zip => axes.first().map_or(1, |a| a.values.len()),
+        _ => axes
+            .iter()
+            .fold(1usize, |n, a| n.saturating_mul(a.values.len())),
+    };
+    if cases > MAX_CASES {
+        let sizes: Vec<String> = axes.iter().map(|a| a.values.len().to_string()).collect();
+        return Err(format!(
+            "{file}: field axes: {} = {}",
+            sizes.join(" × "),
+            too_many(cases)
+        ));
+    }
     let mut outputs: Vec<Output> = Vec::new();
     for (i, c) in study.collect.iter().enumerate() {
         let (name, pointer) = match c {
@@ -441,9 +455,22 @@ fn sets_values(a: &Axis, sets: &[FlagSet], field: &str) -> Result<AxisValues, St
     })
 }
 
+/// The most cases a study may plan (a range's steps, a seed range, the axes' product): a study
+/// of more is a typo (a seed range to 10¹¹ asked for 800 GB before this bound). 100,000 cases
+/// are ~50 MB of `cases.jsonl` (~0.5 KB per case), 100 × Slurm's default `MaxArraySize`
+/// (1001); at a second per case, a day of one core.
+pub const MAX_CASES: usize = 100_000;
+
+fn too_many(n: impl std::fmt::Display) -> String {
+    format!("{n} values: a study has at most {MAX_CASES} cases (split it into several studies)")
+}
+
 fn range_values(r: &Range) -> Result<Vec<String>, String> {
     if !(r.from.is_finite() && r.to.is_finite()) {
         return Err("from and to must be finite".into());
+    }
+    if r.steps > MAX_CASES {
+        return Err(format!("steps {}", too_many(r.steps)));
     }
     match r.steps {
         0 => Err("empty: steps is 0".into()),
@@ -481,6 +508,9 @@ fn seed_values(v: &Value) -> Result<Vec<String>, String> {
             let (from, to) = (seed(get("from")?)?, seed(get("to")?)?);
             if to < from {
                 return Err(format!("empty: to {to} < from {from}"));
+            }
+            if to - from >= MAX_CASES as u64 {
+                return Err(format!("from {from} to {to}: {}", too_many(to - from + 1)));
             }
             (from..=to).collect()
         }
@@ -543,5 +573,34 @@ mod tests {
         )
         .unwrap_err();
         assert!(e.contains("axes[1]") && e.contains("zip"), "{e}");
+    }
+
+    /// A seed range, a range or a product of axes above [`MAX_CASES`] is refused naming the
+    /// field (a seed range to 10¹¹ aborted `dem sweep plan` allocating 800 GB).
+    #[test]
+    fn more_cases_than_the_bound_are_refused() {
+        let e = p(
+            r#"{"name":"x","base":{"test":"ucs"},"axes":[{"seeds":{"from":0,"to":100000000000}}]}"#,
+        )
+        .unwrap_err();
+        assert!(
+            e.contains("axes[0]") && e.contains("at most 100000 cases"),
+            "{e}"
+        );
+        let e = p(r#"{"name":"x","base":{"test":"ucs"},"axes":[{"flag":"a","range":{"from":1,"to":2,"steps":1000000000000}}]}"#)
+            .unwrap_err();
+        assert!(e.contains("axes[0].range") && e.contains("at most"), "{e}");
+        let e = p(r#"{"name":"x","base":{"test":"ucs"},"axes":[
+            {"flag":"a","range":{"from":1,"to":2,"steps":1000}},
+            {"flag":"b","range":{"from":1,"to":2,"steps":1000}}]}"#)
+        .unwrap_err();
+        assert!(
+            e.contains("field axes: 1000 × 1000 = 1000000 values"),
+            "{e}"
+        );
+        let ok = p(r#"{"name":"x","base":{"test":"ucs"},"axes":[
+            {"flag":"a","range":{"from":1,"to":2,"steps":100}},
+            {"seeds":{"from":1,"to":1000}}]}"#);
+        assert!(ok.is_ok(), "{ok:?}");
     }
 }
