@@ -1,6 +1,7 @@
 #!/bin/bash
 # Fuzz one reader with libFuzzer (cargo fuzz, nightly Rust): scripts/fuzz.sh TARGET [SECONDS]
-# TARGET: outline | template | scene | checkpoint | history | study (fuzz/src/lib.rs).
+# TARGET: outline | grains | template | scene | specimen | checkpoint | history | study | sweep
+# (fuzz/src/lib.rs).
 # New inputs go to fuzz/work/TARGET (not committed); crashes to fuzz/work/crashes-TARGET/.
 # Keep a crash, after its fix, as fuzz/regressions/TARGET/<what>.json: CI replays it
 # (validation/tests/fuzz_regressions.rs). docs/reliability.md, "Fuzzing".
@@ -13,7 +14,8 @@ case $t in
   template) seeds=(../examples/scenes/templates) ;;
   scene) seeds=(../examples/scenes) ;;
   study) seeds=(../data/studies) ;;
-  checkpoint | history) seeds=() ;;
+  sweep) seeds=(../examples/studies ../data/studies) ;;
+  grains | specimen | checkpoint | history) seeds=() ;;
   *) echo "unknown target $t" >&2; exit 2 ;;
 esac
 [ -d "corpus/$t" ] && seeds+=("corpus/$t")
