@@ -338,6 +338,7 @@ fn cutting(b: CuttingBench) -> Result<ExitCode, String> {
                 out: dir.0.clone(),
                 threads: Some(b.threads),
                 dt_factor: None,
+                strict: false,
             };
             let p = lab
                 .specimen_params(w, h)

@@ -90,6 +90,10 @@ pub struct SpecimenArgs {
     /// Worker threads, at least 1 (default: all cores); results do not depend on it.
     #[arg(long, value_parser = crate::parse_threads)]
     threads: Option<usize>,
+    /// An improved-ORC grain whose template stops below its cover target is a failure (the
+    /// specimen is not written; exit code 2) instead of a warning.
+    #[arg(long)]
+    strict: bool,
 }
 
 /// `x.json` → `x.scene.json` beside it.
@@ -267,6 +271,17 @@ pub fn run(a: SpecimenArgs) -> Result<ExitCode, String> {
         a.irregular_size.as_deref(),
     )?;
     p.validate().map_err(|e| e.to_string())?;
+    p.check_resolution().map_err(|e| match e {
+        specimen::SpecimenError::Geometry { field, reason } => {
+            let given = if field == "width" {
+                &a.width
+            } else {
+                &a.height
+            };
+            format!("--{field} {given}: {reason}")
+        }
+        e => e.to_string(),
+    })?;
     let material = a.material_name.unwrap_or(mat_name);
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(a.threads.unwrap_or(0))
@@ -301,6 +316,25 @@ pub fn run(a: SpecimenArgs) -> Result<ExitCode, String> {
     });
     bar.finish_and_clear();
     let spec = spec.map_err(|e| e.to_string())?;
+    let below = spec
+        .summary
+        .templates
+        .as_ref()
+        .map(|t| t.below_cover.as_slice())
+        .unwrap_or_default();
+    let lines = crate::test::cover_lines(&a.out, below);
+    if a.strict && !below.is_empty() {
+        return Err(format!(
+            "--strict: {} grains are below their cover target; {} not written (leave out \
+             --strict to write it with a warning):\n  {}",
+            below.len(),
+            a.out.display(),
+            lines.join("\n  ")
+        ));
+    }
+    for l in &lines {
+        eprintln!("warning: {l}");
+    }
     let summary_file = io::save(&spec, &material, &a.out).map_err(|e| e.to_string())?;
     let name = a
         .out

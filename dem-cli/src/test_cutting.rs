@@ -315,6 +315,7 @@ impl CuttingArgs {
             out: self.out.clone(),
             threads: self.threads,
             dt_factor: self.dt_factor,
+            strict: false,
         };
         if self.specimen_from_model {
             let m = model.ok_or("--specimen-from-model needs --model")?;
