@@ -339,6 +339,7 @@ fn cutting(b: CuttingBench) -> Result<ExitCode, String> {
                 threads: Some(b.threads),
                 dt_factor: None,
                 force: false,
+                strict: false,
             };
             let p = lab
                 .specimen_params(w, h)

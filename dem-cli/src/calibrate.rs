@@ -85,6 +85,16 @@ pub fn run(a: CalibrateArgs) -> Result<ExitCode, String> {
         ..BrazilianTest::default()
     };
     let p = a.lab.specimen_params(ucs.width, ucs.height)?;
+    // Issue 20: geometry the particle size makes meaningless is refused before generating.
+    let r_mean = 0.5 * (p.r_min + p.r_max);
+    ucs.check_geometry([ucs.width, ucs.height], r_mean)
+        .map_err(|e| format!("--ucs-size {}: {e}", a.ucs_size))?;
+    bending
+        .check_geometry([bending.length, bending.height], r_mean)
+        .map_err(|e| format!("--beam {}: {e}", a.beam))?;
+    brazilian
+        .check_geometry(brazilian.diameter, r_mean)
+        .map_err(|e| format!("--disc {}: {e}", a.disc))?;
     let start = a.lab.lab_model(&p)?;
     let opts = Options {
         rel_tol: a.tol,
@@ -126,6 +136,16 @@ pub fn run(a: CalibrateArgs) -> Result<ExitCode, String> {
         };
         let mut lab = VirtualLab::prepare(&p, &out, ucs, bending, brazilian, &mut log)
             .map_err(|e| e.to_string())?;
+        for s in [
+            &lab.ucs_specimen,
+            &lab.bending_specimen,
+            &lab.brazilian_specimen,
+        ] {
+            crate::test::strict_cover(&a.lab, s).map_err(|e| e.to_string())?;
+            for l in crate::test::cover_lines(&s.file, &s.below_cover) {
+                log(&format!("warning: {l}"));
+            }
+        }
         let c = calibrate::calibrate(&mut lab, &start, &targets, &opts, &mut log)
             .map_err(|e| e.to_string())?;
         Ok::<_, String>((c, lab.runs, lab.wall_time_s))

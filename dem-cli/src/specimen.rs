@@ -94,6 +94,10 @@ pub struct SpecimenArgs {
     /// existing one is refused before anything is generated.
     #[arg(long)]
     force: bool,
+    /// An improved-ORC grain whose template stops below its cover target is a failure (the
+    /// specimen is not written; exit code 2) instead of a warning.
+    #[arg(long)]
+    strict: bool,
 }
 
 /// `x.json` → `x.scene.json` beside it.
@@ -271,6 +275,17 @@ pub fn run(a: SpecimenArgs) -> Result<ExitCode, String> {
         a.irregular_size.as_deref(),
     )?;
     p.validate().map_err(|e| e.to_string())?;
+    p.check_resolution().map_err(|e| match e {
+        specimen::SpecimenError::Geometry { field, reason } => {
+            let given = if field == "width" {
+                &a.width
+            } else {
+                &a.height
+            };
+            format!("--{field} {given}: {reason}")
+        }
+        e => e.to_string(),
+    })?;
     // Never a silent overwrite (issue 20): the specimen file and the scene beside it (which
     // the user may have edited) are refused before the minutes of generation, unless --force.
     if !a.force {
@@ -317,6 +332,25 @@ pub fn run(a: SpecimenArgs) -> Result<ExitCode, String> {
     });
     bar.finish_and_clear();
     let spec = spec.map_err(|e| e.to_string())?;
+    let below = spec
+        .summary
+        .templates
+        .as_ref()
+        .map(|t| t.below_cover.as_slice())
+        .unwrap_or_default();
+    let lines = crate::test::cover_lines(&a.out, below);
+    if a.strict && !below.is_empty() {
+        return Err(format!(
+            "--strict: {} grains are below their cover target; {} not written (leave out \
+             --strict to write it with a warning):\n  {}",
+            below.len(),
+            a.out.display(),
+            lines.join("\n  ")
+        ));
+    }
+    for l in &lines {
+        eprintln!("warning: {l}");
+    }
     let summary_file = io::save(&spec, &material, &a.out).map_err(|e| e.to_string())?;
     let name = a
         .out

@@ -12,6 +12,7 @@ use dem_core::lab::brazilian::BrazilianTest;
 use dem_core::lab::specimens::{self, Shape, TestSpecimen};
 use dem_core::lab::ucs::UcsTest;
 use dem_core::lab::{self, LabError, LabModel};
+use dem_core::specimen::improved::GrainCover;
 use dem_core::specimen::{Progress, SpecimenParams};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
@@ -100,6 +101,10 @@ pub struct LabArgs {
     /// running (`run.lock`; a rerun of the same test is always allowed).
     #[arg(long)]
     pub force: bool,
+    /// An improved-ORC grain whose template stops below its cover target is a failure (the
+    /// test does not run; exit code 2) instead of a warning.
+    #[arg(long)]
+    pub strict: bool,
 }
 
 impl LabArgs {
@@ -158,6 +163,70 @@ impl LabArgs {
             .build()
             .map_err(|e| e.to_string())
     }
+}
+
+/// Grains below their cover target listed at most this many at a time ("and N more").
+const COVER_LIST: usize = 10;
+
+/// One line per grain below its cover target (at most [`COVER_LIST`], then "and N more"),
+/// each naming the specimen file.
+pub fn cover_lines(file: &std::path::Path, below: &[GrainCover]) -> Vec<String> {
+    let mut v: Vec<String> = below
+        .iter()
+        .take(COVER_LIST)
+        .map(|g| format!("{}: {g}", file.display()))
+        .collect();
+    if below.len() > COVER_LIST {
+        v.push(format!("and {} more", below.len() - COVER_LIST));
+    }
+    v
+}
+
+/// With `--strict`, a specimen with grains below their cover target is an error naming them.
+pub fn strict_cover(lab: &LabArgs, spec: &TestSpecimen) -> Result<(), LabError> {
+    if !lab.strict || spec.below_cover.is_empty() {
+        return Ok(());
+    }
+    Err(LabError::Param {
+        field: "--strict".into(),
+        reason: format!(
+            "{} grains of the specimen are below their cover target; the test did not run \
+             (leave out --strict to run it with a warning):\n  {}",
+            spec.below_cover.len(),
+            cover_lines(&spec.file, &spec.below_cover).join("\n  ")
+        ),
+    })
+}
+
+/// The warnings and count of the grains below their cover target (none: nothing printed).
+fn print_cover(spec: &TestSpecimen) {
+    if spec.below_cover.is_empty() {
+        return;
+    }
+    for l in cover_lines(&spec.file, &spec.below_cover) {
+        eprintln!("warning: {l}");
+    }
+    println!(
+        "templates: {} grains below their cover target (warnings above; --strict makes them a failure)",
+        spec.below_cover.len()
+    );
+}
+
+/// A lab-test error as a message naming the flag: `flags` maps a field (`ucs.width`) to its
+/// flag and the value as given; other fields keep their name.
+fn flag_message(e: LabError, flags: &[(&str, &str, &str)]) -> String {
+    match e {
+        LabError::Param { field, reason } => match flags.iter().find(|f| f.0 == field) {
+            Some((_, flag, given)) => format!("{flag} {given}: {reason}"),
+            None => format!("{field}: {reason}"),
+        },
+        e => e.to_string(),
+    }
+}
+
+/// Nominal mean disc radius of the specimen flags (m): (r_min + r_max)/2.
+fn nominal_r_mean(p: &SpecimenParams) -> f64 {
+    0.5 * (p.r_min + p.r_max)
 }
 
 /// A progress bar on stderr, hidden when stderr is not a terminal.
@@ -358,13 +427,27 @@ fn ucs(a: UcsArgs) -> Result<ExitCode, String> {
         ..UcsTest::default()
     };
     test.validate().map_err(|e| e.to_string())?;
-    let (_, o) = with_specimen(
+    test.check_geometry([w, h], nominal_r_mean(&p))
+        .map_err(|e| {
+            flag_message(
+                e,
+                &[
+                    ("ucs.width", "--width", &a.width),
+                    ("ucs.height", "--height", &a.height),
+                ],
+            )
+        })?;
+    let (spec, o) = with_specimen(
         &a.lab,
         &p,
         test.shape(),
         ("ucs", inputs(&p, &model, &test)?),
-        |spec, pr| lab::ucs::run(&test, &model, spec, pr),
+        |spec, pr| {
+            strict_cover(&a.lab, spec)?;
+            lab::ucs::run(&test, &model, spec, pr)
+        },
     )?;
+    print_cover(&spec);
     let r = &o.result;
     println!(
         "E = {:.2} GPa, ν = {:.3} ({:.0}-{:.0} % pre-peak band, {} rows), UCS = {:.1} MPa at axial strain {:.3e}",
@@ -394,13 +477,19 @@ fn brazilian(a: BrazilianArgs) -> Result<ExitCode, String> {
         ..BrazilianTest::default()
     };
     test.validate().map_err(|e| e.to_string())?;
-    let (_, o) = with_specimen(
+    test.check_geometry(d, nominal_r_mean(&p))
+        .map_err(|e| flag_message(e, &[("brazilian.diameter", "--diameter", &a.diameter)]))?;
+    let (spec, o) = with_specimen(
         &a.lab,
         &p,
         test.shape(),
         ("brazilian", inputs(&p, &model, &test)?),
-        |spec, pr| lab::brazilian::run(&test, &model, spec, pr),
+        |spec, pr| {
+            strict_cover(&a.lab, spec)?;
+            lab::brazilian::run(&test, &model, spec, pr)
+        },
     )?;
+    print_cover(&spec);
     let r = &o.result;
     println!(
         "σ_t = 2F/(πDt) = {:.1} MPa (peak load {:.4e} N, D = {:.3} mm, t = {} m)",
@@ -431,13 +520,27 @@ fn bending(a: BendingArgs) -> Result<ExitCode, String> {
         ..BendingTest::default()
     };
     test.validate().map_err(|e| e.to_string())?;
-    let (_, o) = with_specimen(
+    test.check_geometry([l, h], nominal_r_mean(&p))
+        .map_err(|e| {
+            flag_message(
+                e,
+                &[
+                    ("bending.height", "--height", &a.height),
+                    ("bending.span", "--span", &a.span),
+                ],
+            )
+        })?;
+    let (spec, o) = with_specimen(
         &a.lab,
         &p,
         test.shape(),
         ("bending", inputs(&p, &model, &test)?),
-        |spec, pr| lab::bending::run(&test, &model, spec, pr),
+        |spec, pr| {
+            strict_cover(&a.lab, spec)?;
+            lab::bending::run(&test, &model, spec, pr)
+        },
     )?;
+    print_cover(&spec);
     let r = &o.result;
     println!(
         "σ_f = 3FL/(2bh²) = {:.1} MPa (peak load {:.4e} N, L = {:.3} mm, h = {:.3} mm, b = t = {} m)",

@@ -320,6 +320,7 @@ impl CuttingArgs {
             threads: self.threads,
             dt_factor: self.dt_factor,
             force: self.force,
+            strict: false,
         };
         if self.specimen_from_model {
             let m = model.ok_or("--specimen-from-model needs --model")?;

@@ -296,3 +296,130 @@ fn irregular_few_flags_build_few_rigid_grains() {
     assert_eq!(o.status.code(), Some(2));
     assert!(text(&o).contains("grains.few.diameter"), "{}", text(&o));
 }
+
+#[test]
+fn a_specimen_a_few_discs_across_is_refused_naming_the_flag() {
+    // Issue 20: 1 mm of 0.10–0.16 mm discs is 3.8 mean disc diameters (before: generated).
+    let dir = tmp("thin");
+    let out = dir.join("thin.json");
+    let o = dem(&[
+        "specimen",
+        "--width",
+        "3mm",
+        "--height",
+        "1mm",
+        "--r-min",
+        "0.1mm",
+        "--r-max",
+        "0.16mm",
+        "--material",
+        &material(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    let t = text(&o);
+    assert!(
+        t.contains("--height 1mm")
+            && t.contains("3.8 mean disc diameters")
+            && t.contains("at least 5"),
+        "{t}"
+    );
+    assert!(!out.exists());
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn improved_grains_below_their_cover_warn_and_strict_fails() {
+    // Issue 20 item 4: template discs of at least 0.1 mm cannot cover the ~0.5 mm grains to
+    // 95 % (the fill runs out of room); each grain is a warning naming it, the cover reached
+    // and the flag, counted in the summary; --strict makes it a failure, nothing written.
+    let dir = tmp("cover");
+    let out = dir.join("imp.json");
+    let m = material();
+    let args = |out: &str, strict: bool| {
+        let mut a = vec![
+            "specimen",
+            "--method",
+            "improved",
+            "--width",
+            "1.5mm",
+            "--height",
+            "1.5mm",
+            "--r-min",
+            "0.1mm",
+            "--r-max",
+            "0.16mm",
+            "--template-r-min",
+            "0.1mm",
+            "--threads",
+            "2",
+            "--material",
+            &m,
+            "--out",
+            out,
+        ]
+        .into_iter()
+        .map(String::from)
+        .collect::<Vec<String>>();
+        if strict {
+            a.push("--strict".into());
+        }
+        a
+    };
+    let run = |a: Vec<String>| {
+        Command::new(env!("CARGO_BIN_EXE_dem"))
+            .args(&a)
+            .output()
+            .unwrap()
+    };
+    let o = run(args(out.to_str().unwrap(), false));
+    assert!(o.status.success(), "{}", text(&o));
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("imp.summary.json")).unwrap())
+            .unwrap();
+    let below = summary["templates"]["below_cover"].as_array().unwrap();
+    assert!(!below.is_empty(), "{summary}");
+    assert!(below[0]["cover"].as_f64().unwrap() < 0.95);
+    let err = String::from_utf8_lossy(&o.stderr);
+    let warnings = err.lines().filter(|l| l.starts_with("warning:")).count();
+    assert_eq!(
+        warnings,
+        below.len().min(10) + usize::from(below.len() > 10),
+        "{err}"
+    );
+    let g = below[0]["grain"].as_u64().unwrap();
+    assert!(
+        err.contains(&format!("grain {g}: cover 0."))
+            && err.contains("below the target 0.95")
+            && err.contains("--template-r-min"),
+        "{err}"
+    );
+    if below.len() > 10 {
+        assert!(
+            err.contains(&format!("and {} more", below.len() - 10)),
+            "{err}"
+        );
+    }
+    let t = text(&o);
+    assert!(
+        t.contains(&format!("{} below the cover target 0.95", below.len())),
+        "{t}"
+    );
+    // --strict: the same specimen is a failure and is not written.
+    let strict_out = dir.join("strict.json");
+    let o = run(args(strict_out.to_str().unwrap(), true));
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    let t = text(&o);
+    assert!(
+        t.contains("--strict")
+            && t.contains(&format!(
+                "{} grains are below their cover target",
+                below.len()
+            ))
+            && t.contains(&format!("grain {g}: cover")),
+        "{t}"
+    );
+    assert!(!strict_out.exists() && !dir.join("strict.summary.json").exists());
+    std::fs::remove_dir_all(&dir).ok();
+}

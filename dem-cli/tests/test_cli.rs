@@ -170,3 +170,117 @@ fn a_lab_test_of_too_many_steps_is_refused_before_it_runs() {
     assert!(!dir.join("ucs.result.json").exists());
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn lab_geometry_the_particle_size_makes_meaningless_is_refused_naming_the_flag() {
+    // Issue 20, bounded work: before, each of these generated a specimen and ran. Discs of
+    // 0.10–0.16 mm: mean diameter 0.26 mm; the floor is 5 of them.
+    let dir = tmp("geometry");
+    let out = dir.to_str().unwrap();
+    let m = material();
+    let base = |test: &str| {
+        vec![
+            "test".to_string(),
+            test.into(),
+            "--r-min".into(),
+            "0.1mm".into(),
+            "--r-max".into(),
+            "0.16mm".into(),
+            "--material".into(),
+            m.clone(),
+            "--out".into(),
+            out.into(),
+        ]
+    };
+    let run = |mut a: Vec<String>, extra: &[&str]| {
+        a.extend(extra.iter().map(|s| s.to_string()));
+        Command::new(env!("CARGO_BIN_EXE_dem"))
+            .args(&a)
+            .output()
+            .unwrap()
+    };
+    for (test, extra, want) in [
+        (
+            "ucs",
+            &["--width", "0.5mm", "--height", "4mm"][..],
+            "--width 0.5mm: 0.5000 mm is 1.9 mean disc diameters",
+        ),
+        (
+            "ucs",
+            &["--width", "2mm", "--height", "1mm"][..],
+            "--height 1mm: 1.0000 mm is 3.8 mean disc diameters",
+        ),
+        (
+            "brazilian",
+            &["--diameter", "1mm"][..],
+            "--diameter 1mm: 1.0000 mm is 3.8 mean disc diameters",
+        ),
+        (
+            "bending",
+            &["--length", "6mm", "--height", "1mm", "--span", "5mm"][..],
+            "--height 1mm: 1.0000 mm is 3.8 mean disc diameters",
+        ),
+        (
+            "bending",
+            &["--length", "6mm", "--height", "1.5mm", "--span", "5.8mm"][..],
+            "--span 5.8mm: 5.8000 mm on a 6.0000 mm beam leaves 0.1000 mm",
+        ),
+        (
+            "bending",
+            &["--length", "6mm", "--height", "1.5mm", "--span", "0.8mm"][..],
+            "--span 0.8mm: 0.8000 mm: the mid-span and support gauges",
+        ),
+    ] {
+        let o = run(base(test), extra);
+        assert_eq!(o.status.code(), Some(2), "{test} {extra:?}: {}", text(&o));
+        assert!(text(&o).contains(want), "{test} {extra:?}: {}", text(&o));
+        assert!(
+            !dir.join(format!("{test}.specimen.json")).exists(),
+            "{test}: refused before generating"
+        );
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn strict_makes_grains_below_cover_a_failure_before_the_test_runs() {
+    // Issue 20 item 4: improved-ORC grains of a 1.5 mm disc filled with template discs of at
+    // least 0.1 mm stop below the 95 % cover; with --strict the test does not run.
+    let dir = tmp("strict");
+    let out = dir.to_str().unwrap();
+    let m = material();
+    let o = dem(&[
+        "test",
+        "brazilian",
+        "--method",
+        "improved",
+        "--r-min",
+        "0.1mm",
+        "--r-max",
+        "0.16mm",
+        "--template-r-min",
+        "0.1mm",
+        "--material",
+        &m,
+        "--diameter",
+        "1.5mm",
+        "--threads",
+        "2",
+        "--strict",
+        "--out",
+        out,
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    let t = text(&o);
+    assert!(
+        t.contains("--strict")
+            && t.contains("grains of the specimen are below their cover target")
+            && t.contains("brazilian.specimen.json: grain ")
+            && t.contains("below the target 0.95")
+            && t.contains("--template-r-min"),
+        "{t}"
+    );
+    assert!(dir.join("brazilian.specimen.json").exists());
+    assert!(!dir.join("brazilian.result.json").exists());
+    std::fs::remove_dir_all(&dir).ok();
+}

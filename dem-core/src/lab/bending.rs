@@ -159,6 +159,76 @@ impl BendingTest {
         self.loading.validate(&format!("{TEST}.loading"))
     }
 
+    /// The geometry against the particle size, for a beam of `size` = [ℓ, h] (m) made of
+    /// discs of mean radius `r_mean` (m): the height must span
+    /// [`common::MIN_DIAMETERS_ACROSS`] mean disc diameters (`bending.height`); the beam must
+    /// overhang each support by at least one mean disc diameter, so the supports bear on discs
+    /// inside the beam and not on its end discs (`bending.span`); the deflection gauges (bands
+    /// of half-width `gauge_width` r̄ at the bottom fibre) must hold a disc (`gauge_width` ≥ 1),
+    /// stay in the lower half of the beam (`gauge_width` r̄ ≤ h/2, `bending.gauge_width`), and
+    /// the mid-span gauge must not overlap the support gauges (span ≥ 4 `gauge_width` r̄,
+    /// `bending.span`). [`scene`] runs it with the specimen's extent and mean radius; `dem test
+    /// bending` also before generating. Call [`BendingTest::validate`] first (span < ℓ).
+    pub fn check_geometry(&self, size: [f64; 2], r_mean: f64) -> Result<(), LabError> {
+        let [l, h] = size;
+        let d = 2.0 * r_mean;
+        common::diameters_across(
+            TEST,
+            "height",
+            h,
+            r_mean,
+            "through the beam's height for tension and compression sides about its neutral axis",
+        )?;
+        let overhang = 0.5 * (l - self.span);
+        if overhang.is_nan() || overhang < d {
+            return Err(LabError::Param {
+                field: "bending.span".into(),
+                reason: format!(
+                    "{:.4} mm on a {:.4} mm beam leaves {:.4} mm ({:.1} mean disc diameters) \
+                     beyond each support; at least one mean disc diameter ({:.4} mm) is needed \
+                     so the supports bear on discs inside the beam, not on its end discs: \
+                     the span may be at most {:.4} mm",
+                    self.span * 1e3,
+                    l * 1e3,
+                    overhang * 1e3,
+                    overhang / d,
+                    d * 1e3,
+                    (l - 2.0 * d) * 1e3
+                ),
+            });
+        }
+        common::gauge_holds_a_disc(TEST, self.gauge_width, r_mean)?;
+        let g = self.gauge_width * r_mean;
+        if g > 0.5 * h {
+            return Err(LabError::Param {
+                field: "bending.gauge_width".into(),
+                reason: format!(
+                    "{} mean radii: the deflection gauges reach {:.4} mm up into a {:.4} mm \
+                     high beam, past its neutral axis; at most {:.2} (half the height)",
+                    self.gauge_width,
+                    g * 1e3,
+                    h * 1e3,
+                    0.5 * h / r_mean
+                ),
+            });
+        }
+        if self.span < 4.0 * g {
+            return Err(LabError::Param {
+                field: "bending.span".into(),
+                reason: format!(
+                    "{:.4} mm: the mid-span and support gauges (bands of ±{:.4} mm, \
+                     gauge_width {} mean radii) overlap below a span of {:.4} mm and would \
+                     average the same discs; lengthen the span or lower gauge_width",
+                    self.span * 1e3,
+                    g * 1e3,
+                    self.gauge_width,
+                    4.0 * g * 1e3
+                ),
+            });
+        }
+        Ok(())
+    }
+
     pub fn shape(&self) -> Shape {
         Shape::Rectangle {
             width: self.length,
@@ -236,6 +306,7 @@ pub fn scene(test: &BendingTest, model: &LabModel, spec: &TestSpecimen) -> Resul
             reason: format!("{} m must be below the specimen's length {l} m", test.span),
         });
     }
+    test.check_geometry([l, h], spec.r_mean)?;
     let xc = 0.5 * (x0 + x1);
     let r = test.roller_radius.unwrap_or(0.5 * h);
     let v = test.roller_speed(model, spec);

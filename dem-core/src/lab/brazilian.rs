@@ -73,6 +73,21 @@ impl BrazilianTest {
         self.loading.validate(&format!("{TEST}.loading"))
     }
 
+    /// The geometry against the particle size: the disc of diameter `diameter` (m) made of
+    /// discs of mean radius `r_mean` (m) must span [`common::MIN_DIAMETERS_ACROSS`] mean disc
+    /// diameters (error field `brazilian.diameter`). [`scene`] runs it with the carved disc's
+    /// height and mean radius; `dem test brazilian` also before generating.
+    pub fn check_geometry(&self, diameter: f64, r_mean: f64) -> Result<(), LabError> {
+        common::diameters_across(
+            TEST,
+            "diameter",
+            diameter,
+            r_mean,
+            "across the disc for a loaded diameter that splits through discs, not along one \
+             force chain",
+        )
+    }
+
     pub fn shape(&self) -> Shape {
         Shape::Disc {
             diameter: self.diameter,
@@ -95,6 +110,7 @@ pub fn scene(
     spec: &TestSpecimen,
 ) -> Result<Value, LabError> {
     test.validate()?;
+    test.check_geometry(spec.size()[1], spec.r_mean)?;
     let [x0, y0, x1, y1] = spec.extent;
     let d = y1 - y0;
     let xc = 0.5 * (x0 + x1);

@@ -237,6 +237,56 @@ pub fn positive(test: &str, field: &str, v: f64) -> Result<f64, LabError> {
     }
 }
 
+/// The fewest mean disc diameters across a lab test's resolving dimension (the compression
+/// specimen's width and height, the Brazilian disc's diameter, the beam's height); the bound
+/// and its source: [`crate::specimen::MIN_DIAMETERS_ACROSS`].
+pub use crate::specimen::MIN_DIAMETERS_ACROSS;
+
+/// `<test>.<field>`, a length `value` (m) that must span at least [`MIN_DIAMETERS_ACROSS`]
+/// mean disc diameters 2 `r_mean`; `why` says what the test needs it for. The error names the
+/// field, the value, the number of diameters, the bound and the reason.
+pub fn diameters_across(
+    test: &str,
+    field: &str,
+    value: f64,
+    r_mean: f64,
+    why: &str,
+) -> Result<(), LabError> {
+    let d = 2.0 * r_mean;
+    let n = value / d;
+    if n.is_finite() && n >= MIN_DIAMETERS_ACROSS {
+        return Ok(());
+    }
+    Err(LabError::Param {
+        field: format!("{test}.{field}"),
+        reason: format!(
+            "{:.4} mm is {n:.1} mean disc diameters ({:.4} mm); at least {MIN_DIAMETERS_ACROSS} \
+             are needed {why} (resolution floor, docs/lab-tests.md; Potyondy & Cundall 2004, \
+             Ding et al. 2014)",
+            value * 1e3,
+            d * 1e3
+        ),
+    })
+}
+
+/// `<test>.gauge_width` (in mean radii) of a position gauge: the band of half-width
+/// `gauge_width` r̄ about its line must be at least one mean disc diameter wide (else it may hold
+/// no disc centre), i.e. `gauge_width` ≥ 1.
+pub fn gauge_holds_a_disc(test: &str, gauge_width: f64, r_mean: f64) -> Result<(), LabError> {
+    if gauge_width >= 1.0 {
+        return Ok(());
+    }
+    Err(LabError::Param {
+        field: format!("{test}.gauge_width"),
+        reason: format!(
+            "{gauge_width} mean radii: a gauge band {:.4} mm wide is narrower than a mean disc \
+             ({:.4} mm) and may hold no disc centre; at least 1",
+            2.0 * gauge_width * r_mean * 1e3,
+            2.0 * r_mean * 1e3
+        ),
+    })
+}
+
 /// An analysis error of `test`.
 pub fn analysis_error(test: &str, reason: impl Into<String>) -> LabError {
     LabError::Analysis {

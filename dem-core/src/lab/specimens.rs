@@ -10,6 +10,7 @@
 
 use super::LabError;
 use crate::scene::schema::{LengthUnit, SpecimenFile};
+use crate::specimen::improved::GrainCover;
 use crate::specimen::{self, io, Method, Progress, SpecimenParams, DEFAULT_MATERIAL};
 use serde::{Deserialize, Serialize};
 use std::collections::HashSet;
@@ -41,6 +42,11 @@ pub struct TestSpecimen {
     pub r_mean: f64,
     /// Whether an existing file was reused instead of generated.
     pub reused: bool,
+    /// Grains whose improved-ORC template stops below its cover target (from the generator's
+    /// summary beside the file; empty for other methods, and for a specimen whose summary
+    /// predates this list). Reported, not acted on; left out of the JSON when empty.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub below_cover: Vec<GrainCover>,
 }
 
 /// What the key file beside a specimen records.
@@ -151,6 +157,7 @@ impl TestSpecimen {
             bonds: sf.bonds.iter().map(|b| b.pairs.len()).sum(),
             r_mean: rsum / discs.len() as f64,
             reused: false,
+            below_cover: below_cover(file, &sf),
         })
     }
 
@@ -174,6 +181,31 @@ impl TestSpecimen {
             .map(|n| n.to_string_lossy().into_owned())
             .unwrap_or_default()
     }
+}
+
+/// The grains below their cover target that the generator's summary beside `file` lists
+/// (`templates.below_cover`) and that are still in the specimen `sf` (a carved disc drops
+/// grains); empty when there is no summary or no such list.
+fn below_cover(file: &Path, sf: &SpecimenFile) -> Vec<GrainCover> {
+    let listed: Vec<GrainCover> = std::fs::read_to_string(io::summary_path(file))
+        .ok()
+        .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
+        .and_then(|v| serde_json::from_value(v.get("templates")?.get("below_cover")?.clone()).ok())
+        .unwrap_or_default();
+    if listed.is_empty() {
+        return listed;
+    }
+    let present: HashSet<u32> = sf
+        .discs
+        .iter()
+        .filter_map(|s| s.groups.as_ref())
+        .flatten()
+        .copied()
+        .collect();
+    listed
+        .into_iter()
+        .filter(|g| present.contains(&g.grain))
+        .collect()
 }
 
 /// A specimen file and its discs in metres; it must hold discs and no template clumps.
@@ -395,5 +427,33 @@ mod tests {
             .map(|d| d[1] - d[2])
             .fold(f64::INFINITY, f64::min);
         assert_eq!((minx, miny), (0.0, 0.0));
+    }
+
+    #[test]
+    fn grains_below_cover_come_from_the_summary_and_only_those_still_in_the_file() {
+        // Issue 20: a reused (or carved) specimen reports the grains below their cover target
+        // that its generator's summary lists, less those carved away (grain ids = rows 0..4).
+        let dir = std::env::temp_dir().join(format!("dem-below-cover-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let file = dir.join("s.json");
+        std::fs::write(&file, serde_json::to_string(&square()).unwrap()).unwrap();
+        assert!(TestSpecimen::read(&file).unwrap().below_cover.is_empty());
+        let g = |grain: u32| GrainCover {
+            grain,
+            cover: 0.8,
+            target: 0.95,
+            discs: 4,
+            stop: clumpgen::fill::StopReason::NoRoom,
+            max_discs: 9,
+            r_min: 0.05e-3,
+        };
+        let summary = serde_json::json!({"templates": {"below_cover": [g(2), g(7)]}});
+        std::fs::write(io::summary_path(&file), summary.to_string()).unwrap();
+        let t = TestSpecimen::read(&file).unwrap();
+        assert_eq!(t.below_cover, vec![g(2)]);
+        // In the result JSON only when there are any.
+        let v = serde_json::to_value(&t).unwrap();
+        assert_eq!(v["below_cover"][0]["grain"], 2);
+        std::fs::remove_dir_all(&dir).ok();
     }
 }

@@ -104,6 +104,48 @@ impl UcsTest {
         self.loading.validate(&format!("{TEST}.loading"))
     }
 
+    /// The geometry against the particle size: the specimen of `size` = [w, h] (m) made of
+    /// discs of mean radius `r_mean` (m) must span [`common::MIN_DIAMETERS_ACROSS`] mean disc
+    /// diameters in width and height, and each lateral gauge band (half-width `gauge_width`
+    /// r̄ about a side) must hold a disc (`gauge_width` ≥ 1) and stay in its half of the
+    /// specimen (`gauge_width` r̄ ≤ w/2, else the two gauges average the same discs). Errors
+    /// name the field (`ucs.width`, `ucs.height`, `ucs.gauge_width`). [`scene`] runs it with
+    /// the specimen's extent and mean radius; `dem test ucs` also before generating.
+    pub fn check_geometry(&self, size: [f64; 2], r_mean: f64) -> Result<(), LabError> {
+        let [w, h] = size;
+        common::diameters_across(
+            TEST,
+            "width",
+            w,
+            r_mean,
+            "across the width for an interior between the lateral gauges",
+        )?;
+        common::diameters_across(
+            TEST,
+            "height",
+            h,
+            r_mean,
+            "along the loading axis for a strain measured over more than a few contacts",
+        )?;
+        common::gauge_holds_a_disc(TEST, self.gauge_width, r_mean)?;
+        let g = self.gauge_width * r_mean;
+        if g > 0.5 * w {
+            return Err(LabError::Param {
+                field: "ucs.gauge_width".into(),
+                reason: format!(
+                    "{} mean radii: each lateral gauge reaches {:.4} mm into a {:.4} mm wide \
+                     specimen, so the two overlap and average the same discs; at most {:.2} \
+                     (half the width)",
+                    self.gauge_width,
+                    g * 1e3,
+                    w * 1e3,
+                    0.5 * w / r_mean
+                ),
+            });
+        }
+        Ok(())
+    }
+
     /// The specimen shape.
     pub fn shape(&self) -> Shape {
         Shape::Rectangle {
@@ -125,6 +167,7 @@ impl UcsTest {
 /// beside it), two platens, left/right gauges, local damping, stop after the peak.
 pub fn scene(test: &UcsTest, model: &LabModel, spec: &TestSpecimen) -> Result<Value, LabError> {
     test.validate()?;
+    test.check_geometry(spec.size(), spec.r_mean)?;
     let [x0, y0, x1, y1] = spec.extent;
     let (w, h) = (x1 - x0, y1 - y0);
     let v = test.platen_speed(model, spec);

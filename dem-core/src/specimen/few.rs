@@ -419,7 +419,7 @@ pub fn build_improved(
             },
         )?;
         offsets.extend(placed.offsets);
-        ts.add(t, g.r_min_reduced);
+        ts.add_grain((m + gi) as u32, t, g.r_min_reduced);
     }
     ts.finish();
     // Overlaps between template discs and packing discs (or other grains' discs): gap < 0.

@@ -45,6 +45,73 @@ pub struct TemplateStats {
     pub max_residual: f64,
     /// Grains that needed r_min halved (once or twice) to be filled.
     pub r_min_reduced: usize,
+    /// Grains whose template stops below its cover target (issue 20: reported, never
+    /// changed: the specimen is the same with or without this list). Left out of the JSON when
+    /// empty, so the summaries of specimens whose grains all reach the cover are unchanged.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub below_cover: Vec<GrainCover>,
+}
+
+/// A grain whose template discs stop below the area cover asked for (`template_cover`): a
+/// warning, not an error. The template still has exactly the grain's mass, centroid and
+/// inertia (clumpgen's [`clumpgen::template::CoverShortfall`]); only its shape is coarser than
+/// asked for. Its message names the grain, the cover reached, the target and the parameter
+/// (with its `dem specimen` / `dem test` flag) that changes it.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct GrainCover {
+    /// The grain's id in the specimen (the disc group of its members).
+    pub grain: u32,
+    /// Area cover A_r reached and asked for.
+    pub cover: f64,
+    pub target: f64,
+    /// Template discs placed.
+    pub discs: usize,
+    /// Why the fill stopped: `max_discs` (the disc cap `template_max_discs` came first) or
+    /// `no_room` (no place left for a disc of radius `r_min`).
+    pub stop: clumpgen::fill::StopReason,
+    /// The disc cap and the smallest disc radius (m) the fill ran with (r_min may be
+    /// `template_r_min` halved once or twice when the grain was too small).
+    pub max_discs: usize,
+    pub r_min: f64,
+}
+
+impl GrainCover {
+    /// The shortfall of `t`, the template of grain `grain`, if its cover is below its target.
+    pub fn of(grain: u32, t: &Template) -> Option<GrainCover> {
+        let s = t.cover_shortfall()?;
+        Some(GrainCover {
+            grain,
+            cover: s.cover,
+            target: s.target,
+            discs: t.discs.len(),
+            stop: s.stop,
+            max_discs: s.max_discs,
+            r_min: s.r_min,
+        })
+    }
+}
+
+impl std::fmt::Display for GrainCover {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "grain {}: cover {:.4} below the target {} with {} discs; ",
+            self.grain, self.cover, self.target, self.discs
+        )?;
+        match self.stop {
+            clumpgen::fill::StopReason::MaxDiscs => write!(
+                f,
+                "the fill stopped at the disc cap: raise template_max_discs (--max-discs, now {})",
+                self.max_discs
+            ),
+            _ => write!(
+                f,
+                "no room is left for a disc of radius {:.4} mm: lower template_r_min \
+                 (--template-r-min)",
+                self.r_min * 1e3
+            ),
+        }
+    }
 }
 
 impl TemplateStats {
@@ -63,6 +130,13 @@ impl TemplateStats {
         self.union_area += t.cover.union_area;
         self.max_residual = self.max_residual.max(t.residuals.max());
         self.r_min_reduced += reduced as usize;
+    }
+
+    /// [`TemplateStats::add`] for grain `grain` of a specimen, noting the grain in
+    /// [`TemplateStats::below_cover`] when its template stops below its cover target.
+    pub fn add_grain(&mut self, grain: u32, t: &Template, reduced: bool) {
+        self.add(t, reduced);
+        self.below_cover.extend(GrainCover::of(grain, t));
     }
 
     /// Turn the sums of [`TemplateStats::add`] into means.
@@ -220,7 +294,7 @@ pub fn build(
             },
         )?;
         offsets.extend(placed.offsets);
-        ts.add(t, *reduced);
+        ts.add_grain(gi as u32, t, *reduced);
     }
     ts.finish();
     let w = crate::bond::attach::world_with_bonds(

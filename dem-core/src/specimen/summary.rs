@@ -268,7 +268,15 @@ impl Summary {
                 format!(
                     "{} grains, {}-{} discs (mean {:.2}), cover {:.3}, max residual {:.1e}, r_min reduced {}",
                     t.grains, t.discs_min, t.discs_max, t.discs_mean, t.cover_mean, t.max_residual, t.r_min_reduced
-                ),
+                ) + &if t.below_cover.is_empty() {
+                    String::new()
+                } else {
+                    format!(
+                        ", {} below the cover target {}",
+                        t.below_cover.len(),
+                        t.below_cover[0].target
+                    )
+                },
             );
         }
         if let Some(g) = &self.irregular {
