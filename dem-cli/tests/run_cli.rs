@@ -500,7 +500,7 @@ fn binary_checkpoints_and_the_off_switch() {
         "binary",
     ]);
     assert_eq!(o.status.code(), Some(0), "{}", text(&o));
-    assert!(text(&o).contains("1 periodic checkpoints"), "{}", text(&o));
+    assert!(text(&o).contains("2 periodic checkpoints"), "{}", text(&o));
     let ck = bin.join("ckpt-000000200.bin");
     assert!(ck.exists() && bin.join("ckpt-final.bin").exists());
     assert!(!bin.join("ckpt-final.json").exists());
