@@ -143,7 +143,7 @@ fn binary_restart_continues_bit_identically_and_keep_counts_both_formats() {
     }
     // The totals came through the binary checkpoint: two invocations.
     let rc = read(&c.join("ckpt-final.bin")).run.unwrap();
-    assert_eq!(serde_json::to_value(&rc).unwrap()["invocations"], 2);
+    assert_eq!(serde_json::to_value(rc).unwrap()["invocations"], 2);
     // The binary checkpoint of the same world is smaller.
     let json_len = std::fs::metadata(a.join("ckpt-final.json")).unwrap().len();
     let bin_len = std::fs::metadata(c.join("ckpt-final.bin")).unwrap().len();
