@@ -46,7 +46,7 @@ Examples:
   dem render run/snap-000020000.vtp --color speed
   dem render run/snapshots.pvd --out cut.gif --fps 12 --width 600")]
 pub struct RenderArgs {
-    /// Input: a checkpoint (ckpt-*.json), a last-good-state.json, a specimen file
+    /// Input: a checkpoint (ckpt-*.json or ckpt-*.bin), a last-good-state.json, a specimen file
     /// (`dem specimen`), a clump template (`dem clump`), a VTK snapshot (snap-*.vtp) or a
     /// series of them (snapshots.pvd: an animation).
     input: PathBuf,

@@ -36,6 +36,22 @@ pub struct RunArgs {
     /// run is refused).
     #[arg(long)]
     yes: bool,
+    /// Checkpoint file format, overriding the scene's `outputs.checkpoint_format`: `json`
+    /// (`ckpt-<step>.json`) or `binary` (`ckpt-<step>.bin`, about half the size). A
+    /// restart reads either.
+    #[arg(long, value_enum)]
+    checkpoint_format: Option<CkptFormat>,
+    /// Write no checkpoints, neither periodic nor final (overrides the scene's
+    /// `outputs.checkpoints` and `checkpoint_every`); the run then cannot be resumed.
+    #[arg(long)]
+    no_checkpoints: bool,
+}
+
+/// `--checkpoint-format` values.
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum CkptFormat {
+    Json,
+    Binary,
 }
 
 /// Above this many steps `dem run` states the count and refuses unless `--yes`: 10⁹ steps of
@@ -44,7 +60,17 @@ pub struct RunArgs {
 pub const MAX_STEPS_UNASKED: u64 = dem_core::lab::run::STEP_LIMIT;
 
 pub fn run(a: RunArgs) -> Result<ExitCode, String> {
-    let scene = dem_core::scene::load(&a.scene).map_err(|e| e.to_string())?;
+    let mut scene = dem_core::scene::load(&a.scene).map_err(|e| e.to_string())?;
+    // Run control, not physics: neither changes the scene's physics hash.
+    if let Some(f) = a.checkpoint_format {
+        scene.outputs.checkpoint_format = match f {
+            CkptFormat::Json => dem_core::checkpoint::Format::Json,
+            CkptFormat::Binary => dem_core::checkpoint::Format::Binary,
+        };
+    }
+    if a.no_checkpoints {
+        scene.outputs.checkpoints = false;
+    }
     // (The folder `Simulation::new` writes into.)
     let out = a.out.clone().unwrap_or_else(|| scene.outputs.dir.clone());
     let (file, hash) = (scene.file.clone(), scene.physics_hash());
@@ -90,6 +116,9 @@ pub fn run(a: RunArgs) -> Result<ExitCode, String> {
         }
         println!("active stages: {}", sim.active_stages().join(", "));
         println!("output: {}", sim.out_dir().display());
+        if !sim.scene.outputs.checkpoints {
+            println!("checkpoints: off (this run writes none and cannot be resumed)");
+        }
         let bar = if std::io::stderr().is_terminal() {
             let b = ProgressBar::new(sim.total_steps());
             b.set_style(
@@ -131,6 +160,9 @@ pub fn run(a: RunArgs) -> Result<ExitCode, String> {
             series("snap-"),
             series("ckpt-0")
         );
+        if !s.checkpoints {
+            println!("no checkpoints written (checkpoints off): this run cannot be resumed");
+        }
         Ok(ExitCode::SUCCESS)
     })
 }

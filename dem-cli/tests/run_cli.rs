@@ -509,3 +509,82 @@ fn a_run_of_too_many_steps_is_refused_unless_asked() {
     assert_eq!(o.status.code(), Some(0), "{}", text(&o));
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Issue 20: `--checkpoint-format binary` writes `.bin` checkpoints that `--restart` reads
+/// (the same final state as a JSON run); `--no-checkpoints` writes none and says the run cannot
+/// be resumed.
+#[test]
+fn binary_checkpoints_and_the_off_switch() {
+    let dir = tmp("binary");
+    let scene = tiny_scene(&dir);
+    let s = scene.to_str().unwrap();
+    let (json, bin, bin2, off) = (
+        dir.join("json"),
+        dir.join("bin"),
+        dir.join("bin2"),
+        dir.join("off"),
+    );
+    let o = dem(&["run", s, "--out", json.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    let o = dem(&[
+        "run",
+        s,
+        "--out",
+        bin.to_str().unwrap(),
+        "--checkpoint-format",
+        "binary",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    assert!(text(&o).contains("2 periodic checkpoints"), "{}", text(&o));
+    let ck = bin.join("ckpt-000000200.bin");
+    assert!(ck.exists() && bin.join("ckpt-final.bin").exists());
+    assert!(!bin.join("ckpt-final.json").exists());
+    let o = dem(&[
+        "run",
+        s,
+        "--out",
+        bin2.to_str().unwrap(),
+        "--restart",
+        ck.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    assert!(text(&o).contains("completed: 200 steps to step 400"));
+    let world = |p: &Path| {
+        let c = dem_core::checkpoint::parse_bytes(&std::fs::read(p).unwrap(), "c").unwrap();
+        serde_json::to_string(&c.world).unwrap()
+    };
+    let w = world(&json.join("ckpt-final.json"));
+    assert!(w == world(&bin.join("ckpt-final.bin")));
+    assert!(w == world(&bin2.join("ckpt-final.json")));
+    // A corrupted binary checkpoint is refused naming it.
+    let mut b = std::fs::read(&ck).unwrap();
+    let n = b.len();
+    b[n / 2] ^= 1;
+    let bad = dir.join("bad.bin");
+    std::fs::write(&bad, &b).unwrap();
+    let o = dem(&[
+        "run",
+        s,
+        "--out",
+        off.to_str().unwrap(),
+        "--restart",
+        bad.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    assert!(
+        text(&o).contains("bad.bin: the checkpoint is corrupt"),
+        "{}",
+        text(&o)
+    );
+    // Off: no checkpoint files, and it says so.
+    let o = dem(&["run", s, "--out", off.to_str().unwrap(), "--no-checkpoints"]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    assert!(text(&o).contains("cannot be resumed"), "{}", text(&o));
+    let names: Vec<String> = std::fs::read_dir(&off)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    assert!(names.iter().all(|n| !n.starts_with("ckpt")), "{names:?}");
+    assert!(names.iter().any(|n| n == "summary.json"), "{names:?}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -113,7 +113,12 @@ pub fn load(path: &Path, outline: Option<&Path>) -> Result<Picture, String> {
     {
         return super::vtk::load_vtp(path, None);
     }
-    let text = std::fs::read_to_string(path).map_err(|e| format!("{file}: cannot read: {e}"))?;
+    let bytes = std::fs::read(path).map_err(|e| format!("{file}: cannot read: {e}"))?;
+    if bytes.starts_with(&dem_core::checkpoint::MAGIC) {
+        let c = dem_core::checkpoint::parse_bytes(&bytes, &file).map_err(|e| e.to_string())?;
+        return Ok(from_checkpoint(c, path));
+    }
+    let text = String::from_utf8(bytes).map_err(|e| format!("{file}: cannot read: {e}"))?;
     if text.trim_start().starts_with('<') {
         return Err(format!(
             "{file}: an XML file; dem render reads VTK snapshots by their name (snap-*.vtp, or a \
@@ -134,34 +139,7 @@ pub fn load(path: &Path, outline: Option<&Path>) -> Result<Picture, String> {
     match peek.schema.as_deref() {
         Some(dem_core::checkpoint::SCHEMA) => {
             let c = dem_core::checkpoint::parse(&text, &file).map_err(|e| e.to_string())?;
-            let w = &c.world;
-            let mut p = from_state(&w.state, Kind::Checkpoint);
-            if let Some(b) = &w.bonds {
-                p.bond_groups = b.group_names();
-                let at: HashMap<u32, [f64; 2]> = b
-                    .log()
-                    .events
-                    .iter()
-                    .map(|e| (e.bond, [e.x, e.y]))
-                    .collect();
-                p.bonds = b
-                    .iter()
-                    .map(|v| Bond {
-                        i: v.i as usize,
-                        j: v.j as usize,
-                        group: v.group,
-                        intact: v.status == BondStatus::Intact,
-                        broke_at: at.get(&v.id).copied(),
-                        width: 2.0 * v.rbar,
-                    })
-                    .filter(|b| b.i < p.discs.len() && b.j < p.discs.len())
-                    .collect();
-            }
-            p.caption = vec![
-                format!("{label}   {}", step_time(w.state.step, w.state.time)),
-                counts(&p),
-            ];
-            Ok(p)
+            Ok(from_checkpoint(c, path))
         }
         Some(SPECIMEN_SCHEMA) => {
             let s: SpecimenFile = serde_json::from_str(&text)
@@ -197,6 +175,39 @@ pub fn load(path: &Path, outline: Option<&Path>) -> Result<Picture, String> {
              reads {KINDS}"
         )),
     }
+}
+
+/// A checkpoint (either format) as a picture: discs, bonds (broken ones where they broke).
+fn from_checkpoint(c: dem_core::checkpoint::Checkpoint, path: &Path) -> Picture {
+    let label = short_name(path);
+    let w = &c.world;
+    let mut p = from_state(&w.state, Kind::Checkpoint);
+    if let Some(b) = &w.bonds {
+        p.bond_groups = b.group_names();
+        let at: HashMap<u32, [f64; 2]> = b
+            .log()
+            .events
+            .iter()
+            .map(|e| (e.bond, [e.x, e.y]))
+            .collect();
+        p.bonds = b
+            .iter()
+            .map(|v| Bond {
+                i: v.i as usize,
+                j: v.j as usize,
+                group: v.group,
+                intact: v.status == BondStatus::Intact,
+                broke_at: at.get(&v.id).copied(),
+                width: 2.0 * v.rbar,
+            })
+            .filter(|b| b.i < p.discs.len() && b.j < p.discs.len())
+            .collect();
+    }
+    p.caption = vec![
+        format!("{label}   {}", step_time(w.state.step, w.state.time)),
+        counts(&p),
+    ];
+    p
 }
 
 /// `folder/file.json`: the file name with its folder, which tells checkpoints of runs apart.

@@ -5,6 +5,9 @@
 //! runs every `guard_every` steps and before every output; a history row every `history_every`
 //! steps; a VTK snapshot every `vtk_every` steps (and at step 0 of a fresh run); a checkpoint
 //! every `checkpoint_every` steps; `ckpt-final.json`, the break log and the summary at the end.
+//! Checkpoints are `.json` or `.bin` by `outputs.checkpoint_format`; with `outputs.checkpoints`
+//! off none is written (neither periodic nor final), and the summary says the run cannot be
+//! resumed.
 //! A [`StepHook`] set by the caller (e.g. the cutting test's fragment deletion) runs every
 //! `hook.every` steps, before that step's guard and outputs.
 //! When the guard fails, the run stops: the last state that passed is written to
@@ -109,7 +112,8 @@ pub struct Simulation {
     hook: Option<StepHook>,
 }
 
-/// The numbered checkpoints `ckpt-<step>.json` in `dir`, by increasing step.
+/// The numbered checkpoints `ckpt-<step>.json` and `ckpt-<step>.bin` (either format) in `dir`,
+/// by increasing step (the last is the newest).
 pub fn numbered_checkpoints(dir: &Path) -> Result<Vec<(u64, PathBuf)>, OutputError> {
     let io = |source| OutputError::Io {
         file: dir.display().to_string(),
@@ -121,7 +125,7 @@ pub fn numbered_checkpoints(dir: &Path) -> Result<Vec<(u64, PathBuf)>, OutputErr
         let name = entry.file_name().to_string_lossy().into_owned();
         let step = name
             .strip_prefix("ckpt-")
-            .and_then(|r| r.strip_suffix(".json"))
+            .and_then(|r| r.strip_suffix(".json").or_else(|| r.strip_suffix(".bin")))
             .filter(|n| !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit()))
             .and_then(|n| n.parse::<u64>().ok());
         if let Some(step) = step {
@@ -158,8 +162,10 @@ fn is_output_name(name: &str) -> bool {
     numbered("snap-", ".vtp")
         || numbered("walls-", ".vtp")
         || numbered("ckpt-", ".json")
+        || numbered("ckpt-", ".bin")
         || [
             "ckpt-final.json",
+            "ckpt-final.bin",
             "history.csv",
             "breaks.csv",
             "summary.json",
@@ -318,7 +324,11 @@ impl Simulation {
     ) -> Result<(RunSummary, Ending), RunError> {
         let t0 = Instant::now();
         (self.started, self.cpu_started) = (t0, thread_cpu_s());
-        let o = self.scene.outputs.clone();
+        let mut o = self.scene.outputs.clone();
+        if !o.checkpoints {
+            o.checkpoint_every = 0;
+        }
+        let ext = o.checkpoint_format.extension();
         std::fs::create_dir_all(&self.out).map_err(|source| OutputError::Io {
             file: self.out.display().to_string(),
             source,
@@ -383,7 +393,7 @@ impl Simulation {
                     self.snapshot()?;
                 }
                 if c {
-                    self.checkpoint(&self.out.join(format!("ckpt-{s:09}.json")))?;
+                    self.checkpoint(&self.out.join(format!("ckpt-{s:09}.{ext}")))?;
                 } else if self.last_flush.elapsed() > FLUSH_EVERY {
                     self.flush()?;
                 }
@@ -398,7 +408,11 @@ impl Simulation {
             }
         };
         self.guard(t0)?;
-        self.checkpoint(&self.out.join("ckpt-final.json"))?;
+        if o.checkpoints {
+            self.checkpoint(&self.out.join(format!("ckpt-final.{ext}")))?;
+        } else {
+            self.flush()?;
+        }
         let steps = self.world.state.step - self.start_step;
         progress(steps, steps);
         let status = match ending {
@@ -569,7 +583,15 @@ impl Simulation {
         let rows = self.history.as_ref().map_or("", |h| h.rows());
         let snaps = self.pvd.as_ref().map_or(&[][..], |c| &c.entries[..]);
         let totals = self.totals();
-        checkpoint::save(path, &self.world, &self.hash, rows, snaps, Some(&totals))?;
+        checkpoint::save_as(
+            path,
+            self.scene.outputs.checkpoint_format,
+            &self.world,
+            &self.hash,
+            rows,
+            snaps,
+            Some(&totals),
+        )?;
         self.record(path);
         let keep = self.scene.outputs.checkpoint_keep as usize;
         if keep > 0 {
@@ -647,6 +669,7 @@ impl Simulation {
             energy: w.energy(),
             files: self.files.iter().cloned().collect(),
             not_finite: vec![],
+            checkpoints: self.scene.outputs.checkpoints,
         };
         if self.scene.outputs.summary {
             s.save(&path)?;
@@ -708,7 +731,9 @@ mod tests {
             "snap-000000100.vtp",
             "walls-1.vtp",
             "ckpt-000000200.json",
+            "ckpt-000000200.bin",
             "ckpt-final.json",
+            "ckpt-final.bin",
             "history.csv",
         ] {
             assert!(is_output_name(n), "{n}");
@@ -718,6 +743,8 @@ mod tests {
             "snap-12a.vtp",
             "notes.txt",
             "ckpt-half.json",
+            "ckpt-half.bin",
+            "ckpt-1.bin.bak",
             "history.csv.bak",
             "scene.json",
         ] {

@@ -58,6 +58,10 @@ pub struct RunSummary {
     /// have any; empty (and absent from the file) otherwise.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub not_finite: Vec<String>,
+    /// `false` when the run wrote no checkpoints (`outputs.checkpoints` off or `dem run
+    /// --no-checkpoints`): it cannot be resumed. Absent (true) otherwise.
+    #[serde(default = "yes", skip_serializing_if = "is_true")]
+    pub checkpoints: bool,
 }
 
 /// A run's figures over all its invocations: a fresh run is one invocation, each restart from
@@ -190,4 +194,12 @@ impl RunSummary {
         let s = self.to_json(path)?;
         write_atomic(path, s.as_bytes())
     }
+}
+
+fn yes() -> bool {
+    true
+}
+
+fn is_true(v: &bool) -> bool {
+    *v
 }

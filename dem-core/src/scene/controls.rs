@@ -169,6 +169,8 @@ pub(crate) fn outputs(
         vtk_every: o.vtk_every,
         checkpoint_every: o.checkpoint_every,
         checkpoint_keep: o.checkpoint_keep,
+        checkpoints: o.checkpoints,
+        checkpoint_format: o.checkpoint_format,
         guard_every: o.guard_every,
         summary: o.summary,
     })

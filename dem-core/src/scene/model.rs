@@ -212,8 +212,9 @@ impl Default for Stop {
     }
 }
 
-/// Output control; the folder is absolute (resolved against the scene file).
-#[derive(Debug, Clone, Default)]
+/// Output control; the folder is absolute (resolved against the scene file). Run control, not
+/// physics: none of it enters [`Scene::physics_hash`], so a restart may change any of it.
+#[derive(Debug, Clone)]
 pub struct Outputs {
     pub dir: PathBuf,
     pub history_every: u64,
@@ -221,9 +222,31 @@ pub struct Outputs {
     pub checkpoint_every: u64,
     /// Numbered checkpoints kept (newest; 0 = all).
     pub checkpoint_keep: u32,
+    /// Whether the run writes checkpoints at all; `false`: neither the periodic ones nor
+    /// `ckpt-final.*`, and the run cannot be resumed.
+    pub checkpoints: bool,
+    /// File format of the checkpoints (`ckpt-<step>.json` or `.bin`).
+    pub checkpoint_format: crate::checkpoint::Format,
     pub guard_every: u64,
     pub summary: bool,
     pub gauges: Vec<Gauge>,
+}
+
+impl Default for Outputs {
+    fn default() -> Outputs {
+        Outputs {
+            dir: PathBuf::new(),
+            history_every: 0,
+            vtk_every: 0,
+            checkpoint_every: 0,
+            checkpoint_keep: 0,
+            checkpoints: true,
+            checkpoint_format: crate::checkpoint::Format::Json,
+            guard_every: 0,
+            summary: false,
+            gauges: Vec::new(),
+        }
+    }
 }
 
 impl Scene {

@@ -555,6 +555,15 @@ pub struct OutputSpec {
     /// as new ones are written; 0 = keep all.
     #[serde(default, skip_serializing_if = "is_zero_u32")]
     pub checkpoint_keep: u32,
+    /// Write checkpoints at all (default `true`); `false`: neither the periodic ones nor
+    /// `ckpt-final.*`, so the run cannot be resumed (for runs too large or too short to need
+    /// them). Wins over `checkpoint_every`.
+    #[serde(default = "yes", skip_serializing_if = "is_true")]
+    pub checkpoints: bool,
+    /// Checkpoint file format: `"json"` (default; `ckpt-<step>.json`) or `"binary"`
+    /// (`ckpt-<step>.bin`, about half the size, documented in `dem_core::checkpoint`).
+    #[serde(default, skip_serializing_if = "crate::checkpoint::Format::is_json")]
+    pub checkpoint_format: crate::checkpoint::Format,
     /// Blow-up guard interval (the guard also runs at every output).
     #[serde(default = "default_guard")]
     pub guard_every: u64,
@@ -567,6 +576,10 @@ pub struct OutputSpec {
 
 fn is_zero_u32(v: &u32) -> bool {
     *v == 0
+}
+
+fn is_true(v: &bool) -> bool {
+    *v
 }
 
 fn default_history() -> u64 {
@@ -589,6 +602,8 @@ impl Default for OutputSpec {
             vtk_every: 0,
             checkpoint_every: 0,
             checkpoint_keep: 0,
+            checkpoints: true,
+            checkpoint_format: crate::checkpoint::Format::Json,
             guard_every: default_guard(),
             summary: true,
             gauges: Vec::new(),
