@@ -196,15 +196,17 @@ fn check_step_count(sim: &Simulation, yes: bool) -> Result<(), String> {
 /// project's own runs (a 10 mm Table 2 cut, ~1,600 discs, 20 snapshots: ~30 MB).
 pub const MAX_OUTPUT_BYTES_UNASKED: f64 = 10e9;
 
-/// Bytes per disc of a VTK snapshot (with its contacts and bonds) and of a JSON checkpoint,
-/// measured on an improved-ORC cutting specimen (1,583 discs, 3,175 bonds: 0.55 MB and
-/// 1.30 MB; docs/reliability.md, "Checkpoints").
+/// Bytes per disc of a VTK snapshot (with its contacts and bonds) and of a JSON and a binary
+/// checkpoint, measured on an improved-ORC cutting specimen (~1,590 discs, ~3,170 bonds:
+/// 0.55 MB a snapshot; 846 and 421 B per disc without the history rows; docs/reliability.md,
+/// "Checkpoints").
 const SNAPSHOT_BYTES_PER_DISC: f64 = 345.0;
-const CHECKPOINT_BYTES_PER_DISC: f64 = 820.0;
+const JSON_CHECKPOINT_BYTES_PER_DISC: f64 = 846.0;
+const BINARY_CHECKPOINT_BYTES_PER_DISC: f64 = 421.0;
 
 /// The disk a run's snapshots and checkpoints will take, estimated from its step count, disc
 /// count and output intervals (the numbered checkpoints kept are bounded by
-/// `outputs.checkpoint_keep`; `ckpt-final` counts once).
+/// `outputs.checkpoint_keep`; `ckpt-final` counts once; none with `outputs.checkpoints` off).
 fn output_bytes(sim: &Simulation) -> f64 {
     let steps = sim.total_steps();
     let o = &sim.scene.outputs;
@@ -216,7 +218,12 @@ fn output_bytes(sim: &Simulation) -> f64 {
         0 => numbered,
         k => numbered.min(u64::from(k)),
     };
-    discs * (snapshots * SNAPSHOT_BYTES_PER_DISC + (kept + 1) as f64 * CHECKPOINT_BYTES_PER_DISC)
+    let checkpoints = if o.checkpoints { kept + 1 } else { 0 };
+    let per_checkpoint = match o.checkpoint_format {
+        dem_core::checkpoint::Format::Json => JSON_CHECKPOINT_BYTES_PER_DISC,
+        dem_core::checkpoint::Format::Binary => BINARY_CHECKPOINT_BYTES_PER_DISC,
+    };
+    discs * (snapshots * SNAPSHOT_BYTES_PER_DISC + checkpoints as f64 * per_checkpoint)
 }
 
 /// Refuses a run whose outputs would fill more than [`MAX_OUTPUT_BYTES_UNASKED`] unless `yes`

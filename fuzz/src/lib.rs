@@ -182,13 +182,22 @@ pub fn specimen(data: &[u8]) {
     }
 }
 
-/// Checkpoint JSON → checkpoint (checksum, schema, world) → three steps of its world. A
-/// checkpoint without a checksum field is read (older files), so mutations reach the world.
+/// Checkpoint, JSON or binary (`checkpoint::parse_bytes`) → checkpoint (checksum, schema,
+/// world) → three steps of its world. A JSON checkpoint without a checksum field is read
+/// (older files), so mutations reach the world; a binary one (magic `DEMCKPT\0`) gets its
+/// checksum (bytes 80..112: SHA-256 of the rest) recomputed here, so mutations reach its
+/// section lengths and MessagePack sections instead of stopping at the checksum.
 pub fn checkpoint(data: &[u8]) {
-    let Ok(text) = std::str::from_utf8(data) else {
-        return;
-    };
-    let Ok(c) = dem_core::checkpoint::parse(text, "fuzz.json") else {
+    use sha2::{Digest, Sha256};
+    let mut bytes = data.to_vec();
+    if bytes.starts_with(b"DEMCKPT\0") && bytes.len() >= 136 {
+        let mut h = Sha256::new();
+        h.update(&bytes[..80]);
+        h.update(&bytes[112..]);
+        let sum = h.finalize();
+        bytes[80..112].copy_from_slice(&sum);
+    }
+    let Ok(c) = dem_core::checkpoint::parse_bytes(&bytes, "fuzz") else {
         return;
     };
     let mut world = c.world;
