@@ -3,7 +3,7 @@
 # 3-5): scripts/cut-pictures.sh RUNS_DIR [PICTURES_DIR]
 # Runs (once: a finished cut is kept) the Table 2 cut of seed 1, a_p = 1 mm, v = 2 m/s, L = 10
 # mm with 3 VTK snapshots for the traditional, ORC and improved-ORC specimens into
-# RUNS_DIR/<method> (about 2, 2 and 15 CPU-minutes on the development VM), then draws with
+# RUNS_DIR/<method> (90, 96 and 514 s of CPU on the development VM), then draws with
 # `dem render` the specimen and the cut at 1/3, 2/3 and the end of its travel into
 # PICTURES_DIR/cut-<method>-<k>.png (default docs/pictures), k = 0 (specimen) to 3.
 set -euo pipefail
