@@ -213,6 +213,7 @@ fn a_bad_global_flag_is_one_usage_error() {
         (&["--resample", "2"][..], "--resample"),
         (&["--raster", "0"][..], "--raster"),
         (&["--units", "px"][..], "--px-scale"),
+        (&["--px-scale", "1e-6"][..], "--px-scale"),
         (&["--threads", "0"][..], "--threads"),
     ] {
         let o = run(flags);
