@@ -173,7 +173,13 @@ pub fn clashes(inputs: &[Input], out: &Path) -> Vec<Clash> {
 /// never share an export unless they share a template, which is a clash already; exports never
 /// end in `.json`, so no export is another input's template or the summary.)
 pub fn clashes_with_exports(inputs: &[Input], out: &Path, exports: &[Format]) -> Vec<Clash> {
-    let entries: Vec<Entry> = inputs
+    let entries = input_entries(inputs, out);
+    clash_core(inputs, &entries, out, exports, case_insensitive(out))
+}
+
+/// One [`Entry`] per input: its template in `out`, named by its path.
+fn input_entries(inputs: &[Input], out: &Path) -> Vec<Entry> {
+    inputs
         .iter()
         .enumerate()
         .map(|(k, i)| Entry {
@@ -181,8 +187,7 @@ pub fn clashes_with_exports(inputs: &[Input], out: &Path, exports: &[Format]) ->
             who: i.path.display().to_string(),
             dest: Some(template_path(out, i)),
         })
-        .collect();
-    clash_core(inputs, &entries, out, exports, case_insensitive(out))
+        .collect()
 }
 
 /// A template to be written: for input `input`, named `who` in messages.
@@ -876,15 +881,7 @@ mod tests {
         std::fs::write(d.join("g.csv"), SQUARE).unwrap();
         let inputs = collect_inputs(std::slice::from_ref(&d)).unwrap();
         let out = d.join("out");
-        let entries: Vec<Entry> = inputs
-            .iter()
-            .enumerate()
-            .map(|(k, i)| Entry {
-                input: k,
-                who: i.path.display().to_string(),
-                dest: Some(out.join(i.relative.with_extension("json"))),
-            })
-            .collect();
+        let entries = input_entries(&inputs, &out);
         assert!(clash_core(&inputs, &entries, &out, &[], false).is_empty());
         let c = clash_core(&inputs, &entries, &out, &[], true);
         assert_eq!(c.len(), 1, "{c:?}");

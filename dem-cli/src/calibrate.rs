@@ -142,7 +142,7 @@ pub fn run(a: CalibrateArgs) -> Result<ExitCode, String> {
             &lab.brazilian_specimen,
         ] {
             crate::test::strict_cover(&a.lab, s).map_err(|e| e.to_string())?;
-            for l in crate::test::cover_lines(&s.file, &s.below_cover) {
+            for l in crate::specimen::cover_lines(&s.file, &s.below_cover) {
                 log(&format!("warning: {l}"));
             }
         }

@@ -338,7 +338,7 @@ pub fn run(a: SpecimenArgs) -> Result<ExitCode, String> {
         .as_ref()
         .map(|t| t.below_cover.as_slice())
         .unwrap_or_default();
-    let lines = crate::test::cover_lines(&a.out, below);
+    let lines = cover_lines(&a.out, below);
     if a.strict && !below.is_empty() {
         return Err(format!(
             "--strict: {} grains are below their cover target; {} not written (leave out \
@@ -369,4 +369,24 @@ pub fn run(a: SpecimenArgs) -> Result<ExitCode, String> {
         scene_file.display()
     );
     Ok(ExitCode::SUCCESS)
+}
+
+/// Grains below their cover target listed at most this many at a time ("and N more").
+const COVER_LIST: usize = 10;
+
+/// One line per grain below its cover target (at most [`COVER_LIST`], then "and N more"),
+/// each naming the specimen file.
+pub fn cover_lines(
+    file: &std::path::Path,
+    below: &[dem_core::specimen::improved::GrainCover],
+) -> Vec<String> {
+    let mut v: Vec<String> = below
+        .iter()
+        .take(COVER_LIST)
+        .map(|g| format!("{}: {g}", file.display()))
+        .collect();
+    if below.len() > COVER_LIST {
+        v.push(format!("and {} more", below.len() - COVER_LIST));
+    }
+    v
 }

@@ -5,14 +5,13 @@
 //! One clap variant per test; the specimen and model flags every test shares are
 //! [`LabArgs`] (`#[command(flatten)]`), so another test (cutting) adds only its own variant.
 
-use crate::specimen::{material_values, method_and_dist, parse_length, parse_stress};
+use crate::specimen::{cover_lines, material_values, method_and_dist, parse_length, parse_stress};
 use clap::{Args, Subcommand};
 use dem_core::lab::bending::BendingTest;
 use dem_core::lab::brazilian::BrazilianTest;
 use dem_core::lab::specimens::{self, Shape, TestSpecimen};
 use dem_core::lab::ucs::UcsTest;
 use dem_core::lab::{self, LabError, LabModel};
-use dem_core::specimen::improved::GrainCover;
 use dem_core::specimen::{Progress, SpecimenParams};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
@@ -163,23 +162,6 @@ impl LabArgs {
             .build()
             .map_err(|e| e.to_string())
     }
-}
-
-/// Grains below their cover target listed at most this many at a time ("and N more").
-const COVER_LIST: usize = 10;
-
-/// One line per grain below its cover target (at most [`COVER_LIST`], then "and N more"),
-/// each naming the specimen file.
-pub fn cover_lines(file: &std::path::Path, below: &[GrainCover]) -> Vec<String> {
-    let mut v: Vec<String> = below
-        .iter()
-        .take(COVER_LIST)
-        .map(|g| format!("{}: {g}", file.display()))
-        .collect();
-    if below.len() > COVER_LIST {
-        v.push(format!("and {} more", below.len() - COVER_LIST));
-    }
-    v
 }
 
 /// With `--strict`, a specimen with grains below their cover target is an error naming them.
