@@ -588,3 +588,52 @@ fn binary_checkpoints_and_the_off_switch() {
     assert!(names.iter().any(|n| n == "summary.json"), "{names:?}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// `--vtk-format binary` writes appended base64 snapshots that `dem render` draws like the
+/// ASCII ones of the same run.
+#[test]
+fn binary_vtk_snapshots_render_like_ascii() {
+    let dir = tmp("vtkbin");
+    let scene = tiny_scene(&dir);
+    let s = scene.to_str().unwrap();
+    // One folder name for both: the picture's caption names it.
+    let (ascii, bin) = (dir.join("a").join("run"), dir.join("b").join("run"));
+    let o = dem(&["run", s, "--out", ascii.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    let o = dem(&[
+        "run",
+        s,
+        "--out",
+        bin.to_str().unwrap(),
+        "--vtk-format",
+        "binary",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    let snap = |d: &Path| d.join("snap-000000200.vtp");
+    let b = std::fs::read_to_string(snap(&bin)).unwrap();
+    assert!(b.contains("<AppendedData encoding=\"base64\">") && !b.contains("\"ascii\""));
+    let picture = |d: &Path| {
+        let png = d.join("s.png");
+        let o = dem(&[
+            "render",
+            snap(d).to_str().unwrap(),
+            "--out",
+            png.to_str().unwrap(),
+        ]);
+        assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+        std::fs::read(png).unwrap()
+    };
+    assert!(
+        picture(&ascii) == picture(&bin),
+        "the two snapshots draw differently"
+    );
+    let o = dem(&[
+        "run",
+        s,
+        "--out",
+        dir.join("x").to_str().unwrap(),
+        "--vtk-format",
+        "raw",
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+}

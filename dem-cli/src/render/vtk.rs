@@ -1,11 +1,13 @@
 //! Reading back the VTK files `dem run` writes (dem-core's `output::vtk`): a disc snapshot
 //! `snap-*.vtp` (points, point arrays `radius`, `velocity`, `id`, `body`, `group`, `material`;
 //! bonds as line cells with `bond_state`, `bond_group`), the walls beside it (`walls-*.vtp`,
-//! one line cell per wall) and the `snapshots.pvd` collection. Only the ASCII XML PolyData our
-//! writer emits is read, by a small hand parser; binary, appended or other VTK flavours are
-//! refused with a message.
+//! one line cell per wall) and the `snapshots.pvd` collection, in either encoding the writer
+//! has (`outputs.vtk_format`): ASCII, or binary in VTK's appended base64 layout (inline
+//! `format="binary"` base64 arrays are read too). A small hand parser; compressed, raw-binary
+//! or other VTK flavours are refused with a message.
 
 use super::load::{counts, grain_keys, short_name, step_time, Bond, Disc, Kind, Picture, WallLine};
+use base64::Engine as _;
 use dem_core::state::FREE;
 use std::path::{Path, PathBuf};
 
@@ -57,15 +59,21 @@ fn parse_polydata(text: &str, file: &str) -> Result<PolyData, String> {
         }
         None => return Err(format!("{file}: <VTKFile> has no type attribute")),
     }
-    if text.contains("<AppendedData") {
-        return Err(format!(
-            "{file}: appended (binary) VTK data; dem render reads only the ASCII snapshots dem \
-             run writes"
-        ));
-    }
     if !text.contains("</VTKFile>") {
         return Err(format!("{file}: truncated (no closing </VTKFile>)"));
     }
+    if attr(head, "compressor").is_some() {
+        return Err(format!(
+            "{file}: compressed VTK data; dem render reads the uncompressed ASCII or base64 \
+             snapshots dem run writes"
+        ));
+    }
+    let header = match attr(head, "header_type").unwrap_or("UInt32") {
+        "UInt32" => 4,
+        "UInt64" => 8,
+        h => return Err(format!("{file}: <VTKFile> header_type={h:?}")),
+    };
+    let (arrays_end, appended) = appended_data(text, file)?;
     let piece = text
         .find("<Piece")
         .map(|i| &text[i..i + text[i..].find('>').unwrap_or(0)])
@@ -100,7 +108,7 @@ fn parse_polydata(text: &str, file: &str) -> Result<PolyData, String> {
     ];
     let mut arrays = Vec::new();
     let mut pos = 0;
-    while let Some(i) = text[pos..].find("<DataArray") {
+    while let Some(i) = text[pos..arrays_end].find("<DataArray") {
         let start = pos + i;
         let section = sections
             .iter()
@@ -115,16 +123,7 @@ fn parse_polydata(text: &str, file: &str) -> Result<PolyData, String> {
         let tag = &text[start..tag_end];
         let name = attr(tag, "Name").unwrap_or("").to_string();
         let what = format!("{file}: array {name:?} ({section})");
-        match attr(tag, "format") {
-            Some("ascii") => {}
-            Some(f) => {
-                return Err(format!(
-                    "{what}: format {f:?}; dem render reads only ASCII VTK (the format dem run \
-                     writes)"
-                ))
-            }
-            None => return Err(format!("{what}: no format attribute")),
-        }
+        let format = attr(tag, "format").ok_or_else(|| format!("{what}: no format attribute"))?;
         let comps = match attr(tag, "NumberOfComponents") {
             None => 1,
             Some(c) => c
@@ -133,18 +132,54 @@ fn parse_polydata(text: &str, file: &str) -> Result<PolyData, String> {
                 .filter(|&c| c >= 1)
                 .ok_or_else(|| format!("{what}: NumberOfComponents={c:?}"))?,
         };
-        let body_end = text[tag_end..]
-            .find("</DataArray>")
-            .map(|k| tag_end + k)
-            .ok_or_else(|| format!("{what}: truncated (no closing </DataArray>)"))?;
-        let values = text[tag_end + 1..body_end]
-            .split_ascii_whitespace()
-            .enumerate()
-            .map(|(k, t)| {
-                t.parse::<f64>()
-                    .map_err(|_| format!("{what}: value {k} is {t:?}, not a number"))
-            })
-            .collect::<Result<Vec<f64>, String>>()?;
+        let body_end = if tag.ends_with('/') {
+            tag_end
+        } else {
+            text[tag_end..]
+                .find("</DataArray>")
+                .map(|k| tag_end + k)
+                .ok_or_else(|| format!("{what}: truncated (no closing </DataArray>)"))?
+        };
+        let ty = attr(tag, "type").unwrap_or("");
+        let body = text.get(tag_end + 1..body_end).unwrap_or("");
+        let values = match format {
+            "ascii" => body
+                .split_ascii_whitespace()
+                .enumerate()
+                .map(|(k, t)| {
+                    t.parse::<f64>()
+                        .map_err(|_| format!("{what}: value {k} is {t:?}, not a number"))
+                })
+                .collect::<Result<Vec<f64>, String>>()?,
+            "binary" => {
+                let bytes = decode_run(body.trim().as_bytes(), header, &what)?;
+                binary_values(&bytes, ty, &what)?
+            }
+            "appended" => {
+                let data = appended
+                    .ok_or_else(|| format!("{what}: format \"appended\" but no <AppendedData>"))?;
+                let offset: usize = attr(tag, "offset")
+                    .and_then(|o| o.trim().parse().ok())
+                    .ok_or_else(|| format!("{what}: appended array without a valid offset"))?;
+                let run = data
+                    .get(offset..)
+                    .filter(|r| !r.is_empty())
+                    .ok_or_else(|| {
+                        format!(
+                            "{what}: offset {offset} is past the appended data ({} characters)",
+                            data.len()
+                        )
+                    })?;
+                let bytes = decode_run(run, header, &what)?;
+                binary_values(&bytes, ty, &what)?
+            }
+            f => {
+                return Err(format!(
+                    "{what}: format {f:?}; dem render reads ASCII, base64 binary and appended \
+                     base64 VTK arrays"
+                ))
+            }
+        };
         if values.len() % comps != 0 {
             return Err(format!(
                 "{what}: {} values are not whole tuples of {comps}",
@@ -163,6 +198,99 @@ fn parse_polydata(text: &str, file: &str) -> Result<PolyData, String> {
         points,
         lines,
         arrays,
+    })
+}
+
+/// Where the `<DataArray>` elements end (the start of `<AppendedData>`, else the text's end)
+/// and the appended base64 text after its `_` marker, if the file has one.
+fn appended_data<'a>(text: &'a str, file: &str) -> Result<(usize, Option<&'a [u8]>), String> {
+    let Some(start) = text.find("<AppendedData") else {
+        return Ok((text.len(), None));
+    };
+    let tag_end = text[start..]
+        .find('>')
+        .map(|k| start + k)
+        .ok_or_else(|| format!("{file}: truncated inside the <AppendedData> tag"))?;
+    match attr(&text[start..tag_end], "encoding") {
+        Some("base64") => {}
+        e => {
+            return Err(format!(
+                "{file}: <AppendedData> encoding {e:?}; dem render reads the base64 appended data \
+                 dem run writes, not raw"
+            ))
+        }
+    }
+    let end = text[tag_end..]
+        .find("</AppendedData>")
+        .map(|k| tag_end + k)
+        .ok_or_else(|| format!("{file}: truncated (no closing </AppendedData>)"))?;
+    let body = text[tag_end + 1..end].trim();
+    let data = body
+        .strip_prefix('_')
+        .ok_or_else(|| format!("{file}: <AppendedData> does not start with the `_` marker"))?;
+    Ok((start, Some(data.as_bytes())))
+}
+
+/// Decodes one base64 run that starts with its byte count (`header` bytes, little-endian) and
+/// returns the data bytes after it. `b64` may run on past the run (appended data).
+fn decode_run(b64: &[u8], header: usize, what: &str) -> Result<Vec<u8>, String> {
+    let engine = &base64::engine::general_purpose::STANDARD;
+    let chars = |bytes: usize| bytes.div_ceil(3) * 4;
+    let bad = |e: base64::DecodeError| format!("{what}: bad base64 data: {e}");
+    let head = b64
+        .get(..chars(header))
+        .ok_or_else(|| format!("{what}: base64 data ends inside its byte count"))?;
+    let head = engine.decode(head).map_err(bad)?;
+    let mut count = [0u8; 8];
+    count[..header].copy_from_slice(&head[..header]);
+    let count = u64::from_le_bytes(count);
+    let n = usize::try_from(count)
+        .ok()
+        .filter(|&n| n <= b64.len())
+        .ok_or_else(|| format!("{what}: byte count {count} is larger than the data"))?;
+    let run = b64
+        .get(..chars(header + n))
+        .ok_or_else(|| format!("{what}: the data ends before its {n} bytes (truncated base64)"))?;
+    let mut bytes = engine.decode(run).map_err(bad)?;
+    bytes.drain(..header);
+    bytes.truncate(n);
+    Ok(bytes)
+}
+
+/// Little-endian values of VTK type `ty` as f64 (integers up to 2^53 exactly).
+fn binary_values(bytes: &[u8], ty: &str, what: &str) -> Result<Vec<f64>, String> {
+    macro_rules! each {
+        ($t:ty) => {
+            bytes
+                .chunks_exact(std::mem::size_of::<$t>())
+                .map(|c| <$t>::from_le_bytes(c.try_into().expect("chunk size")) as f64)
+                .collect()
+        };
+    }
+    let size = match ty {
+        "Int8" | "UInt8" => 1,
+        "Int16" | "UInt16" => 2,
+        "Int32" | "UInt32" | "Float32" => 4,
+        "Int64" | "UInt64" | "Float64" => 8,
+        t => return Err(format!("{what}: VTK type {t:?} is not read")),
+    };
+    if !bytes.len().is_multiple_of(size) {
+        return Err(format!(
+            "{what}: {} bytes are not whole {ty} values",
+            bytes.len()
+        ));
+    }
+    Ok(match ty {
+        "Int8" => each!(i8),
+        "UInt8" => each!(u8),
+        "Int16" => each!(i16),
+        "UInt16" => each!(u16),
+        "Int32" => each!(i32),
+        "UInt32" => each!(u32),
+        "Float32" => each!(f32),
+        "Int64" => each!(i64),
+        "UInt64" => each!(u64),
+        _ => each!(f64),
     })
 }
 
@@ -440,7 +568,7 @@ mod tests {
     use super::*;
 
     #[test]
-    fn attributes_and_arrays_are_read_and_binary_refused() {
+    fn attributes_and_arrays_are_read_and_bad_binary_refused() {
         let t = "<VTKFile type=\"PolyData\">\n<PolyData><Piece NumberOfPoints=\"2\" NumberOfLines=\"0\">\n\
                  <PointData><DataArray type=\"Float64\" Name=\"radius\" format=\"ascii\">\n0.5 0.25\n</DataArray></PointData>\n\
                  <Points><DataArray type=\"Float64\" Name=\"points\" NumberOfComponents=\"3\" format=\"ascii\">\n0 0 0 1 2 0\n</DataArray></Points>\n\
@@ -451,8 +579,81 @@ mod tests {
         assert_eq!(pd.get("Points", "points").unwrap().comps, 3);
         let b = t.replace("format=\"ascii\"", "format=\"binary\"");
         let e = parse_polydata(&b, "f.vtp").err().unwrap();
-        assert!(e.contains("f.vtp") && e.contains("binary"), "{e}");
+        assert!(
+            e.contains("f.vtp") && e.contains("\"radius\"") && e.contains("base64"),
+            "{e}"
+        );
+        let c = t.replace(
+            "type=\"PolyData\">",
+            "type=\"PolyData\" compressor=\"vtkZLibDataCompressor\">",
+        );
+        let e = parse_polydata(&c, "f.vtp").err().unwrap();
+        assert!(e.contains("compressed"), "{e}");
         let e = parse_polydata(&t[..t.len() / 2], "f.vtp").err().unwrap();
         assert!(e.contains("truncated"), "{e}");
+    }
+
+    /// A binary (appended base64) snapshot and walls, as dem run writes them, draw the same
+    /// picture as the ASCII ones; a truncated appended block is refused naming the array.
+    #[test]
+    fn binary_snapshots_read_like_ascii() {
+        use dem_core::output::vtk::{write_discs, write_walls, BondLine, Format};
+        use dem_core::state::{State, Wall};
+        let dir = std::env::temp_dir().join(format!("dem-render-vtkbin-{}", std::process::id()));
+        let mut st = State::default();
+        for k in 0..4 {
+            st.discs
+                .push_uniform(k as f64 / 3.0, 0.2, 0.1 + 0.01 * k as f64, 2500.0, 1.0, 0);
+        }
+        st.discs.vx[2] = 1.0 / 7.0;
+        st.discs.body[3] = 1;
+        st.walls
+            .push(Wall::new("floor", [-1.0, 0.0], [2.0, 0.0], 0));
+        let bond = |i, j, intact| BondLine {
+            i,
+            j,
+            group: 1,
+            intact,
+            normal_force: 1.5,
+            shear_force: 0.0,
+            moment: 0.0,
+        };
+        let bonds = [bond(0, 1, true), bond(2, 3, false)];
+        let load = |format: Format| {
+            let sub = dir.join(format!("{format:?}"));
+            write_discs(&sub.join("snap-000000010.vtp"), &st, &bonds, format).unwrap();
+            write_walls(&sub.join("walls-000000010.vtp"), &st.walls, format).unwrap();
+            load_vtp(&sub.join("snap-000000010.vtp"), Some(0.5)).unwrap()
+        };
+        let (a, b) = (load(Format::Ascii), load(Format::Binary));
+        let discs = |p: &Picture| -> Vec<[f64; 4]> {
+            p.discs.iter().map(|d| [d.x, d.y, d.r, d.speed]).collect()
+        };
+        assert_eq!(discs(&a), discs(&b));
+        assert_eq!(discs(&b)[2][3], 1.0 / 7.0);
+        let grains = |p: &Picture| p.discs.iter().map(|d| d.grain).collect::<Vec<_>>();
+        assert_eq!(grains(&a), grains(&b));
+        let bonds = |p: &Picture| -> Vec<(usize, usize, u16, bool)> {
+            p.bonds
+                .iter()
+                .map(|b| (b.i, b.j, b.group, b.intact))
+                .collect()
+        };
+        assert_eq!(bonds(&b), [(0, 1, 1, true), (2, 3, 1, false)]);
+        assert_eq!(bonds(&a), bonds(&b));
+        assert_eq!(b.walls.len(), 1);
+        assert_eq!(b.walls[0].points, a.walls[0].points);
+        assert_eq!(a.caption[1], b.caption[1]);
+        // Cut the appended block short: the array whose data is missing is named.
+        let f = dir.join("Binary").join("snap-000000010.vtp");
+        let text = std::fs::read_to_string(&f).unwrap();
+        let end = text.find("\n  </AppendedData>").unwrap();
+        let short = format!("{}{}", &text[..end - 10], &text[end..]);
+        let e = parse_polydata(&short, "s.vtp").err().unwrap();
+        assert!(
+            e.contains("s.vtp: array \"offsets\"") && e.contains("truncated"),
+            "{e}"
+        );
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 }

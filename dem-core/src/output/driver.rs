@@ -528,11 +528,12 @@ impl Simulation {
             .unwrap_or_default();
         let name = format!("snap-{s:09}.vtp");
         let path = self.out.join(&name);
-        vtk::write_discs(&path, st, &lines)?;
+        let format = self.scene.outputs.vtk_format;
+        vtk::write_discs(&path, st, &lines, format)?;
         let mut new = vec![(0, name)];
         if !st.walls.is_empty() {
             let wname = format!("walls-{s:09}.vtp");
-            vtk::write_walls(&self.out.join(&wname), &st.walls)?;
+            vtk::write_walls(&self.out.join(&wname), &st.walls, format)?;
             new.push((1, wname));
         }
         let time = st.time;

@@ -1,5 +1,5 @@
-//! VTK XML PolyData snapshots (`.vtp`, ASCII) that ParaView opens, and the `.pvd` collection
-//! that strings them into a time series.
+//! VTK XML PolyData snapshots (`.vtp`) that ParaView opens, and the `.pvd` collection that
+//! strings them into a time series.
 //!
 //! A disc snapshot has one point per disc (no vertex cells: show it with ParaView's "Point
 //! Gaussian" representation or a Glyph filter scaled by `radius`) with point data `radius`,
@@ -9,10 +9,45 @@
 //! positive), `shear_force` (N) and `moment` (N·m). Bonds that wrap around a periodic boundary
 //! are left out of the picture (the line would cross the box). Walls go to a separate PolyData of
 //! line cells with their `force` and `moment`.
+//!
+//! Two encodings ([`Format`], scene field `outputs.vtk_format`):
+//! - `ascii` (the default): every value as text in its `<DataArray>`, shortest round-trip form;
+//! - `binary`: VTK's *appended* layout with base64 encoding, as ParaView and `vtkXMLWriter`
+//!   write it (VTK User's Guide, "VTK XML File Formats"): each `<DataArray format="appended"
+//!   offset="k"/>` points at character `k` of the `<AppendedData encoding="base64">` text after
+//!   its leading `_`; there one base64 run holds a little-endian `UInt64` byte count (the file's
+//!   `header_type`) followed by the array's little-endian values, uncompressed. Values are exact
+//!   (no decimal round trip) and every value has a fixed size: on a 1,579-disc improved-ORC
+//!   cutting specimen mid-cut 292 B per disc against 342 B in ASCII (15 % smaller); at rest, with
+//!   zero velocities and forces, ASCII is the smaller (139 B per disc). ParaView 5.11 (VTK 9.2)
+//!   and `dem render` read both with identical values.
+//!
+//! Either way a non-finite value refuses the whole file, naming the array and element, and files
+//! are written atomically.
 
 use super::{finite, push_num, write_atomic, OutputError};
 use crate::state::{State, Wall, FREE};
+use base64::Engine as _;
 use std::path::{Path, PathBuf};
+
+/// The encoding of the snapshots: scene field `outputs.vtk_format`.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
+#[serde(rename_all = "snake_case")]
+pub enum Format {
+    /// Values as text inside each `<DataArray>` (the default).
+    #[default]
+    Ascii,
+    /// VTK's appended base64 layout (see the module docs): exact values.
+    Binary,
+}
+
+impl Format {
+    /// `true` for the default, so scene files leave the field out.
+    pub fn is_ascii(&self) -> bool {
+        *self == Format::Ascii
+    }
+}
 
 /// One bond as drawn: disc indices (current order, = point indices) and its state.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -26,52 +61,144 @@ pub struct BondLine {
     pub moment: f64,
 }
 
+/// A value type of a `<DataArray>`: its VTK type name and little-endian bytes.
+trait Scalar: std::fmt::Display + Copy {
+    const VTK: &'static str;
+    fn put_le(self, out: &mut Vec<u8>);
+}
+
+macro_rules! scalar {
+    ($($t:ty => $name:literal),*) => {$(
+        impl Scalar for $t {
+            const VTK: &'static str = $name;
+            fn put_le(self, out: &mut Vec<u8>) {
+                out.extend_from_slice(&self.to_le_bytes());
+            }
+        }
+    )*};
+}
+scalar!(u8 => "UInt8", u16 => "UInt16", u32 => "UInt32", i64 => "Int64", f64 => "Float64");
+
+/// The file being built: the XML text and, in binary, the appended base64 text.
 struct Xml {
     s: String,
     path: PathBuf,
+    format: Format,
+    /// Base64 text of the `<AppendedData>` block (binary only), without its leading `_`.
+    appended: String,
+    /// Scratch bytes of one array (binary only).
+    bytes: Vec<u8>,
 }
 
 impl Xml {
+    fn new(path: &Path, format: Format, capacity: usize) -> Xml {
+        Xml {
+            s: String::with_capacity(capacity),
+            path: path.to_path_buf(),
+            format,
+            appended: String::new(),
+            bytes: Vec::new(),
+        }
+    }
+
+    /// The opening of a `<DataArray>` (`NumberOfComponents` written when given); in binary the
+    /// whole (empty) element.
+    fn open(&mut self, ty: &str, name: &str, comps: Option<usize>) {
+        let comps = comps
+            .map(|c| format!(" NumberOfComponents=\"{c}\""))
+            .unwrap_or_default();
+        match self.format {
+            Format::Ascii => self.s.push_str(&format!(
+                "        <DataArray type=\"{ty}\" Name=\"{name}\"{comps} format=\"ascii\">"
+            )),
+            Format::Binary => {
+                self.s.push_str(&format!(
+                    "        <DataArray type=\"{ty}\" Name=\"{name}\"{comps} format=\"appended\" offset=\"{}\"/>\n",
+                    self.appended.len()
+                ));
+                self.bytes.clear();
+                // The UInt64 byte count, patched by `close` once the values are in.
+                self.bytes.extend_from_slice(&[0; 8]);
+            }
+        }
+    }
+
+    /// Ends the array: in binary, its byte count and values as one base64 run.
+    fn close(&mut self) {
+        match self.format {
+            Format::Ascii => self.s.push_str("\n        </DataArray>\n"),
+            Format::Binary => {
+                let n = (self.bytes.len() - 8) as u64;
+                self.bytes[..8].copy_from_slice(&n.to_le_bytes());
+                base64::engine::general_purpose::STANDARD
+                    .encode_string(&self.bytes, &mut self.appended);
+            }
+        }
+    }
+
     fn floats(
         &mut self,
         name: &str,
         comps: usize,
         vals: impl Iterator<Item = f64>,
     ) -> Result<(), OutputError> {
-        self.s.push_str(&format!(
-            "        <DataArray type=\"Float64\" Name=\"{name}\" NumberOfComponents=\"{comps}\" format=\"ascii\">"
-        ));
+        self.open(f64::VTK, name, Some(comps));
         for (k, v) in vals.enumerate() {
             let v = finite(&self.path, || format!("{name}[{}]", k / comps), v)?;
-            self.s.push(if k.is_multiple_of(6 * comps) {
-                '\n'
-            } else {
-                ' '
-            });
-            push_num(&mut self.s, v);
+            match self.format {
+                Format::Ascii => {
+                    self.s.push(if k.is_multiple_of(6 * comps) {
+                        '\n'
+                    } else {
+                        ' '
+                    });
+                    push_num(&mut self.s, v);
+                }
+                Format::Binary => v.put_le(&mut self.bytes),
+            }
         }
-        self.s.push_str("\n        </DataArray>\n");
+        self.close();
         Ok(())
     }
 
-    fn ints<T: std::fmt::Display>(&mut self, ty: &str, name: &str, vals: impl Iterator<Item = T>) {
+    fn ints<T: Scalar>(&mut self, name: &str, vals: impl Iterator<Item = T>) {
         use std::fmt::Write;
-        self.s.push_str(&format!(
-            "        <DataArray type=\"{ty}\" Name=\"{name}\" format=\"ascii\">"
-        ));
+        self.open(T::VTK, name, None);
         for (k, v) in vals.enumerate() {
-            self.s.push(if k.is_multiple_of(16) { '\n' } else { ' ' });
-            let _ = write!(self.s, "{v}");
+            match self.format {
+                Format::Ascii => {
+                    self.s.push(if k.is_multiple_of(16) { '\n' } else { ' ' });
+                    let _ = write!(self.s, "{v}");
+                }
+                Format::Binary => v.put_le(&mut self.bytes),
+            }
         }
-        self.s.push_str("\n        </DataArray>\n");
+        self.close();
+    }
+
+    /// Closes the piece and the file (with the appended block in binary) and writes it.
+    fn finish(mut self) -> Result<(), OutputError> {
+        self.s.push_str("    </Piece>\n  </PolyData>\n");
+        if self.format == Format::Binary {
+            self.s
+                .push_str("  <AppendedData encoding=\"base64\">\n   _");
+            self.s.push_str(&self.appended);
+            self.s.push_str("\n  </AppendedData>\n");
+        }
+        self.s.push_str("</VTKFile>\n");
+        write_atomic(&self.path, self.s.as_bytes())
     }
 }
 
 const HEAD: &str = "<?xml version=\"1.0\"?>\n<VTKFile type=\"PolyData\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n  <PolyData>\n";
-const TAIL: &str = "    </Piece>\n  </PolyData>\n</VTKFile>\n";
 
-/// Writes the disc snapshot with its bonds to `path` (atomically).
-pub fn write_discs(path: &Path, st: &State, bonds: &[BondLine]) -> Result<(), OutputError> {
+/// Writes the disc snapshot with its bonds to `path` (atomically) in `format`.
+pub fn write_discs(
+    path: &Path,
+    st: &State,
+    bonds: &[BondLine],
+    format: Format,
+) -> Result<(), OutputError> {
     let d = &st.discs;
     let n = d.len();
     let wraps = |b: &BondLine| {
@@ -91,10 +218,7 @@ pub fn write_discs(path: &Path, st: &State, bonds: &[BondLine]) -> Result<(), Ou
         .iter()
         .filter(|b| (b.i as usize) < n && (b.j as usize) < n && !wraps(b))
         .collect();
-    let mut x = Xml {
-        s: String::with_capacity(200 * n + 100 * lines.len() + 1024),
-        path: path.to_path_buf(),
-    };
+    let mut x = Xml::new(path, format, 200 * n + 100 * lines.len() + 1024);
     x.s.push_str(HEAD);
     x.s.push_str(&format!(
         "    <Piece NumberOfPoints=\"{n}\" NumberOfVerts=\"0\" NumberOfLines=\"{}\" NumberOfStrips=\"0\" NumberOfPolys=\"0\">\n",
@@ -106,21 +230,20 @@ pub fn write_discs(path: &Path, st: &State, bonds: &[BondLine]) -> Result<(), Ou
     x.floats("omega", 1, d.omega.iter().copied())?;
     x.floats("theta", 1, d.theta.iter().copied())?;
     x.floats("force", 3, (0..n).flat_map(|i| [d.fx[i], d.fy[i], 0.0]))?;
-    x.ints("UInt32", "id", d.id.iter());
+    x.ints("id", d.id.iter().copied());
     x.ints(
-        "Int64",
         "body",
         d.body
             .iter()
             .map(|&b| if b == FREE { -1 } else { b as i64 }),
     );
-    x.ints("UInt32", "group", d.group.iter());
-    x.ints("UInt16", "material", d.material.iter());
+    x.ints("group", d.group.iter().copied());
+    x.ints("material", d.material.iter().copied());
     x.s.push_str("      </PointData>\n");
     if !lines.is_empty() {
         x.s.push_str("      <CellData Scalars=\"bond_state\">\n");
-        x.ints("UInt8", "bond_state", lines.iter().map(|b| b.intact as u8));
-        x.ints("UInt32", "bond_group", lines.iter().map(|b| b.group));
+        x.ints("bond_state", lines.iter().map(|b| b.intact as u8));
+        x.ints("bond_group", lines.iter().map(|b| b.group));
         x.floats("normal_force", 1, lines.iter().map(|b| b.normal_force))?;
         x.floats("shear_force", 1, lines.iter().map(|b| b.shear_force))?;
         x.floats("moment", 1, lines.iter().map(|b| b.moment))?;
@@ -132,24 +255,20 @@ pub fn write_discs(path: &Path, st: &State, bonds: &[BondLine]) -> Result<(), Ou
     if !lines.is_empty() {
         x.s.push_str("      <Lines>\n");
         x.ints(
-            "Int64",
             "connectivity",
-            lines.iter().flat_map(|b| [b.i, b.j]),
+            lines.iter().flat_map(|b| [i64::from(b.i), i64::from(b.j)]),
         );
-        x.ints("Int64", "offsets", (1..=lines.len()).map(|k| 2 * k));
+        x.ints("offsets", (1..=lines.len() as i64).map(|k| 2 * k));
         x.s.push_str("      </Lines>\n");
     }
-    x.s.push_str(TAIL);
-    write_atomic(path, x.s.as_bytes())
+    x.finish()
 }
 
-/// Writes the walls as line cells with their reaction `force` and `moment` (atomically).
-pub fn write_walls(path: &Path, walls: &[Wall]) -> Result<(), OutputError> {
+/// Writes the walls as line cells with their reaction `force` and `moment` (atomically) in
+/// `format`.
+pub fn write_walls(path: &Path, walls: &[Wall], format: Format) -> Result<(), OutputError> {
     let n = walls.len();
-    let mut x = Xml {
-        s: String::with_capacity(300 * n + 1024),
-        path: path.to_path_buf(),
-    };
+    let mut x = Xml::new(path, format, 300 * n + 1024);
     x.s.push_str(HEAD);
     let points: usize = walls.iter().map(|w| w.via.len() + 2).sum();
     x.s.push_str(&format!(
@@ -178,22 +297,17 @@ pub fn write_walls(path: &Path, walls: &[Wall]) -> Result<(), OutputError> {
     )?;
     // One line cell per wall: a polyline wall is one cell through all its vertices.
     x.s.push_str("      </Points>\n      <Lines>\n");
-    let ends: Vec<usize> = walls
+    let ends: Vec<i64> = walls
         .iter()
         .scan(0, |end, w| {
-            *end += w.via.len() + 2;
+            *end += w.via.len() as i64 + 2;
             Some(*end)
         })
         .collect();
-    x.ints(
-        "Int64",
-        "connectivity",
-        0..ends.last().copied().unwrap_or(0),
-    );
-    x.ints("Int64", "offsets", ends.iter().copied());
+    x.ints("connectivity", 0..ends.last().copied().unwrap_or(0));
+    x.ints("offsets", ends.iter().copied());
     x.s.push_str("      </Lines>\n");
-    x.s.push_str(TAIL);
-    write_atomic(path, x.s.as_bytes())
+    x.finish()
 }
 
 /// One dataset of a `.pvd` collection.
@@ -272,7 +386,7 @@ mod tests {
             moment: 0.25,
         }];
         let p = dir.join("s.vtp");
-        write_discs(&p, &st, &bonds).unwrap();
+        write_discs(&p, &st, &bonds, Format::Ascii).unwrap();
         let t = std::fs::read_to_string(&p).unwrap();
         assert!(t.contains("NumberOfPoints=\"3\"") && t.contains("NumberOfLines=\"1\""));
         assert!(
@@ -283,7 +397,9 @@ mod tests {
             "Name=\"velocity\" NumberOfComponents=\"3\" format=\"ascii\">\n0 0 0 2 0 0 0 0 0\n"
         ));
         st.discs.vy[2] = f64::INFINITY;
-        let e = write_discs(&p, &st, &bonds).unwrap_err().to_string();
+        let e = write_discs(&p, &st, &bonds, Format::Ascii)
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("velocity[2]"), "{e}");
         // The good file is left as it was.
         assert_eq!(std::fs::read_to_string(&p).unwrap(), t);
@@ -318,7 +434,13 @@ mod tests {
             moment: 0.0,
         };
         let p = dir.join("p.vtp");
-        write_discs(&p, &st, &[bond(0, 1), bond(1, 2), bond(0, 7)]).unwrap();
+        write_discs(
+            &p,
+            &st,
+            &[bond(0, 1), bond(1, 2), bond(0, 7)],
+            Format::Ascii,
+        )
+        .unwrap();
         let t = std::fs::read_to_string(&p).unwrap();
         // Only 1-2 is drawn (0-1 wraps, 0-7 names no disc); its state is "broken" (0).
         assert!(t.contains("NumberOfLines=\"1\""), "{t}");
@@ -329,6 +451,137 @@ mod tests {
         assert!(
             t.contains("Name=\"bond_state\" format=\"ascii\">\n0\n"),
             "{t}"
+        );
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// A snapshot of three discs (one bonded pair) with values no short decimal holds.
+    fn sample() -> (State, Vec<BondLine>) {
+        let mut st = State::default();
+        for k in 0..3 {
+            st.discs
+                .push_uniform(k as f64 / 3.0, 0.1, 0.5 + k as f64, 1000.0, 1.0, k as u16);
+        }
+        st.discs.vx[1] = 2.0 / 7.0;
+        st.discs.fy[2] = -1e-300;
+        st.discs.body[2] = 4;
+        let bonds = vec![BondLine {
+            i: 0,
+            j: 2,
+            group: 3,
+            intact: true,
+            normal_force: 10.0 / 3.0,
+            shear_force: -1.0,
+            moment: 0.25,
+        }];
+        (st, bonds)
+    }
+
+    /// The binary (appended base64) snapshot parses in an independent reader (vtkio) with every
+    /// value bit-identical to what was written, and the ASCII one gives the same values.
+    #[test]
+    fn binary_snapshot_reads_back_exactly_in_vtkio() {
+        use vtkio::model::{Attribute, DataSet, VertexNumbers};
+        let dir = std::env::temp_dir().join(format!("dem-vtk-bin-{}", std::process::id()));
+        let (st, bonds) = sample();
+        let read = |format: Format| {
+            let p = dir.join(format!("s-{format:?}.vtp"));
+            write_discs(&p, &st, &bonds, format).unwrap();
+            let text = std::fs::read_to_string(&p).unwrap();
+            let vtk = vtkio::Vtk::import(&p).unwrap_or_else(|e| panic!("{format:?}: {e:?}"));
+            let DataSet::PolyData { pieces, .. } = vtk.data else {
+                panic!("not PolyData")
+            };
+            let piece = pieces
+                .into_iter()
+                .next()
+                .unwrap()
+                .into_loaded_piece_data(None)
+                .unwrap();
+            let array = |name: &str, cell: bool| -> Vec<f64> {
+                let list = if cell {
+                    &piece.data.cell
+                } else {
+                    &piece.data.point
+                };
+                list.iter()
+                    .find_map(|a| match a {
+                        Attribute::DataArray(d) if d.name == name => d.data.cast_into::<f64>(),
+                        _ => None,
+                    })
+                    .unwrap_or_else(|| panic!("{format:?}: no array {name}"))
+            };
+            let lines = match piece.lines.clone() {
+                Some(VertexNumbers::XML {
+                    connectivity,
+                    offsets,
+                }) => (connectivity, offsets),
+                other => panic!("{format:?}: lines {other:?}"),
+            };
+            let values = (
+                piece.points.cast_into::<f64>().unwrap(),
+                array("radius", false),
+                array("velocity", false),
+                array("force", false),
+                array("body", false),
+                array("material", false),
+                array("normal_force", true),
+                array("bond_group", true),
+            );
+            (text, values, lines)
+        };
+        let (bin, b, lines) = read(Format::Binary);
+        assert!(bin.contains("<AppendedData encoding=\"base64\">") && !bin.contains("ascii"));
+        let d = &st.discs;
+        let points: Vec<f64> = (0..3).flat_map(|i| [d.x[i], d.y[i], 0.0]).collect();
+        assert_eq!(b.0, points);
+        assert_eq!(b.1, d.r);
+        assert_eq!(b.2, [0.0, 0.0, 0.0, 2.0 / 7.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+        assert_eq!(b.3[7], -1e-300);
+        assert_eq!(b.4, [-1.0, -1.0, 4.0]);
+        assert_eq!(b.5, [0.0, 1.0, 2.0]);
+        assert_eq!((b.6[0], b.7[0]), (10.0 / 3.0, 3.0));
+        assert_eq!(lines, (vec![0, 2], vec![2]));
+        let (ascii, a, ascii_lines) = read(Format::Ascii);
+        assert_eq!(a, b, "ASCII and binary snapshots differ");
+        assert_eq!(ascii_lines, lines);
+        assert!(
+            bin.len() < ascii.len() + 900,
+            "{} vs {}",
+            bin.len(),
+            ascii.len()
+        );
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn binary_walls_and_non_finite_values() {
+        let dir = std::env::temp_dir().join(format!("dem-vtk-binw-{}", std::process::id()));
+        let (mut st, bonds) = sample();
+        let p = dir.join("s.vtp");
+        write_discs(&p, &st, &bonds, Format::Binary).unwrap();
+        let good = std::fs::read(&p).unwrap();
+        st.discs.omega[1] = f64::NAN;
+        let e = write_discs(&p, &st, &bonds, Format::Binary)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("omega[1]") && e.contains("s.vtp"), "{e}");
+        assert_eq!(
+            std::fs::read(&p).unwrap(),
+            good,
+            "the good file was touched"
+        );
+        let w = Wall::new("floor", [0.0, 0.0], [1.0, 0.5], 0);
+        let wp = dir.join("w.vtp");
+        write_walls(&wp, &[w], Format::Binary).unwrap();
+        let vtk = vtkio::Vtk::import(&wp).unwrap();
+        let vtkio::model::DataSet::PolyData { pieces, .. } = vtk.data else {
+            panic!("not PolyData")
+        };
+        let piece = pieces[0].load_piece_data(None).unwrap();
+        assert_eq!(
+            piece.points.cast_into::<f64>().unwrap(),
+            [0.0, 0.0, 0.0, 1.0, 0.5, 0.0]
         );
         std::fs::remove_dir_all(&dir).unwrap();
     }

@@ -167,6 +167,7 @@ pub(crate) fn outputs(
         dir,
         history_every: o.history_every,
         vtk_every: o.vtk_every,
+        vtk_format: o.vtk_format,
         checkpoint_every: o.checkpoint_every,
         checkpoint_keep: o.checkpoint_keep,
         checkpoints: o.checkpoints,

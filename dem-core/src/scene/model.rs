@@ -219,6 +219,8 @@ pub struct Outputs {
     pub dir: PathBuf,
     pub history_every: u64,
     pub vtk_every: u64,
+    /// Encoding of the VTK snapshots.
+    pub vtk_format: crate::output::vtk::Format,
     pub checkpoint_every: u64,
     /// Numbered checkpoints kept (newest; 0 = all).
     pub checkpoint_keep: u32,
@@ -238,6 +240,7 @@ impl Default for Outputs {
             dir: PathBuf::new(),
             history_every: 0,
             vtk_every: 0,
+            vtk_format: crate::output::vtk::Format::Ascii,
             checkpoint_every: 0,
             checkpoint_keep: 0,
             checkpoints: true,

@@ -549,6 +549,10 @@ pub struct OutputSpec {
     pub history_every: u64,
     #[serde(default)]
     pub vtk_every: u64,
+    /// Snapshot encoding: `"ascii"` (default) or `"binary"` (VTK's appended base64 layout,
+    /// exact values, a fixed size per value; see `dem_core::output::vtk`).
+    #[serde(default, skip_serializing_if = "crate::output::vtk::Format::is_ascii")]
+    pub vtk_format: crate::output::vtk::Format,
     #[serde(default)]
     pub checkpoint_every: u64,
     /// Keep only the newest N numbered checkpoints (`ckpt-<step>.json`), deleting older ones
@@ -600,6 +604,7 @@ impl Default for OutputSpec {
             dir: None,
             history_every: default_history(),
             vtk_every: 0,
+            vtk_format: crate::output::vtk::Format::Ascii,
             checkpoint_every: 0,
             checkpoint_keep: 0,
             checkpoints: true,
