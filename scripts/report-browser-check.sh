@@ -1,7 +1,8 @@
 #!/bin/bash
 # The HTML report in a real browser (issue 24, item 6): headless Chromium opens
 # REPORT/index.html, checks that every figure draws (each inline SVG has a non-empty box and
-# something in it, each <img> decodes), that every link resolves (a relative file exists and
+# something in it, each <img> and each picture inside an SVG (<image>, e.g. the report's
+# inlined PNGs) decodes), that every link resolves (a relative file exists and
 # reads, an in-page #anchor names an element; outside links are listed, not fetched: CI is
 # offline), that the page says neither NaN nor undefined, and saves a screenshot.
 #
@@ -49,6 +50,18 @@ document.getElementById('f').onload = async () => {
   });
   const imgs = [...d.querySelectorAll('img')];
   imgs.forEach(i => { if (!(i.complete && i.naturalWidth > 0)) bad.push('image does not load: ' + i.getAttribute('src')); });
+  // Pictures inside SVG figures: each href decoded as an image of its own.
+  const pics = [...d.querySelectorAll('svg image')];
+  for (const [k, p] of pics.entries()) {
+    const src = p.getAttribute('href') || p.getAttribute('xlink:href') || '';
+    const w = await new Promise(ok => {
+      const i = new Image();
+      i.onload = () => ok(i.naturalWidth);
+      i.onerror = () => ok(0);
+      i.src = new URL(src, d.baseURI).href;
+    });
+    if (!(w > 0)) bad.push('picture ' + (k + 1) + ' in an SVG does not decode: ' + src.slice(0, 40));
+  }
   const links = [...d.querySelectorAll('a[href]')];
   let local = 0, anchors = 0, outside = [];
   for (const a of links) {
@@ -70,7 +83,7 @@ document.getElementById('f').onload = async () => {
     if (/(^|[^A-Za-z])(NaN|undefined|-?inf(inity)?)([^A-Za-z]|$)/i.test(c.textContent))
       bad.push('a value reads ' + JSON.stringify(c.textContent.trim().slice(0, 60)));
   });
-  lines.push('figures ' + svgs.length + ' (inline SVG), images ' + imgs.length);
+  lines.push('figures ' + svgs.length + ' (inline SVG), images ' + imgs.length + ', pictures in SVG ' + pics.length);
   lines.push('links ' + links.length + ': ' + local + ' files, ' + anchors + ' anchors, ' + outside.length + ' outside (not fetched)');
   outside.forEach(h => lines.push('  outside ' + h));
   lines.push('text ' + text.length + ' characters, ' + cells.length + ' table cells and figure labels checked for NaN/inf');

@@ -8,6 +8,7 @@ pub mod cutting_runs;
 pub mod environment;
 pub mod force_statistics;
 pub mod page;
+pub mod pictures;
 pub mod plot;
 pub mod removal_table;
 pub mod report;

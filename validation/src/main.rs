@@ -26,8 +26,8 @@ struct Args {
     /// Quick mode (CI): 1 seed, short cut, coarse specimens, a short clump sweep.
     #[arg(long)]
     quick: bool,
-    /// Run only these sections (comma-separated): table1, sweep, table2, convergence,
-    /// stability. Cutting runs already in the output folder with the same parameters are
+    /// Run only these sections (comma-separated): table1, sweep, table2, pictures,
+    /// convergence, stability. Cutting runs already in the output folder with the same parameters are
     /// read back, not run again.
     #[arg(long, value_delimiter = ',')]
     only: Vec<String>,
@@ -51,6 +51,10 @@ struct Args {
     /// not done there are listed as not run. Without --only, the report is Table 2 alone.
     #[arg(long)]
     sweep: Option<PathBuf>,
+    /// The pictures of the specimens and cuts the report shows (PNGs made by
+    /// `scripts/cut-pictures.sh`).
+    #[arg(long, default_value = "docs/pictures")]
+    pictures: PathBuf,
 }
 
 fn main() -> ExitCode {
@@ -121,6 +125,7 @@ fn main() -> ExitCode {
             validation::cutting_runs::Missing::Run
         },
         sweep: a.sweep,
+        pictures: a.pictures,
     };
     match validation::report::run(&o) {
         Ok(_) => {

@@ -32,10 +32,20 @@ pub struct ReportOptions {
     pub missing: crate::cutting_runs::Missing,
     /// Table 2's runs from this `dem sweep` folder instead of run here.
     pub sweep: Option<PathBuf>,
+    /// The committed pictures of the specimens and cuts (`docs/pictures`, made by
+    /// `scripts/cut-pictures.sh`).
+    pub pictures: PathBuf,
 }
 
 /// Section names, in the order they run.
-pub const SECTIONS: [&str; 5] = ["table1", "sweep", "table2", "convergence", "stability"];
+pub const SECTIONS: [&str; 6] = [
+    "table1",
+    "sweep",
+    "table2",
+    "pictures",
+    "convergence",
+    "stability",
+];
 
 /// What one section hands to the later ones.
 #[derive(Debug, Default)]
@@ -44,6 +54,11 @@ pub struct Shared {
     pub force_scale: Option<f64>,
     /// Finished runs read back instead of run now (see [`Environment::reused`]).
     pub reused: Reused,
+}
+
+/// The specimens and one cut of each, as pictures (committed PNGs, see [`crate::pictures`]).
+fn pictures_section(o: &ReportOptions, _: &mut Shared) -> Result<Section, String> {
+    Ok(crate::pictures::section(&o.pictures))
 }
 
 /// Table 1 of Ye & Xu (2010).
@@ -179,10 +194,11 @@ pub fn run(o: &ReportOptions) -> Result<String, String> {
     let mut env = Environment::capture(mode);
     let mut sections = Vec::new();
     type Builder = fn(&ReportOptions, &mut Shared) -> Result<Section, String>;
-    let all: [Builder; 5] = [
+    let all: [Builder; 6] = [
         table1_section,
         sweep_section,
         table2_section,
+        pictures_section,
         convergence_section,
         stability_section,
     ];

@@ -33,12 +33,17 @@ fn quick_report_writes_sane_json_for_every_section() {
         table2: Default::default(),
         missing: Default::default(),
         sweep: None,
+        pictures: Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/pictures"),
     };
     let md = run(&o).expect("quick report runs");
     for f in ["index.md", "index.html", "environment.json", "table1.json"] {
         assert!(out.join(f).is_file(), "{f} missing");
     }
     assert!(md.contains("Table 2") && md.contains("error against run time"));
+    // The committed pictures of the three specimens and their cuts, inlined in one figure.
+    assert!(md.contains("## Specimens and cuts, pictures") && !md.contains("could not be read"));
+    let pics = std::fs::read_to_string(out.join("cut_pictures.svg")).unwrap();
+    assert_eq!(pics.matches("data:image/png;base64,").count(), 12);
 
     // Table 2: all three methods, every case of the plan, finite positive forces.
     let t2 = read(&out, "table2.json");
