@@ -319,7 +319,7 @@ fn cutting(b: CuttingBench) -> Result<ExitCode, String> {
             p.clone()
         }
         None => {
-            let lab = crate::test::LabArgs {
+            let lab = crate::lab_args::LabArgs {
                 method: b.method.clone(),
                 r_min: "0.175mm".into(),
                 r_max: "0.285mm".into(),

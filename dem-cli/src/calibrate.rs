@@ -4,7 +4,7 @@
 //! (`dem_core::lab::calibrate`). Writes the calibrated model (`model.json`, usable with
 //! `dem test ... --model`), the calibration record and the table (target vs achieved).
 
-use crate::test::{progress_bar, LabArgs};
+use crate::lab_args::{progress_bar, LabArgs};
 use clap::Args;
 use dem_core::lab::bending::BendingTest;
 use dem_core::lab::brazilian::BrazilianTest;
@@ -141,7 +141,7 @@ pub fn run(a: CalibrateArgs) -> Result<ExitCode, String> {
             &lab.bending_specimen,
             &lab.brazilian_specimen,
         ] {
-            crate::test::strict_cover(&a.lab, s).map_err(|e| e.to_string())?;
+            crate::lab_args::strict_cover(&a.lab, s).map_err(|e| e.to_string())?;
             for l in crate::specimen::cover_lines(&s.file, &s.below_cover) {
                 log(&format!("warning: {l}"));
             }

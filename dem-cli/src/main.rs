@@ -7,6 +7,7 @@ use std::process::ExitCode;
 mod bench;
 mod calibrate;
 mod clump;
+mod lab_args;
 mod render;
 mod run;
 mod run_lock;

@@ -4,8 +4,8 @@
 //! analysed: peak and mean main and vertical force over the steady window, chips, broken
 //! bonds, machined surface, residual cracks.
 
+use crate::lab_args::{progress_bar, LabArgs};
 use crate::specimen::{parse_length, read_material};
-use crate::test::{progress_bar, LabArgs};
 use clap::Args;
 use dem_core::lab::cutting::{self, CuttingResult, CuttingTest};
 use dem_core::lab::tool::ToolModel;

@@ -1,0 +1,170 @@
+//! The specimen, material-model and output flags every lab test shares ([`LabArgs`], used with
+//! `#[command(flatten)]` by `dem test ucs|brazilian|bending` and `dem calibrate`, and built from
+//! its own flags by `dem test cutting`), and the progress bar the lab commands draw.
+
+use crate::specimen::{cover_lines, material_values, method_and_dist, parse_length, parse_stress};
+use clap::Args;
+use dem_core::lab::specimens::TestSpecimen;
+use dem_core::lab::{LabError, LabModel};
+use dem_core::specimen::SpecimenParams;
+use indicatif::{ProgressBar, ProgressStyle};
+use std::io::IsTerminal;
+use std::path::PathBuf;
+
+/// Specimen, material model and output flags shared by every test (the specimen flags are
+/// those of `dem specimen`; the test sets the width and height).
+#[derive(Args, Clone, Debug)]
+pub struct LabArgs {
+    /// traditional | orc | improved.
+    #[arg(long, default_value = "traditional")]
+    pub method: String,
+    /// Smallest disc radius with unit (`0.175mm`).
+    #[arg(long)]
+    pub r_min: String,
+    /// Largest disc radius with unit.
+    #[arg(long)]
+    pub r_max: String,
+    /// Radius distribution: normal or uniform.
+    #[arg(long, default_value = "normal")]
+    pub dist: String,
+    /// Random seed of the specimen.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Material file (data/materials/*.json): density, E and a tensile strength set the
+    /// default micro-parameters (as `dem specimen`).
+    #[arg(long)]
+    pub material: Option<PathBuf>,
+    /// Density (kg/m³), overriding the material file.
+    #[arg(long)]
+    pub density: Option<f64>,
+    /// Young's modulus with unit (`310GPa`): E_c = Ē_c.
+    #[arg(long)]
+    pub youngs: Option<String>,
+    /// Tensile strength with unit (`800MPa`): bond strengths σ̄c = c̄.
+    #[arg(long)]
+    pub tensile: Option<String>,
+    /// Isotropic stress installed before bonding, with unit.
+    #[arg(long)]
+    pub iso_stress: Option<String>,
+    /// Target 2D porosity of the initial packing.
+    #[arg(long, default_value_t = 0.16)]
+    pub porosity: f64,
+    /// Mean equivalent grain diameter (ORC, improved), with unit.
+    #[arg(long)]
+    pub grain_size: Option<String>,
+    /// Smallest template disc radius (improved), with unit.
+    #[arg(long)]
+    pub template_r_min: Option<String>,
+    /// Largest number of discs per improved-ORC grain.
+    #[arg(long, default_value_t = 9)]
+    pub max_discs: usize,
+    /// A LabModel JSON (density, thickness, r_mean, micro; `dem calibrate` writes one) whose
+    /// micro-parameters the test runs with, instead of those of the specimen flags. The
+    /// specimen geometry is still generated with the specimen flags.
+    #[arg(long)]
+    pub model: Option<PathBuf>,
+    /// Output folder: specimen file (reused when its parameters match), scene, run outputs
+    /// and `<test>.result.json`.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Worker threads, at least 1 (default: all cores); results do not depend on it.
+    #[arg(long, value_parser = crate::parse_threads)]
+    pub threads: Option<usize>,
+    /// Safety factor of the automatic time step (default: the test's).
+    #[arg(long)]
+    pub dt_factor: Option<f64>,
+    /// Run even if the test's output folder is locked by a run of another scene or one still
+    /// running (`run.lock`; a rerun of the same test is always allowed).
+    #[arg(long)]
+    pub force: bool,
+    /// An improved-ORC grain whose template stops below its cover target is a failure (the
+    /// test does not run; exit code 2) instead of a warning.
+    #[arg(long)]
+    pub strict: bool,
+}
+
+impl LabArgs {
+    /// Specimen parameters for a `width × height` (m) box from the flags.
+    pub fn specimen_params(&self, width: f64, height: f64) -> Result<SpecimenParams, String> {
+        let (method, dist) = method_and_dist(&self.method, &self.dist)?;
+        let (_, density, e, tensile) = material_values(
+            self.material.as_ref(),
+            self.density,
+            self.youngs.as_deref(),
+            self.tensile.as_deref(),
+        )?;
+        let mut p = SpecimenParams::new(
+            method,
+            width,
+            height,
+            parse_length(&self.r_min, "--r-min")?,
+            parse_length(&self.r_max, "--r-max")?,
+            density,
+            e,
+            tensile,
+            self.seed,
+        );
+        p.distribution = dist;
+        p.porosity = self.porosity;
+        p.template_max_discs = self.max_discs;
+        if let Some(s) = &self.iso_stress {
+            p.iso_stress = parse_stress(s, "--iso-stress")?;
+        }
+        if let Some(s) = &self.grain_size {
+            p.grain_size = parse_length(s, "--grain-size")?;
+        }
+        if let Some(s) = &self.template_r_min {
+            p.template_r_min = parse_length(s, "--template-r-min")?;
+        }
+        p.validate().map_err(|e| e.to_string())?;
+        Ok(p)
+    }
+
+    /// The material model: `--model` if given, else the specimen's own.
+    pub fn lab_model(&self, p: &SpecimenParams) -> Result<LabModel, String> {
+        match &self.model {
+            Some(path) => {
+                let text = std::fs::read_to_string(path)
+                    .map_err(|e| format!("--model {}: {e}", path.display()))?;
+                serde_json::from_str(&text).map_err(|e| format!("--model {}: {e}", path.display()))
+            }
+            None => Ok(LabModel::from_params(p)),
+        }
+    }
+
+    /// The thread pool of `--threads`.
+    pub fn pool(&self) -> Result<rayon::ThreadPool, String> {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(self.threads.unwrap_or(0))
+            .build()
+            .map_err(|e| e.to_string())
+    }
+}
+
+/// With `--strict`, a specimen with grains below their cover target is an error naming them.
+pub fn strict_cover(lab: &LabArgs, spec: &TestSpecimen) -> Result<(), LabError> {
+    if !lab.strict || spec.below_cover.is_empty() {
+        return Ok(());
+    }
+    Err(LabError::Param {
+        field: "--strict".into(),
+        reason: format!(
+            "{} grains of the specimen are below their cover target; the test did not run \
+             (leave out --strict to run it with a warning):\n  {}",
+            spec.below_cover.len(),
+            cover_lines(&spec.file, &spec.below_cover).join("\n  ")
+        ),
+    })
+}
+
+/// A progress bar on stderr, hidden when stderr is not a terminal.
+pub fn progress_bar() -> ProgressBar {
+    if !std::io::stderr().is_terminal() {
+        return ProgressBar::hidden();
+    }
+    let b = ProgressBar::new(1000);
+    if let Ok(s) = ProgressStyle::with_template("{elapsed:>5} {prefix:<10} {bar:30} {msg}") {
+        b.set_style(s);
+    }
+    b
+}
