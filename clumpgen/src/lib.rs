@@ -22,6 +22,27 @@
 //!
 //! [`batch::run_batch`] runs many grains in parallel (a clump library); [`export`] writes a
 //! template for PFC2D, YADE, LAMMPS or MercuryDPM beside it.
+//!
+//! One grain, from an outline in memory to a template:
+//!
+//! ```
+//! use clumpgen::clump::make_template;
+//! use clumpgen::outline::{parse_outline, ReadOptions};
+//! use clumpgen::ClumpParams;
+//!
+//! // An L-shaped grain, as a CSV outline file in millimetres would hold it.
+//! let csv = "# units: mm\nx,y\n0,0\n2,0\n2,1\n1,1\n1,2\n0,2\n";
+//! let outline = parse_outline(csv, "l-grain", "l-grain.csv", false, &ReadOptions::default())?;
+//! let t = make_template(&outline, &ClumpParams::default())?;
+//! // At least the cover target (95 % of the area by default) with a few discs ...
+//! assert!(t.cover.value >= 0.95 && t.discs.len() <= 20);
+//! // ... and the grain's exact mass, centroid and moment of inertia (improved ORC).
+//! let (a, g) = (&t.achieved, &t.target);
+//! assert!((a.mass - g.mass).abs() <= 1e-12 * g.mass);
+//! assert!((a.inertia - g.inertia).abs() <= 1e-12 * g.inertia);
+//! assert!(a.centroid[0].abs() < 1e-15 && a.centroid[1].abs() < 1e-15);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
 
 pub mod batch;
 pub mod clump;

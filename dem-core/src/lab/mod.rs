@@ -17,7 +17,28 @@
 //! calibrate micro-parameters from target properties (Potyondy & Cundall 2004 procedure)
 //! ```
 //!
-//! Docs: `docs/lab-tests.md`.
+//! Docs: `docs/lab-tests.md`. A UCS test, as `dem test ucs` runs it: a small bonded specimen
+//! (about 200 discs) generated, written and reused from a folder, compressed between two
+//! platens until it fails (a fraction of a second):
+//!
+//! ```
+//! use dem_core::lab::{self, specimens, ucs::UcsTest, LabModel};
+//! use dem_core::specimen::{Method, SpecimenParams};
+//!
+//! let dir = std::env::temp_dir().join(format!("dem-doc-ucs-{}", std::process::id()));
+//! // 2.5 x 5 mm, radii 0.10-0.15 mm, Si3N4-like: 3200 kg/m³, E = 300 GPa, σ_t = 500 MPa, seed 1.
+//! let p = SpecimenParams::new(Method::Traditional, 2.5e-3, 5e-3, 0.1e-3, 0.15e-3,
+//!                             3200.0, 300e9, 500e6, 1);
+//! let test = UcsTest { width: 2.5e-3, height: 5e-3, ..UcsTest::default() };
+//! let spec = specimens::prepare(&p, test.shape(), &dir.join("ucs.specimen.json"), &mut |_| {})?;
+//! let model = LabModel::from_params(&p);
+//! let o = lab::ucs::run(&test, &model, &spec, &mut |_done, _total| {})?;
+//! let r = &o.result;
+//! assert!(r.young > 0.0 && r.ucs > 0.0 && r.poisson.is_finite());
+//! assert!(dir.join("ucs.json").is_file()); // the scene, which `dem run` runs again
+//! # std::fs::remove_dir_all(&dir)?;
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
 
 pub mod analysis;
 pub mod bending;
