@@ -4,6 +4,9 @@
 
 use std::process::{Command, Output};
 
+mod common;
+use common::text;
+
 fn dem(args: &[&str]) -> Output {
     // From the repository root: the default --model and --material are relative to it.
     Command::new(env!("CARGO_BIN_EXE_dem"))
@@ -11,14 +14,6 @@ fn dem(args: &[&str]) -> Output {
         .args(args)
         .output()
         .unwrap()
-}
-
-fn text(o: &Output) -> String {
-    format!(
-        "{}\n{}",
-        String::from_utf8_lossy(&o.stdout),
-        String::from_utf8_lossy(&o.stderr)
-    )
 }
 
 fn digest(o: &Output) -> String {

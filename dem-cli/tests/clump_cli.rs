@@ -3,6 +3,9 @@
 
 use std::process::Command;
 
+mod common;
+use common::{dem, text, tmp};
+
 #[test]
 fn batch_with_a_bad_file_keeps_the_others() {
     let dir = std::env::temp_dir().join(format!("dem-clump-cli-{}", std::process::id()));
@@ -35,28 +38,6 @@ fn batch_with_a_bad_file_keeps_the_others() {
     assert!(!out.join("bowtie.json").exists());
     assert!(out.join("summary.json").exists());
     std::fs::remove_dir_all(&dir).unwrap();
-}
-
-fn tmp(name: &str) -> std::path::PathBuf {
-    let d = std::env::temp_dir().join(format!("dem-clump-cli-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn dem(args: &[&std::path::Path]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_dem"))
-        .args(args)
-        .output()
-        .unwrap()
-}
-
-fn text(o: &std::process::Output) -> String {
-    format!(
-        "{}\n{}",
-        String::from_utf8_lossy(&o.stdout),
-        String::from_utf8_lossy(&o.stderr)
-    )
 }
 
 const SQUARE: &str = "x,y\n0,0\n10,0\n10,10\n0,10\n";

@@ -3,30 +3,10 @@
 //! strip fails naming its file and `spacing`; the template validates against the JSON Schema;
 //! bad flags are usage errors naming the flag.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::path::Path;
 
-fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("dem-clump-lattice-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn dem(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_dem"))
-        .args(args)
-        .output()
-        .unwrap()
-}
-
-fn text(o: &Output) -> String {
-    format!(
-        "{}\n{}",
-        String::from_utf8_lossy(&o.stdout),
-        String::from_utf8_lossy(&o.stderr)
-    )
-}
+mod common;
+use common::{dem, text, tmp};
 
 fn s(p: &Path) -> &str {
     p.to_str().unwrap()

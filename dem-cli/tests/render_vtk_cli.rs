@@ -5,29 +5,10 @@
 use image::AnimationDecoder;
 use serde_json::Value;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Command;
 
-fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("dem-render-vtk-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn dem(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_dem"))
-        .args(args)
-        .output()
-        .unwrap()
-}
-
-fn text(o: &Output) -> String {
-    format!(
-        "{}\n{}",
-        String::from_utf8_lossy(&o.stdout),
-        String::from_utf8_lossy(&o.stderr)
-    )
-}
+mod common;
+use common::{dem, text, tmp};
 
 fn s(p: &Path) -> &str {
     p.to_str().unwrap()
@@ -273,13 +254,17 @@ fn bad_snapshots_and_series_are_usage_errors_naming_the_file() {
         &["render", s(&short)],
         &[s(&short), "\"radius\"", "expected 2"],
     );
+    // Arrays that say binary but hold text: the base64 is refused naming the array.
     let binary = dir.join("snap-binary.vtp");
     std::fs::write(
         &binary,
         good.replace("format=\"ascii\"", "format=\"binary\""),
     )
     .unwrap();
-    fail(&["render", s(&binary)], &[s(&binary), "binary", "ASCII"]);
+    fail(
+        &["render", s(&binary)],
+        &[s(&binary), "\"radius\"", "bad base64"],
+    );
     let grid = dir.join("grid.vtp");
     std::fs::write(
         &grid,

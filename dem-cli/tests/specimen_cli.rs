@@ -1,34 +1,10 @@
 //! `dem specimen` end to end: a small traditional Si3N4 specimen is written with its summary and
 //! a scene that `dem run` loads; bad arguments are messages with exit code 2.
 
-use std::path::PathBuf;
-use std::process::{Command, Output};
+use std::process::Command;
 
-fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("dem-specimen-cli-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn dem(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_dem"))
-        .args(args)
-        .output()
-        .unwrap()
-}
-
-fn text(o: &Output) -> String {
-    format!(
-        "{}\n{}",
-        String::from_utf8_lossy(&o.stdout),
-        String::from_utf8_lossy(&o.stderr)
-    )
-}
-
-fn material() -> String {
-    concat!(env!("CARGO_MANIFEST_DIR"), "/../data/materials/si3n4.json").to_string()
-}
+mod common;
+use common::{dem, material, text, tmp};
 
 #[test]
 fn specimen_writes_file_summary_and_a_scene_that_runs() {

@@ -11,31 +11,8 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
-fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("dem-sweep-cli-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn dem(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_dem"))
-        .args(args)
-        .output()
-        .unwrap()
-}
-
-fn text(o: &Output) -> String {
-    format!(
-        "{}\n{}",
-        String::from_utf8_lossy(&o.stdout),
-        String::from_utf8_lossy(&o.stderr)
-    )
-}
-
-fn material() -> String {
-    concat!(env!("CARGO_MANIFEST_DIR"), "/../data/materials/si3n4.json").to_string()
-}
+mod common;
+use common::{dem, material, text, tmp};
 
 /// A cutting study of tiny cases; `speed` sets the run length (10 m/s: ~60,000 steps).
 fn study(name: &str, speed: &str, depths: &[&str], seeds: &[u64]) -> Value {

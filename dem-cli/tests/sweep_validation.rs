@@ -22,22 +22,11 @@ use std::process::{Command, Output};
 use validation::cutting_runs::{key_of, key_text, Job, Missing};
 use validation::sweep_runs::{outcome, Source};
 
+mod common;
+use common::{dem, tmp};
+
 fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
-}
-
-fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("dem-sweep-val-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn dem(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_dem"))
-        .args(args)
-        .output()
-        .unwrap()
 }
 
 fn ok(o: &Output) -> String {

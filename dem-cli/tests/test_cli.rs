@@ -2,34 +2,10 @@
 //! scene re-runs with `dem run` to the same history; a second call reuses the specimen; bad
 //! arguments are messages naming the flag or field, exit code 2.
 
-use std::path::PathBuf;
 use std::process::{Command, Output};
 
-fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("dem-test-cli-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn dem(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_dem"))
-        .args(args)
-        .output()
-        .unwrap()
-}
-
-fn text(o: &Output) -> String {
-    format!(
-        "{}\n{}",
-        String::from_utf8_lossy(&o.stdout),
-        String::from_utf8_lossy(&o.stderr)
-    )
-}
-
-fn material() -> String {
-    concat!(env!("CARGO_MANIFEST_DIR"), "/../data/materials/si3n4.json").to_string()
-}
+mod common;
+use common::{dem, material, text, tmp};
 
 fn ucs(out: &str, extra: &[&str]) -> Output {
     let m = material();
