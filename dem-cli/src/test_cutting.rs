@@ -82,6 +82,11 @@ pub struct CuttingArgs {
     /// Generation: random seed.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
+    /// Generation: an improved-ORC grain whose template stops below its cover target is a
+    /// failure (the specimen is not written, the cut does not run; exit code 2) instead of a
+    /// warning, as in `dem specimen` and the other lab tests.
+    #[arg(long)]
+    pub strict: bool,
     /// A CuttingTest JSON (all fields optional, SI units, see docs/cutting.md); the flags
     /// below override it.
     #[arg(long)]
@@ -320,7 +325,7 @@ impl CuttingArgs {
             threads: self.threads,
             dt_factor: self.dt_factor,
             force: self.force,
-            strict: false,
+            strict: self.strict,
         };
         if self.specimen_from_model {
             let m = model.ok_or("--specimen-from-model needs --model")?;
@@ -400,6 +405,32 @@ impl CuttingArgs {
         });
         bar.finish_and_clear();
         let s = s.map_err(|e| e.to_string())?;
+        let below = s
+            .summary
+            .templates
+            .as_ref()
+            .map(|t| t.below_cover.as_slice())
+            .unwrap_or_default();
+        let lines = crate::specimen::cover_lines(&path, below);
+        if self.strict && !below.is_empty() {
+            return Err(format!(
+                "--strict: {} grains of the specimen are below their cover target; the \
+                 specimen was not written and the cut did not run (leave out --strict to run \
+                 it with a warning):\n  {}",
+                below.len(),
+                lines.join("\n  ")
+            ));
+        }
+        for l in &lines {
+            eprintln!("warning: {l}");
+        }
+        if !below.is_empty() {
+            println!(
+                "templates: {} grains below their cover target (warnings above; --strict makes \
+                 them a failure)",
+                below.len()
+            );
+        }
         io::save(&s, &name, &path).map_err(|e| e.to_string())?;
         let scene = io::example_scene(&s, &name, "specimen.json", 1000);
         let text = serde_json::to_string_pretty(&scene).map_err(|e| e.to_string())?;

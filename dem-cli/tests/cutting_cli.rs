@@ -489,3 +489,71 @@ fn lab_tests_lock_their_run_folder() {
     assert!(!lab.join("ucs.specimen.json").exists(), "nothing generated");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// Improved-ORC grains whose templates stop below their cover target: warnings naming the
+/// specimen file and the grain, and with --strict a failure before the specimen is written
+/// (issue 20's cover rule, as in `dem specimen` and the other lab tests).
+#[test]
+fn grains_below_cover_warn_and_strict_refuses_the_cut() {
+    let dir = tmp("cover");
+    let out = dir.join("cut");
+    let m = material();
+    let args = |strict: bool| {
+        let mut v = vec![
+            "test",
+            "cutting",
+            "--method",
+            "improved",
+            "--width",
+            "4mm",
+            "--height",
+            "2mm",
+            "--r-min",
+            "0.1mm",
+            "--r-max",
+            "0.16mm",
+            "--grain-size",
+            "0.5mm",
+            "--template-r-min",
+            "0.1mm",
+            "--material",
+            &m,
+            "--length",
+            "1mm",
+            "--depth",
+            "0.3mm",
+            "--speed",
+            "10",
+            "--threads",
+            "1",
+            "--out",
+            out.to_str().unwrap(),
+        ];
+        if strict {
+            v.push("--strict");
+        }
+        v.iter().map(|s| s.to_string()).collect::<Vec<String>>()
+    };
+    let o = dem(&args(true));
+    let t = text(&o);
+    assert_eq!(o.status.code(), Some(2), "{t}");
+    assert!(
+        t.contains("--strict: ")
+            && t.contains("grains of the specimen are below their cover target")
+            && t.contains("specimen.json: grain ")
+            && t.contains("--template-r-min"),
+        "{t}"
+    );
+    assert!(!out.join("specimen.json").exists() && !out.join("cutting.result.json").exists());
+    let o = dem(&args(false));
+    let t = text(&o);
+    assert_eq!(o.status.code(), Some(0), "{t}");
+    assert!(
+        t.contains("warning: ")
+            && t.contains("specimen.json: grain ")
+            && t.contains("grains below their cover target (warnings above"),
+        "{t}"
+    );
+    assert!(out.join("cutting.result.json").exists());
+    std::fs::remove_dir_all(&dir).ok();
+}
