@@ -459,7 +459,9 @@ fn from_specimen(s: &SpecimenFile, path: &Path) -> Result<Picture, String> {
 }
 
 /// A template: its discs (each its own colour), the grain outline read back from the file the
-/// template names (or `outline`), the grain centroid and, where it differs, the clump's.
+/// template names (or `outline`), the grain centroid and, where it differs, the clump's; a
+/// lattice template's links as bonds (drawn with `--bonds`; `--color group` colours them by
+/// direction: d0, d60, d120).
 fn from_template(t: &Template, path: &Path, outline: Option<&Path>) -> Picture {
     let discs = t
         .discs
@@ -485,6 +487,33 @@ fn from_template(t: &Template, path: &Path, outline: Option<&Path>) -> Picture {
             None
         }
     };
+    let (bonds, bond_groups) = match &t.lattice {
+        Some(l) => {
+            let width = 2.0 * 0.5 * l.spacing * l.node_radius_fraction;
+            let bonds = l
+                .links
+                .iter()
+                .filter(|k| k.i < t.discs.len() && k.j < t.discs.len())
+                .map(|k| Bond {
+                    i: k.i,
+                    j: k.j,
+                    group: match k.kind {
+                        clumpgen::lattice::LinkKind::D0 => 0,
+                        clumpgen::lattice::LinkKind::D60 => 1,
+                        clumpgen::lattice::LinkKind::D120 => 2,
+                    },
+                    intact: true,
+                    broke_at: None,
+                    width,
+                })
+                .collect();
+            let groups = ["link d0", "link d60", "link d120"]
+                .map(String::from)
+                .to_vec();
+            (bonds, groups)
+        }
+        None => (Vec::new(), Vec::new()),
+    };
     let c = t.achieved.centroid;
     let off = c[0].hypot(c[1]) > 1e-3 * t.shape.r_eq;
     let mut caption = vec![format!(
@@ -506,8 +535,8 @@ fn from_template(t: &Template, path: &Path, outline: Option<&Path>) -> Picture {
     Picture {
         kind: Kind::Template,
         discs,
-        bonds: Vec::new(),
-        bond_groups: Vec::new(),
+        bonds,
+        bond_groups,
         materials: Vec::new(),
         walls: Vec::new(),
         outline: drawn,
@@ -649,6 +678,41 @@ fn template_outline(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A lattice template's links become the picture's bonds, grouped by direction, between
+    /// the right discs; a fill template has none.
+    #[test]
+    fn lattice_links_are_drawn_as_bonds() {
+        use clumpgen::clump::{make_template, LatticeParams, Length};
+        use clumpgen::outline::{parse_outline, ReadOptions};
+        use clumpgen::template::Method;
+        let csv = "# units: mm\nx,y\n0,0\n3,0\n3,2\n0,2\n";
+        let o = parse_outline(csv, "box", "box.csv", false, &ReadOptions::default()).unwrap();
+        let p = clumpgen::ClumpParams {
+            method: Method::Lattice,
+            lattice: Some(LatticeParams {
+                spacing: Length::Metres(0.5e-3),
+                node_radius: 1.0,
+            }),
+            ..clumpgen::ClumpParams::default()
+        };
+        let t = make_template(&o, &p).unwrap();
+        let links = &t.lattice.as_ref().unwrap().links;
+        let pic = from_template(&t, Path::new("box.json"), None);
+        assert!(!links.is_empty());
+        assert_eq!(pic.bonds.len(), links.len());
+        assert_eq!(pic.bond_groups, ["link d0", "link d60", "link d120"]);
+        for (b, l) in pic.bonds.iter().zip(links) {
+            let (di, dj) = (&t.discs[b.i], &t.discs[b.j]);
+            assert_eq!((b.i, b.j), (l.i, l.j));
+            assert!(((dj.x - di.x).hypot(dj.y - di.y) - 0.5e-3).abs() < 1e-12);
+        }
+        assert!((0..3).all(|g| pic.bonds.iter().any(|b| b.group == g)));
+        let fill = make_template(&o, &clumpgen::ClumpParams::default()).unwrap();
+        assert!(from_template(&fill, Path::new("f.json"), None)
+            .bonds
+            .is_empty());
+    }
 
     #[test]
     fn captions_format_steps_times_and_figures() {
