@@ -332,12 +332,7 @@ pub fn run(a: SpecimenArgs) -> Result<ExitCode, String> {
     });
     bar.finish_and_clear();
     let spec = spec.map_err(|e| e.to_string())?;
-    let below = spec
-        .summary
-        .templates
-        .as_ref()
-        .map(|t| t.below_cover.as_slice())
-        .unwrap_or_default();
+    let below = below_cover(&spec);
     let lines = cover_lines(&a.out, below);
     if a.strict && !below.is_empty() {
         return Err(format!(
@@ -369,6 +364,33 @@ pub fn run(a: SpecimenArgs) -> Result<ExitCode, String> {
         scene_file.display()
     );
     Ok(ExitCode::SUCCESS)
+}
+
+/// The improved-ORC grains of a generated specimen whose templates stopped below their cover
+/// target (none for other methods).
+pub fn below_cover(
+    s: &dem_core::specimen::Specimen,
+) -> &[dem_core::specimen::improved::GrainCover] {
+    s.summary
+        .templates
+        .as_ref()
+        .map(|t| t.below_cover.as_slice())
+        .unwrap_or_default()
+}
+
+/// The warnings (one line per grain, naming `file`) and the count of the grains below their
+/// cover target, as the lab tests print them (none: nothing printed).
+pub fn print_cover(file: &std::path::Path, below: &[dem_core::specimen::improved::GrainCover]) {
+    if below.is_empty() {
+        return;
+    }
+    for l in cover_lines(file, below) {
+        eprintln!("warning: {l}");
+    }
+    println!(
+        "templates: {} grains below their cover target (warnings above; --strict makes them a failure)",
+        below.len()
+    );
 }
 
 /// Grains below their cover target listed at most this many at a time ("and N more").

@@ -7,7 +7,7 @@
 //! its own variant.
 
 use crate::lab_args::{progress_bar, strict_cover, LabArgs};
-use crate::specimen::{cover_lines, parse_length};
+use crate::specimen::{parse_length, print_cover};
 use clap::{Args, Subcommand};
 use dem_core::lab::bending::BendingTest;
 use dem_core::lab::brazilian::BrazilianTest;
@@ -31,20 +31,6 @@ pub enum TestKind {
     /// Orthogonal cutting: peak and mean main and vertical force, chips, broken bonds,
     /// machined surface (docs/cutting.md).
     Cutting(crate::test_cutting::CuttingArgs),
-}
-
-/// The warnings and count of the grains below their cover target (none: nothing printed).
-fn print_cover(spec: &TestSpecimen) {
-    if spec.below_cover.is_empty() {
-        return;
-    }
-    for l in cover_lines(&spec.file, &spec.below_cover) {
-        eprintln!("warning: {l}");
-    }
-    println!(
-        "templates: {} grains below their cover target (warnings above; --strict makes them a failure)",
-        spec.below_cover.len()
-    );
 }
 
 /// A lab-test error as a message naming the flag: `flags` maps a field (`ucs.width`) to its
@@ -270,7 +256,7 @@ fn ucs(a: UcsArgs) -> Result<ExitCode, String> {
             lab::ucs::run(&test, &model, spec, pr)
         },
     )?;
-    print_cover(&spec);
+    print_cover(&spec.file, &spec.below_cover);
     let r = &o.result;
     println!(
         "E = {:.2} GPa, ν = {:.3} ({:.0}-{:.0} % pre-peak band, {} rows), UCS = {:.1} MPa at axial strain {:.3e}",
@@ -312,7 +298,7 @@ fn brazilian(a: BrazilianArgs) -> Result<ExitCode, String> {
             lab::brazilian::run(&test, &model, spec, pr)
         },
     )?;
-    print_cover(&spec);
+    print_cover(&spec.file, &spec.below_cover);
     let r = &o.result;
     println!(
         "σ_t = 2F/(πDt) = {:.1} MPa (peak load {:.4e} N, D = {:.3} mm, t = {} m)",
@@ -363,7 +349,7 @@ fn bending(a: BendingArgs) -> Result<ExitCode, String> {
             lab::bending::run(&test, &model, spec, pr)
         },
     )?;
-    print_cover(&spec);
+    print_cover(&spec.file, &spec.below_cover);
     let r = &o.result;
     println!(
         "σ_f = 3FL/(2bh²) = {:.1} MPa (peak load {:.4e} N, L = {:.3} mm, h = {:.3} mm, b = t = {} m)",

@@ -405,32 +405,17 @@ impl CuttingArgs {
         });
         bar.finish_and_clear();
         let s = s.map_err(|e| e.to_string())?;
-        let below = s
-            .summary
-            .templates
-            .as_ref()
-            .map(|t| t.below_cover.as_slice())
-            .unwrap_or_default();
-        let lines = crate::specimen::cover_lines(&path, below);
+        let below = crate::specimen::below_cover(&s);
         if self.strict && !below.is_empty() {
             return Err(format!(
                 "--strict: {} grains of the specimen are below their cover target; the \
                  specimen was not written and the cut did not run (leave out --strict to run \
                  it with a warning):\n  {}",
                 below.len(),
-                lines.join("\n  ")
+                crate::specimen::cover_lines(&path, below).join("\n  ")
             ));
         }
-        for l in &lines {
-            eprintln!("warning: {l}");
-        }
-        if !below.is_empty() {
-            println!(
-                "templates: {} grains below their cover target (warnings above; --strict makes \
-                 them a failure)",
-                below.len()
-            );
-        }
+        crate::specimen::print_cover(&path, below);
         io::save(&s, &name, &path).map_err(|e| e.to_string())?;
         let scene = io::example_scene(&s, &name, "specimen.json", 1000);
         let text = serde_json::to_string_pretty(&scene).map_err(|e| e.to_string())?;
