@@ -1,5 +1,5 @@
 //! The specimen, material-model and output flags every lab test shares ([`LabArgs`], used with
-//! `#[command(flatten)]` by `dem test ucs|brazilian|bending` and `dem calibrate`, and built from
+//! `#[command(flatten)]` by `dem test ucs|brazilian|bending|senb` and `dem calibrate`, and built from
 //! its own flags by `dem test cutting`), and the progress bar the lab commands draw.
 
 use crate::specimen::{cover_lines, material_values, method_and_dist, parse_length, parse_stress};

@@ -34,8 +34,9 @@ enum Command {
     Run(run::RunArgs),
     /// Build a relaxed bonded specimen (traditional, ORC or improved ORC) as a specimen file.
     Specimen(specimen::SpecimenArgs),
-    /// Virtual lab tests (uniaxial compression, Brazilian, three-point bending) on a generated
-    /// specimen: scene file, run, analysis, `<test>.result.json`.
+    /// Virtual lab tests (uniaxial compression, Brazilian, three-point bending, notched-beam
+    /// fracture toughness) on a generated specimen: scene file, run, analysis,
+    /// `<test>.result.json`.
     #[command(subcommand)]
     Test(test::TestKind),
     /// Calibrate micro-parameters against a material's measured properties (UCS, bending and

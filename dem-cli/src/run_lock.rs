@@ -2,7 +2,7 @@
 //! host, start time). It says which scene the folder's outputs belong to and which process
 //! writes them now, so two runs never mix their checkpoints, snapshots and `snapshots.pvd` in
 //! one folder. `dem run` takes it in its output folder; the lab tests take it where their run
-//! writes (`dem test cutting`: `--out`; `ucs`, `brazilian`, `bending`: `<out>/<test>.out`, the
+//! writes (`dem test cutting`: `--out`; `ucs`, `brazilian`, `bending`, `senb`: `<out>/<test>.out`, the
 //! folder their scene `<out>/<test>.json` runs into, so `dem run` of that scene finds the same
 //! lock) and `dem calibrate` in `--out`; their "scene hash" is the SHA-256 of the test's typed
 //! inputs (specimen parameters, model, test), since the scene is only made after the specimen:

@@ -1,4 +1,4 @@
-//! `dem test ucs|brazilian|bending`: virtual lab tests on a specimen generated (or reused) with
+//! `dem test ucs|brazilian|bending|senb`: virtual lab tests on a specimen generated (or reused) with
 //! the same parameters as `dem specimen`, each written as a plain scene file that `dem run` can
 //! re-run, then run and analysed (`docs/lab-tests.md`).
 //!
@@ -11,6 +11,7 @@ use crate::specimen::{parse_length, print_cover};
 use clap::{Args, Subcommand};
 use dem_core::lab::bending::BendingTest;
 use dem_core::lab::brazilian::BrazilianTest;
+use dem_core::lab::senb::SenbTest;
 use dem_core::lab::specimens::{self, Shape, TestSpecimen};
 use dem_core::lab::ucs::UcsTest;
 use dem_core::lab::{self, LabError, LabModel};
@@ -28,6 +29,9 @@ pub enum TestKind {
     Brazilian(BrazilianArgs),
     /// Three-point bending of a beam: σ_f = 3FL/(2bh²) and the elastic stiffness.
     Bending(BendingArgs),
+    /// Single-edge-notched beam in three-point bending (ASTM E399 SE(B), span 4W): K_IC and
+    /// the measured β of K_IC = β σ̄c √(πR̄).
+    Senb(SenbArgs),
     /// Orthogonal cutting: peak and mean main and vertical force, chips, broken bonds,
     /// machined surface (docs/cutting.md).
     Cutting(crate::test_cutting::CuttingArgs),
@@ -99,11 +103,34 @@ pub struct BendingArgs {
     pub speed: Option<String>,
 }
 
+/// `dem test senb` flags.
+#[derive(Args)]
+pub struct SenbArgs {
+    #[command(flatten)]
+    pub lab: LabArgs,
+    /// Beam length with unit (at least the span 4W plus a mean disc diameter each side).
+    #[arg(long, default_value = "22mm")]
+    pub length: String,
+    /// Beam depth W with unit; the span is 4W.
+    #[arg(long, default_value = "5mm")]
+    pub height: String,
+    /// Notch depth over beam depth a/W (ASTM E399: 0.45–0.55).
+    #[arg(long, default_value_t = 0.5)]
+    pub notch_ratio: f64,
+    /// Notch (slot) width with unit; default one nominal mean disc diameter (r_min + r_max).
+    #[arg(long)]
+    pub notch_width: Option<String>,
+    /// Loading-roller speed with unit (`0.05m/s`); default from the quasi-static rule.
+    #[arg(long)]
+    pub speed: Option<String>,
+}
+
 pub fn run(kind: TestKind) -> Result<ExitCode, String> {
     match kind {
         TestKind::Ucs(a) => ucs(a),
         TestKind::Brazilian(a) => brazilian(a),
         TestKind::Bending(a) => bending(a),
+        TestKind::Senb(a) => senb(a),
         TestKind::Cutting(a) => crate::test_cutting::run(a),
     }
 }
@@ -364,5 +391,71 @@ fn bending(a: BendingArgs) -> Result<ExitCode, String> {
         r.stiffness, r.roller_speed, r.quasi_static_ratio
     );
     print_run(&o.run, &a.lab.out.join("bending.result.json"));
+    Ok(ExitCode::SUCCESS)
+}
+
+fn senb(a: SenbArgs) -> Result<ExitCode, String> {
+    let l = parse_length(&a.length, "--length")?;
+    let h = parse_length(&a.height, "--height")?;
+    let p = a.lab.specimen_params(l, h)?;
+    let model = a.lab.lab_model(&p)?;
+    let notch_width = match &a.notch_width {
+        Some(w) => parse_length(w, "--notch-width")?,
+        None => p.r_min + p.r_max,
+    };
+    let test = SenbTest {
+        length: l,
+        height: h,
+        notch_ratio: a.notch_ratio,
+        notch_width,
+        loading: loading(&a.lab, &a.speed, SenbTest::default().loading)?,
+        ..SenbTest::default()
+    };
+    let ratio = a.notch_ratio.to_string();
+    let width = a.notch_width.clone().unwrap_or_default();
+    let flags = [
+        ("senb.length", "--length", a.length.as_str()),
+        ("senb.height", "--height", a.height.as_str()),
+        ("senb.notch_ratio", "--notch-ratio", ratio.as_str()),
+        ("senb.notch_width", "--notch-width", width.as_str()),
+    ];
+    test.validate().map_err(|e| flag_message(e, &flags))?;
+    test.check_geometry(nominal_r_mean(&p))
+        .map_err(|e| flag_message(e, &flags))?;
+    let (spec, o) = with_specimen(
+        &a.lab,
+        &p,
+        test.shape(),
+        ("senb", inputs(&p, &model, &test)?),
+        |spec, pr| {
+            strict_cover(&a.lab, spec)?;
+            lab::senb::run(&test, &model, spec, pr)
+        },
+    )?;
+    print_cover(&spec.file, &spec.below_cover);
+    let r = &o.result;
+    println!(
+        "K_IC = P S f(a/W) / (B W^1.5) = {:.3} MPa·m^½ (ASTM E399 SE(B): peak load {:.4e} N, S = {:.3} mm, W = {:.3} mm, a/W = {:.3}, f = {:.3}, B = t = {} m)",
+        r.fracture_toughness * 1e-6,
+        r.peak_load,
+        r.span * 1e3,
+        r.height * 1e3,
+        r.notch_ratio,
+        r.geometry_factor,
+        model.thickness
+    );
+    println!(
+        "bond scale σ̄c √(πR̄) = {:.3} MPa·m^½ -> measured β = {:.3}; notch slot {:.3} mm, ligament {:.1} mean disc diameters; CMOD at peak {:.3e} m",
+        r.bond_estimate * 1e-6,
+        r.beta,
+        r.notch_width * 1e3,
+        r.ligament_diameters,
+        r.cmod_at_peak
+    );
+    println!(
+        "roller {:.4e} m/s; time to peak = {:.1} periods of the un-notched beam",
+        r.roller_speed, r.quasi_static_ratio
+    );
+    print_run(&o.run, &a.lab.out.join("senb.result.json"));
     Ok(ExitCode::SUCCESS)
 }

@@ -206,6 +206,35 @@ fn lab_geometry_the_particle_size_makes_meaningless_is_refused_naming_the_flag()
             &["--length", "6mm", "--height", "1.5mm", "--span", "0.8mm"][..],
             "--span 0.8mm: 0.8000 mm: the mid-span and support gauges",
         ),
+        (
+            "senb",
+            &["--length", "10mm", "--height", "2.8mm"][..],
+            "--length 10mm: 0.01 m must exceed the span S = 4W",
+        ),
+        (
+            "senb",
+            &[
+                "--length",
+                "12mm",
+                "--height",
+                "2.8mm",
+                "--notch-ratio",
+                "0.9",
+            ][..],
+            "--notch-ratio 0.9: 0.9 must lie in [0.1, 0.8]",
+        ),
+        (
+            "senb",
+            &[
+                "--length",
+                "12mm",
+                "--height",
+                "2.8mm",
+                "--notch-ratio",
+                "0.7",
+            ][..],
+            "--notch-ratio 0.7: 0.8400 mm is 3.2 mean disc diameters",
+        ),
     ] {
         let o = run(base(test), extra);
         assert_eq!(o.status.code(), Some(2), "{test} {extra:?}: {}", text(&o));

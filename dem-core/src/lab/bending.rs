@@ -248,8 +248,9 @@ impl BendingTest {
         common::failure_strain_estimate(model) * self.span * self.span / (6.0 * h)
     }
 
+    /// Fundamental period of the simply supported beam of height `h` (s):
     /// T₁ = 2π/ω₁, ω₁ = (π/L)² h √(E_c/(12ρ)).
-    fn period(&self, model: &LabModel, h: f64) -> f64 {
+    pub fn period(&self, model: &LabModel, h: f64) -> f64 {
         let c = (model.micro.contact_modulus / (12.0 * model.density)).sqrt();
         2.0 * PI / ((PI / self.span).powi(2) * h * c)
     }
@@ -395,6 +396,21 @@ pub fn scene(test: &BendingTest, model: &LabModel, spec: &TestSpecimen) -> Resul
     Ok(s)
 }
 
+/// The loading roller's vertical force per history row: the sum of its `segments` segments'
+/// `load_<k>_fy` columns (errors name `test`).
+pub fn roller_load(t: &Table, segments: usize, test: &str) -> Result<Vec<f64>, LabError> {
+    let mut load = vec![0.0; t.rows.len()];
+    for k in 0..segments {
+        for (f, v) in load
+            .iter_mut()
+            .zip(common::column(t, &format!("load_{k}_fy"), test)?)
+        {
+            *f += v;
+        }
+    }
+    Ok(load)
+}
+
 /// σ_f and the elastic stiffness from the history of [`scene`].
 pub fn analyze(
     t: &Table,
@@ -403,15 +419,7 @@ pub fn analyze(
     spec: &TestSpecimen,
 ) -> Result<BendingReport, LabError> {
     let time = common::column(t, "time", TEST)?;
-    let mut load = vec![0.0; time.len()];
-    for k in 0..test.roller_segments {
-        for (f, v) in load
-            .iter_mut()
-            .zip(common::column(t, &format!("load_{k}_fy"), TEST)?)
-        {
-            *f += v;
-        }
-    }
+    let load = roller_load(t, test.roller_segments, TEST)?;
     let mid = common::column(t, "mid_y", TEST)?;
     let sl = common::column(t, "sup_left_y", TEST)?;
     let sr = common::column(t, "sup_right_y", TEST)?;

@@ -18,7 +18,8 @@
 //!
 //! Toughness is not searched: S4 links it to the bond strength, K_IC = β σ̄_c √(πR̄)
 //! ([`super::analysis::fracture_toughness`]); β is not given in S4, so the report states K_IC for
-//! a chosen β (default 1).
+//! a chosen β (default 1). `dem test senb` ([`super::senb`]) measures β on a notched beam with
+//! the calibrated model (`--model model.json`).
 //!
 //! Known weakness of parallel-bond models (Potyondy & Cundall 2004 §4; Cho et al. 2007): the
 //! UCS/σ_t ratio stays far below real rock and ceramics (≈ 3–6 against 10–20); the ratio search
@@ -556,7 +557,7 @@ pub fn calibrate(
     let kic = fracture_toughness(opts.kic_beta, m.micro.boundary_tensile, m.r_mean);
     if let Some(k) = targets.kic {
         notes.push(format!(
-            "K_IC is not fitted: β σ̄c √(πR̄) = {:.3} MPa·m^½ with β = {} (target {:.3}; β = {:.3} would match)",
+            "K_IC is not fitted: β σ̄c √(πR̄) = {:.3} MPa·m^½ with β = {} (target {:.3}; β = {:.3} would match; `dem test senb --model model.json` measures β)",
             kic / 1e6,
             opts.kic_beta,
             k / 1e6,

@@ -5,7 +5,8 @@
 //! model     LabModel: density, thickness, micro-parameters → scene materials and bond groups
 //! run       write the test's scene file (plain, editable, `dem run` runs it), run it, read history
 //! history   history.csv back as named columns
-//! analysis  the standard formulas: E, ν, UCS; σ_t = 2F/(πDt); σ_f = 3FL/(2bh²); K_IC; force stats
+//! analysis  the standard formulas: E, ν, UCS; σ_t = 2F/(πDt); σ_f = 3FL/(2bh²); K_IC (S4, E399);
+//!           force stats
 //! force_stats cutting-force statistics: resampled histories, seed-averaged moving-mean peak
 //! specimens test specimens (the user's parameters, the test's shape; Brazilian disc carved),
 //!           saved beside the scene and reused when their key file matches
@@ -13,6 +14,7 @@
 //! ucs       uniaxial compression: E, ν (10–50 % pre-peak band), UCS
 //! brazilian Brazilian disc: σ_t
 //! bending   three-point bending: σ_f, elastic stiffness (vs Timoshenko)
+//! senb      single-edge-notched beam (ASTM E399 SE(B)): K_IC, measured β of β σ̄_c √(πR̄)
 //! cutting   the cutting test (tool.rs geometry, chips.rs fragments, surface.rs roughness)
 //! calibrate micro-parameters from target properties (Potyondy & Cundall 2004 procedure)
 //! ```
@@ -53,6 +55,7 @@ pub mod history;
 pub mod model;
 pub mod removal;
 pub mod run;
+pub mod senb;
 pub mod specimens;
 pub mod surface;
 pub mod tool;

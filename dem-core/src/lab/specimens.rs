@@ -7,6 +7,9 @@
 //! The Brazilian disc is carved from a D × D square specimen: discs whose centre lies outside
 //! the circle of diameter D are dropped, with the bonds touching them; a rigid ORC grain goes
 //! whole if any member goes, and so do the members of an improved-ORC grain (same grain id).
+//! The single-edge-notched beam (SENB) has its notch cut the same way: the discs in a slot up
+//! from the bottom edge at mid-length dropped, and every bond crossing the slot's mid-line below
+//! its tip.
 
 use super::LabError;
 use crate::scene::schema::{LengthUnit, SpecimenFile};
@@ -27,6 +30,14 @@ pub enum Shape {
     /// Carved from a `diameter` × `diameter` square.
     Disc {
         diameter: f64,
+    },
+    /// A `width` × `height` beam with a notch `notch_depth` deep and `notch_width` wide cut
+    /// up from the bottom at mid-length ([`carve_notch`]; the SENB test).
+    NotchedBeam {
+        width: f64,
+        height: f64,
+        notch_depth: f64,
+        notch_width: f64,
     },
 }
 
@@ -74,7 +85,7 @@ pub fn key_path(file: &Path) -> PathBuf {
 pub fn shape_params(base: &SpecimenParams, shape: Shape) -> SpecimenParams {
     let mut p = base.clone();
     match shape {
-        Shape::Rectangle { width, height } => {
+        Shape::Rectangle { width, height } | Shape::NotchedBeam { width, height, .. } => {
             p.width = width;
             p.height = height;
         }
@@ -121,8 +132,14 @@ pub fn prepare(
     }
     let spec = specimen::generate(&p, progress)?;
     let mut sf = io::to_file(&spec, DEFAULT_MATERIAL);
-    if let Shape::Disc { diameter } = shape {
-        sf = carve_disc(&sf, diameter, p.method);
+    match shape {
+        Shape::Disc { diameter } => sf = carve_disc(&sf, diameter, p.method),
+        Shape::NotchedBeam {
+            notch_depth,
+            notch_width,
+            ..
+        } => sf = carve_notch(&sf, notch_depth, notch_width, p.method),
+        Shape::Rectangle { .. } => {}
     }
     let ser = |e: serde_json::Error| LabError::Io {
         file: file.display().to_string(),
@@ -243,35 +260,108 @@ fn read_file(file: &Path) -> Result<(SpecimenFile, Vec<[f64; 3]>), LabError> {
 /// grains (same grain id) when one member is dropped; bonds touching a dropped disc go too.
 /// The result is shifted so its bounding box starts at the origin.
 pub fn carve_disc(sf: &SpecimenFile, d: f64, method: Method) -> SpecimenFile {
+    let Some(set) = sf.discs.first() else {
+        return sf.clone();
+    };
+    let [x0, y0, x1, y1] = bbox(&set.discs);
+    let (cx, cy, rc) = (0.5 * (x0 + x1), 0.5 * (y0 + y1), 0.5 * d / unit(sf));
+    let mut out = carve(
+        sf,
+        method,
+        |&[x, y, _]| (x - cx).hypot(y - cy) > rc,
+        |_, _| false,
+    );
+    let [nx0, ny0, _, _] = bbox(&out.discs[0].discs);
+    for v in &mut out.discs[0].discs {
+        v[0] -= nx0;
+        v[1] -= ny0;
+    }
+    out.description = format!("{} (disc of diameter {} m carved out)", sf.description, d);
+    out
+}
+
+/// The notch of a single-edge-notched beam (ASTM E399 SE(B)) cut into a rectangular specimen
+/// file (one disc set): a slot of width `width` (m) from the bottom edge of the discs' bounding
+/// box up to `depth` (m), centred at mid-length. Discs whose centre lies in the slot are
+/// dropped (with whole grains, as [`carve_disc`]), and so is every bond, and every ORC rigid
+/// grain, that crosses the slot's mid-line below its tip: the flanks touch but hold no tension
+/// across the notch, which ends in a crack-like cut one slot width wide. Coordinates unchanged.
+pub fn carve_notch(sf: &SpecimenFile, depth: f64, width: f64, method: Method) -> SpecimenFile {
+    let Some(set) = sf.discs.first() else {
+        return sf.clone();
+    };
+    let u = unit(sf);
+    let [x0, y0, x1, _] = bbox(&set.discs);
+    let (xc, tip, half) = (0.5 * (x0 + x1), y0 + depth / u, 0.5 * width / u);
+    let crosses = |p: &[f64; 3], q: &[f64; 3]| {
+        let (a, b) = (p[0] - xc, q[0] - xc);
+        // On opposite sides of the mid-line, crossing it below the tip.
+        a * b < 0.0 && p[1] + (q[1] - p[1]) * a / (a - b) < tip
+    };
+    let mut out = carve(
+        sf,
+        method,
+        |&[x, y, _]| (x - xc).abs() < half && y < tip,
+        crosses,
+    );
+    out.description = format!(
+        "{} (notch {} m deep, {} m wide cut in at mid-length)",
+        sf.description, depth, width
+    );
+    out
+}
+
+/// Length unit of a specimen file in metres.
+fn unit(sf: &SpecimenFile) -> f64 {
+    match sf.units {
+        LengthUnit::M => 1.0,
+        LengthUnit::Mm => 1e-3,
+    }
+}
+
+/// Bounding box [x0, y0, x1, y1] of discs [x, y, r] (their edges).
+fn bbox(discs: &[[f64; 3]]) -> [f64; 4] {
+    discs.iter().fold(
+        [f64::INFINITY, f64::INFINITY, -f64::INFINITY, -f64::INFINITY],
+        |b, &[x, y, r]| {
+            [
+                b[0].min(x - r),
+                b[1].min(y - r),
+                b[2].max(x + r),
+                b[3].max(y + r),
+            ]
+        },
+    )
+}
+
+/// The specimen file `sf` (one disc set) without the discs `drop` selects (in the file's
+/// units) and the bonds `cut` selects: an ORC rigid grain goes whole if one member goes or two
+/// of its members are `cut` apart, an improved-ORC grain (same grain id) whole if one member
+/// goes; bonds touching a dropped disc go too. Discs are renumbered in order.
+fn carve(
+    sf: &SpecimenFile,
+    method: Method,
+    drop: impl Fn(&[f64; 3]) -> bool,
+    cut: impl Fn(&[f64; 3], &[f64; 3]) -> bool,
+) -> SpecimenFile {
     let mut out = sf.clone();
     let Some(set) = sf.discs.first() else {
         return out;
     };
-    let u = match sf.units {
-        LengthUnit::M => 1.0,
-        LengthUnit::Mm => 1e-3,
-    };
     let n = set.discs.len();
-    let (mut x0, mut y0, mut x1, mut y1) =
-        (f64::INFINITY, f64::INFINITY, -f64::INFINITY, -f64::INFINITY);
-    for &[x, y, r] in &set.discs {
-        x0 = x0.min(x - r);
-        y0 = y0.min(y - r);
-        x1 = x1.max(x + r);
-        y1 = y1.max(y + r);
-    }
-    let (cx, cy, rc) = (0.5 * (x0 + x1), 0.5 * (y0 + y1), 0.5 * d / u);
-    let mut keep: Vec<bool> = set
-        .discs
-        .iter()
-        .map(|&[x, y, _]| (x - cx).hypot(y - cy) <= rc)
-        .collect();
+    let mut keep: Vec<bool> = set.discs.iter().map(|d| !drop(d)).collect();
     match method {
         Method::Orc => {
             for members in &sf.rigid_clumps {
-                if members.iter().any(|&i| !keep[i as usize]) {
-                    for &i in members {
-                        keep[i as usize] = false;
+                let m: Vec<usize> = members.iter().map(|&i| i as usize).collect();
+                let split = m.iter().enumerate().any(|(k, &i)| {
+                    m[k + 1..]
+                        .iter()
+                        .any(|&j| cut(&set.discs[i], &set.discs[j]))
+                });
+                if split || m.iter().any(|&i| !keep[i]) {
+                    for &i in &m {
+                        keep[i] = false;
                     }
                 }
             }
@@ -296,29 +386,13 @@ pub fn carve_disc(sf: &SpecimenFile, d: f64, method: Method) -> SpecimenFile {
             k += 1;
         }
     }
-    let kept = |v: &[f64; 3]| *v;
-    let discs: Vec<[f64; 3]> = (0..n)
-        .filter(|&i| keep[i])
-        .map(|i| kept(&set.discs[i]))
-        .collect();
-    let (mut nx0, mut ny0) = (f64::INFINITY, f64::INFINITY);
-    for &[x, y, r] in &discs {
-        nx0 = nx0.min(x - r);
-        ny0 = ny0.min(y - r);
+    fn kept<T: Copy>(v: &[T], keep: &[bool]) -> Vec<T> {
+        v.iter().zip(keep).filter(|p| *p.1).map(|p| *p.0).collect()
     }
     let o = &mut out.discs[0];
-    o.discs = discs
-        .iter()
-        .map(|&[x, y, r]| [x - nx0, y - ny0, r])
-        .collect();
-    o.groups = set
-        .groups
-        .as_ref()
-        .map(|g| (0..n).filter(|&i| keep[i]).map(|i| g[i]).collect());
-    o.mass_factors = set
-        .mass_factors
-        .as_ref()
-        .map(|m| (0..n).filter(|&i| keep[i]).map(|i| m[i]).collect());
+    o.discs = kept(&set.discs, &keep);
+    o.groups = set.groups.as_deref().map(|g| kept(g, &keep));
+    o.mass_factors = set.mass_factors.as_deref().map(|m| kept(m, &keep));
     out.rigid_clumps = sf
         .rigid_clumps
         .iter()
@@ -330,7 +404,10 @@ pub fn carve_disc(sf: &SpecimenFile, d: f64, method: Method) -> SpecimenFile {
         .iter()
         .map(|b| {
             let idx: Vec<usize> = (0..b.pairs.len())
-                .filter(|&q| b.pairs[q].iter().all(|&i| keep[i as usize]))
+                .filter(|&q| {
+                    let [i, j] = b.pairs[q].map(|i| i as usize);
+                    keep[i] && keep[j] && !cut(&set.discs[i], &set.discs[j])
+                })
                 .collect();
             let mut nb = b.clone();
             nb.pairs = idx
@@ -345,7 +422,6 @@ pub fn carve_disc(sf: &SpecimenFile, d: f64, method: Method) -> SpecimenFile {
         })
         .filter(|b| !b.pairs.is_empty())
         .collect();
-    out.description = format!("{} (disc of diameter {} m carved out)", sf.description, d);
     out
 }
 
@@ -427,6 +503,50 @@ mod tests {
             .map(|d| d[1] - d[2])
             .fold(f64::INFINITY, f64::min);
         assert_eq!((minx, miny), (0.0, 0.0));
+    }
+
+    #[test]
+    fn notch_drops_the_slot_and_the_bonds_across_it() {
+        // Grid over [0, 5]²: mid-line x = 2.5 (column 2), notch 2.5 deep, 1 wide: discs 2 and
+        // 7 (rows 0, 1 of column 2) sit in the slot; disc 12 (y = 2.5) is at the tip, kept.
+        let mut sf = square();
+        sf.rigid_clumps.push(vec![5, 9]); // (0.5, 1.5)–(4.5, 1.5): spans the notch
+        let t = carve_notch(&sf, 2.5, 1.0, Method::Traditional);
+        assert_eq!(t.discs[0].discs.len(), 23);
+        assert_eq!(
+            t.discs[0].discs[2], sf.discs[0].discs[3],
+            "renumbered, not moved"
+        );
+        // Bonds touching 2 or 7 go ((1,2), (2,3), (6,7), (7,8)), and the row wrap-arounds
+        // (4,5) and (9,10) cross x = 2.5 at y = 1.0 and 2.0, below the tip; (14,15) crosses at
+        // 3.0 and stays.
+        let b = &t.bonds[0];
+        assert_eq!(b.pairs.len(), 24 - 6);
+        assert_eq!(b.pairs.len(), b.contact_offsets.as_ref().unwrap().len());
+        let old = |i: u32| {
+            if i >= 7 {
+                i + 2
+            } else if i >= 2 {
+                i + 1
+            } else {
+                i
+            }
+        };
+        let pairs: Vec<[u32; 2]> = b.pairs.iter().map(|p| p.map(old)).collect();
+        assert!(!pairs.contains(&[4, 5]) && !pairs.contains(&[9, 10]));
+        assert!(pairs.contains(&[14, 15]) && pairs.contains(&[11, 12]));
+        // ORC: the clump {5, 9} across the notch goes whole; {0, 1} and {12, 13} stay.
+        let o = carve_notch(&sf, 2.5, 1.0, Method::Orc);
+        assert_eq!(o.discs[0].discs.len(), 21);
+        assert_eq!(o.rigid_clumps.len(), 2);
+        // Improved: rows 0 and 1 (grains holding a slot disc) go whole.
+        let m = carve_notch(&sf, 2.5, 1.0, Method::Improved);
+        assert_eq!(m.discs[0].discs.len(), 15);
+        // A notch 0.4 deep ends below every centre and below where (4,5) crosses (y = 1.0):
+        // nothing is cut.
+        let shallow = carve_notch(&sf, 0.4, 1.0, Method::Traditional);
+        assert_eq!(shallow.discs[0].discs.len(), 25);
+        assert_eq!(shallow.bonds[0].pairs.len(), 24);
     }
 
     #[test]

@@ -1,0 +1,466 @@
+//! Fracture toughness from a virtual single-edge-notched beam (SENB) in three-point bending,
+//! the form of ASTM E399's SE(B) specimen: a beam of depth W, length ℓ, thickness B = t, on
+//! supports at span S = 4W, with a notch of depth a (a/W = 0.5 by default; E399 asks for
+//! 0.45–0.55) cut up from the bottom at mid-length, loaded at mid-span as the bending test
+//! ([`super::bending`]: polyline rollers, local damping, the run stopped after the peak).
+//!
+//! The notch is a slot `notch_width` wide ([`super::specimens::carve_notch`]: discs in it
+//! dropped, bonds and rigid grains across its mid-line below the tip cut), so it ends in a
+//! crack-like cut: the flanks may touch but carry no tension across it.
+//!
+//! Measured: the peak load P and K_IC = P S / (B W^{3/2}) f(a/W) (E399, after Srawley 1976;
+//! [`super::analysis::senb_toughness`]), with W the beam's extent and a the cut depth; the crack
+//! mouth opening displacement (CMOD) at the peak from two position gauges at the bottom on
+//! either side of the slot. Beside K_IC the result gives the bond-scale estimate S4 uses,
+//! σ̄_c √(πR̄) ([`super::analysis::fracture_toughness`] with β = 1), and their ratio: β is
+//! measured here, not chosen.
+//!
+//! A DEM notch is one disc-scale wide and its tip is blunt on the particle scale, so K_IC
+//! measured this way is an apparent toughness of the bonded material at that resolution
+//! (Potyondy & Cundall 2004 §3.3 discuss the dependence on R̄); the result states a/W, the
+//! slot width and the ligament in mean disc diameters so runs can be compared.
+
+use super::bending::BendingTest;
+use super::common::{self, positive, Loading};
+use super::history::Table;
+use super::specimens::{Shape, TestSpecimen};
+use super::{analysis, LabError, LabModel};
+use serde::{Deserialize, Serialize};
+use serde_json::json;
+
+const TEST: &str = "senb";
+/// Material of the loading roller's segments (the walls' stiffness, with friction).
+const LOAD_MATERIAL: &str = "load_roller";
+
+/// Appends `v` to the JSON array `a`.
+fn push(a: &mut serde_json::Value, v: serde_json::Value) -> Result<(), LabError> {
+    a.as_array_mut()
+        .ok_or_else(|| common::analysis_error(TEST, "the bending scene's layout changed"))?
+        .push(v);
+    Ok(())
+}
+
+/// A single-edge-notched beam test (SI).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct SenbTest {
+    /// Scene `<name>.json`, outputs `<name>.out/`, result `<name>.result.json` (default "senb").
+    pub name: String,
+    /// Beam length ℓ (m), default 22 mm; at least S = 4W plus one mean disc diameter each side.
+    pub length: f64,
+    /// Beam depth W (m), default 5 mm; the span is 4W (the factor of E399's K formula).
+    pub height: f64,
+    /// Notch depth over beam depth a/W (default 0.5; the formula holds for 0 < a/W < 1, E399
+    /// accepts 0.45–0.55 for a valid K_IC; here 0.1–0.8).
+    pub notch_ratio: f64,
+    /// Slot width (m), default 0.25 mm (one mean disc diameter of radii 0.10–0.15 mm; `dem test
+    /// senb` defaults to one nominal mean diameter of its radii).
+    pub notch_width: f64,
+    /// Half-width of the two CMOD gauges in mean radii (default 2).
+    pub gauge_width: f64,
+    /// Friction coefficient between the loading roller and the discs; `None` (default): the
+    /// discs' own friction. The supports stay frictionless (free to let the beam spread, as
+    /// E399's rollers); without friction at the loader nothing holds the notched beam
+    /// horizontally (a flat beam on two convex rollers is in neutral equilibrium) and a few
+    /// degrees of tilt in the loader's contact slid it sideways until the load fell with no bond
+    /// broken (measured: 60 µm of drift, the run stopped at a third of the fracture load).
+    pub load_friction: Option<f64>,
+    /// Loading; the quasi-static factor defaults to 40 (four times the plain beam's: the notched
+    /// beam fails at a fraction of the deflection the speed rule estimates for a plain one).
+    pub loading: Loading,
+}
+
+impl Default for SenbTest {
+    fn default() -> SenbTest {
+        SenbTest {
+            name: TEST.into(),
+            length: 22e-3,
+            height: 5e-3,
+            notch_ratio: 0.5,
+            notch_width: 0.25e-3,
+            gauge_width: 2.0,
+            load_friction: None,
+            loading: Loading {
+                quasi_static_factor: 40.0,
+                ..Loading::default()
+            },
+        }
+    }
+}
+
+/// What the test measured.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SenbReport {
+    /// K_IC = P S / (B W^{3/2}) f(a/W) (Pa·m^½).
+    pub fracture_toughness: f64,
+    /// Peak load P (N).
+    pub peak_load: f64,
+    /// Span S, beam depth W (the specimen's extent), notch depth a (m) and a/W.
+    pub span: f64,
+    pub height: f64,
+    pub notch_depth: f64,
+    pub notch_ratio: f64,
+    /// f(a/W) (ASTM E399 SE(B)).
+    pub geometry_factor: f64,
+    /// Slot width (m) and the ligament W − a in mean disc diameters.
+    pub notch_width: f64,
+    pub ligament_diameters: f64,
+    /// σ̄_c √(πR̄) (Pa·m^½): S4's bond-scale toughness with β = 1, and the measured
+    /// β = K_IC / (σ̄_c √(πR̄)).
+    pub bond_estimate: f64,
+    pub beta: f64,
+    /// Crack mouth opening at the peak (m): the change of the horizontal distance between the
+    /// two gauges beside the notch mouth.
+    pub cmod_at_peak: f64,
+    /// Loading-roller speed (m/s), time to the peak (s) and in fundamental periods of the
+    /// un-notched beam.
+    pub roller_speed: f64,
+    pub time_to_peak: f64,
+    pub quasi_static_ratio: f64,
+}
+
+/// The result file `<name>.result.json`.
+pub type SenbOutcome = common::Outcome<SenbTest, SenbReport>;
+
+impl SenbTest {
+    /// Checks every value; errors name the field (`senb.<field>`).
+    pub fn validate(&self) -> Result<(), LabError> {
+        positive(TEST, "length", self.length)?;
+        positive(TEST, "height", self.height)?;
+        if 4.0 * self.height >= self.length {
+            return Err(LabError::Param {
+                field: "senb.length".into(),
+                reason: format!(
+                    "{} m must exceed the span S = 4W = {} m",
+                    self.length,
+                    4.0 * self.height
+                ),
+            });
+        }
+        if !(self.notch_ratio >= 0.1 && self.notch_ratio <= 0.8) {
+            return Err(LabError::Param {
+                field: "senb.notch_ratio".into(),
+                reason: format!(
+                    "{} must lie in [0.1, 0.8] (ASTM E399: 0.45–0.55)",
+                    self.notch_ratio
+                ),
+            });
+        }
+        positive(TEST, "notch_width", self.notch_width)?;
+        if self.notch_width >= self.height {
+            return Err(LabError::Param {
+                field: "senb.notch_width".into(),
+                reason: format!(
+                    "{} m: a slot must be narrower than the beam depth",
+                    self.notch_width
+                ),
+            });
+        }
+        positive(TEST, "gauge_width", self.gauge_width)?;
+        if let Some(mu) = self.load_friction {
+            if !(mu.is_finite() && mu >= 0.0) {
+                return Err(LabError::Param {
+                    field: "senb.load_friction".into(),
+                    reason: format!("{mu} must be a finite coefficient ≥ 0"),
+                });
+            }
+        }
+        if self.name.is_empty() || self.name.contains(['/', '\\']) {
+            return Err(LabError::Param {
+                field: "senb.name".into(),
+                reason: "must be a plain file stem".into(),
+            });
+        }
+        self.loading.validate(&format!("{TEST}.loading"))
+    }
+
+    /// The notch depth a = (a/W) W (m).
+    pub fn notch_depth(&self) -> f64 {
+        self.notch_ratio * self.height
+    }
+
+    /// The plain three-point bending test this one loads like: span 4 × `depth`.
+    fn beam(&self, depth: f64) -> BendingTest {
+        BendingTest {
+            name: self.name.clone(),
+            length: self.length,
+            height: self.height,
+            span: 4.0 * depth,
+            gauge_width: self.gauge_width,
+            loading: self.loading.clone(),
+            ..BendingTest::default()
+        }
+    }
+
+    /// The geometry against the particle size `r_mean` (m): the beam as the bending test checks
+    /// it (depth, overhang at the supports, gauges), and a ligament W − a of at least
+    /// [`common::MIN_DIAMETERS_ACROSS`] mean disc diameters (`senb.notch_ratio`).
+    pub fn check_geometry(&self, r_mean: f64) -> Result<(), LabError> {
+        self.beam(self.height)
+            .check_geometry([self.length, self.height], r_mean)
+            .map_err(|e| match e {
+                LabError::Param { field, reason } => LabError::Param {
+                    field: field
+                        .replace("bending.span", "senb.length")
+                        .replace("bending.", "senb."),
+                    reason,
+                },
+                e => e,
+            })?;
+        common::diameters_across(
+            TEST,
+            "notch_ratio",
+            self.height - self.notch_depth(),
+            r_mean,
+            "in the ligament above the notch, which carries the bending",
+        )
+    }
+
+    /// The notched beam.
+    pub fn shape(&self) -> Shape {
+        Shape::NotchedBeam {
+            width: self.length,
+            height: self.height,
+            notch_depth: self.notch_depth(),
+            notch_width: self.notch_width,
+        }
+    }
+}
+
+/// The test's scene: the bending test's rollers on span S = 4W (W the specimen's extent), and
+/// gauges `mouth_left`, `mouth_right`: bands of half-width `gauge_width` r̄ at the bottom
+/// holding the discs nearest the notch on each side.
+pub fn scene(
+    test: &SenbTest,
+    model: &LabModel,
+    spec: &TestSpecimen,
+) -> Result<serde_json::Value, LabError> {
+    test.validate()?;
+    let [x0, y0, x1, _] = spec.extent;
+    let w = spec.size()[1];
+    let beam = test.beam(w);
+    let mut s = super::bending::scene(&beam, model, spec)?;
+    let xc = 0.5 * (x0 + x1);
+    let g = test.gauge_width * spec.r_mean;
+    // The discs of the bottom band nearest the slot on each side.
+    let discs = spec.discs()?;
+    let band: Vec<f64> = discs
+        .iter()
+        .filter(|d| d[1] < y0 + g)
+        .map(|d| d[0])
+        .collect();
+    let left = band
+        .iter()
+        .copied()
+        .filter(|&x| x < xc)
+        .fold(f64::NAN, f64::max);
+    let right = band
+        .iter()
+        .copied()
+        .filter(|&x| x > xc)
+        .fold(f64::NAN, f64::min);
+    if !(left.is_finite() && right.is_finite()) {
+        return Err(common::analysis_error(
+            TEST,
+            "no disc at the bottom on one side of the notch (is the specimen a notched beam?)",
+        ));
+    }
+    let e = 0.25 * spec.r_mean;
+    s["outputs"]["gauges"] = json!([
+        {"name": "mouth_left", "region": [left - 2.0 * g, y0 - g, left + e, y0 + g]},
+        {"name": "mouth_right", "region": [right - e, y0 - g, right + 2.0 * g, y0 + g]},
+    ]);
+    // The loading roller's own material: the walls' stiffness, friction μ.
+    let mu = test.load_friction.unwrap_or(model.micro.friction);
+    let wall = super::model::WALL_MATERIAL;
+    let mut roller = s["materials"]
+        .as_array()
+        .and_then(|m| m.iter().find(|m| m["name"] == wall))
+        .cloned()
+        .ok_or_else(|| common::analysis_error(TEST, "the bending scene has no wall material"))?;
+    roller["name"] = json!(LOAD_MATERIAL);
+    roller["friction"] = json!(mu);
+    let mut pair = s["contact"]["pairs"][0].clone();
+    pair["materials"] = json!([super::model::DISC_MATERIAL, LOAD_MATERIAL]);
+    pair["friction"] = json!(mu);
+    push(&mut s["materials"], roller)?;
+    push(&mut s["contact"]["pairs"], pair)?;
+    for w in s["walls"].as_array_mut().into_iter().flatten() {
+        if w["name"].as_str().is_some_and(|n| n.starts_with("load_")) {
+            w["material"] = json!(LOAD_MATERIAL);
+        }
+    }
+    // The plain beam's stop is armed at 15 % of its estimated peak; the notched beam's peak
+    // scales with the ligament squared, (1 − a/W)².
+    let lig = 1.0 - test.notch_ratio;
+    let arm = &mut s["run"]["stop_after_peak"]["min_load"];
+    *arm = json!(arm.as_f64().unwrap_or(0.0) * lig * lig);
+    let (slot, a) = (test.notch_width, test.notch_depth());
+    s["description"] = json!(format!(
+        "Single-edge-notched beam (dem test senb): {:.3} x {:.3} mm, span {:.3} mm, notch {:.3} mm deep (a/W = {:.2}), slot {:.3} mm",
+        (x1 - x0) * 1e3,
+        w * 1e3,
+        4.0 * w * 1e3,
+        a * 1e3,
+        a / w,
+        slot * 1e3
+    ));
+    Ok(s)
+}
+
+/// K_IC and the CMOD from the history of [`scene`].
+pub fn analyze(
+    t: &Table,
+    test: &SenbTest,
+    model: &LabModel,
+    spec: &TestSpecimen,
+) -> Result<SenbReport, LabError> {
+    let w = spec.size()[1];
+    let beam = test.beam(w);
+    let time = common::column(t, "time", TEST)?;
+    let load = super::bending::roller_load(t, beam.roller_segments, TEST)?;
+    let (ip, p) = analysis::peak(&load).ok_or_else(|| common::analysis_error(TEST, "no load"))?;
+    let last = *load.last().unwrap_or(&0.0);
+    if p <= 0.0 || last > 0.95 * p {
+        return Err(common::analysis_error(
+            TEST,
+            format!(
+                "no fracture: the load was still {:.3} of its peak at the end; raise loading.max_travel_factor",
+                last / p
+            ),
+        ));
+    }
+    // A drop with no bond broken is no fracture (the beam slid or rang): refuse it.
+    let broken: f64 = (t.names.iter().enumerate())
+        .filter(|(_, n)| n.starts_with("broken_"))
+        .filter_map(|(i, _)| t.rows.last().map(|r| r[i]))
+        .sum();
+    if broken < 1.0 {
+        return Err(common::analysis_error(
+            TEST,
+            format!(
+                "the load fell to {:.3} of its peak with no bond broken: not a fracture (the beam \
+                 slid or rang); lower the speed or raise load_friction",
+                last / p
+            ),
+        ));
+    }
+    let xl = common::column(t, "mouth_left_x", TEST)?;
+    let xr = common::column(t, "mouth_right_x", TEST)?;
+    let cmod = (xr[ip] - xl[ip]) - (xr[0] - xl[0]);
+    let (slot, a) = (test.notch_width, test.notch_depth());
+    let span = beam.span;
+    let kic = analysis::senb_toughness(p, span, model.thickness, w, a);
+    let bond = analysis::fracture_toughness(1.0, model.micro.boundary_tensile, spec.r_mean);
+    Ok(SenbReport {
+        fracture_toughness: kic,
+        peak_load: p,
+        span,
+        height: w,
+        notch_depth: a,
+        notch_ratio: a / w,
+        geometry_factor: analysis::senb_geometry_factor(a / w),
+        notch_width: slot,
+        ligament_diameters: (w - a) / (2.0 * spec.r_mean),
+        bond_estimate: bond,
+        beta: kic / bond,
+        cmod_at_peak: cmod,
+        roller_speed: beam.roller_speed(model, spec),
+        time_to_peak: time[ip],
+        quasi_static_ratio: time[ip] / beam.period(model, w),
+    })
+}
+
+/// Scene beside the specimen file, run, analysis, `<name>.result.json` (atomic).
+pub fn run(
+    test: &SenbTest,
+    model: &LabModel,
+    spec: &TestSpecimen,
+    progress: &mut dyn FnMut(u64, u64),
+) -> Result<SenbOutcome, LabError> {
+    let s = scene(test, model, spec)?;
+    common::run_test(&test.name, test, s, model, spec, progress, |h| {
+        analyze(h, test, model, spec)
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::specimen::{Method, SpecimenParams};
+
+    /// A synthetic history: the load rises to `peak` and falls to half, the mouth opens by
+    /// 1 µm at the peak, `broken` bonds at the end.
+    fn table(peak: f64, broken: f64) -> Table {
+        let mut names = vec!["time".to_string()];
+        names.extend((0..8).map(|k| format!("load_{k}_fy")));
+        names.extend(
+            [
+                "mouth_left_x",
+                "mouth_right_x",
+                "broken_grain_boundary_tension",
+            ]
+            .map(String::from),
+        );
+        let loads = [0.0, 0.5, 1.0, 0.5];
+        let rows = loads
+            .iter()
+            .enumerate()
+            .map(|(i, &f)| {
+                let mut r = vec![i as f64 * 1e-4];
+                r.extend([f * peak / 8.0; 8]);
+                let open = if i >= 2 { 1e-6 } else { 0.0 };
+                r.extend([1e-3, 2e-3 + open, if i == 3 { broken } else { 0.0 }]);
+                r
+            })
+            .collect();
+        Table { names, rows }
+    }
+
+    fn setup() -> (SenbTest, LabModel, TestSpecimen) {
+        let p = SpecimenParams::new(
+            Method::Traditional,
+            22e-3,
+            5e-3,
+            0.1e-3,
+            0.15e-3,
+            3200.0,
+            310e9,
+            800e6,
+            1,
+        );
+        let spec = TestSpecimen {
+            file: "senb.specimen.json".into(),
+            extent: [0.0, 0.0, 22e-3, 5e-3],
+            discs: 1800,
+            bonds: 3500,
+            r_mean: 0.125e-3,
+            reused: false,
+            below_cover: vec![],
+        };
+        (SenbTest::default(), LabModel::from_params(&p), spec)
+    }
+
+    #[test]
+    fn toughness_from_the_peak_and_cmod_from_the_gauges() {
+        let (t, m, spec) = setup();
+        let r = analyze(&table(1e5, 3.0), &t, &m, &spec).unwrap();
+        // S = 4W = 20 mm, W = 5 mm, a = 2.5 mm, B = t = 1 m: K = P S f(0.5) / (B W^1.5).
+        let want = 1e5 * 20e-3 / (5e-3f64).powf(1.5) * analysis::senb_geometry_factor(0.5);
+        assert!((r.fracture_toughness - want).abs() < 1e-9 * want);
+        assert!((r.span - 20e-3).abs() < 1e-15 && (r.notch_ratio - 0.5).abs() < 1e-12);
+        assert!((r.cmod_at_peak - 1e-6).abs() < 1e-15);
+        assert!((r.ligament_diameters - 10.0).abs() < 1e-9);
+        let bond = 800e6 * (std::f64::consts::PI * 0.125e-3).sqrt();
+        assert!((r.beta - want / bond).abs() < 1e-9);
+    }
+
+    #[test]
+    fn a_drop_without_a_broken_bond_is_refused() {
+        let (t, m, spec) = setup();
+        match analyze(&table(1e5, 0.0), &t, &m, &spec) {
+            Err(LabError::Analysis { reason, .. }) => assert!(reason.contains("no bond broken")),
+            other => panic!("{other:?}"),
+        }
+    }
+}
