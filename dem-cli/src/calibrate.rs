@@ -9,8 +9,10 @@ use clap::Args;
 use dem_core::lab::bending::BendingTest;
 use dem_core::lab::brazilian::BrazilianTest;
 use dem_core::lab::calibrate::{self, MaterialFile, Options};
+use dem_core::lab::senb::SenbTest;
 use dem_core::lab::ucs::UcsTest;
 use dem_core::lab::virtual_lab::VirtualLab;
+use dem_core::lab::{self, specimens};
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
@@ -40,6 +42,11 @@ pub struct CalibrateArgs {
     pub beam: String,
     #[arg(long, default_value = "10mm")]
     pub disc: String,
+    /// After calibrating, measure K_IC with the calibrated model on a single-edge-notched beam
+    /// of this length and depth W (`dem test senb`: span 4W, a/W = 0.5, slot one nominal mean
+    /// diameter), e.g. `44mm,10mm`; the table gets a `K_IC (SENB)` row and the measured β.
+    #[arg(long)]
+    pub senb: Option<String>,
 }
 
 fn lengths(s: &str, flag: &str, n: usize) -> Result<Vec<f64>, String> {
@@ -95,6 +102,23 @@ pub fn run(a: CalibrateArgs) -> Result<ExitCode, String> {
     brazilian
         .check_geometry(brazilian.diameter, r_mean)
         .map_err(|e| format!("--disc {}: {e}", a.disc))?;
+    let senb = match &a.senb {
+        Some(s) => {
+            let v = lengths(s, "--senb", 2)?;
+            let t = SenbTest {
+                name: "senb".into(),
+                length: v[0],
+                height: v[1],
+                notch_width: p.r_min + p.r_max,
+                ..SenbTest::default()
+            };
+            t.validate()
+                .and_then(|_| t.check_geometry(r_mean))
+                .map_err(|e| format!("--senb {s}: {e}"))?;
+            Some(t)
+        }
+        None => None,
+    };
     let start = a.lab.lab_model(&p)?;
     let opts = Options {
         rel_tol: a.tol,
@@ -109,6 +133,7 @@ pub fn run(a: CalibrateArgs) -> Result<ExitCode, String> {
         &start,
         (&ucs, &bending, &brazilian),
         (a.tol, a.max_iter, a.kic_beta),
+        &senb,
     ))
     .map_err(|e| e.to_string())?;
     let (_lock, notes) = crate::run_lock::acquire(
@@ -126,7 +151,7 @@ pub fn run(a: CalibrateArgs) -> Result<ExitCode, String> {
     let bar = progress_bar();
     bar.set_prefix("calibrate");
     let pool = a.lab.pool()?;
-    let (cal, runs, lab_time) = pool.install(|| {
+    let (cal, measured, runs, lab_time) = pool.install(|| {
         let mut log = |l: &str| {
             bar.println(l);
             bar.set_message(l.to_string());
@@ -148,10 +173,26 @@ pub fn run(a: CalibrateArgs) -> Result<ExitCode, String> {
         }
         let c = calibrate::calibrate(&mut lab, &start, &targets, &opts, &mut log)
             .map_err(|e| e.to_string())?;
-        Ok::<_, String>((c, lab.runs, lab.wall_time_s))
+        let measured = match &senb {
+            Some(t) => {
+                let file = out.join("senb-specimen.json");
+                log(&format!("senb specimen: {}", file.display()));
+                let spec = specimens::prepare(&p, t.shape(), &file, &mut |_| {})
+                    .map_err(|e| e.to_string())?;
+                log("senb: K_IC with the calibrated model");
+                let o = lab::senb::run(t, &c.model, &spec, &mut |_, _| {})
+                    .map_err(|e| e.to_string())?;
+                Some(o.result)
+            }
+            None => None,
+        };
+        Ok::<_, String>((c, measured, lab.runs, lab.wall_time_s))
     })?;
     bar.finish_and_clear();
-    let table = calibrate::table(&mat, p.method.name(), &cal);
+    let mut table = calibrate::table(&mat, p.method.name(), &cal);
+    if let Some(r) = &measured {
+        table.add_senb(r);
+    }
     let write = |name: &str, text: String| -> Result<PathBuf, String> {
         let f = out.join(name);
         dem_core::output::write_atomic(&f, text.as_bytes()).map_err(|e| e.to_string())?;

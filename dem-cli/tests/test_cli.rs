@@ -129,6 +129,29 @@ fn bad_arguments_name_the_flag_or_field() {
     ]);
     assert_eq!(o.status.code(), Some(2));
     assert!(text(&o).contains("--method"), "{}", text(&o));
+    // dem calibrate --senb: two lengths, a beam longer than its span 4W; refused before any
+    // specimen is generated.
+    for (senb, want) in [
+        ("10mm", "--senb \"10mm\": give 2 lengths"),
+        ("10mm,2.8mm", "--senb 10mm,2.8mm: senb.length: 0.01 m must exceed the span"),
+    ] {
+        let o = dem(&[
+            "calibrate",
+            "--r-min",
+            "0.1mm",
+            "--r-max",
+            "0.16mm",
+            "--material",
+            &m,
+            "--senb",
+            senb,
+            "--out",
+            out,
+        ]);
+        assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+        assert!(text(&o).contains(want), "{}", text(&o));
+    }
+    assert!(!dir.join("ucs-specimen.json").exists());
 }
 
 #[test]

@@ -722,6 +722,38 @@ pub fn table(mat: &MaterialFile, method: &str, c: &Calibration) -> Table {
 }
 
 impl Table {
+    /// Adds the K_IC a single-edge-notched beam test ([`super::senb`]) measured with the
+    /// calibrated model, as the row `K_IC (SENB)` after the β σ̄_c √(πR̄) row (same measured and
+    /// paper values), and a note with the measured β and the beam.
+    pub fn add_senb(&mut self, r: &super::senb::SenbReport) {
+        let Some(at) = self.rows.iter().position(|r| r.property == "K_IC") else {
+            return;
+        };
+        let base = self.rows[at].clone();
+        let ours = r.fracture_toughness / 1e6;
+        self.rows.insert(
+            at + 1,
+            Row {
+                property: "K_IC (SENB)".into(),
+                ours: Some(ours),
+                rel_err: base.measured.filter(|&x| x != 0.0).map(|x| ours / x - 1.0),
+                role: "reported".into(),
+                ..base
+            },
+        );
+        self.notes.push(format!(
+            "K_IC (SENB) measured on a single-edge-notched beam with the calibrated model (ASTM \
+             E399 SE(B): W = {:.2} mm, S = 4W, a/W = {:.2}, slot {:.3} mm, ligament {:.1} mean \
+             disc diameters; peak load {:.4e} N): β = K_IC / (σ̄c √(πR̄)) = {:.3}",
+            r.height * 1e3,
+            r.notch_ratio,
+            r.notch_width * 1e3,
+            r.ligament_diameters,
+            r.peak_load,
+            r.beta
+        ));
+    }
+
     /// Markdown: property, unit, measured, paper model, ours, error, role.
     pub fn markdown(&self) -> String {
         let f = |v: Option<f64>| v.map_or("–".to_string(), |x| format!("{x:.4}"));
@@ -892,6 +924,41 @@ mod tests {
         let tg = table(&g, "orc", &c);
         assert_eq!(tg.rows[0].basis, "assumed");
         assert!(tg.markdown().contains("(assumed)"));
+
+        // A SENB's K_IC goes in after the β σ̄c √(πR̄) row, against the same measured value.
+        let mut ts = tab.clone();
+        let senb = crate::lab::senb::SenbReport {
+            fracture_toughness: 7.0e6,
+            peak_load: 1e5,
+            span: 40e-3,
+            height: 10e-3,
+            notch_depth: 5e-3,
+            notch_ratio: 0.5,
+            geometry_factor: crate::lab::analysis::senb_geometry_factor(0.5),
+            notch_width: 0.46e-3,
+            ligament_diameters: 10.9,
+            bond_estimate: 14e6,
+            beta: 0.5,
+            cmod_at_peak: 1e-5,
+            roller_speed: 0.01,
+            time_to_peak: 1e-3,
+            quasi_static_ratio: 20.0,
+        };
+        ts.add_senb(&senb);
+        let k = ts.rows.iter().position(|r| r.property == "K_IC").unwrap();
+        let r = &ts.rows[k + 1];
+        assert_eq!(r.property, "K_IC (SENB)");
+        assert_eq!((r.measured, r.ours), (Some(3.5), Some(7.0)));
+        assert!((r.rel_err.unwrap() - 1.0).abs() < 1e-12);
+        assert_eq!(ts.rows.len(), tab.rows.len() + 1);
+        assert!(ts.markdown().contains(
+            "| K_IC (SENB) | MPa·m^½ | 3.5000 | 3.5000 | 7.0000 | +100.0 % | reported |"
+        ));
+        assert!(ts
+            .notes
+            .last()
+            .unwrap()
+            .contains("β = K_IC / (σ̄c √(πR̄)) = 0.500"));
     }
 
     #[test]
