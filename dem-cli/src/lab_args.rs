@@ -6,7 +6,7 @@ use crate::specimen::{cover_lines, material_values, method_and_dist, parse_lengt
 use clap::Args;
 use dem_core::lab::specimens::TestSpecimen;
 use dem_core::lab::{LabError, LabModel};
-use dem_core::specimen::SpecimenParams;
+use dem_core::specimen::{GrainMode, Method, SpecimenParams};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
 use std::path::PathBuf;
@@ -58,6 +58,18 @@ pub struct LabArgs {
     /// Largest number of discs per improved-ORC grain.
     #[arg(long, default_value_t = 9)]
     pub max_discs: usize,
+    /// Which grains are irregular (orc, improved), as `dem specimen`: `all` (every cell of a
+    /// Voronoi tessellation of --grain-size) or `few` (S0: a few synthetic grains in the
+    /// traditional packing, as many as give S0's 1576/989 discs per packing disc).
+    #[arg(long, default_value = "all")]
+    pub irregular: String,
+    /// With `--irregular few`: this many irregular grains instead of S0's disc ratio.
+    #[arg(long)]
+    pub irregular_count: Option<usize>,
+    /// With `--irregular few`: equivalent diameter of the irregular grains, with unit;
+    /// default --grain-size.
+    #[arg(long)]
+    pub irregular_size: Option<String>,
     /// A LabModel JSON (density, thickness, r_mean, micro; `dem calibrate` writes one) whose
     /// micro-parameters the test runs with, instead of those of the specimen flags. The
     /// specimen geometry is still generated with the specimen flags.
@@ -115,6 +127,17 @@ impl LabArgs {
         }
         if let Some(s) = &self.template_r_min {
             p.template_r_min = parse_length(s, "--template-r-min")?;
+        }
+        p.grains = crate::specimen::grain_mode(
+            &p,
+            &self.irregular,
+            self.irregular_count,
+            self.irregular_size.as_deref(),
+        )?;
+        if p.method == Method::Traditional {
+            // No irregular grains: the default mode keeps the parameters' JSON (and the keys
+            // of cached specimens) as before.
+            p.grains = GrainMode::All;
         }
         p.validate().map_err(|e| e.to_string())?;
         Ok(p)

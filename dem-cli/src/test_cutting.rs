@@ -10,7 +10,7 @@ use clap::Args;
 use dem_core::lab::cutting::{self, CuttingResult, CuttingTest};
 use dem_core::lab::tool::ToolModel;
 use dem_core::lab::LabModel;
-use dem_core::specimen::{io, GrainMode, Method, SpecimenParams};
+use dem_core::specimen::{io, SpecimenParams};
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::{Deserialize, Serialize};
 use std::io::IsTerminal;
@@ -320,6 +320,9 @@ impl CuttingArgs {
             grain_size: self.grain_size.clone(),
             template_r_min: self.template_r_min.clone(),
             max_discs: 9,
+            irregular: self.irregular.clone(),
+            irregular_count: self.irregular_count,
+            irregular_size: self.irregular_size.clone(),
             model: self.model.clone(),
             out: self.out.clone(),
             threads: self.threads,
@@ -358,15 +361,6 @@ impl CuttingArgs {
         let w = parse_length(&self.width, "--width")?;
         let h = parse_length(&self.height, "--height")?;
         let mut p = lab.specimen_params(w, h)?;
-        p.grains = crate::specimen::grain_mode(
-            &p,
-            &self.irregular,
-            self.irregular_count,
-            self.irregular_size.as_deref(),
-        )?;
-        if p.method == Method::Traditional {
-            p.grains = GrainMode::All;
-        }
         if self.specimen_from_model {
             if let Some(m) = model {
                 p.micro = m.micro.clone();

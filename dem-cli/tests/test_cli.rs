@@ -129,11 +129,25 @@ fn bad_arguments_name_the_flag_or_field() {
     ]);
     assert_eq!(o.status.code(), Some(2));
     assert!(text(&o).contains("--method"), "{}", text(&o));
+    // The grain mode flags of `dem specimen`, shared by the lab tests.
+    let o = ucs(out, &["--method", "improved", "--irregular", "some"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        text(&o).contains("--irregular \"some\": use all or few"),
+        "{}",
+        text(&o)
+    );
+    let o = ucs(out, &["--method", "orc", "--irregular-count", "3"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(text(&o).contains("need --irregular few"), "{}", text(&o));
     // dem calibrate --senb: two lengths, a beam longer than its span 4W; refused before any
     // specimen is generated.
     for (senb, want) in [
         ("10mm", "--senb \"10mm\": give 2 lengths"),
-        ("10mm,2.8mm", "--senb 10mm,2.8mm: senb.length: 0.01 m must exceed the span"),
+        (
+            "10mm,2.8mm",
+            "--senb 10mm,2.8mm: senb.length: 0.01 m must exceed the span",
+        ),
     ] {
         let o = dem(&[
             "calibrate",
