@@ -21,3 +21,4 @@ pub mod table1;
 pub mod table2;
 pub mod table2_section;
 pub mod table2_why;
+pub mod table3;

@@ -26,9 +26,9 @@ struct Args {
     /// Quick mode (CI): 1 seed, short cut, coarse specimens, a short clump sweep.
     #[arg(long)]
     quick: bool,
-    /// Run only these sections (comma-separated): table1, sweep, table2, pictures,
-    /// convergence, stability. Cutting runs already in the output folder with the same parameters are
-    /// read back, not run again.
+    /// Run only these sections (comma-separated): table1, sweep, table2, table3, pictures,
+    /// convergence, stability. Cutting (and Table 3's bending) runs already in the output
+    /// folder with the same parameters are read back, not run again.
     #[arg(long, value_delimiter = ',')]
     only: Vec<String>,
     /// Table 2: run only these specimen methods (traditional, orc, improved; default all).
@@ -37,7 +37,7 @@ struct Args {
     /// Table 2: run only these seeds (default all of the plan's).
     #[arg(long, value_delimiter = ',')]
     seeds: Vec<u64>,
-    /// Table 2, the convergence study and a `--study` use only the cutting runs already
+    /// Table 2, Table 3, the convergence study and a `--study` use only the runs already
     /// finished in the output folder and list the others as not run (a report of the runs
     /// done so far).
     #[arg(long)]

@@ -38,10 +38,11 @@ pub struct ReportOptions {
 }
 
 /// Section names, in the order they run.
-pub const SECTIONS: [&str; 6] = [
+pub const SECTIONS: [&str; 7] = [
     "table1",
     "sweep",
     "table2",
+    "table3",
     "pictures",
     "convergence",
     "stability",
@@ -161,6 +162,11 @@ fn table2_section(o: &ReportOptions, sh: &mut Shared) -> Result<Section, String>
     Ok(s)
 }
 
+/// Table 3: the granites' flexural strength ([`crate::table3`]).
+fn table3_section(o: &ReportOptions, _: &mut Shared) -> Result<Section, String> {
+    crate::table3::section(&o.data, &o.out, o.quick, o.missing)
+}
+
 /// Error against run time of the cutting run ([`crate::convergence`]).
 fn convergence_section(o: &ReportOptions, sh: &mut Shared) -> Result<Section, String> {
     let p = crate::convergence::plan(&o.data, o.quick)?;
@@ -194,10 +200,11 @@ pub fn run(o: &ReportOptions) -> Result<String, String> {
     let mut env = Environment::capture(mode);
     let mut sections = Vec::new();
     type Builder = fn(&ReportOptions, &mut Shared) -> Result<Section, String>;
-    let all: [Builder; 6] = [
+    let all: [Builder; 7] = [
         table1_section,
         sweep_section,
         table2_section,
+        table3_section,
         pictures_section,
         convergence_section,
         stability_section,

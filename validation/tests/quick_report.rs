@@ -45,6 +45,25 @@ fn quick_report_writes_sane_json_for_every_section() {
     let pics = std::fs::read_to_string(out.join("cut_pictures.svg")).unwrap();
     assert_eq!(pics.matches("data:image/png;base64,").count(), 12);
 
+    // Table 3: G603, ORC and improved, seed 1 (quick), positive strengths, the paper's and
+    // the experiment's values beside them; the order claim unresolved with one seed.
+    let t3 = read(&out, "table3.json");
+    let c3 = t3["cells"].as_array().expect("table3 cells");
+    assert_eq!(c3.len(), 2, "{t3}");
+    for c in c3 {
+        assert_eq!(c["granite"], "G603");
+        assert_eq!(c["n"], 1);
+        let v = num(c, "mean_MPa");
+        assert!(v.is_finite() && v > 0.0, "{c}");
+        assert!(num(c, "paper_MPa") > 0.0, "{c}");
+        assert!((num(c, "rel_err_vs_experiment") - (v / 14.46 - 1.0)).abs() < 1e-9);
+    }
+    assert!(
+        md.contains("ORC < improved ORC (2 SE): G603 not resolved"),
+        "{md}"
+    );
+    assert!(out.join("table3_bars.svg").is_file());
+
     // Table 2: all three methods, every case of the plan, finite positive forces.
     let t2 = read(&out, "table2.json");
     let cells = t2["cells"].as_array().expect("cells list");
