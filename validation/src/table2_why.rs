@@ -304,11 +304,15 @@ pub fn findings(
             likely_cause: format!(
                 "the same specimen cut twice as fast gives the higher mean in {} of {} pairs \
                  (the paper's mean falls from 1 to 2 m/s in all 6 of its pairs, by 15–26 %). \
-                 The speed pilot (docs/cutting.md, \"Pilot results\": traditional, seeds 1–2, \
-                 L = 5 mm) found no quasi-static limit between 0.25 and 4 m/s under PFC local \
-                 damping 0.7 (the damping takes 61–77 % of the tool's work at every speed), \
-                 and no damping choice (local, viscous 0.2, none) that makes the force fall \
-                 from 1 to 2 m/s. The paper gives no mechanism or damping for its trend.",
+                 The speed and damping study ([studies/speed-damping](studies/speed-damping/study.md): \
+                 v = 0.25–4 m/s, the three methods, seeds 1–2, L = 5 mm, local damping 0.7, \
+                 viscous 0.2 of critical and none; 90 runs) found no quasi-static limit at or \
+                 above 0.25 m/s for any method or damping: under local damping the mean force \
+                 grows about in proportion to v (n = 0.87–1.00; the damping takes 57–81 % of \
+                 the tool's work) and rises from 1 to 2 m/s in 5 of 6 seed pairs; viscous or \
+                 undamped, the debris flies clear and the tool touches anything in 0–23 % of \
+                 the window. No damping choice makes the force fall from 1 to 2 m/s. The paper \
+                 gives no mechanism or damping for its trend.",
                 up_all.0, up_all.1
             ),
         });
