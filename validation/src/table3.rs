@@ -540,6 +540,42 @@ mod tests {
     }
 
     #[test]
+    fn a_failure_record_is_read_back_while_its_inputs_are_the_same() {
+        let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("../data");
+        let p = plan(&data, true).unwrap();
+        let out = std::env::temp_dir().join(format!("dem-table3-fail-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&out);
+        let g = &p.granites[0];
+        let dir = out
+            .join("table3-runs")
+            .join(Plan::run_name(g, Method::Orc, 1));
+        std::fs::create_dir_all(&dir).unwrap();
+        let record = |params: &SpecimenParams| {
+            let inputs = serde_json::json!({"params": params, "model": &g.model, "test": &p.test});
+            serde_json::json!({"error": "stage insert did not converge", "inputs": inputs})
+        };
+        let write = |v: serde_json::Value| {
+            std::fs::write(dir.join("table3.failure.json"), v.to_string()).unwrap()
+        };
+        write(record(&p.params(g, Method::Orc, 1)));
+        let (runs, left, errors) = run(&p, &out, Missing::List, &|_| {});
+        assert!(runs.is_empty());
+        assert_eq!(
+            errors,
+            vec![format!(
+                "{}: stage insert did not converge",
+                Plan::run_name(g, Method::Orc, 1)
+            )]
+        );
+        assert_eq!(left, vec![Plan::run_name(g, Method::Improved, 1)]);
+        // Other inputs (another seed's specimen): the record no longer applies.
+        write(record(&p.params(g, Method::Orc, 2)));
+        let (_, left, errors) = run(&p, &out, Missing::List, &|_| {});
+        assert!(errors.is_empty() && left.len() == 2);
+        std::fs::remove_dir_all(&out).ok();
+    }
+
+    #[test]
     fn the_papers_order_is_judged_at_two_standard_errors() {
         let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("../data");
         let p = plan(&data, false).unwrap();
