@@ -346,11 +346,41 @@ fn load_roller_material(s: &mut Value, walls: &mut [Value], mu: f64) -> Result<(
 }
 
 /// Bonds broken by the end of a history (the sum of its `broken_*` columns' last row).
-pub fn bonds_broken(t: &Table) -> f64 {
+fn bonds_broken(t: &Table) -> f64 {
     (t.names.iter().enumerate())
         .filter(|(_, n)| n.starts_with("broken_"))
         .filter_map(|(i, _)| t.rows.last().map(|r| r[i]))
         .sum()
+}
+
+/// The row and value of the peak of the roller `load` of history `t`, if the beam fractured:
+/// the load fell below 95 % of its peak by the end, and with at least one bond broken (a drop
+/// with none is a sliding or ringing beam, or a roller pressing a loose grain). Errors name
+/// `test`.
+pub fn fracture_peak(t: &Table, load: &[f64], test: &str) -> Result<(usize, f64), LabError> {
+    let (ip, f) = analysis::peak(load).ok_or_else(|| common::analysis_error(test, "no load"))?;
+    let last = *load.last().unwrap_or(&0.0);
+    if f <= 0.0 || last > 0.95 * f {
+        return Err(common::analysis_error(
+            test,
+            format!(
+                "no failure: the load was still {:.3} of its peak at the end; raise loading.max_travel_factor",
+                last / f
+            ),
+        ));
+    }
+    if bonds_broken(t) < 1.0 {
+        return Err(common::analysis_error(
+            test,
+            format!(
+                "the load fell to {:.3} of its peak with no bond broken: not a fracture (the beam \
+                 slid or rang, or the roller pressed a loose grain); lower the speed or raise \
+                 load_friction",
+                last / f
+            ),
+        ));
+    }
+    Ok((ip, f))
 }
 
 /// The test's scene: the beam, two supports and the loading roller (polylines), gauges
@@ -492,28 +522,7 @@ pub fn analyze(
             d(i) - d(0)
         })
         .collect();
-    let (ip, f) = analysis::peak(&load).ok_or_else(|| common::analysis_error(TEST, "no load"))?;
-    let last = *load.last().unwrap_or(&0.0);
-    if f <= 0.0 || last > 0.95 * f {
-        return Err(common::analysis_error(
-            TEST,
-            format!(
-                "no failure: the load was still {:.3} of its peak at the end; raise loading.max_travel_factor",
-                last / f
-            ),
-        ));
-    }
-    if bonds_broken(t) < 1.0 {
-        return Err(common::analysis_error(
-            TEST,
-            format!(
-                "the load fell to {:.3} of its peak with no bond broken: not a fracture (the beam \
-                 slid or rang, or the roller pressed a loose grain); lower the speed or raise \
-                 load_friction",
-                last / f
-            ),
-        ));
-    }
+    let (ip, f) = fracture_peak(t, &load, TEST)?;
     let [lo, hi] = test.band;
     let band = analysis::prepeak_band(&load, lo, hi);
     if band.len() < 5 {

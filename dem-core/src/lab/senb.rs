@@ -287,27 +287,7 @@ pub fn analyze(
     let beam = test.beam(w);
     let time = common::column(t, "time", TEST)?;
     let load = super::bending::roller_load(t, beam.roller_segments, TEST)?;
-    let (ip, p) = analysis::peak(&load).ok_or_else(|| common::analysis_error(TEST, "no load"))?;
-    let last = *load.last().unwrap_or(&0.0);
-    if p <= 0.0 || last > 0.95 * p {
-        return Err(common::analysis_error(
-            TEST,
-            format!(
-                "no fracture: the load was still {:.3} of its peak at the end; raise loading.max_travel_factor",
-                last / p
-            ),
-        ));
-    }
-    if super::bending::bonds_broken(t) < 1.0 {
-        return Err(common::analysis_error(
-            TEST,
-            format!(
-                "the load fell to {:.3} of its peak with no bond broken: not a fracture (the beam \
-                 slid or rang); lower the speed or raise load_friction",
-                last / p
-            ),
-        ));
-    }
+    let (ip, p) = super::bending::fracture_peak(t, &load, TEST)?;
     let xl = common::column(t, "mouth_left_x", TEST)?;
     let xr = common::column(t, "mouth_right_x", TEST)?;
     let cmod = (xr[ip] - xl[ip]) - (xr[0] - xl[0]);
