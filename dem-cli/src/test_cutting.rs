@@ -124,6 +124,12 @@ pub struct CuttingArgs {
     /// Tool-disc friction coefficient (default 0).
     #[arg(long)]
     pub tool_friction: Option<f64>,
+    /// Selective mass scaling before the cut: make the lightest discs heavier until none sets
+    /// a step below the largest one whose added mass and added spin inertia stay within this
+    /// fraction of the discs' totals (e.g. 0.02; default 0: none). Reported in the result's
+    /// `run.mass_scaling` (docs/cutting.md, "Mass scaling").
+    #[arg(long)]
+    pub mass_scaling: Option<f64>,
     /// PFC local damping α (default 0.7, PFC's default; 0 = undamped).
     #[arg(long)]
     pub local_damping: Option<f64>,
@@ -208,6 +214,9 @@ impl CuttingArgs {
         }
         if let Some(v) = self.contact_damping {
             t.contact_damping = v;
+        }
+        if let Some(v) = self.mass_scaling {
+            t.mass_scaling = v;
         }
         if let Some(s) = &self.depth {
             t.depth = parse_length(s, "--depth")?;
@@ -669,6 +678,19 @@ pub fn report(r: &CuttingResult) -> String {
         u.steps, u.dt, u.dt_min, u.dt_max, u.wall_time_s, u.threads, u.balance_error_final,
         u.balance_error_max_abs
     );
+    if let Some(ms) = &u.mass_scaling {
+        let _ = writeln!(
+            s,
+            "  mass scaling       budget {}: critical dt {:.4e} -> {:.4e} s; {} discs heavier (+{:.3} % mass), {} with more inertia (+{:.3} % spin inertia)",
+            ms.budget,
+            ms.critical_dt_before,
+            ms.critical_dt_after,
+            ms.discs_mass,
+            100.0 * ms.added_mass_fraction,
+            ms.discs_inertia,
+            100.0 * ms.added_inertia_fraction
+        );
+    }
     for f in &r.files {
         let _ = writeln!(s, "  file {f}");
     }

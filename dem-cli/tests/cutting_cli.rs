@@ -285,6 +285,63 @@ fn cutting_with_deleted_fragments_reports_them() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// `--mass-scaling`: an improved-ORC cut records the budget in its test, the summary prints
+/// what was added and the result's `run.mass_scaling` holds it, within the budget.
+#[test]
+fn cutting_with_mass_scaling_reports_it() {
+    let dir = tmp("mass-scaling");
+    let out = dir.join("cut");
+    let o = dem(&[
+        "test",
+        "cutting",
+        "--method",
+        "improved",
+        "--irregular",
+        "few",
+        "--width",
+        "3mm",
+        "--height",
+        "1.5mm",
+        "--r-min",
+        "0.1mm",
+        "--r-max",
+        "0.16mm",
+        "--grain-size",
+        "0.5mm",
+        "--material",
+        &material(),
+        "--seed",
+        "2",
+        "--depth",
+        "0.4mm",
+        "--speed",
+        "10m/s",
+        "--length",
+        "1mm",
+        "--history-rows",
+        "100",
+        "--mass-scaling",
+        "0.02",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let t = text(&o);
+    assert!(o.status.success(), "{t}");
+    assert!(t.contains("mass scaling       budget 0.02"), "{t}");
+    let r: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("cutting.result.json")).unwrap())
+            .unwrap();
+    assert_eq!(r["test"]["mass_scaling"], serde_json::json!(0.02));
+    let m = &r["run"]["mass_scaling"];
+    let f = |k: &str| m[k].as_f64().unwrap_or_else(|| panic!("{k}: {m}"));
+    assert!(
+        f("added_mass_fraction") <= 0.02 + 1e-12 && f("added_inertia_fraction") <= 0.02 + 1e-12
+    );
+    assert!(f("critical_dt_after") > f("critical_dt_before"), "{m}");
+    assert!(m["discs_mass"].as_u64().unwrap() + m["discs_inertia"].as_u64().unwrap() > 0);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// A 3 × 1.5 mm specimen file of 18 discs (no summary beside it: the geometry is checked
 /// before the model is read).
 fn small_specimen(dir: &std::path::Path) -> PathBuf {

@@ -345,6 +345,7 @@ fn study_files_bad_and_good() {
     // The shipped study files of Table 2 and the speed study (a `sets` axis).
     for f in [
         "data/studies/table2.sweep.json",
+        "data/studies/table2-mass-scaled.sweep.json",
         "data/studies/speed-damping.sweep.json",
     ] {
         let v = read(&root().join(f));

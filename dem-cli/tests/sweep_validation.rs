@@ -187,6 +187,47 @@ fn table2_and_speed_study_files_run_validations_jobs() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// The mass-scaled Table 2 (`data/studies/table2-mass-scaled.sweep.json`, seeds 1–5): its ORC
+/// and traditional cases are Table 2's own jobs (inputs and keys), its improved-ORC cases
+/// Table 2's with `mass_scaling` = 0.02 and nothing else changed.
+#[test]
+fn mass_scaled_table2_differs_from_table2_only_by_the_improved_budget() {
+    let data = root().join("data");
+    let dir = tmp("mass-scaled");
+    let cases = dry_run_cases(
+        &data.join("studies/table2-mass-scaled.sweep.json"),
+        &dir.join("ms"),
+    );
+    let jobs = validation::table2_section::plan(&data, false)
+        .unwrap()
+        .jobs();
+    assert_eq!(cases.len(), 60);
+    let mut seen = std::collections::BTreeSet::new();
+    for (a, i) in &cases {
+        let n = format!(
+            "{}-d{}-v{}-s{}",
+            a["method"],
+            mm(&a["depth"]),
+            a["speed"],
+            a["seed"]
+        );
+        let job = jobs.iter().find(|j| j.name == n).expect("a Table 2 job");
+        let (sp, m) = (i.specimen.as_ref().unwrap(), i.model.as_ref().unwrap());
+        assert_eq!(sp, &job.specimen, "{n}: specimen");
+        assert_eq!(m, &job.model, "{n}: model");
+        let mut want = job.test.clone();
+        if a["method"] == "improved" {
+            want.mass_scaling = 0.02;
+            assert_ne!(key_text(sp, m, &i.test).unwrap(), key_of(job), "{n}: key");
+        } else {
+            assert_eq!(key_text(sp, m, &i.test).unwrap(), key_of(job), "{n}: key");
+        }
+        assert_eq!(i.test, want, "{n}: test");
+        assert!(seen.insert(n));
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// `(folder, name)` pairs as validation's statistics take them.
 fn as_refs(d: &[(PathBuf, String)]) -> Vec<(&Path, &str)> {
     d.iter().map(|(p, n)| (p.as_path(), n.as_str())).collect()

@@ -70,6 +70,9 @@ pub struct World {
     /// Discs deleted so far ([`World::remove_discs`]); left out of checkpoints while none.
     #[serde(default, skip_serializing_if = "RemovalTotals::is_empty")]
     pub(crate) removed: RemovalTotals,
+    /// What [`World::scale_inertia`] did, if it was called; left out of checkpoints while not.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub(crate) mass_scaling: Option<crate::mass_scaling::MassScaling>,
 }
 
 impl World {
@@ -109,6 +112,7 @@ impl World {
             clump_trig: Vec::new(),
             last_good: None,
             removed: RemovalTotals::default(),
+            mass_scaling: None,
         };
         w.rebuild_index();
         w.rebuild();
@@ -438,6 +442,79 @@ impl World {
     /// min √(m/K), √(I/K_rot) of the last estimate, before the safety factor (s).
     pub fn critical_dt(&self) -> f64 {
         self.dt_crit
+    }
+
+    /// Selective mass scaling ([`crate::mass_scaling`]): raise the mass and the moment of
+    /// inertia of the free discs whose time-step bound is below the target step T, the
+    /// largest T whose added mass and added spin inertia stay within `budget` (fractions of
+    /// the free discs' totals), then take a fresh time-step estimate. Call it before the run,
+    /// with the discs at rest (a moving disc made heavier would gain momentum). `budget` ≤ 0
+    /// changes nothing. The report is kept ([`World::mass_scaling`]) and goes into
+    /// checkpoints.
+    pub fn scale_inertia(&mut self, budget: f64) -> crate::mass_scaling::MassScaling {
+        self.refresh();
+        let before = self.dt_crit;
+        let d = &self.state.discs;
+        let free: Vec<usize> = (0..d.len())
+            .filter(|&i| self.cache.inv_m[i] > 0.0)
+            .collect();
+        let pick = |v: &[f64]| free.iter().map(|&i| v[i]).collect::<Vec<f64>>();
+        let (m, i_own) = (pick(&d.m), pick(&d.inertia));
+        let (km, kr) = (pick(&self.cache.k_trans), pick(&self.cache.k_rot));
+        let b = budget.max(0.0);
+        let t = match (
+            crate::mass_scaling::target_step(&m, &km, b),
+            crate::mass_scaling::target_step(&i_own, &kr, b),
+        ) {
+            (Some(a), Some(c)) => a.min(c),
+            (a, c) => a.or(c).unwrap_or(0.0),
+        };
+        let (mut nm, mut ni, mut dm, mut di) = (0, 0, 0.0, 0.0);
+        if b > 0.0 {
+            let d = &mut self.state.discs;
+            for (q, &i) in free.iter().enumerate() {
+                let (m_new, i_new) = (km[q] * t * t, kr[q] * t * t);
+                if m_new > d.m[i] {
+                    dm += m_new - d.m[i];
+                    d.m[i] = m_new;
+                    nm += 1;
+                }
+                if i_new > d.inertia[i] {
+                    di += i_new - d.inertia[i];
+                    d.inertia[i] = i_new;
+                    ni += 1;
+                }
+            }
+            self.refresh();
+            // Before the run: the first kick uses this step, not the unscaled one.
+            self.dt_prev = self.dt;
+        }
+        let frac = |added: f64, v: &[f64]| {
+            let total: f64 = v.iter().sum();
+            if total > 0.0 {
+                added / total
+            } else {
+                0.0
+            }
+        };
+        let report = crate::mass_scaling::MassScaling {
+            budget: b,
+            target_dt: t,
+            critical_dt_before: before,
+            critical_dt_after: self.dt_crit,
+            discs_mass: nm,
+            discs_inertia: ni,
+            added_mass: dm,
+            added_mass_fraction: frac(dm, &m),
+            added_inertia_fraction: frac(di, &i_own),
+        };
+        self.mass_scaling = Some(report.clone());
+        report
+    }
+
+    /// The report of [`World::scale_inertia`], if the world's discs were scaled.
+    pub fn mass_scaling(&self) -> Option<&crate::mass_scaling::MassScaling> {
+        self.mass_scaling.as_ref()
     }
 
     /// Every body's time-step bound of the last estimate, smallest first

@@ -248,6 +248,39 @@ fn run_control_is_checked() {
         "dtf.json",
     );
     assert!(e.contains("run.dt_factor"), "{e}");
+    let e = error_of(
+        |v| v["run"] = serde_json::json!({"steps": 10, "mass_scaling": 0.7}),
+        "mass.json",
+    );
+    assert!(
+        e.contains("run.mass_scaling") && e.contains("[0, 0.5]"),
+        "{e}"
+    );
+}
+
+/// `run.mass_scaling` enters the physics (and so the checkpoints' scene hash) and the built
+/// world is scaled: the small disc of two (m/4) sets the step until the budget raises it.
+#[test]
+fn mass_scaling_is_applied_when_the_world_is_built() {
+    let mut v = base();
+    v["bodies"]["discs"] =
+        serde_json::json!([{"material": "glass", "discs": [[0, 0, 1], [1.45, 0, 0.5]]}]);
+    let plain = load_value(&v, "plain.json").unwrap();
+    v["run"]["mass_scaling"] = serde_json::json!(0.1);
+    let scaled = load_value(&v, "scaled.json").unwrap();
+    assert_eq!(scaled.run.mass_scaling, Some(0.1));
+    assert_ne!(plain.physics_hash(), scaled.physics_hash());
+    let (w0, w1) = (
+        scene::build(&plain).unwrap(),
+        scene::build(&scaled).unwrap(),
+    );
+    assert!(w0.mass_scaling().is_none());
+    let r = w1.mass_scaling().expect("scaled");
+    assert!(
+        r.discs_mass >= 1 && (r.added_mass_fraction - 0.1).abs() < 1e-9,
+        "{r:?}"
+    );
+    assert!(w1.critical_dt() > w0.critical_dt(), "{r:?}");
 }
 
 #[test]

@@ -169,6 +169,9 @@ pub fn build(scene: &Scene) -> Result<World, SceneError> {
     }
     .map_err(|e| fail("world", e.to_string()))?;
     world.loads = scene.loads.clone();
+    if let Some(budget) = scene.run.mass_scaling {
+        world.scale_inertia(budget);
+    }
     Ok(world)
 }
 

@@ -68,6 +68,10 @@ pub(crate) fn run(
             .max_energy_growth
             .map(|v| ck.positive("run.max_energy_growth", v))
             .transpose()?,
+        mass_scaling: r
+            .mass_scaling
+            .map(|v| ck.range("run.mass_scaling", v, 0.0, 0.5, true))
+            .transpose()?,
         stop_after_peak: r
             .stop_after_peak
             .as_ref()

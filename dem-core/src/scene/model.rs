@@ -179,6 +179,9 @@ pub struct Run {
     pub skin: Option<f64>,
     pub max_overlap_fraction: Option<f64>,
     pub max_energy_growth: Option<f64>,
+    /// Budget of the selective mass scaling before the run (fraction; `None` = none).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub mass_scaling: Option<f64>,
     /// Stop at failure (run control, not physics: a restart may change it).
     #[serde(skip)]
     pub stop_after_peak: Option<StopAfterPeak>,

@@ -498,6 +498,12 @@ pub struct RunSpec {
     /// Guard: kinetic energy may not exceed this multiple of the energy supplied (default 2).
     #[serde(default)]
     pub max_energy_growth: Option<f64>,
+    /// Selective mass scaling before the run (`dem_core::mass_scaling`): the lightest discs
+    /// are made heavier until their time-step bound reaches the largest step whose added mass
+    /// and added spin inertia stay within this fraction of the free discs' totals (e.g. 0.02).
+    /// Default none.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mass_scaling: Option<f64>,
     /// Stop at failure: end the run once the load on some walls has fallen below a fraction
     /// of its peak (checked at history rows).
     #[serde(default, skip_serializing_if = "Option::is_none")]
