@@ -169,7 +169,20 @@ pub struct CuttingArgs {
     /// (`run.lock`; a rerun of the same cut is always allowed).
     #[arg(long)]
     pub force: bool,
+    /// Generation: reuse the specimen of the same parameters from this folder if one was
+    /// generated there before (a sub-folder per parameter hash), and keep a newly generated one
+    /// there. `dem sweep run` passes `DIR/specimens`, so a study's cases of one seed generate
+    /// their specimen once (generation is deterministic: the files are the same bytes).
+    #[arg(long)]
+    pub specimen_cache: Option<PathBuf>,
 }
+
+/// The files of a generated specimen, as `<out>/` holds them and the cache keeps them.
+const SPECIMEN_FILES: [&str; 3] = [
+    "specimen.json",
+    "specimen.summary.json",
+    "specimen.scene.json",
+];
 
 /// `1`, `2.5`, `1m/s`, `1 m/s` → m/s.
 fn parse_speed(s: &str) -> Result<f64, String> {
@@ -388,6 +401,16 @@ impl CuttingArgs {
         };
         std::fs::create_dir_all(&self.out).map_err(|e| format!("{}: {e}", self.out.display()))?;
         let path = self.out.join("specimen.json");
+        let cached = self.specimen_cache.as_ref().map(|c| {
+            let key = crate::run_lock::inputs_hash(&(p, &name));
+            c.join(&key[..24])
+        });
+        if let Some(c) = cached
+            .as_ref()
+            .filter(|c| c.join(SPECIMEN_FILES[2]).is_file())
+        {
+            return self.from_cache(c, &path);
+        }
         println!(
             "generating a {} specimen {} x {} mm into {}",
             p.method.name(),
@@ -424,7 +447,69 @@ impl CuttingArgs {
         let text = serde_json::to_string_pretty(&scene).map_err(|e| e.to_string())?;
         io::write_atomic(&self.out.join("specimen.scene.json"), &text)
             .map_err(|e| e.to_string())?;
+        if let Some(c) = &cached {
+            self.to_cache(c)?;
+        }
         Ok(path)
+    }
+
+    /// Copies the specimen files kept in the cache folder `c` into `<out>`; the grains below
+    /// their cover target are read from the summary and reported (or refused with --strict) as
+    /// for a generated specimen.
+    fn from_cache(&self, c: &std::path::Path, path: &std::path::Path) -> Result<PathBuf, String> {
+        println!("specimen {} from the cache {}", path.display(), c.display());
+        for f in SPECIMEN_FILES {
+            let src = c.join(f);
+            let text =
+                std::fs::read_to_string(&src).map_err(|e| format!("{}: {e}", src.display()))?;
+            io::write_atomic(&self.out.join(f), &text).map_err(|e| e.to_string())?;
+        }
+        let sp = c.join(SPECIMEN_FILES[1]);
+        let summary: dem_core::specimen::Summary = std::fs::read_to_string(&sp)
+            .map_err(|e| e.to_string())
+            .and_then(|t| serde_json::from_str(&t).map_err(|e| e.to_string()))
+            .map_err(|e| format!("{}: {e}", sp.display()))?;
+        let below = summary
+            .templates
+            .as_ref()
+            .map(|t| t.below_cover.as_slice())
+            .unwrap_or_default();
+        if self.strict && !below.is_empty() {
+            return Err(format!(
+                "--strict: {} grains of the specimen are below their cover target; the cut \
+                 did not run (leave out --strict to run it with a warning):\n  {}",
+                below.len(),
+                crate::specimen::cover_lines(path, below).join("\n  ")
+            ));
+        }
+        crate::specimen::print_cover(path, below);
+        Ok(path.to_path_buf())
+    }
+
+    /// Keeps the specimen files of `<out>` in the cache folder `c`: written into a private
+    /// folder beside it, then renamed into place, so a reader never sees a partial entry; when
+    /// another process put the same entry there first, its copy (the same bytes) stays.
+    fn to_cache(&self, c: &std::path::Path) -> Result<(), String> {
+        let parent = c
+            .parent()
+            .ok_or("the specimen cache has no parent folder")?;
+        std::fs::create_dir_all(parent).map_err(|e| format!("{}: {e}", parent.display()))?;
+        let tmp = parent.join(format!(
+            ".tmp-{}-{}",
+            c.file_name().and_then(|n| n.to_str()).unwrap_or("entry"),
+            std::process::id()
+        ));
+        let _ = std::fs::remove_dir_all(&tmp);
+        std::fs::create_dir_all(&tmp).map_err(|e| format!("{}: {e}", tmp.display()))?;
+        for f in SPECIMEN_FILES {
+            std::fs::copy(self.out.join(f), tmp.join(f))
+                .map_err(|e| format!("{}: {e}", tmp.join(f).display()))?;
+        }
+        if std::fs::rename(&tmp, c).is_err() {
+            // Another process kept the same specimen first (or the entry is in place).
+            let _ = std::fs::remove_dir_all(&tmp);
+        }
+        Ok(())
     }
 
     /// What the cut runs: the specimen (parameters, or the file), the model (`None` until a

@@ -342,6 +342,92 @@ fn cutting_with_mass_scaling_reports_it() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// `--specimen-cache`: the first cut generates the specimen and keeps it, the second (another
+/// speed) takes it from the cache; the files are the same (the summary's generation wall time
+/// aside) and the cut's result equals that of a run without the cache.
+#[test]
+fn specimen_cache_gives_the_generated_specimen() {
+    let dir = tmp("specimen-cache");
+    let cache = dir.join("cache");
+    let cut = |name: &str, speed: &str, cached: bool| {
+        let out = dir.join(name);
+        let mut args: Vec<String> = [
+            "test",
+            "cutting",
+            "--method",
+            "orc",
+            "--irregular",
+            "few",
+            "--width",
+            "3mm",
+            "--height",
+            "1.5mm",
+            "--r-min",
+            "0.1mm",
+            "--r-max",
+            "0.16mm",
+            "--grain-size",
+            "0.5mm",
+            "--seed",
+            "3",
+            "--depth",
+            "0.4mm",
+            "--length",
+            "1mm",
+            "--history-rows",
+            "50",
+            "--speed",
+            speed,
+        ]
+        .map(String::from)
+        .to_vec();
+        args.extend(["--material".into(), material()]);
+        args.extend(["--out".into(), out.display().to_string()]);
+        if cached {
+            args.extend(["--specimen-cache".into(), cache.display().to_string()]);
+        }
+        let a: Vec<&str> = args.iter().map(String::as_str).collect();
+        let o = dem(&a);
+        let t = text(&o);
+        assert!(o.status.success(), "{t}");
+        (out, t)
+    };
+    let (first, t1) = cut("first", "10m/s", true);
+    assert!(!t1.contains("from the cache"), "{t1}");
+    assert_eq!(std::fs::read_dir(&cache).unwrap().count(), 1, "one entry");
+    let (second, t2) = cut("second", "20m/s", true);
+    assert!(t2.contains("from the cache"), "{t2}");
+    let (plain, _) = cut("plain", "20m/s", false);
+    for f in [
+        "specimen.json",
+        "specimen.summary.json",
+        "specimen.scene.json",
+    ] {
+        let read = |d: &std::path::Path| {
+            let mut v: serde_json::Value =
+                serde_json::from_str(&std::fs::read_to_string(d.join(f)).unwrap()).unwrap();
+            // (A generation's own wall time differs from run to run.)
+            if let Some(o) = v.as_object_mut() {
+                o.remove("wall_time_s");
+            }
+            v.to_string()
+        };
+        assert!(read(&first) == read(&second), "{f}: cached copy differs");
+        assert!(
+            read(&plain) == read(&second),
+            "{f}: differs from a generation"
+        );
+    }
+    let result = |d: &std::path::Path| -> serde_json::Value {
+        serde_json::from_str(&std::fs::read_to_string(d.join("cutting.result.json")).unwrap())
+            .unwrap()
+    };
+    let (a, b) = (result(&second), result(&plain));
+    assert_eq!(a["main_force"], b["main_force"]);
+    assert_eq!(a["broken_total"], b["broken_total"]);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// A 3 × 1.5 mm specimen file of 18 discs (no summary beside it: the geometry is checked
 /// before the model is read).
 fn small_specimen(dir: &std::path::Path) -> PathBuf {

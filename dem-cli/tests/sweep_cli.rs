@@ -345,6 +345,15 @@ fn two_runs_on_one_folder_never_run_a_case_twice_and_aggregates_are_right() {
         assert_eq!(claims, 1, "case {}", c["index"]);
         assert!(case_dir(&dir, c).join("done.json").exists());
     }
+    // The two depths of a seed share its specimen: three kept in `specimens/` (each entry
+    // renamed into place whole, even when both processes generated it), no partial entry.
+    let kept: Vec<String> = std::fs::read_dir(dir.join("specimens"))
+        .unwrap()
+        .flatten()
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .collect();
+    assert_eq!(kept.len(), 3, "{kept:?}");
+    assert!(kept.iter().all(|k| !k.starts_with('.')), "{kept:?}");
     // Both processes ran some (each prints a line per case it finished).
     let n = |o: &Output| {
         String::from_utf8_lossy(&o.stderr)

@@ -119,6 +119,10 @@ fn log_tail(log: &Path, n: usize) -> Vec<String> {
         .collect()
 }
 
+/// The folder of `DIR` where cutting cases keep the specimens they generate
+/// (`dem test cutting --specimen-cache`).
+pub const SPECIMEN_CACHE: &str = "specimens";
+
 /// Starts each attempt's lines in `log.txt` (tests count them).
 pub const HEADER: &str = "=== dem sweep run: attempt";
 
@@ -148,8 +152,15 @@ fn start(c: &Case, dir: &Path, exe: &Path, threads: usize) -> Result<Child, Stri
         .try_clone()
         .map_err(|e| format!("{}: {e}", log_path.display()))?;
     let mut cmd = Command::new(exe);
-    cmd.args(&c.argv)
-        .arg("--out")
+    cmd.args(&c.argv);
+    if c.argv
+        .starts_with(&["test".to_string(), "cutting".to_string()])
+        && !c.argv.iter().any(|a| a == "--specimen")
+    {
+        // The cases of one specimen (a seed's depths and speeds) generate it once.
+        cmd.arg("--specimen-cache").arg(dir.join(SPECIMEN_CACHE));
+    }
+    cmd.arg("--out")
         .arg(&cdir)
         .arg("--threads")
         .arg(threads.to_string())
