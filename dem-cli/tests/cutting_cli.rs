@@ -243,33 +243,18 @@ fn dry_run_writes_the_inputs_and_runs_nothing() {
 fn cutting_with_deleted_fragments_reports_them() {
     let dir = tmp("delete");
     let out = dir.join("cut");
-    let o = dem(&[
-        "test",
-        "cutting",
-        "--width",
-        "3mm",
-        "--height",
-        "1.5mm",
-        "--r-min",
-        "0.1mm",
-        "--r-max",
-        "0.16mm",
-        "--material",
-        &material(),
-        "--seed",
-        "2",
-        "--depth",
-        "0.4mm",
-        "--speed",
-        "10m/s",
-        "--length",
-        "1mm",
-        "--history-rows",
-        "200",
-        "--delete-fragments",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    let o = small_cut(
+        &out,
+        &[
+            "--seed",
+            "2",
+            "--speed",
+            "10m/s",
+            "--history-rows",
+            "200",
+            "--delete-fragments",
+        ],
+    );
     let t = text(&o);
     assert!(o.status.success(), "{t}");
     assert!(t.contains("deleted fragments"), "{t}");
@@ -291,40 +276,25 @@ fn cutting_with_deleted_fragments_reports_them() {
 fn cutting_with_mass_scaling_reports_it() {
     let dir = tmp("mass-scaling");
     let out = dir.join("cut");
-    let o = dem(&[
-        "test",
-        "cutting",
-        "--method",
-        "improved",
-        "--irregular",
-        "few",
-        "--width",
-        "3mm",
-        "--height",
-        "1.5mm",
-        "--r-min",
-        "0.1mm",
-        "--r-max",
-        "0.16mm",
-        "--grain-size",
-        "0.5mm",
-        "--material",
-        &material(),
-        "--seed",
-        "2",
-        "--depth",
-        "0.4mm",
-        "--speed",
-        "10m/s",
-        "--length",
-        "1mm",
-        "--history-rows",
-        "100",
-        "--mass-scaling",
-        "0.02",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    let o = small_cut(
+        &out,
+        &[
+            "--method",
+            "improved",
+            "--irregular",
+            "few",
+            "--grain-size",
+            "0.5mm",
+            "--seed",
+            "2",
+            "--speed",
+            "10m/s",
+            "--history-rows",
+            "100",
+            "--mass-scaling",
+            "0.02",
+        ],
+    );
     let t = text(&o);
     assert!(o.status.success(), "{t}");
     assert!(t.contains("mass scaling       budget 0.02"), "{t}");
@@ -351,43 +321,25 @@ fn specimen_cache_gives_the_generated_specimen() {
     let cache = dir.join("cache");
     let cut = |name: &str, speed: &str, cached: bool| {
         let out = dir.join(name);
-        let mut args: Vec<String> = [
-            "test",
-            "cutting",
+        let c = cache.display().to_string();
+        let mut args = vec![
             "--method",
             "orc",
             "--irregular",
             "few",
-            "--width",
-            "3mm",
-            "--height",
-            "1.5mm",
-            "--r-min",
-            "0.1mm",
-            "--r-max",
-            "0.16mm",
             "--grain-size",
             "0.5mm",
             "--seed",
             "3",
-            "--depth",
-            "0.4mm",
-            "--length",
-            "1mm",
             "--history-rows",
             "50",
             "--speed",
             speed,
-        ]
-        .map(String::from)
-        .to_vec();
-        args.extend(["--material".into(), material()]);
-        args.extend(["--out".into(), out.display().to_string()]);
+        ];
         if cached {
-            args.extend(["--specimen-cache".into(), cache.display().to_string()]);
+            args.extend(["--specimen-cache", c.as_str()]);
         }
-        let a: Vec<&str> = args.iter().map(String::as_str).collect();
-        let o = dem(&a);
+        let o = small_cut(&out, &args);
         let t = text(&o);
         assert!(o.status.success(), "{t}");
         (out, t)
@@ -426,6 +378,34 @@ fn specimen_cache_gives_the_generated_specimen() {
     assert_eq!(a["main_force"], b["main_force"]);
     assert_eq!(a["broken_total"], b["broken_total"]);
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `dem test cutting` generating a 3 × 1.5 mm Si3N4 specimen (radii 0.1–0.16 mm) and cutting
+/// 1 mm of it 0.4 mm deep, with the flags `extra` (seed, speed, history rows, ...), into `out`.
+fn small_cut(out: &std::path::Path, extra: &[&str]) -> std::process::Output {
+    let (m, o) = (material(), out.display().to_string());
+    let mut args = vec![
+        "test",
+        "cutting",
+        "--width",
+        "3mm",
+        "--height",
+        "1.5mm",
+        "--r-min",
+        "0.1mm",
+        "--r-max",
+        "0.16mm",
+        "--depth",
+        "0.4mm",
+        "--length",
+        "1mm",
+        "--material",
+        &m,
+        "--out",
+        &o,
+    ];
+    args.extend_from_slice(extra);
+    dem(&args)
 }
 
 /// A 3 × 1.5 mm specimen file of 18 discs (no summary beside it: the geometry is checked
