@@ -409,7 +409,7 @@ impl CuttingArgs {
             .as_ref()
             .filter(|c| c.join(SPECIMEN_FILES[2]).is_file())
         {
-            return self.from_cache(c, &path);
+            return self.copy_from_cache(c, &path);
         }
         println!(
             "generating a {} specimen {} x {} mm into {}",
@@ -448,7 +448,7 @@ impl CuttingArgs {
         io::write_atomic(&self.out.join("specimen.scene.json"), &text)
             .map_err(|e| e.to_string())?;
         if let Some(c) = &cached {
-            self.to_cache(c)?;
+            self.keep_in_cache(c)?;
         }
         Ok(path)
     }
@@ -456,7 +456,11 @@ impl CuttingArgs {
     /// Copies the specimen files kept in the cache folder `c` into `<out>`; the grains below
     /// their cover target are read from the summary and reported (or refused with --strict) as
     /// for a generated specimen.
-    fn from_cache(&self, c: &std::path::Path, path: &std::path::Path) -> Result<PathBuf, String> {
+    fn copy_from_cache(
+        &self,
+        c: &std::path::Path,
+        path: &std::path::Path,
+    ) -> Result<PathBuf, String> {
         println!("specimen {} from the cache {}", path.display(), c.display());
         for f in SPECIMEN_FILES {
             let src = c.join(f);
@@ -489,7 +493,7 @@ impl CuttingArgs {
     /// Keeps the specimen files of `<out>` in the cache folder `c`: written into a private
     /// folder beside it, then renamed into place, so a reader never sees a partial entry; when
     /// another process put the same entry there first, its copy (the same bytes) stays.
-    fn to_cache(&self, c: &std::path::Path) -> Result<(), String> {
+    fn keep_in_cache(&self, c: &std::path::Path) -> Result<(), String> {
         let parent = c
             .parent()
             .ok_or("the specimen cache has no parent folder")?;
