@@ -332,7 +332,7 @@ pub fn run(a: SpecimenArgs) -> Result<ExitCode, String> {
     });
     bar.finish_and_clear();
     let spec = spec.map_err(|e| e.to_string())?;
-    let below = below_cover(&spec);
+    let below = below_cover(&spec.summary);
     let lines = cover_lines(&a.out, below);
     if a.strict && !below.is_empty() {
         return Err(format!(
@@ -366,13 +366,10 @@ pub fn run(a: SpecimenArgs) -> Result<ExitCode, String> {
     Ok(ExitCode::SUCCESS)
 }
 
-/// The improved-ORC grains of a generated specimen whose templates stopped below their cover
-/// target (none for other methods).
-pub fn below_cover(
-    s: &dem_core::specimen::Specimen,
-) -> &[dem_core::specimen::improved::GrainCover] {
-    s.summary
-        .templates
+/// The improved-ORC grains of a specimen (its summary) whose templates stopped below their
+/// cover target (none for other methods).
+pub fn below_cover(s: &dem_core::specimen::Summary) -> &[dem_core::specimen::improved::GrainCover] {
+    s.templates
         .as_ref()
         .map(|t| t.below_cover.as_slice())
         .unwrap_or_default()

@@ -431,17 +431,11 @@ impl CuttingArgs {
         });
         bar.finish_and_clear();
         let s = s.map_err(|e| e.to_string())?;
-        let below = crate::specimen::below_cover(&s);
-        if self.strict && !below.is_empty() {
-            return Err(format!(
-                "--strict: {} grains of the specimen are below their cover target; the \
-                 specimen was not written and the cut did not run (leave out --strict to run \
-                 it with a warning):\n  {}",
-                below.len(),
-                crate::specimen::cover_lines(&path, below).join("\n  ")
-            ));
-        }
-        crate::specimen::print_cover(&path, below);
+        self.check_cover(
+            &path,
+            crate::specimen::below_cover(&s.summary),
+            "the specimen was not written and the cut did not run",
+        )?;
         io::save(&s, &name, &path).map_err(|e| e.to_string())?;
         let scene = io::example_scene(&s, &name, "specimen.json", 1000);
         let text = serde_json::to_string_pretty(&scene).map_err(|e| e.to_string())?;
@@ -462,32 +456,43 @@ impl CuttingArgs {
         path: &std::path::Path,
     ) -> Result<PathBuf, String> {
         println!("specimen {} from the cache {}", path.display(), c.display());
+        let mut summary = None;
         for f in SPECIMEN_FILES {
             let src = c.join(f);
             let text =
                 std::fs::read_to_string(&src).map_err(|e| format!("{}: {e}", src.display()))?;
             io::write_atomic(&self.out.join(f), &text).map_err(|e| e.to_string())?;
+            if f == SPECIMEN_FILES[1] {
+                let s: dem_core::specimen::Summary =
+                    serde_json::from_str(&text).map_err(|e| format!("{}: {e}", src.display()))?;
+                summary = Some(s);
+            }
         }
-        let sp = c.join(SPECIMEN_FILES[1]);
-        let summary: dem_core::specimen::Summary = std::fs::read_to_string(&sp)
-            .map_err(|e| e.to_string())
-            .and_then(|t| serde_json::from_str(&t).map_err(|e| e.to_string()))
-            .map_err(|e| format!("{}: {e}", sp.display()))?;
         let below = summary
-            .templates
             .as_ref()
-            .map(|t| t.below_cover.as_slice())
-            .unwrap_or_default();
+            .map_or(&[][..], crate::specimen::below_cover);
+        self.check_cover(path, below, "the cut did not run")?;
+        Ok(path.to_path_buf())
+    }
+
+    /// The grains of the specimen `path` below their cover target: refused with --strict (the
+    /// error says what was `not_done`), else printed as warnings.
+    fn check_cover(
+        &self,
+        path: &std::path::Path,
+        below: &[dem_core::specimen::improved::GrainCover],
+        not_done: &str,
+    ) -> Result<(), String> {
         if self.strict && !below.is_empty() {
             return Err(format!(
-                "--strict: {} grains of the specimen are below their cover target; the cut \
-                 did not run (leave out --strict to run it with a warning):\n  {}",
+                "--strict: {} grains of the specimen are below their cover target; {not_done} \
+                 (leave out --strict to run it with a warning):\n  {}",
                 below.len(),
                 crate::specimen::cover_lines(path, below).join("\n  ")
             ));
         }
         crate::specimen::print_cover(path, below);
-        Ok(path.to_path_buf())
+        Ok(())
     }
 
     /// Keeps the specimen files of `<out>` in the cache folder `c`: written into a private

@@ -97,6 +97,65 @@ pub fn target_step(m: &[f64], k: &[f64], budget: f64) -> Option<f64> {
     unreachable!("the last interval is unbounded")
 }
 
+/// Raises the masses `m` and moments of inertia `inertia` of the discs `free` (indices into
+/// all four slices) to `k_trans` T² and `k_rot` T², T the largest step within `budget`
+/// ([`target_step`] of each, the smaller); `budget` ≤ 0 changes nothing. The report's critical
+/// steps are left 0 for the caller ([`crate::World::scale_inertia`]) to fill.
+pub fn scale_discs(
+    m: &mut [f64],
+    inertia: &mut [f64],
+    k_trans: &[f64],
+    k_rot: &[f64],
+    free: &[usize],
+    budget: f64,
+) -> MassScaling {
+    let pick = |v: &[f64]| free.iter().map(|&i| v[i]).collect::<Vec<f64>>();
+    let (m0, i0) = (pick(m), pick(inertia));
+    let b = budget.max(0.0);
+    let t = match (
+        target_step(&m0, &pick(k_trans), b),
+        target_step(&i0, &pick(k_rot), b),
+    ) {
+        (Some(a), Some(c)) => a.min(c),
+        (a, c) => a.or(c).unwrap_or(0.0),
+    };
+    let (mut nm, mut ni, mut dm, mut di) = (0, 0, 0.0, 0.0);
+    if b > 0.0 {
+        for &i in free {
+            let (m_new, i_new) = (k_trans[i] * t * t, k_rot[i] * t * t);
+            if m_new > m[i] {
+                dm += m_new - m[i];
+                m[i] = m_new;
+                nm += 1;
+            }
+            if i_new > inertia[i] {
+                di += i_new - inertia[i];
+                inertia[i] = i_new;
+                ni += 1;
+            }
+        }
+    }
+    let frac = |added: f64, v: &[f64]| {
+        let total: f64 = v.iter().sum();
+        if total > 0.0 {
+            added / total
+        } else {
+            0.0
+        }
+    };
+    MassScaling {
+        budget: b,
+        target_dt: t,
+        critical_dt_before: 0.0,
+        critical_dt_after: 0.0,
+        discs_mass: nm,
+        discs_inertia: ni,
+        added_mass: dm,
+        added_mass_fraction: frac(dm, &m0),
+        added_inertia_fraction: frac(di, &i0),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::target_step;

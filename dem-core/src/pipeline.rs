@@ -454,60 +454,24 @@ impl World {
     pub fn scale_inertia(&mut self, budget: f64) -> crate::mass_scaling::MassScaling {
         self.refresh();
         let before = self.dt_crit;
-        let d = &self.state.discs;
-        let free: Vec<usize> = (0..d.len())
-            .filter(|&i| self.cache.inv_m[i] > 0.0)
-            .collect();
-        let pick = |v: &[f64]| free.iter().map(|&i| v[i]).collect::<Vec<f64>>();
-        let (m, i_own) = (pick(&d.m), pick(&d.inertia));
-        let (km, kr) = (pick(&self.cache.k_trans), pick(&self.cache.k_rot));
-        let b = budget.max(0.0);
-        let t = match (
-            crate::mass_scaling::target_step(&m, &km, b),
-            crate::mass_scaling::target_step(&i_own, &kr, b),
-        ) {
-            (Some(a), Some(c)) => a.min(c),
-            (a, c) => a.or(c).unwrap_or(0.0),
-        };
-        let (mut nm, mut ni, mut dm, mut di) = (0, 0, 0.0, 0.0);
-        if b > 0.0 {
-            let d = &mut self.state.discs;
-            for (q, &i) in free.iter().enumerate() {
-                let (m_new, i_new) = (km[q] * t * t, kr[q] * t * t);
-                if m_new > d.m[i] {
-                    dm += m_new - d.m[i];
-                    d.m[i] = m_new;
-                    nm += 1;
-                }
-                if i_new > d.inertia[i] {
-                    di += i_new - d.inertia[i];
-                    d.inertia[i] = i_new;
-                    ni += 1;
-                }
-            }
+        let c = &self.cache;
+        let free: Vec<usize> = (0..c.inv_m.len()).filter(|&i| c.inv_m[i] > 0.0).collect();
+        let d = &mut self.state.discs;
+        let mut report = crate::mass_scaling::scale_discs(
+            &mut d.m,
+            &mut d.inertia,
+            &c.k_trans,
+            &c.k_rot,
+            &free,
+            budget,
+        );
+        if report.budget > 0.0 {
             self.refresh();
             // Before the run: the first kick uses this step, not the unscaled one.
             self.dt_prev = self.dt;
         }
-        let frac = |added: f64, v: &[f64]| {
-            let total: f64 = v.iter().sum();
-            if total > 0.0 {
-                added / total
-            } else {
-                0.0
-            }
-        };
-        let report = crate::mass_scaling::MassScaling {
-            budget: b,
-            target_dt: t,
-            critical_dt_before: before,
-            critical_dt_after: self.dt_crit,
-            discs_mass: nm,
-            discs_inertia: ni,
-            added_mass: dm,
-            added_mass_fraction: frac(dm, &m),
-            added_inertia_fraction: frac(di, &i_own),
-        };
+        report.critical_dt_before = before;
+        report.critical_dt_after = self.dt_crit;
         self.mass_scaling = Some(report.clone());
         report
     }

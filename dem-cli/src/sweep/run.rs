@@ -153,8 +153,7 @@ fn start(c: &Case, dir: &Path, exe: &Path, threads: usize) -> Result<Child, Stri
         .map_err(|e| format!("{}: {e}", log_path.display()))?;
     let mut cmd = Command::new(exe);
     cmd.args(&c.argv);
-    if c.argv
-        .starts_with(&["test".to_string(), "cutting".to_string()])
+    if matches!(c.argv.as_slice(), [t, k, ..] if t == "test" && k == "cutting")
         && !c.argv.iter().any(|a| a == "--specimen")
     {
         // The cases of one specimen (a seed's depths and speeds) generate it once.
