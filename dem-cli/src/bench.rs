@@ -72,6 +72,10 @@ pub struct SolverBench {
     /// 200,115 = 46,000 discs). E.g. 30,25 = 1,500 discs, the size of a cutting specimen.
     #[arg(long, value_parser = parse_cells)]
     cells: Option<[usize; 2]>,
+    /// Bonded only: flat joints of this many elements (1–8; Potyondy 2012) instead of parallel
+    /// bonds, with the same stiffness and strengths.
+    #[arg(long, value_parser = clap::value_parser!(u8).range(1..=8))]
+    flat_joint: Option<u8>,
 }
 
 fn parse_cells(s: &str) -> Result<[usize; 2], String> {
@@ -246,15 +250,18 @@ pub fn run(k: BenchKind) -> Result<ExitCode, String> {
         BenchKind::Clump(b) => clump(b),
         BenchKind::Cutting(b) => cutting(b),
         BenchKind::Dense(b) => {
-            if b.cells.is_some() {
-                return Err("--cells applies to `dem bench bonded` only".into());
+            if b.cells.is_some() || b.flat_joint.is_some() {
+                return Err("--cells and --flat-joint apply to `dem bench bonded` only".into());
             }
             solver("dense", b, dem_core::bench::dense_lattice_scene())
         }
         BenchKind::Bonded(b) => {
-            let w = match b.cells {
-                None => dem_core::bond::bench::bonded_lattice_scene(),
-                Some(c) => dem_core::bond::bench::bonded_lattice_world(c),
+            use dem_core::bond::bench::{
+                bonded_lattice_with, lattice_bond_group, lattice_flat_joint_group,
+            };
+            let w = match b.flat_joint {
+                None => bonded_lattice_with(b.cells, &lattice_bond_group),
+                Some(n) => bonded_lattice_with(b.cells, &|t| lattice_flat_joint_group(t, n)),
             };
             solver("bonded", b, w)
         }

@@ -237,6 +237,80 @@ fn bond_group_parameters_match_model_and_criterion() {
 }
 
 #[test]
+fn flat_joint_groups_are_read_and_checked() {
+    let group = serde_json::json!({"name": "fj", "model": "flat_joint_potyondy2012",
+        "criterion": "stress", "kn": 1e12, "ks": 5e11, "tensile_strength": 1e7,
+        "cohesion": 2e7, "friction_angle": 30, "elements": 4, "friction": 0.5});
+    let mut v = base();
+    v["bond_groups"] = serde_json::json!([group.clone()]);
+    let s = load_value(&v, "fj-ok.json").unwrap();
+    match s.bond_groups[0].model {
+        dem_core::bond::BondModel::FlatJoint(p) => {
+            assert_eq!((p.elements, p.friction, p.lambda), (4, 0.5, 1.0));
+        }
+        other => panic!("{other:?}"),
+    }
+    let cases: [(&str, serde_json::Value, &str, &str); 3] = [
+        ("elements", 9.into(), "bond_groups[0].elements", "1 to 8"),
+        (
+            "friction",
+            (-1.0).into(),
+            "bond_groups[0].friction",
+            "out of range",
+        ),
+        (
+            "moment_factor",
+            0.5.into(),
+            "bond_groups[0].moment_factor",
+            "not used",
+        ),
+    ];
+    for (k, (field, value, path, why)) in cases.into_iter().enumerate() {
+        let e = error_of(
+            |v| {
+                let mut g = group.clone();
+                g[field] = value;
+                v["bond_groups"] = serde_json::json!([g]);
+            },
+            &format!("fj-bad-{k}.json"),
+        );
+        assert!(e.contains(path) && e.contains(why), "{field}: {e}");
+    }
+    // The elements break by the stress criterion only.
+    let e = error_of(
+        |v| {
+            let mut g = group.clone();
+            let o = g.as_object_mut().unwrap();
+            for k in ["tensile_strength", "cohesion", "friction_angle"] {
+                o.remove(k);
+            }
+            g["criterion"] = "force".into();
+            g["normal_strength"] = 1.0.into();
+            g["shear_strength"] = 1.0.into();
+            v["bond_groups"] = serde_json::json!([g]);
+        },
+        "fj-force.json",
+    );
+    assert!(
+        e.contains("bond_groups[0].criterion") && e.contains("\"stress\""),
+        "{e}"
+    );
+    // A parallel bond refuses the flat joint's fields.
+    let e = error_of(
+        |v| {
+            let mut g = group.clone();
+            g["model"] = "parallel_potyondy2004".into();
+            v["bond_groups"] = serde_json::json!([g]);
+        },
+        "fj-on-parallel.json",
+    );
+    assert!(
+        e.contains("bond_groups[0].elements") && e.contains("not used"),
+        "{e}"
+    );
+}
+
+#[test]
 fn run_control_is_checked() {
     let e = error_of(
         |v| v["run"] = serde_json::json!({"steps": 10, "duration": 1.0}),

@@ -119,11 +119,33 @@ pub fn lattice_bond_group(t: f64) -> BondGroup {
     }
 }
 
+/// The lattice's bond group as a flat joint of `elements` elements (Potyondy 2012,
+/// [`super::flat_joint`]): the same k̄n, k̄s, R̄ and strengths, so an intact lattice moves as
+/// with the parallel bond; for the flat joint's cost against the parallel bond's.
+pub fn lattice_flat_joint_group(t: f64, elements: u8) -> BondGroup {
+    let mut g = lattice_bond_group(t);
+    if let BondModel::Parallel(p) = g.model {
+        g.model = BondModel::FlatJoint(super::FlatJointParams {
+            kn: p.kn,
+            ks: p.ks,
+            lambda: p.lambda,
+            elements,
+            friction: 0.5,
+        });
+    }
+    g.name = "lattice_flat_joint".into();
+    g
+}
+
 /// The benchmark lattice with a parallel bond at every contact (≈ 3 bonds per disc).
 pub fn bonded_lattice_state(cells: [usize; 2]) -> (State, Bonds) {
+    lattice_state_with(cells, &lattice_bond_group)
+}
+
+fn lattice_state_with(cells: [usize; 2], group: &dyn Fn(f64) -> BondGroup) -> (State, Bonds) {
     let st = hex_lattice_state(cells);
-    let mut bonds = Bonds::new(vec![lattice_bond_group(st.thickness)])
-        .expect("the benchmark bond group is valid");
+    let mut bonds =
+        Bonds::new(vec![group(st.thickness)]).expect("the benchmark bond group is valid");
     bonds
         .install_at_contacts(&st, 0.1 * RADIUS, 0)
         .expect("lattice discs are valid");
@@ -135,10 +157,20 @@ pub fn bonded_lattice_state(cells: [usize; 2]) -> (State, Bonds) {
 /// bond at every contact (≈138,000 bonds, [`lattice_bond_group`]) and the automatic time step
 /// (the scene's fixed 1 µs is not stable once the bonds double the stiffness).
 pub fn bonded_lattice_scene() -> World {
+    bonded_lattice_with(None, &lattice_bond_group)
+}
+
+/// [`bonded_lattice_scene`] (`cells` None) or [`bonded_lattice_world`] with the bonds of
+/// `group` (given the disc thickness): [`lattice_bond_group`] or
+/// [`lattice_flat_joint_group`].
+pub fn bonded_lattice_with(cells: Option<[usize; 2]>, group: &dyn Fn(f64) -> BondGroup) -> World {
+    if let Some(c) = cells {
+        return lattice_world_with(c, group);
+    }
     let mut w = crate::bench::dense_lattice_scene();
     w.params.dt_fixed = None;
-    let mut bonds = Bonds::new(vec![lattice_bond_group(w.state.thickness)])
-        .expect("the benchmark bond group is valid");
+    let mut bonds =
+        Bonds::new(vec![group(w.state.thickness)]).expect("the benchmark bond group is valid");
     bonds
         .install_at_contacts(&w.state, 0.1 * RADIUS, 0)
         .expect("lattice discs are valid");
@@ -149,7 +181,11 @@ pub fn bonded_lattice_scene() -> World {
 /// A smaller bonded lattice of `cells` cells (see [`bonded_lattice_state`]) in a world with
 /// the benchmark's contact law and the automatic time step.
 pub fn bonded_lattice_world(cells: [usize; 2]) -> World {
-    let (st, bonds) = bonded_lattice_state(cells);
+    lattice_world_with(cells, &lattice_bond_group)
+}
+
+fn lattice_world_with(cells: [usize; 2], group: &dyn Fn(f64) -> BondGroup) -> World {
+    let (st, bonds) = lattice_state_with(cells, group);
     let law = LinearSpringDashpot {
         kn: KN,
         ks: 2.0 / 7.0 * KN,

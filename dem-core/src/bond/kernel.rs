@@ -8,7 +8,8 @@
 //! fused single-thread path, the two-pass parallel path and the fast and general block loops
 //! all produce identical bits.
 
-use super::criteria::{stress_flags, BreakMode, Compiled, Criterion, Loads};
+use super::criteria::{stress_flags, BreakMode, Compiled, Criterion};
+use super::flat_joint::{self, ElementStrength, FlatJointState, Motion};
 use super::incidence::Incidence;
 use super::potyondy2004::{Kinematics, ParallelBondParams};
 use super::split::Split;
@@ -125,6 +126,8 @@ pub(super) struct BondsMut<'a> {
     pub fs: &'a mut [f64],
     pub m: &'a mut [f64],
     pub status: &'a mut [u8],
+    /// Flat-joint interfaces, one per bond, or empty when no group is a flat joint.
+    pub fj: &'a mut [FlatJointState],
 }
 
 /// Disc force accumulators.
@@ -204,7 +207,12 @@ pub(super) fn sub<'a>(m: &'a mut BondsMut, r: std::ops::Range<usize>) -> BondsMu
         fn_: &mut m.fn_[r.clone()],
         fs: &mut m.fs[r.clone()],
         m: &mut m.m[r.clone()],
-        status: &mut m.status[r],
+        status: &mut m.status[r.clone()],
+        fj: if m.fj.is_empty() {
+            &mut []
+        } else {
+            &mut m.fj[r]
+        },
     }
 }
 
@@ -579,6 +587,7 @@ fn block<const VALID: bool>(
     let (g0_, rbar_) = (&b.g0[r.clone()], &b.rbar[r]);
     let (f_n, f_s, f_m) = (&mut m.fn_[..n], &mut m.fs[..n], &mut m.m[..n]);
     let status = &mut m.status[..n];
+    let fjs = &mut *m.fj;
     let [ox, oy, oti, otj] = out;
     // Pass 1a: gather the pair data (all disc slices re-cut to one length so the bounds checks
     // fold into one). Entries past `n` keep finite values of an earlier block or the padding
@@ -790,14 +799,42 @@ fn block<const VALID: bool>(
             let g = grp[k] as usize;
             let f0 = [f_n[k], f_s[k], f_m[k]];
             let (rb, g0, len, kn) = (rbar_[k], g0_[k], length(k), kin(k));
-            let (f, l): ([f64; 3], Loads) = match &c.groups[g].model {
-                BondModel::Parallel(p) => potyondy2004::update(p, rb, c.t, g0, len, &kn, f0),
-                BondModel::Contact(p) => contact_bond::update(p, rb, c.t, g0, len, &kn, f0),
+            let (f, flags) = match &c.groups[g].model {
+                BondModel::Parallel(p) => {
+                    let (f, l) = potyondy2004::update(p, rb, c.t, g0, len, &kn, f0);
+                    (f, c.compiled[g].flags(&l))
+                }
+                BondModel::Contact(p) => {
+                    let (f, l) = contact_bond::update(p, rb, c.t, g0, len, &kn, f0);
+                    (f, c.compiled[g].flags(&l))
+                }
+                BondModel::FlatJoint(p) => {
+                    let strength = match c.compiled[g].criterion {
+                        Criterion::Stress {
+                            tensile, cohesion, ..
+                        } => ElementStrength {
+                            tensile,
+                            cohesion,
+                            tan_phi: c.compiled[g].tan_phi,
+                        },
+                        // (A flat-joint group has the stress criterion: BondGroup::validate.)
+                        _ => ElementStrength {
+                            tensile: f64::INFINITY,
+                            cohesion: f64::INFINITY,
+                            tan_phi: 0.0,
+                        },
+                    };
+                    let motion = Motion {
+                        delta: kn.gap - g0,
+                        dus: kn.dus,
+                        dtheta: kn.dtheta,
+                    };
+                    flat_joint::bond_step(p, &strength, rb, c.t, motion, &mut fjs[k])
+                }
             };
             f_n[k] = f[0];
             f_s[k] = f[1];
             f_m[k] = f[2];
-            let flags = c.compiled[g].flags(&l);
             let (o, code) = finish(gnx[k], gny[k], gai[k], gaj[k], f, flags);
             ox[k] = o[0];
             oy[k] = o[1];

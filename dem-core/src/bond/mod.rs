@@ -3,7 +3,8 @@
 //! step ([`Bonds::compute`]).
 //!
 //! Models: the parallel bond of Potyondy & Cundall 2004 ([`potyondy2004`]) and the contact bond
-//! ([`contact_bond`]). Criteria: maximum stress, force, strain or energy ([`criteria`]). Every
+//! ([`contact_bond`]), and the flat-joint interface of Potyondy 2012 ([`flat_joint`]), whose
+//! elements break one by one. Criteria: maximum stress, force, strain or energy ([`criteria`]). Every
 //! break is logged ([`breaks`]).
 //!
 //! **Parallelism and determinism.** Each bond's new forces depend only on its own history and on
@@ -18,6 +19,7 @@ pub mod bench;
 pub mod breaks;
 pub mod contact_bond;
 pub mod criteria;
+pub mod flat_joint;
 pub(crate) mod fused;
 mod incidence;
 pub mod install;
@@ -32,6 +34,7 @@ pub use attach::{attach, world_with_bonds};
 pub use breaks::{BreakEvent, BreakLog};
 pub use contact_bond::ContactBondParams;
 pub use criteria::{BreakMode, Criterion};
+pub use flat_joint::{FlatJointParams, FlatJointState};
 pub use potyondy2004::ParallelBondParams;
 pub use store::{BondView, Bonds};
 
@@ -45,6 +48,9 @@ pub enum BondModel {
     Parallel(ParallelBondParams),
     /// Contact bond (force only, at the contact point).
     Contact(ContactBondParams),
+    /// Flat joint (an interface of elements that break one by one), Potyondy 2012; its
+    /// elements' strength is the group's stress criterion.
+    FlatJoint(FlatJointParams),
 }
 
 /// A bond group: a name (written to outputs and the break log), a model and a criterion.
@@ -70,6 +76,13 @@ impl BondGroup {
                 p.validate(&self.name)?;
                 false
             }
+            BondModel::FlatJoint(p) => {
+                p.validate(&self.name)?;
+                if !matches!(self.criterion, Criterion::Stress { .. }) {
+                    return Err(BondError::FlatJointNeedsStress(self.name.clone()));
+                }
+                true
+            }
         };
         self.criterion.validate(&self.name, parallel)
     }
@@ -94,6 +107,8 @@ pub enum BondError {
     },
     #[error("bond group `{0}`: the stress criterion needs a parallel bond (a contact bond has no cross-section); use the force criterion")]
     StressOnContactBond(String),
+    #[error("bond group `{0}`: a flat joint's elements break by the stress criterion (tensile strength, cohesion, friction angle); use criterion stress")]
+    FlatJointNeedsStress(String),
     #[error("a bond group has an empty name")]
     EmptyName,
     #[error("bond group name `{0}` is used twice")]

@@ -121,6 +121,10 @@ pub(super) fn run(
         SyncPtr::of(&mut *m.status),
         SyncPtr::of(&mut slot[..]),
     );
+    // Flat-joint interfaces: one per bond, or none.
+    let fj_all = !m.fj.is_empty();
+    assert!(!fj_all || m.fj.len() == nb);
+    let pfj = SyncPtr::of(&mut *m.fj);
     let (px, py, pt) = (
         SyncPtr::of(&mut *fx),
         SyncPtr::of(&mut *fy),
@@ -132,7 +136,7 @@ pub(super) fn run(
     crate::team::run(ranges, &|r| {
         let (lo, hi) = (split.bounds[r], split.bounds[r + 1]);
         // SAFETY: the bond ranges [lo, hi) are disjoint and within the nb entries of
-        // every bond array.
+        // every bond array (the flat-joint states too when there are any: asserted above).
         let (mut mr, slot) = unsafe {
             let n = hi - lo;
             let mr = BondsMut {
@@ -140,6 +144,7 @@ pub(super) fn run(
                 fs: ps.slice(lo, n),
                 m: pm.slice(lo, n),
                 status: pst.slice(lo, n),
+                fj: if fj_all { pfj.slice(lo, n) } else { &mut [] },
             };
             (mr, psl.slice(lo, n))
         };

@@ -1,6 +1,7 @@
 //! The bond store ([`Bonds`]): groups, per-bond arrays, the per-step kernel and its scatter.
 
 use super::criteria::{BreakMode, Compiled};
+use super::flat_joint::{self, FlatJointState};
 use super::kernel::{self, BondsIn, BondsMut, Ctx, DiscOut, DiscView, BROKEN, INTACT, NEW};
 use super::{
     contact_bond, install, potyondy2004, BondError, BondGroup, BondModel, BondStatus, BreakEvent,
@@ -75,6 +76,10 @@ pub struct Bonds {
     /// deletion; see [`Bonds::drop_discs`]).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     dropped: Vec<u64>,
+    /// The interface state of each bond when a group is a flat joint (one entry per bond, in
+    /// store order; a placeholder for bonds of other groups); empty otherwise.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    fj: Vec<FlatJointState>,
     #[serde(skip)]
     cache: Cache,
 }
@@ -143,8 +148,24 @@ impl Bonds {
             released: 0.0,
             log: BreakLog::default(),
             dropped: Vec::new(),
+            fj: Vec::new(),
             cache: Cache::default(),
         })
+    }
+
+    /// Whether a group is a flat joint (then every bond has a [`FlatJointState`]).
+    fn has_flat_joints(&self) -> bool {
+        self.groups
+            .iter()
+            .any(|g| matches!(g.model, BondModel::FlatJoint(_)))
+    }
+
+    /// The interface of bond `b` (store position) when it is a flat joint.
+    pub fn flat_joint(&self, b: usize) -> Option<&FlatJointState> {
+        match self.groups[self.group[b] as usize].model {
+            BondModel::FlatJoint(_) => self.fj.get(b),
+            _ => None,
+        }
     }
 
     pub fn groups(&self) -> &[BondGroup] {
@@ -269,10 +290,14 @@ impl Bonds {
             return Err(BondError::Coincident(i, j));
         }
         let rmin = d.r[i].min(d.r[j]);
-        let rbar = match &g.model {
-            BondModel::Parallel(p) => p.lambda * rmin,
-            BondModel::Contact(_) => rmin,
+        let (rbar, elements) = match &g.model {
+            BondModel::Parallel(p) => (p.lambda * rmin, 0),
+            BondModel::Contact(_) => (rmin, 0),
+            BondModel::FlatJoint(p) => (p.lambda * rmin, p.elements),
         };
+        if self.has_flat_joints() {
+            self.fj.push(FlatJointState::new(elements));
+        }
         self.thickness = st.thickness;
         self.id.push(self.next_id);
         self.next_id += 1;
@@ -480,6 +505,7 @@ impl Bonds {
             fs: &mut self.fs,
             m: &mut self.m,
             status: &mut self.status,
+            fj: &mut self.fj,
         };
         let out = DiscOut {
             fx: &mut d.fx,
@@ -546,6 +572,9 @@ impl Bonds {
         match &self.groups[self.group[b] as usize].model {
             BondModel::Parallel(p) => potyondy2004::energy(p, self.rbar[b], self.thickness, f),
             BondModel::Contact(p) => contact_bond::energy(p, f),
+            BondModel::FlatJoint(p) => {
+                flat_joint::energy(p, self.rbar[b], self.thickness, &self.fj[b])
+            }
         }
     }
 
@@ -565,6 +594,7 @@ impl Bonds {
                 let (kt, kr) = match &self.groups[self.group[b] as usize].model {
                     BondModel::Parallel(p) => potyondy2004::stiffness(p, self.rbar[b], t, arm),
                     BondModel::Contact(p) => contact_bond::stiffness(p, arm),
+                    BondModel::FlatJoint(p) => flat_joint::stiffness(p, self.rbar[b], t, arm),
                 };
                 k_trans[k] += kt;
                 k_rot[k] += kr;
@@ -623,6 +653,13 @@ impl Bonds {
         if !self.released.is_finite() {
             return bad("released energy is not finite".into());
         }
+        let fj_len = if self.has_flat_joints() { n } else { 0 };
+        if self.fj.len() != fj_len {
+            return bad(format!(
+                "{} flat-joint states for {fj_len} bonds",
+                self.fj.len()
+            ));
+        }
         for b in 0..n {
             let (i, j) = (self.i[b] as usize, self.j[b] as usize);
             let id = self.id[b];
@@ -650,6 +687,21 @@ impl Bonds {
                     "bond id {id} is not below next_id {}",
                     self.next_id
                 ));
+            }
+            if let Some(s) = self.fj.get(b) {
+                let elements = match &self.groups[self.group[b] as usize].model {
+                    BondModel::FlatJoint(p) => p.elements as u32,
+                    _ => 0,
+                };
+                let finite = s.theta.is_finite()
+                    && s.delta.is_finite()
+                    && s.fs.iter().all(|f| f.is_finite());
+                if !finite || (s.bonded as u32) >> elements != 0 {
+                    return bad(format!(
+                        "bond {id}: flat-joint state with non-finite values or bonded elements \
+                         beyond its {elements}"
+                    ));
+                }
             }
         }
         Ok(())
@@ -688,6 +740,9 @@ impl Bonds {
         p(&mut self.fs, &order);
         p(&mut self.m, &order);
         p(&mut self.status, &order);
+        if !self.fj.is_empty() {
+            p(&mut self.fj, &order);
+        }
     }
     /// Bonds dropped with deleted discs per group, indexed like [`Bonds::groups`] (all 0
     /// when nothing was deleted).
@@ -739,6 +794,9 @@ impl Bonds {
         p(&mut self.fs, &keep);
         p(&mut self.m, &keep);
         p(&mut self.status, &keep);
+        if !self.fj.is_empty() {
+            p(&mut self.fj, &keep);
+        }
         // (`remap` resets the caches that depend on the bonds.)
         self.remap(new_of_old);
         (n_drop, energy)

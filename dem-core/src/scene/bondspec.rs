@@ -7,7 +7,8 @@ use super::check::Ck;
 use super::schema::{BondGroupSpec, BondModelName, CriterionName};
 use super::SceneError;
 use crate::bond::{
-    BondError, BondGroup, BondModel, ContactBondParams, Criterion, ParallelBondParams,
+    BondError, BondGroup, BondModel, ContactBondParams, Criterion, FlatJointParams,
+    ParallelBondParams,
 };
 
 pub(crate) fn bond_group(ck: &Ck, i: usize, g: &BondGroupSpec) -> Result<BondGroup, SceneError> {
@@ -15,6 +16,7 @@ pub(crate) fn bond_group(ck: &Ck, i: usize, g: &BondGroupSpec) -> Result<BondGro
     let model = match g.model {
         BondModelName::ParallelPotyondy2004 => "parallel_potyondy2004",
         BondModelName::ContactBond => "contact_bond",
+        BondModelName::FlatJointPotyondy2012 => "flat_joint_potyondy2012",
     };
     let crit = match g.criterion {
         CriterionName::Stress => "criterion stress",
@@ -35,7 +37,29 @@ pub(crate) fn bond_group(ck: &Ck, i: usize, g: &BondGroupSpec) -> Result<BondGro
         }
     };
     let (kn, ks) = (required("kn", g.kn, model)?, required("ks", g.ks, model)?);
+    if g.model != BondModelName::FlatJointPotyondy2012 {
+        refuse("elements", g.elements.map(f64::from), model)?;
+        refuse("friction", g.friction, model)?;
+    }
     let bmodel = match g.model {
+        BondModelName::FlatJointPotyondy2012 => {
+            refuse("moment_factor", g.moment_factor, model)?;
+            let elements = g.elements.unwrap_or(2);
+            let max = crate::bond::flat_joint::MAX_ELEMENTS as u32;
+            if !(1..=max).contains(&elements) {
+                return Err(ck.err(
+                    f("elements"),
+                    format!("{elements} is out of range: a flat joint has 1 to {max} elements"),
+                ));
+            }
+            BondModel::FlatJoint(FlatJointParams {
+                kn,
+                ks,
+                lambda: g.radius_multiplier.unwrap_or(1.0),
+                elements: elements as u8,
+                friction: ck.finite(&f("friction"), g.friction.unwrap_or(0.0))?,
+            })
+        }
         BondModelName::ParallelPotyondy2004 => BondModel::Parallel(ParallelBondParams {
             kn,
             ks,
@@ -132,6 +156,10 @@ pub(crate) fn bond_group(ck: &Ck, i: usize, g: &BondGroupSpec) -> Result<BondGro
             let shown = if scene_field == "friction_angle" { value.to_degrees() } else { value };
             ck.err(f(scene_field), format!("{shown} is out of range (see docs/scene-schema.md)"))
         }
+        BondError::FlatJointNeedsStress(_) => ck.err(
+            f("criterion"),
+            "flat_joint_potyondy2012's elements break by criterion \"stress\" (tensile_strength, cohesion, friction_angle)",
+        ),
         BondError::StressOnContactBond(_) => ck.err(
             f("criterion"),
             "contact_bond has no cross-section; use criterion \"force\" (strengths in N), \"strain\" or \"energy\"",

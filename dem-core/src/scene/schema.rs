@@ -173,6 +173,9 @@ pub struct PairSpec {
 pub enum BondModelName {
     ParallelPotyondy2004,
     ContactBond,
+    /// The flat joint of Potyondy 2012: an interface of `elements` elements that break one by
+    /// one (strengths from criterion `stress`), unbonded ones with `friction`.
+    FlatJointPotyondy2012,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -205,6 +208,12 @@ pub struct BondGroupSpec {
     /// Moment contribution factor β̄ in σ̄ = −F̄n/Ā + β̄|M̄|R̄/Ī; default 1.
     #[serde(default)]
     pub moment_factor: Option<f64>,
+    /// Flat joint: number of elements along the interface, 1–8; default 2.
+    #[serde(default)]
+    pub elements: Option<u32>,
+    /// Flat joint: friction coefficient μ of unbonded elements; default 0.
+    #[serde(default)]
+    pub friction: Option<f64>,
     /// Stress criterion: tensile strength σ̄c (Pa), cohesion c̄ (Pa), friction angle φ̄ (degrees).
     #[serde(default)]
     pub tensile_strength: Option<f64>,
