@@ -7,6 +7,7 @@
 pub mod anim;
 pub mod draw;
 pub mod load;
+pub mod picture;
 pub mod vtk;
 
 use clap::Args;

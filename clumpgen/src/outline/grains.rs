@@ -6,7 +6,7 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
-use super::{sha256_hex, Outline, ReadOptions};
+use super::Outline;
 use crate::error::OutlineError;
 
 /// The kinds of multi-grain files, chosen by extension (case-insensitive).
@@ -90,45 +90,6 @@ pub struct Grain {
 pub struct FileGrains {
     pub grains: Vec<Grain>,
     pub notes: Vec<String>,
-}
-
-/// Read every grain of a multi-grain file. An error here concerns the whole file (unreadable,
-/// not an image, an empty mask, degrees); a grain's own problem is in its [`Grain::outline`].
-/// Files of no [`MultiKind`] are an error.
-pub fn read_grains(
-    path: &Path,
-    opts: &ReadOptions,
-    g: &GrainOptions,
-) -> Result<FileGrains, OutlineError> {
-    let file = path.display().to_string();
-    let Some(kind) = MultiKind::of(path) else {
-        return Err(OutlineError::BadOption {
-            file,
-            reason: format!(
-                "not a multi-grain file (expected one of .{})",
-                MULTI_EXTENSIONS.join(", .")
-            ),
-        });
-    };
-    let bytes = std::fs::read(path).map_err(|e| OutlineError::Io {
-        file: file.clone(),
-        source: e,
-    })?;
-    let stem = path
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let sha = sha256_hex(&bytes);
-    match kind {
-        MultiKind::Image => super::raster::image_grains(&bytes, &file, &stem, &sha, opts, g),
-        MultiKind::GeoJson | MultiKind::Wkt => {
-            let text = String::from_utf8(bytes).map_err(|e| OutlineError::Io {
-                file: file.clone(),
-                source: std::io::Error::new(std::io::ErrorKind::InvalidData, e),
-            })?;
-            super::gis::gis_grains(&text, kind == MultiKind::Wkt, &file, &stem, &sha, opts)
-        }
-    }
 }
 
 /// A name safe as a file name: letters, digits, `-`, `_`, `.` kept (not leading dots), others

@@ -47,9 +47,7 @@ use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 
 pub use gis::is_geographic_crs;
-pub use grains::{
-    read_grains, FileGrains, Grain, GrainOptions, MaskMode, MultiKind, MULTI_EXTENSIONS,
-};
+pub use grains::{FileGrains, Grain, GrainOptions, MaskMode, MultiKind, MULTI_EXTENSIONS};
 pub use raster::PINCH_CUT_PX;
 pub use validate::{find_self_intersection, SelfHit};
 
@@ -58,6 +56,46 @@ use crate::geom::bbox;
 use crate::props::signed_area;
 use crate::units::Units;
 use text::RawOutline;
+
+// (Here, not in `grains`, because it dispatches to `raster` and `gis`, which use `grains`.)
+/// Read every grain of a multi-grain file. An error here concerns the whole file (unreadable,
+/// not an image, an empty mask, degrees); a grain's own problem is in its [`Grain::outline`].
+/// Files of no [`MultiKind`] are an error.
+pub fn read_grains(
+    path: &Path,
+    opts: &ReadOptions,
+    g: &GrainOptions,
+) -> Result<FileGrains, OutlineError> {
+    let file = path.display().to_string();
+    let Some(kind) = MultiKind::of(path) else {
+        return Err(OutlineError::BadOption {
+            file,
+            reason: format!(
+                "not a multi-grain file (expected one of .{})",
+                MULTI_EXTENSIONS.join(", .")
+            ),
+        });
+    };
+    let bytes = std::fs::read(path).map_err(|e| OutlineError::Io {
+        file: file.clone(),
+        source: e,
+    })?;
+    let stem = path
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let sha = sha256_hex(&bytes);
+    match kind {
+        MultiKind::Image => raster::image_grains(&bytes, &file, &stem, &sha, opts, g),
+        MultiKind::GeoJson | MultiKind::Wkt => {
+            let text = String::from_utf8(bytes).map_err(|e| OutlineError::Io {
+                file: file.clone(),
+                source: std::io::Error::new(std::io::ErrorKind::InvalidData, e),
+            })?;
+            gis::gis_grains(&text, kind == MultiKind::Wkt, &file, &stem, &sha, opts)
+        }
+    }
+}
 
 /// Options of [`read_outline`] / [`parse_outline`].
 #[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]

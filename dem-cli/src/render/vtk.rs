@@ -6,7 +6,9 @@
 //! `format="binary"` base64 arrays are read too). A small hand parser; compressed, raw-binary
 //! or other VTK flavours are refused with a message.
 
-use super::load::{counts, grain_keys, short_name, step_time, Bond, Disc, Kind, Picture, WallLine};
+use super::picture::{
+    counts, grain_keys, short_name, step_time, Bond, Disc, Kind, Picture, WallLine,
+};
 use base64::Engine as _;
 use dem_core::state::FREE;
 use std::path::{Path, PathBuf};

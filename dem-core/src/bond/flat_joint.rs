@@ -41,7 +41,7 @@
 //! **Forces on the discs** as for the parallel bond: on disc 2, F = (ΣF_e) n̂ + (ΣF_s,e) t̂ at the
 //! contact point plus the moment ΣM_e; the opposite on disc 1.
 //!
-//! **As a bond group** (`flat_joint_potyondy2012` in scenes; [`bond_step`]): the elements'
+//! **As a bond group** (`flat_joint_potyondy2012` in scenes; `bond_step`): the elements'
 //! strengths are the group's stress criterion; the interface state ([`FlatJointState`]) is kept
 //! per bond by the store and written to checkpoints; the bond counts as broken (one entry in
 //! the break log, with the mode of its last element) when its last bonded element breaks, and

@@ -20,7 +20,7 @@ use super::model::{DISC_MATERIAL, WALL_MATERIAL};
 use super::removal::{removal_mode, RemovalMode};
 use super::run::{run_scene_with, write_scene};
 use super::surface::{self, Surface};
-use super::tool::{CutGeometry, ToolModel, CLEARANCE, RAKE, TOOL};
+use super::tool::{edge_arc, CutGeometry, Segment, ToolModel, CLEARANCE, RAKE, TOOL};
 use super::{analysis, LabError, LabModel};
 use crate::output::driver::RunOptions;
 use crate::output::write_atomic;
@@ -1096,6 +1096,95 @@ pub fn run_with(
     })?;
     write_atomic(&result_file, text.as_bytes())?;
     Ok(result)
+}
+
+impl CutGeometry {
+    /// The geometry of `test` on a specimen whose discs span `extent`.
+    pub fn new(test: &CuttingTest, extent: [f64; 4]) -> Result<CutGeometry, LabError> {
+        test.validate()?;
+        let [x0, x1, y0, y1] = extent;
+        if !(x1 > x0 && y1 > y0 && extent.iter().all(|v| v.is_finite())) {
+            return Err(LabError::Param {
+                field: "extent".into(),
+                reason: format!("{extent:?} is not a box"),
+            });
+        }
+        let ap = test.depth;
+        let yn = y1 - ap;
+        let side_top = yn - 0.5 * ap;
+        if side_top <= y0 {
+            return Err(LabError::Param {
+                field: "depth".into(),
+                reason: format!(
+                    "a_p = {ap} m leaves no room for the slot's side walls below 1.5 a_p in a \
+                     specimen {} m high",
+                    y1 - y0
+                ),
+            });
+        }
+        let (sg, cg) = test.rake_angle.sin_cos();
+        let (sa, ca) = test.clearance_angle.sin_cos();
+        let lr = test.rake_face * ap;
+        let lc = test.clearance_face * ap;
+        // Foremost point ahead of the edge: the rake face's top when it leans forward (γ < 0).
+        let overhang = (-sg * lr).max(0.0);
+        let ex = x0 - test.approach * ap - overhang;
+        let edge = [ex, yn];
+        let ur = [-sg, cg];
+        let uc = [-ca, sa];
+        let rake_end = [ex + ur[0] * lr, yn + ur[1] * lr];
+        let clear_end = [ex + uc[0] * lc, yn + uc[1] * lc];
+        let tool = match test.tool {
+            ToolModel::Segments => vec![
+                Segment::new(RAKE, edge, rake_end),
+                Segment::new(CLEARANCE, edge, clear_end),
+            ],
+            ToolModel::Rigid if test.edge_radius > 0.0 => {
+                let (arc, low) = edge_arc(edge, uc, ur, test.edge_radius * ap);
+                // Lower the whole tool so the arc's lowest point cuts at y_n.
+                let dy = yn - low;
+                let sh = |p: [f64; 2]| [p[0], p[1] + dy];
+                vec![Segment {
+                    name: TOOL.into(),
+                    a: sh(clear_end),
+                    b: sh(rake_end),
+                    via: arc.into_iter().map(sh).collect(),
+                }]
+            }
+            ToolModel::Rigid => vec![Segment {
+                name: TOOL.into(),
+                a: clear_end,
+                b: rake_end,
+                via: vec![edge],
+            }],
+        };
+        let travel_end = test.length;
+        let front_end = x0 + travel_end + overhang;
+        let right_top = if front_end + 0.5 * ap < x1 {
+            y1
+        } else {
+            side_top
+        };
+        let pad = 0.5 * ap;
+        let slot = [
+            Segment::new("slot_bottom", [x0 - pad, y0], [x1 + pad, y0]),
+            Segment::new("slot_left", [x0, y0], [x0, side_top]),
+            Segment::new("slot_right", [x1, y0], [x1, right_top]),
+        ];
+        let travel_start = ex - x0;
+        Ok(CutGeometry {
+            extent,
+            nominal_y: yn,
+            edge_start: edge,
+            tool,
+            slot,
+            travel_start,
+            travel_end,
+            travel_entry: -overhang,
+            duration: (travel_end - travel_start) / test.speed,
+            velocity: [test.speed, 0.0],
+        })
+    }
 }
 
 #[cfg(test)]

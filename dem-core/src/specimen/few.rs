@@ -46,8 +46,8 @@
 //! needed; with r ≤ r_min it gets ~8 (measured on 30 outlines, `docs/specimen.md`).
 
 use super::generator;
+use super::groups::{bond_groups_with, INTRA};
 use super::improved::{self, TemplateStats, MASS_FLOOR};
-use super::methods::{bond_groups_with, INTRA};
 use super::relax;
 use super::rng::Rng;
 use super::{FewGrains, IrregularCount, Progress, SpecimenError, SpecimenParams};

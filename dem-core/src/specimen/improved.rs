@@ -10,7 +10,7 @@
 
 use super::generator;
 use super::grains::Grains;
-use super::methods::{bond_groups_with, INTRA};
+use super::groups::{bond_groups_with, INTRA};
 use super::relax::{self, DISC};
 use super::{Progress, SpecimenError, SpecimenParams};
 use crate::bond::Bonds;

@@ -179,8 +179,8 @@ pub fn example_scene(
     let p = &s.params;
     let m = &p.micro;
     let kn = 2.0 * p.thickness * m.contact_modulus;
-    // The specimen's groups are parallel bonds with the stress criterion (methods::bond_groups).
-    let groups: Vec<serde_json::Value> = super::methods::bond_groups(p)
+    // The specimen's groups are parallel bonds with the stress criterion (groups::bond_groups).
+    let groups: Vec<serde_json::Value> = super::groups::bond_groups(p)
         .iter()
         .filter_map(|g| match (&g.model, &g.criterion) {
             (

@@ -2,31 +2,29 @@
 //! module docs of [`super`]. Disc groups ([`crate::Discs::group`]) are grain ids: a disc's own
 //! index for the traditional method, the grain index otherwise.
 
-use super::few::{self, Irregular, IrregularStats};
-use super::generator::{self, PackStats};
+use super::few::{self, Irregular};
+use super::generator;
 use super::grains::{self, Grains};
 use super::improved;
 use super::orc::make_rigid_clump;
 use super::relax::{self, DISC};
 use super::rng::Rng;
-use super::summary::{self, Summary};
-use super::{
-    GrainMode, Method, Progress, SpecimenError, SpecimenParams, GRAIN_BOUNDARY, INTRA_GRAIN,
-};
-use crate::bond::{BondGroup, BondModel, Bonds, Criterion, ParallelBondParams};
+use super::summary::{self, Stats, Summary};
+use super::{GrainMode, Method, Progress, SpecimenError, SpecimenParams};
+use crate::bond::Bonds;
 use crate::state::{State, FREE};
 use crate::World;
 use std::time::Instant;
 
-/// Index of the grain-boundary and intra-grain groups in the specimen's [`Bonds`].
-pub const GB: u16 = 0;
-pub const INTRA: u16 = 1;
+// (The bond groups live in `groups`, which `few` and `improved` use too; re-exported here
+// where they were first defined.)
+pub use super::groups::{bond_groups, bond_groups_with, GB, INTRA};
 
 /// A relaxed bonded specimen.
 #[derive(Clone, Debug)]
 pub struct Specimen {
     pub params: SpecimenParams,
-    /// The relaxed world: no walls; bond groups [`GRAIN_BOUNDARY`], [`INTRA_GRAIN`].
+    /// The relaxed world: no walls; bond groups [`super::GRAIN_BOUNDARY`], [`super::INTRA_GRAIN`].
     pub world: World,
     /// Contact reference gaps registered with the world (disc ids a, b, g0 < 0): overlapping
     /// members of improved-ORC grains.
@@ -36,39 +34,6 @@ pub struct Specimen {
     /// Irregular grains (ORC and improved, [`GrainMode::Few`]).
     pub irregular: Option<Irregular>,
     pub summary: Summary,
-}
-
-/// The two bond groups (parallel bonds, maximum-stress criterion), k̄_n = Ē_c/(2 r̄).
-pub fn bond_groups(p: &SpecimenParams) -> Vec<BondGroup> {
-    bond_groups_with(p, false)
-}
-
-/// The bond groups; `unbreakable` gives them strengths of f64::MAX (grains are packed as
-/// unbreakable clumps, as PFC packs clumps; the real strengths apply from bonding on).
-pub fn bond_groups_with(p: &SpecimenParams, unbreakable: bool) -> Vec<BondGroup> {
-    let m = &p.micro;
-    let r_mean = 0.5 * (p.r_min + p.r_max);
-    let kn = m.bond_modulus / (2.0 * r_mean);
-    let model = BondModel::Parallel(ParallelBondParams {
-        kn,
-        ks: kn / m.bond_stiffness_ratio,
-        lambda: m.bond_radius_multiplier,
-        beta: 1.0,
-    });
-    let strength = |v: f64| if unbreakable { f64::MAX } else { v };
-    let group = |name: &str, tensile: f64, cohesion: f64| BondGroup {
-        name: name.to_string(),
-        model,
-        criterion: Criterion::Stress {
-            tensile: strength(tensile),
-            cohesion: strength(cohesion),
-            friction_angle: 0.0,
-        },
-    };
-    vec![
-        group(GRAIN_BOUNDARY, m.boundary_tensile, m.boundary_cohesion),
-        group(INTRA_GRAIN, m.intra_tensile, m.intra_cohesion),
-    ]
 }
 
 /// Build a specimen by `p.method`; `progress` is called during every long stage.
@@ -165,20 +130,6 @@ pub fn generate(
         irregular,
         summary,
     })
-}
-
-/// What the stages report to the summary.
-#[derive(Clone, Debug, Default)]
-pub struct Stats {
-    pub pack: PackStats,
-    /// Box `[x0, x1] × [y0, y1]` when the bonds were installed (walls' positions).
-    pub bonded_box: [f64; 4],
-    pub relax_steps: u64,
-    pub templates: Option<improved::TemplateStats>,
-    /// Σπr² of the discs outside templated grains (m²): the packing discs kept in an
-    /// improved specimen with few irregular grains; 0 otherwise.
-    pub free_area: f64,
-    pub irregular: Option<IrregularStats>,
 }
 
 /// ORC: settle the clumps (contacts inside a clump vanish), then bond pairs of different

@@ -26,6 +26,7 @@
 pub mod few;
 pub mod generator;
 pub mod grains;
+pub mod groups;
 pub mod improved;
 pub mod io;
 

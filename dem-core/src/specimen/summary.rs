@@ -2,14 +2,28 @@
 //! stresses, written as JSON beside the specimen file and printed by `dem specimen`.
 
 use super::few::IrregularStats;
+use super::generator::PackStats;
 use super::grains::Grains;
 use super::improved::TemplateStats;
-use super::methods::Stats;
 use super::{Method, MicroParams, SpecimenParams};
 use crate::bond::{install, BondStatus};
 use crate::state::FREE;
 use crate::World;
 use serde::{Deserialize, Serialize};
+
+/// What the stages report to the summary.
+#[derive(Clone, Debug, Default)]
+pub struct Stats {
+    pub pack: PackStats,
+    /// Box `[x0, x1] × [y0, y1]` when the bonds were installed (walls' positions).
+    pub bonded_box: [f64; 4],
+    pub relax_steps: u64,
+    pub templates: Option<TemplateStats>,
+    /// Σπr² of the discs outside templated grains (m²): the packing discs kept in an
+    /// improved specimen with few irregular grains; 0 otherwise.
+    pub free_area: f64,
+    pub irregular: Option<IrregularStats>,
+}
 
 /// Bonds of one group.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

@@ -12,7 +12,6 @@
 //!   micro-parameters). SiC: S4 Table 1, E = 430 GPa, ρ = 3210 kg/m³.
 //! - Thickness t = 1 mm (t cancels from every time step: masses and stiffnesses scale with it).
 
-use super::clumps;
 use super::{Expect, StabilityError};
 use clumpgen::synth::SplitMix64;
 use serde_json::{json, Value};
@@ -147,23 +146,6 @@ fn n(quick: bool, q: u64, f: u64) -> u64 {
     } else {
         f
     }
-}
-
-/// All cases in order (1 to 8 of issue 5, Build 4; case 3 and 7 have a rigid and a bonded
-/// variant).
-pub fn all(dir: &Path, quick: bool) -> Result<Vec<CaseSpec>, StabilityError> {
-    let mut v = vec![
-        sic_block(quick),
-        clumps::ratio_1_20(quick)?,
-        clumps::coincident(quick, false)?,
-        clumps::coincident(quick, true)?,
-        tool_50(quick),
-        soft_pile(quick),
-        clumps::bond_ratio_10(quick),
-    ];
-    v.extend(clumps::sliver(dir, quick)?);
-    v.push(forced(&v[5], dir)?);
-    Ok(v)
 }
 
 /// Case 1, SiC stiffness: a 20 × 10 hexagonal block of discs of radius 2.5 µm (5 µm grains,
@@ -325,7 +307,7 @@ pub fn soft_pile(quick: bool) -> CaseSpec {
 /// (it does, within a few tens of steps, by the energy-growth check). Case 1 (SiC) is not used:
 /// at 2× its critical step its spurious energy goes into frictional sliding, so the guard
 /// stays silent (see the 2× probe of every case in the report).
-fn forced(pile: &CaseSpec, dir: &Path) -> Result<CaseSpec, StabilityError> {
+pub(super) fn forced(pile: &CaseSpec, dir: &Path) -> Result<CaseSpec, StabilityError> {
     let mut c = pile.clone();
     c.name = "forced_unstable".into();
     c.stresses = "case 5 at a fixed dt = 2 × critical dt (must be caught by the guard)".into();
