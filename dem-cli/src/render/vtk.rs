@@ -619,6 +619,7 @@ mod tests {
             normal_force: 1.5,
             shear_force: 0.0,
             moment: 0.0,
+            bonded_elements: None,
         };
         let bonds = [bond(0, 1, true), bond(2, 3, false)];
         let load = |format: Format| {

@@ -514,7 +514,8 @@ impl Simulation {
             .as_ref()
             .map(|b| {
                 b.iter()
-                    .map(|v| BondLine {
+                    .enumerate()
+                    .map(|(k, v)| BondLine {
                         i: v.i,
                         j: v.j,
                         group: v.group as u32,
@@ -522,6 +523,7 @@ impl Simulation {
                         normal_force: v.fn_,
                         shear_force: v.fs,
                         moment: v.m,
+                        bonded_elements: b.flat_joint(k).map(|s| s.bonded_count()),
                     })
                     .collect()
             })

@@ -59,6 +59,9 @@ pub struct BondLine {
     pub normal_force: f64,
     pub shear_force: f64,
     pub moment: f64,
+    /// Flat joints: the interface's bonded elements (written as the cell array
+    /// `bonded_elements`, −1 for bonds of other models, only when a bond has one).
+    pub bonded_elements: Option<u32>,
 }
 
 /// A value type of a `<DataArray>`: its VTK type name and little-endian bytes.
@@ -247,6 +250,14 @@ pub fn write_discs(
         x.floats("normal_force", 1, lines.iter().map(|b| b.normal_force))?;
         x.floats("shear_force", 1, lines.iter().map(|b| b.shear_force))?;
         x.floats("moment", 1, lines.iter().map(|b| b.moment))?;
+        if lines.iter().any(|b| b.bonded_elements.is_some()) {
+            x.ints(
+                "bonded_elements",
+                lines
+                    .iter()
+                    .map(|b| b.bonded_elements.map_or(-1, i64::from)),
+            );
+        }
         x.s.push_str("      </CellData>\n");
     }
     x.s.push_str("      <Points>\n");
@@ -384,11 +395,24 @@ mod tests {
             normal_force: 10.0,
             shear_force: -1.0,
             moment: 0.25,
+            bonded_elements: None,
         }];
         let p = dir.join("s.vtp");
         write_discs(&p, &st, &bonds, Format::Ascii).unwrap();
         let t = std::fs::read_to_string(&p).unwrap();
         assert!(t.contains("NumberOfPoints=\"3\"") && t.contains("NumberOfLines=\"1\""));
+        assert!(!t.contains("bonded_elements"), "only with flat joints");
+        let fj = [BondLine {
+            bonded_elements: Some(2),
+            ..bonds[0]
+        }];
+        let q = dir.join("fj.vtp");
+        write_discs(&q, &st, &fj, Format::Ascii).unwrap();
+        let tf = std::fs::read_to_string(&q).unwrap();
+        assert!(
+            tf.contains("Name=\"bonded_elements\" format=\"ascii\">\n2\n"),
+            "{tf}"
+        );
         assert!(
             t.contains("Name=\"connectivity\" format=\"ascii\">\n0 1\n"),
             "{t}"
@@ -432,6 +456,7 @@ mod tests {
             normal_force: 0.0,
             shear_force: 0.0,
             moment: 0.0,
+            bonded_elements: None,
         };
         let p = dir.join("p.vtp");
         write_discs(
@@ -473,6 +498,7 @@ mod tests {
             normal_force: 10.0 / 3.0,
             shear_force: -1.0,
             moment: 0.25,
+            bonded_elements: None,
         }];
         (st, bonds)
     }
