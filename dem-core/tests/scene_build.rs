@@ -238,3 +238,48 @@ fn loads_push_their_disc() {
         "{e}"
     );
 }
+
+/// A lattice template (S3's crushable grain, `clumpgen.template/2`) in a bonded clump set: its
+/// nodes become free discs, its links the set's bonds, and the grain starts force-free.
+#[test]
+fn a_lattice_grain_is_bonded_along_its_links() {
+    use clumpgen::clump::LatticeParams;
+    use clumpgen::{make_template, ClumpParams, Length, Method, ReadOptions};
+    let text = "x,y\n0,0\n3,0\n3,2\n0,2\n";
+    let ol = clumpgen::outline::parse_outline(text, "g", "g.csv", false, &ReadOptions::default())
+        .unwrap();
+    let p = ClumpParams {
+        method: Method::Lattice,
+        lattice: Some(LatticeParams {
+            spacing: Length::Metres(0.25e-3),
+            node_radius: 1.0,
+        }),
+        ..ClumpParams::default()
+    };
+    let tpl = make_template(&ol, &p).unwrap();
+    let links = tpl.lattice.as_ref().unwrap().links.len();
+    let dir = std::env::temp_dir().join(format!("dem-scene-build-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("lattice-grain.json");
+    tpl.save(&file).unwrap();
+    let mut v = base(
+        json!({"clumps": [{"template": "", "material": "grain", "mode": "bonded",
+        "bond_group": "gb", "placements": [{"x": 1, "y": 2, "angle": 0.4}]}]}),
+    );
+    v["bodies"]["clumps"][0]["template"] = file.display().to_string().into();
+    let mut w = world(&v, "lattice.json");
+    assert_eq!(w.state.discs.len(), tpl.discs.len());
+    let b = w.bonds.as_ref().expect("bond stage");
+    assert_eq!(b.len(), links);
+    assert!(b.iter().all(|v| v.group == 1));
+    w.run(200);
+    let vmax = w
+        .state
+        .discs
+        .vx
+        .iter()
+        .chain(&w.state.discs.vy)
+        .fold(0.0f64, |a, v| a.max(v.abs()));
+    assert!(vmax < 1e-9, "nodes move at {vmax} m/s");
+    assert_eq!(w.bonds.as_ref().unwrap().n_intact(), links);
+}
