@@ -345,6 +345,8 @@ fn cutting(b: CuttingBench) -> Result<ExitCode, String> {
                 irregular_count: None,
                 irregular_size: None,
                 model: Some(b.model.clone()),
+                flat_joint: None,
+                joint_friction: None,
                 out: dir.0.clone(),
                 threads: Some(b.threads),
                 dt_factor: None,

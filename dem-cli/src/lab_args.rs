@@ -75,6 +75,13 @@ pub struct LabArgs {
     /// specimen geometry is still generated with the specimen flags.
     #[arg(long)]
     pub model: Option<PathBuf>,
+    /// Flat joints of this many elements (1–8; Potyondy 2012) instead of parallel bonds in both
+    /// bond groups, with the model's stiffness and strengths (docs/scene-schema.md).
+    #[arg(long, value_parser = clap::value_parser!(u8).range(1..=8))]
+    pub flat_joint: Option<u8>,
+    /// With --flat-joint: friction coefficient of the unbonded elements (default 0).
+    #[arg(long, requires = "flat_joint")]
+    pub joint_friction: Option<f64>,
     /// Output folder: specimen file (reused when its parameters match), scene, run outputs
     /// and `<test>.result.json`.
     #[arg(long)]
@@ -145,14 +152,25 @@ impl LabArgs {
 
     /// The material model: `--model` if given, else the specimen's own.
     pub fn lab_model(&self, p: &SpecimenParams) -> Result<LabModel, String> {
-        match &self.model {
+        let mut m: LabModel = match &self.model {
             Some(path) => {
                 let text = std::fs::read_to_string(path)
                     .map_err(|e| format!("--model {}: {e}", path.display()))?;
-                serde_json::from_str(&text).map_err(|e| format!("--model {}: {e}", path.display()))
+                serde_json::from_str(&text)
+                    .map_err(|e| format!("--model {}: {e}", path.display()))?
             }
-            None => Ok(LabModel::from_params(p)),
+            None => LabModel::from_params(p),
+        };
+        if let Some(elements) = self.flat_joint {
+            let friction = self.joint_friction.unwrap_or(0.0);
+            if !(friction >= 0.0 && friction.is_finite()) {
+                return Err(format!(
+                    "--joint-friction {friction}: must be a finite number >= 0"
+                ));
+            }
+            m.flat_joint = Some(dem_core::lab::model::FlatJointOption { elements, friction });
         }
+        Ok(m)
     }
 
     /// The thread pool of `--threads`.

@@ -346,6 +346,8 @@ impl CuttingArgs {
             irregular_count: self.irregular_count,
             irregular_size: self.irregular_size.clone(),
             model: self.model.clone(),
+            flat_joint: None,
+            joint_friction: None,
             out: self.out.clone(),
             threads: self.threads,
             dt_factor: self.dt_factor,

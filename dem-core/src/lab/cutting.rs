@@ -481,6 +481,7 @@ pub fn model_from_specimen(path: &Path) -> Result<LabModel, LabError> {
         thickness: summary.thickness,
         r_mean: summary.micro.bond_modulus / (2.0 * bond_kn),
         micro: summary.micro,
+        flat_joint: None,
     })
 }
 

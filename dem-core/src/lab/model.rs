@@ -23,6 +23,23 @@ pub struct LabModel {
     /// [`crate::specimen::methods::bond_groups`]).
     pub r_mean: f64,
     pub micro: MicroParams,
+    /// Flat joints (Potyondy 2012, [`crate::bond::flat_joint`]) instead of parallel bonds in
+    /// both bond groups: the same k̄n, k̄s, λ̄ and strengths (an intact flat joint is as stiff
+    /// as the parallel bond), the interface split into `elements`. Absent (the default, and in
+    /// every file written before it): parallel bonds, as S0 and S4.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub flat_joint: Option<FlatJointOption>,
+}
+
+/// The flat-joint choice of a [`LabModel`].
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FlatJointOption {
+    /// Elements per interface, 1–8.
+    pub elements: u8,
+    /// Friction coefficient of unbonded elements.
+    #[serde(default)]
+    pub friction: f64,
 }
 
 impl LabModel {
@@ -33,6 +50,7 @@ impl LabModel {
             thickness: p.thickness,
             r_mean: 0.5 * (p.r_min + p.r_max),
             micro: p.micro.clone(),
+            flat_joint: None,
         }
     }
 
@@ -77,15 +95,22 @@ impl LabModel {
     }
 
     /// The scene's `bond_groups`: grain-boundary and intra-grain parallel bonds (Potyondy &
-    /// Cundall 2004), maximum-stress criterion, k̄_s = k̄_n/κ̄, λ̄, β̄ = 1, φ̄ = 0.
+    /// Cundall 2004), maximum-stress criterion, k̄_s = k̄_n/κ̄, λ̄, β̄ = 1, φ̄ = 0; or, with
+    /// [`LabModel::flat_joint`], flat joints of the same stiffness and strengths.
     pub fn bond_groups(&self) -> Value {
         let m = &self.micro;
         let kn = self.bond_kn();
-        let group = |name: &str, tensile: f64, cohesion: f64| {
-            json!({"name": name, "model": "parallel_potyondy2004", "criterion": "stress",
+        let fj = self.flat_joint;
+        let group = |name: &str, tensile: f64, cohesion: f64| match fj {
+            None => json!({"name": name, "model": "parallel_potyondy2004", "criterion": "stress",
                    "kn": kn, "ks": kn / m.bond_stiffness_ratio,
                    "radius_multiplier": m.bond_radius_multiplier, "moment_factor": 1.0,
-                   "tensile_strength": tensile, "cohesion": cohesion, "friction_angle": 0.0})
+                   "tensile_strength": tensile, "cohesion": cohesion, "friction_angle": 0.0}),
+            Some(f) => json!({"name": name, "model": "flat_joint_potyondy2012",
+                   "criterion": "stress", "kn": kn, "ks": kn / m.bond_stiffness_ratio,
+                   "radius_multiplier": m.bond_radius_multiplier, "elements": f.elements,
+                   "friction": f.friction, "tensile_strength": tensile, "cohesion": cohesion,
+                   "friction_angle": 0.0}),
         };
         json!([
             group(GRAIN_BOUNDARY, m.boundary_tensile, m.boundary_cohesion),
@@ -156,6 +181,41 @@ mod tests {
         assert_eq!(g[1]["tensile_strength"], 1000e6);
         let c = m.contact();
         assert_eq!(c["pairs"][0]["kn"], 2.0 * 2.0 * 300e9);
+    }
+
+    /// The flat-joint groups are valid scene bond groups with the parallel bonds' stiffness
+    /// and strengths; the model's JSON without the option is as before (no new key).
+    #[test]
+    fn flat_joint_groups_replace_the_parallel_bonds() {
+        let mut m = model();
+        assert!(!serde_json::to_string(&m).unwrap().contains("flat_joint"));
+        let pb = m.bond_groups();
+        m.flat_joint = Some(FlatJointOption {
+            elements: 3,
+            friction: 0.6,
+        });
+        let fj = m.bond_groups();
+        let ck = crate::scene::check::Ck {
+            file: "model".into(),
+        };
+        for k in 0..2 {
+            let spec: crate::scene::schema::BondGroupSpec =
+                serde_json::from_value(fj[k].clone()).unwrap();
+            let g = crate::scene::bondspec::bond_group(&ck, k, &spec).unwrap();
+            match g.model {
+                crate::bond::BondModel::FlatJoint(p) => {
+                    assert_eq!((p.elements, p.friction), (3, 0.6));
+                    assert_eq!(Some(p.kn), pb[k]["kn"].as_f64());
+                    assert_eq!(Some(p.ks), pb[k]["ks"].as_f64());
+                }
+                other => panic!("{other:?}"),
+            }
+            for f in ["tensile_strength", "cohesion", "name"] {
+                assert_eq!(fj[k][f], pb[k][f]);
+            }
+        }
+        let back: LabModel = serde_json::from_str(&serde_json::to_string(&m).unwrap()).unwrap();
+        assert_eq!(back, m);
     }
 
     #[test]

@@ -2,9 +2,9 @@
 //! with exact error locations ([`resolve`]), the checked SI model ([`model`]), and the
 //! construction of a `World` from it.
 
-mod bondspec;
+pub(crate) mod bondspec;
 pub mod build;
-mod check;
+pub(crate) mod check;
 mod controls;
 mod mix;
 pub mod model;
