@@ -610,9 +610,10 @@ impl Bonds {
             .sum()
     }
 
-    /// Strain energy released at bond breaks since the start (J).
+    /// Strain energy released at bond breaks since the start (J), including what flat joints
+    /// gave up at element breaks and by sliding ([`FlatJointState::released`]).
     pub fn released_energy(&self) -> f64 {
-        self.released
+        self.released + self.fj.iter().map(|s| s.released).sum::<f64>()
     }
 
     /// Checks a store read back from a checkpoint against `n_discs` discs: the groups as
@@ -695,6 +696,7 @@ impl Bonds {
                 };
                 let finite = s.theta.is_finite()
                     && s.delta.is_finite()
+                    && s.released.is_finite()
                     && s.fs.iter().all(|f| f.is_finite());
                 if !finite || (s.bonded as u32) >> elements != 0 {
                     return bad(format!(
