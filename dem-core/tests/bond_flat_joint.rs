@@ -167,6 +167,57 @@ fn elements_break_one_by_one_and_the_bond_leaves_at_the_last() {
     assert_eq!([v.fn_, v.fs, v.m], [0.0; 3]);
 }
 
+/// Potyondy (2012): an interface whose elements all broke while pressed together stays a
+/// frictional flat contact: the break is logged once (and the bond no longer counts as
+/// intact), yet the interface keeps carrying compression, friction and a moment against
+/// rolling, until the discs separate; then it leaves without a second log entry.
+#[test]
+fn a_broken_interface_in_contact_stays_a_frictional_contact_until_it_opens() {
+    let (mut st, mut b) = pair(flat_joint(2, stress(1e30, 1e5)));
+    let dt = 1e-8;
+    // Press (δ = −2e-8 m), then slide: every element breaks in shear (cohesion 0.1 MPa).
+    st.discs.vx[1] = -1.0;
+    for _ in 0..2 {
+        step(&mut st, &mut b, dt);
+    }
+    st.discs.vx[1] = 0.0;
+    st.discs.vy[1] = 5.0;
+    for _ in 0..5 {
+        step(&mut st, &mut b, dt);
+    }
+    let fj = *b.flat_joint(0).unwrap();
+    assert_eq!(fj.bonded, 0, "every element broke");
+    assert!(fj.logged);
+    assert_eq!(b.log().len(), 1);
+    assert_eq!(b.broken_counts()[0], [0, 1]);
+    assert_eq!(b.n_intact(), 0);
+    assert_eq!(b.get(0).status, BondStatus::Broken(BreakMode::Shear));
+    let v = b.get(0);
+    assert!(v.fn_ > 0.0, "still pressed: {}", v.fn_);
+    assert!(
+        (v.fs.abs() - 0.4 * v.fn_).abs() <= 1e-9 * v.fn_,
+        "sliding at μ F_n: {} vs {}",
+        v.fs,
+        v.fn_
+    );
+    // Rolling disc 1 meets the moment of the compressed part (half the interface closes).
+    st.discs.vy[1] = 0.0;
+    st.discs.omega[1] = 2.0;
+    step(&mut st, &mut b, dt);
+    assert!(b.get(0).m < 0.0, "resists rolling: M = {}", b.get(0).m);
+    // Separating: the interface leaves, no second entry.
+    st.discs.omega[1] = 0.0;
+    st.discs.vx[1] = 10.0;
+    for _ in 0..5 {
+        step(&mut st, &mut b, dt);
+    }
+    let v = b.get(0);
+    assert_eq!([v.fn_, v.fs, v.m], [0.0; 3]);
+    assert_eq!(b.log().len(), 1);
+    assert_eq!(b.broken_counts()[0], [0, 1]);
+    assert_eq!(v.status, BondStatus::Broken(BreakMode::Shear));
+}
+
 #[test]
 fn the_interface_survives_a_checkpoint_and_bad_state_is_refused() {
     let (mut st, mut b) = pair(flat_joint(3, stress(1e30, 1e30)));

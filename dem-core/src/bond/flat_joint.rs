@@ -43,14 +43,16 @@
 //!
 //! **As a bond group** (`flat_joint_potyondy2012` in scenes; `bond_step`): the elements'
 //! strengths are the group's stress criterion; the interface state ([`FlatJointState`]) is kept
-//! per bond by the store and written to checkpoints; the bond counts as broken (one entry in
-//! the break log, with the mode of its last element) when its last bonded element breaks, and
-//! then leaves the bond stage like a broken parallel bond, the pair's contact law carrying what
-//! touches. Two departures from PFC's flat-joint *contact*, which replaces the contact law of
-//! the pair: here the disc–disc contact law acts beside the interface (as beside a parallel
-//! bond), and a fully broken interface is not kept as a frictional flat contact. Not here yet:
-//! PFC's installation gap and slit (initially unbonded) elements: every element starts
-//! bonded, at zero force.
+//! per bond by the store and written to checkpoints. When its last bonded element breaks, the
+//! bond counts as broken (one entry in the break log, with that element's mode; the bond
+//! counts and `Bonds::n_intact` follow the cement); if the interface is still in contact it
+//! stays, as in Potyondy (2012), a frictional flat contact (compression, friction and the moment
+//! of its compressed part: it resists rolling) and leaves the bond stage when it opens, the
+//! pair's contact law carrying what touches later.
+//! One departure from PFC's flat-joint *contact*, which replaces the contact law of the pair:
+//! here the disc–disc contact law acts beside the interface (as beside a parallel bond). Not
+//! here yet: PFC's installation gap and slit (initially unbonded) elements: every element
+//! starts bonded, at zero force.
 
 use super::BondError;
 use serde::{Deserialize, Serialize};
@@ -135,6 +137,14 @@ pub struct FlatJointState {
     /// closes (`Bonds::released_energy` adds it).
     #[serde(default)]
     pub released: f64,
+    /// How the last element broke: 0 none yet, 1 tension, 2 shear (the bond's break mode when
+    /// the broken interface finally opens).
+    #[serde(default)]
+    pub last_break: u8,
+    /// The interface's break (its last element's) is in the break log; it stays, in contact,
+    /// as a frictional flat contact until it opens.
+    #[serde(default)]
+    pub logged: bool,
 }
 
 impl FlatJointState {
@@ -147,6 +157,8 @@ impl FlatJointState {
             bonded: ((1u16 << n) - 1) as u8,
             fs: [0.0; MAX_ELEMENTS],
             released: 0.0,
+            last_break: 0,
+            logged: false,
         }
     }
 
@@ -328,11 +340,12 @@ pub fn energy(p: &FlatJointParams, rbar: f64, t: f64, state: &FlatJointState) ->
 
 /// One step of a flat-joint *bond* of the bond stage: [`update`] with the group's stress
 /// criterion as the elements' strength (σc, c, tan φ_b). Returns the forces and the bond's
-/// break flags `(tension, shear)`: set when the interface's last bonded element broke in this
-/// step (tension when any element broke in tension in it). The bond then leaves the stage like
-/// a broken parallel bond, and the pair's contact law carries what touches; until then a
-/// partly broken interface keeps carrying compression, friction and moment on its unbonded
-/// elements.
+/// break flags `(tension, shear)` (the mode of the last element break), set twice at most:
+/// when the last bonded element breaks (the store logs the crack then) and, if the interface
+/// was still in contact then, again when it opens (ΣF_e = 0: unbonded elements carry no
+/// tension), when the store removes it. As in Potyondy (2012), a fully broken interface in
+/// contact stays a frictional flat contact meanwhile: compression, Coulomb friction and the
+/// moment of its compressed part (it resists rolling).
 #[inline]
 pub(crate) fn bond_step(
     p: &FlatJointParams,
@@ -343,9 +356,25 @@ pub(crate) fn bond_step(
     state: &mut FlatJointState,
 ) -> ([f64; 3], (bool, bool)) {
     let (f, broke) = update(p, strength, rbar, t, motion, state);
-    let gone = state.bonded == 0 && (broke.tension | broke.shear) != 0;
-    (f, (gone && broke.tension != 0, gone && broke.tension == 0))
+    if broke.tension != 0 {
+        state.last_break = LAST_TENSION;
+    } else if broke.shear != 0 {
+        state.last_break = LAST_SHEAR;
+    }
+    let cement_gone = state.bonded == 0 && state.last_break != 0;
+    let signal = cement_gone && (!state.logged || f[0] == 0.0);
+    (
+        f,
+        (
+            signal && state.last_break == LAST_TENSION,
+            signal && state.last_break == LAST_SHEAR,
+        ),
+    )
 }
+
+/// [`FlatJointState::last_break`]: no element broke yet, the last broke in tension, in shear.
+const LAST_TENSION: u8 = 1;
+const LAST_SHEAR: u8 = 2;
 
 /// Stiffness of an intact flat joint seen by one of its discs, for the time-step estimate: the
 /// parallel bond's (same Ā and Ī, see the module doc).

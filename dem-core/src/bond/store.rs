@@ -194,8 +194,12 @@ impl Bonds {
         self.i.is_empty()
     }
 
+    /// Bonds whose cement is intact (a flat joint whose last element broke is not, even while
+    /// its interface still touches).
     pub fn n_intact(&self) -> usize {
-        self.status.iter().filter(|&&s| s == INTACT).count()
+        (0..self.len())
+            .filter(|&b| self.status[b] == INTACT && !self.fj.get(b).is_some_and(|f| f.logged))
+            .count()
     }
 
     /// Broken bonds per group as `[tension, shear]`, indexed like [`Bonds::groups`].
@@ -221,10 +225,13 @@ impl Bonds {
             i: self.i[b],
             j: self.j[b],
             group: self.group[b],
-            status: if s == INTACT {
-                BondStatus::Intact
-            } else {
-                BondStatus::Broken(mode_of(s))
+            status: match self.fj.get(b) {
+                // A flat joint whose cement broke, its interface still touching.
+                Some(f) if s == INTACT && f.logged => {
+                    BondStatus::Broken(mode_of(f.last_break.max(1)))
+                }
+                _ if s == INTACT => BondStatus::Intact,
+                _ => BondStatus::Broken(mode_of(s)),
             },
             fn_: self.fn_[b],
             fs: self.fs[b],
@@ -534,7 +541,11 @@ impl Bonds {
     }
 
     /// Log the bonds broken in this step (store order), count them, release their energy and
-    /// clear their forces.
+    /// clear their forces. A flat joint whose cement broke while its interface is in contact is
+    /// logged and counted now but stays in the stage (status intact, forces kept) until it opens;
+    /// then it leaves without a second entry. Its energy was released element by element
+    /// ([`FlatJointState::released`]): the entry reports that sum, and what the interface
+    /// still holds when it leaves (0 when open) is added to the released energy then.
     fn log_breaks(&mut self, st: &State) {
         for b in 0..self.len() {
             let s = self.status[b];
@@ -542,23 +553,44 @@ impl Bonds {
                 continue;
             }
             let mode = mode_of(s);
-            let energy = self.bond_energy(b);
-            let [x, y] = self.centre(st, b);
+            let fj = self.flat_joint(b).copied();
+            let (log_it, leave) = match fj {
+                None => (true, true),
+                Some(f) => (!f.logged, self.fn_[b] == 0.0),
+            };
             let g = self.group[b];
-            self.log.push(BreakEvent {
-                time: st.time,
-                step: st.step,
-                x,
-                y,
-                group: g,
-                mode,
-                id_i: st.discs.id[self.i[b] as usize],
-                id_j: st.discs.id[self.j[b] as usize],
-                bond: self.id[b],
-                energy,
-            });
-            self.released += energy;
-            self.broken[g as usize][mode.index()] += 1;
+            if log_it {
+                let energy = match fj {
+                    None => self.bond_energy(b),
+                    Some(f) => f.released,
+                };
+                let [x, y] = self.centre(st, b);
+                self.log.push(BreakEvent {
+                    time: st.time,
+                    step: st.step,
+                    x,
+                    y,
+                    group: g,
+                    mode,
+                    id_i: st.discs.id[self.i[b] as usize],
+                    id_j: st.discs.id[self.j[b] as usize],
+                    bond: self.id[b],
+                    energy,
+                });
+                if fj.is_none() {
+                    self.released += energy;
+                } else {
+                    self.fj[b].logged = true;
+                }
+                self.broken[g as usize][mode.index()] += 1;
+            }
+            if !leave {
+                self.status[b] = INTACT;
+                continue;
+            }
+            if fj.is_some() {
+                self.released += self.bond_energy(b);
+            }
             self.fn_[b] = 0.0;
             self.fs[b] = 0.0;
             self.m[b] = 0.0;
