@@ -132,9 +132,8 @@ pub struct FlatJointState {
     /// Shear force of each element along t̂ (N); entries from N on are zero.
     pub fs: [f64; MAX_ELEMENTS],
     /// Energy this interface has given up so far (J): the strain energy an element loses when
-    /// it breaks (bonded → unbonded at the same motion) and what the Coulomb limit takes from
-    /// sliding unbonded elements ((F_trial² − F_limit²)/(2k̄s w t)), so the energy balance
-    /// closes (`Bonds::released_energy` adds it).
+    /// it breaks (bonded → unbonded at the same motion) and the slip work of sliding unbonded
+    /// elements, so the energy balance closes (`Bonds::released_energy` adds it).
     #[serde(default)]
     pub released: f64,
     /// How the last element broke: 0 none yet, 1 tension, 2 shear (the bond's break mode when
@@ -274,15 +273,18 @@ pub fn update(
             if fs.abs() > limit {
                 fs = limit.copysign(fs);
             }
-            // What the element gives up: its bonded normal energy less the unbonded one when
-            // it breaks now, and the shear energy the limit takes.
-            let normal_lost = if was_bonded {
+            // What the element gives up. Breaking now: its bonded energy (normal, and shear at
+            // the trial force) less the unbonded one. Sliding on: the slip work of the contact
+            // law (linear_spring_dashpot): the mean of the old and new spring force times the
+            // slip, (F_old + F)(F_trial − F)/(2k̄s w t), what the stored energy does not hold.
+            let k = p.ks * area;
+            state.released += if was_bonded {
                 normal_energy(p.kn, t, delta, theta, a, b, false)
                     - normal_energy(p.kn, t, delta, theta, a, b, true)
+                    + (trial * trial - fs * fs) / (2.0 * k)
             } else {
-                0.0
+                (state.fs[e] + fs) * (trial - fs) / (2.0 * k)
             };
-            state.released += normal_lost + (trial * trial - fs * fs) / (2.0 * p.ks * area);
         }
         state.fs[e] = fs;
         out[0] += fe;
