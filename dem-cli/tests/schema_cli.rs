@@ -346,6 +346,7 @@ fn study_files_bad_and_good() {
     for f in [
         "data/studies/table2.sweep.json",
         "data/studies/table2-mass-scaled.sweep.json",
+        "data/studies/table2-mass-scaled-check.sweep.json",
         "data/studies/speed-damping.sweep.json",
     ] {
         let v = read(&root().join(f));

@@ -228,6 +228,43 @@ fn mass_scaled_table2_differs_from_table2_only_by_the_improved_budget() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// The check seeds of the mass-scaling decision (`table2-mass-scaled-check.sweep.json`): the 20
+/// improved-ORC cases of Table 2's seeds 6–10 with `mass_scaling` = 0.02 and nothing else
+/// changed, so they compare with the committed unscaled runs of the same specimens.
+#[test]
+fn mass_scaling_check_study_is_table2_improved_seeds_6_to_10_scaled() {
+    let data = root().join("data");
+    let dir = tmp("mass-scaled-check");
+    let cases = dry_run_cases(
+        &data.join("studies/table2-mass-scaled-check.sweep.json"),
+        &dir.join("ck"),
+    );
+    let jobs = validation::table2_section::plan(&data, false)
+        .unwrap()
+        .jobs();
+    assert_eq!(cases.len(), 20);
+    let mut seen = std::collections::BTreeSet::new();
+    for (a, i) in &cases {
+        let seed: u64 = a["seed"].parse().unwrap();
+        assert!((6..=10).contains(&seed), "seed {seed}");
+        let n = format!(
+            "improved-d{}-v{}-s{}",
+            mm(&a["depth"]),
+            a["speed"],
+            a["seed"]
+        );
+        let job = jobs.iter().find(|j| j.name == n).expect("a Table 2 job");
+        let (sp, m) = (i.specimen.as_ref().unwrap(), i.model.as_ref().unwrap());
+        assert_eq!(sp, &job.specimen, "{n}: specimen");
+        assert_eq!(m, &job.model, "{n}: model");
+        let mut want = job.test.clone();
+        want.mass_scaling = 0.02;
+        assert_eq!(i.test, want, "{n}: test");
+        assert!(seen.insert(n));
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// `(folder, name)` pairs as validation's statistics take them.
 fn as_refs(d: &[(PathBuf, String)]) -> Vec<(&Path, &str)> {
     d.iter().map(|(p, n)| (p.as_path(), n.as_str())).collect()
