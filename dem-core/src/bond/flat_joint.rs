@@ -241,6 +241,9 @@ pub fn update(
     state.theta += dtheta;
     state.delta = delta;
     let theta = state.theta;
+    if let Some(f) = intact(p, strength, rbar, t, n, dus, state) {
+        return (f, Broke::default());
+    }
     let area = 2.0 * rbar * t / n as f64;
     let mut out = [0.0; 3];
     let mut broke = Broke::default();
@@ -292,6 +295,43 @@ pub fn update(
         out[2] += me;
     }
     (out, broke)
+}
+
+/// The step of an interface whose elements are all bonded and stay so: the totals in closed
+/// form (the parallel bond's −k̄nĀδ and −k̄nĪθ; every element carries the same shear force), or
+/// `None` when an element is unbonded or one may break now (then [`update`] takes the
+/// elements one by one). The elements that could break first are the extreme ones: the largest
+/// edge tensile stress is k̄n(δ + |θ|R̄), and the least compressed element's mean normal stress
+/// k̄n(δ + |θ|(R̄ − w/2)) sets the lowest shear strength.
+#[inline]
+fn intact(
+    p: &FlatJointParams,
+    strength: &ElementStrength,
+    rbar: f64,
+    t: f64,
+    n: usize,
+    dus: f64,
+    state: &mut FlatJointState,
+) -> Option<[f64; 3]> {
+    let full = ((1u16 << n) - 1) as u8;
+    if state.bonded != full {
+        return None;
+    }
+    let (delta, theta) = (state.delta, state.theta);
+    let area = 2.0 * rbar * t / n as f64;
+    let w = 2.0 * rbar / n as f64;
+    let fs = state.fs[0] - p.ks * area * dus;
+    let sigma_edge = p.kn * (delta + theta.abs() * rbar);
+    let sigma_weakest = p.kn * (delta + theta.abs() * (rbar - 0.5 * w));
+    let tension = sigma_edge >= strength.tensile;
+    let shear = fs.abs() >= area * (strength.cohesion - sigma_weakest * strength.tan_phi);
+    if tension || shear {
+        return None;
+    }
+    state.fs[..n].fill(fs);
+    let a = 2.0 * rbar * t;
+    let i = 2.0 / 3.0 * rbar * rbar * rbar * t;
+    Some([-p.kn * a * delta, fs * n as f64, -p.kn * i * theta])
 }
 
 /// Strain energy t∫p²/(2k̄n) ds of the normal pressure on [a, b] (clipped to p ≥ 0 when
