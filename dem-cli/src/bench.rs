@@ -347,6 +347,7 @@ fn cutting(b: CuttingBench) -> Result<ExitCode, String> {
                 model: Some(b.model.clone()),
                 flat_joint: None,
                 joint_friction: None,
+                joint_bonded_fraction: None,
                 out: dir.0.clone(),
                 threads: Some(b.threads),
                 dt_factor: None,

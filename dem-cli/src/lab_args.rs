@@ -82,6 +82,10 @@ pub struct LabArgs {
     /// With --flat-joint: friction coefficient of the unbonded elements (default 0).
     #[arg(long, requires = "flat_joint")]
     pub joint_friction: Option<f64>,
+    /// With --flat-joint: fraction of the elements bonded at installation, the rest slit
+    /// (unbonded from the start), in [0, 1] (default 1).
+    #[arg(long, requires = "flat_joint")]
+    pub joint_bonded_fraction: Option<f64>,
     /// Output folder: specimen file (reused when its parameters match), scene, run outputs
     /// and `<test>.result.json`.
     #[arg(long)]
@@ -168,7 +172,17 @@ impl LabArgs {
                     "--joint-friction {friction}: must be a finite number >= 0"
                 ));
             }
-            m.flat_joint = Some(dem_core::lab::model::FlatJointOption { elements, friction });
+            let bonded_fraction = self.joint_bonded_fraction.unwrap_or(1.0);
+            if !(0.0..=1.0).contains(&bonded_fraction) {
+                return Err(format!(
+                    "--joint-bonded-fraction {bonded_fraction}: must lie in [0, 1]"
+                ));
+            }
+            m.flat_joint = Some(dem_core::lab::model::FlatJointOption {
+                elements,
+                friction,
+                bonded_fraction,
+            });
         }
         Ok(m)
     }

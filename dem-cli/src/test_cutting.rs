@@ -348,6 +348,7 @@ impl CuttingArgs {
             model: self.model.clone(),
             flat_joint: None,
             joint_friction: None,
+            joint_bonded_fraction: None,
             out: self.out.clone(),
             threads: self.threads,
             dt_factor: self.dt_factor,

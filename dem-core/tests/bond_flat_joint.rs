@@ -32,6 +32,7 @@ fn flat_joint(elements: u8, crit: Criterion) -> BondGroup {
             lambda: 0.8,
             elements,
             friction: 0.4,
+            bonded_fraction: 1.0,
         }),
         criterion: crit,
     }

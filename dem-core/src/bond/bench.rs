@@ -131,6 +131,7 @@ pub fn lattice_flat_joint_group(t: f64, elements: u8) -> BondGroup {
             lambda: p.lambda,
             elements,
             friction: 0.5,
+            bonded_fraction: 1.0,
         });
     }
     g.name = "lattice_flat_joint".into();

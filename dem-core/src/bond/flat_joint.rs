@@ -79,6 +79,15 @@ pub struct FlatJointParams {
     /// Friction coefficient μ of unbonded elements (default 0).
     #[serde(default)]
     pub friction: f64,
+    /// Fraction φ_B of the elements bonded at installation, in [0, 1] (default 1). The others
+    /// start unbonded (PFC's slit elements): in contact they carry compression and friction
+    /// only. Which elements: a hash of the bond id and the element index (deterministic).
+    #[serde(default = "one", skip_serializing_if = "is_one")]
+    pub bonded_fraction: f64,
+}
+
+fn is_one(v: &f64) -> bool {
+    *v == 1.0
 }
 
 fn one() -> f64 {
@@ -106,6 +115,9 @@ impl FlatJointParams {
         }
         if self.elements == 0 || self.elements as usize > MAX_ELEMENTS {
             return Err(bad("elements", self.elements as f64));
+        }
+        if !(0.0..=1.0).contains(&self.bonded_fraction) {
+            return Err(bad("bonded_fraction", self.bonded_fraction));
         }
         Ok(())
     }
@@ -159,6 +171,26 @@ impl FlatJointState {
             last_break: 0,
             logged: false,
         }
+    }
+
+    /// The interface of bond `id` at installation: element e bonded when a hash of (`id`, e),
+    /// uniform in [0, 1), is below `p.bonded_fraction` (so every element with the default 1).
+    /// An interface with no bonded element is a plain frictional contact from the start: it
+    /// never enters the break log and leaves the bond stage when it opens.
+    pub fn installed(p: &FlatJointParams, id: u32) -> FlatJointState {
+        let mut s = FlatJointState::new(p.elements);
+        if p.bonded_fraction < 1.0 {
+            for e in 0..p.elements.min(MAX_ELEMENTS as u8) {
+                if unit_hash(((id as u64) << 8) | e as u64) >= p.bonded_fraction {
+                    s.bonded &= !(1u8 << e);
+                }
+            }
+            if s.bonded == 0 {
+                s.logged = true;
+                s.last_break = LAST_TENSION;
+            }
+        }
+        s
     }
 
     /// Number of bonded elements.
@@ -414,6 +446,15 @@ pub(crate) fn bond_step(
     )
 }
 
+/// A number in [0, 1) from `x` (splitmix64's finaliser; the top 53 bits).
+fn unit_hash(x: u64) -> f64 {
+    let mut z = x.wrapping_add(0x9E37_79B9_7F4A_7C15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^= z >> 31;
+    (z >> 11) as f64 / (1u64 << 53) as f64
+}
+
 /// [`FlatJointState::last_break`]: no element broke yet, the last broke in tension, in shear.
 const LAST_TENSION: u8 = 1;
 const LAST_SHEAR: u8 = 2;
@@ -442,6 +483,7 @@ mod tests {
             lambda: 1.0,
             elements: n,
             friction: 0.5,
+            bonded_fraction: 1.0,
         }
     }
 
@@ -702,6 +744,46 @@ mod tests {
             "work {work} vs stored {u} + released {}",
             s.released
         );
+    }
+
+    /// Slit elements: the fraction bonded at installation follows φ_B (binomial spread over
+    /// 4,000 elements: ±3 % is > 3.8 standard deviations), is the same for the same bond id,
+    /// and an interface with none bonded starts as a logged, unbonded contact.
+    #[test]
+    fn the_bonded_fraction_sets_the_slit_elements() {
+        let mut p = params(4);
+        let all = FlatJointState::installed(&p, 7);
+        assert_eq!(all.bonded, 0b1111);
+        assert!(!all.logged);
+        for phi in [0.3, 0.5, 0.9] {
+            p.bonded_fraction = phi;
+            let n: u32 = (0..1000)
+                .map(|id| FlatJointState::installed(&p, id).bonded_count())
+                .sum();
+            let f = n as f64 / 4000.0;
+            assert!((f - phi).abs() < 0.03, "φ_B {phi}: {f}");
+            assert_eq!(
+                FlatJointState::installed(&p, 42),
+                FlatJointState::installed(&p, 42)
+            );
+        }
+        p.bonded_fraction = 0.0;
+        let none = FlatJointState::installed(&p, 3);
+        assert_eq!(none.bonded, 0);
+        assert!(none.logged);
+        // It presses and rubs like an unbonded interface, and never breaks.
+        let mut s = none;
+        let strength = ElementStrength {
+            tensile: 1.0,
+            cohesion: 1.0,
+            tan_phi: 0.0,
+        };
+        let (f, b) = bond_step(&p, &strength, R, T, mv(-1e-7, 1e-9, 0.0), &mut s);
+        assert!(f[0] > 0.0);
+        assert_eq!(b, (false, false));
+        let (f, b) = bond_step(&p, &strength, R, T, mv(1e-7, 0.0, 0.0), &mut s);
+        assert_eq!(f[0], 0.0);
+        assert_eq!(b, (true, false), "leaves when open");
     }
 
     #[test]

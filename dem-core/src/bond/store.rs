@@ -297,13 +297,15 @@ impl Bonds {
             return Err(BondError::Coincident(i, j));
         }
         let rmin = d.r[i].min(d.r[j]);
-        let (rbar, elements) = match &g.model {
-            BondModel::Parallel(p) => (p.lambda * rmin, 0),
-            BondModel::Contact(_) => (rmin, 0),
-            BondModel::FlatJoint(p) => (p.lambda * rmin, p.elements),
+        let (rbar, interface) = match &g.model {
+            BondModel::Parallel(p) => (p.lambda * rmin, FlatJointState::new(0)),
+            BondModel::Contact(_) => (rmin, FlatJointState::new(0)),
+            BondModel::FlatJoint(p) => {
+                (p.lambda * rmin, FlatJointState::installed(p, self.next_id))
+            }
         };
         if self.has_flat_joints() {
-            self.fj.push(FlatJointState::new(elements));
+            self.fj.push(interface);
         }
         self.thickness = st.thickness;
         self.id.push(self.next_id);

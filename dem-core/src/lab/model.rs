@@ -40,6 +40,17 @@ pub struct FlatJointOption {
     /// Friction coefficient of unbonded elements.
     #[serde(default)]
     pub friction: f64,
+    /// Fraction of the elements bonded at installation (the rest slit); 1 when absent.
+    #[serde(default = "one", skip_serializing_if = "is_one")]
+    pub bonded_fraction: f64,
+}
+
+fn one() -> f64 {
+    1.0
+}
+
+fn is_one(v: &f64) -> bool {
+    *v == 1.0
 }
 
 impl LabModel {
@@ -109,8 +120,8 @@ impl LabModel {
             Some(f) => json!({"name": name, "model": "flat_joint_potyondy2012",
                    "criterion": "stress", "kn": kn, "ks": kn / m.bond_stiffness_ratio,
                    "radius_multiplier": m.bond_radius_multiplier, "elements": f.elements,
-                   "friction": f.friction, "tensile_strength": tensile, "cohesion": cohesion,
-                   "friction_angle": 0.0}),
+                   "friction": f.friction, "bonded_fraction": f.bonded_fraction,
+                   "tensile_strength": tensile, "cohesion": cohesion, "friction_angle": 0.0}),
         };
         json!([
             group(GRAIN_BOUNDARY, m.boundary_tensile, m.boundary_cohesion),
@@ -193,6 +204,7 @@ mod tests {
         m.flat_joint = Some(FlatJointOption {
             elements: 3,
             friction: 0.6,
+            bonded_fraction: 0.8,
         });
         let fj = m.bond_groups();
         let ck = crate::scene::check::Ck {
@@ -204,7 +216,7 @@ mod tests {
             let g = crate::scene::bondspec::bond_group(&ck, k, &spec).unwrap();
             match g.model {
                 crate::bond::BondModel::FlatJoint(p) => {
-                    assert_eq!((p.elements, p.friction), (3, 0.6));
+                    assert_eq!((p.elements, p.friction, p.bonded_fraction), (3, 0.6, 0.8));
                     assert_eq!(Some(p.kn), pb[k]["kn"].as_f64());
                     assert_eq!(Some(p.ks), pb[k]["ks"].as_f64());
                 }

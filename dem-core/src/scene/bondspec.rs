@@ -40,6 +40,7 @@ pub(crate) fn bond_group(ck: &Ck, i: usize, g: &BondGroupSpec) -> Result<BondGro
     if g.model != BondModelName::FlatJointPotyondy2012 {
         refuse("elements", g.elements.map(f64::from), model)?;
         refuse("friction", g.friction, model)?;
+        refuse("bonded_fraction", g.bonded_fraction, model)?;
     }
     let bmodel = match g.model {
         BondModelName::FlatJointPotyondy2012 => {
@@ -58,6 +59,8 @@ pub(crate) fn bond_group(ck: &Ck, i: usize, g: &BondGroupSpec) -> Result<BondGro
                 lambda: g.radius_multiplier.unwrap_or(1.0),
                 elements: elements as u8,
                 friction: ck.finite(&f("friction"), g.friction.unwrap_or(0.0))?,
+                bonded_fraction: ck
+                    .finite(&f("bonded_fraction"), g.bonded_fraction.unwrap_or(1.0))?,
             })
         }
         BondModelName::ParallelPotyondy2004 => BondModel::Parallel(ParallelBondParams {

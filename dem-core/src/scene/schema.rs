@@ -214,6 +214,10 @@ pub struct BondGroupSpec {
     /// Flat joint: friction coefficient μ of unbonded elements; default 0.
     #[serde(default)]
     pub friction: Option<f64>,
+    /// Flat joint: fraction of the elements bonded at installation (the others are slit:
+    /// unbonded from the start), in [0, 1]; default 1.
+    #[serde(default)]
+    pub bonded_fraction: Option<f64>,
     /// Stress criterion: tensile strength σ̄c (Pa), cohesion c̄ (Pa), friction angle φ̄ (degrees).
     #[serde(default)]
     pub tensile_strength: Option<f64>,
