@@ -8,7 +8,7 @@
 
 use clumpgen::clump::LatticeParams;
 use clumpgen::lattice::LinkKind;
-use clumpgen::lattice_elastic::link_stiffness;
+use clumpgen::lattice_elastic::{link_stiffness, LinkStiffness};
 use clumpgen::outline::parse_outline;
 use clumpgen::{make_template, ClumpParams, Length, Method, ReadOptions, Template};
 use dem_core::bond::{BondGroup, BondModel, Bonds, ContactBondParams, Criterion};
@@ -70,6 +70,17 @@ fn place(tpl: &Template, angle: f64) -> (State, Bonds) {
     (st, bonds)
 }
 
+/// The energy ½S²[k_n (nᵀεn)² + k_s (tᵀεn)²] of a link of direction φ under the strain ε.
+fn link_energy(k: &LinkStiffness, s: f64, eps: [[f64; 2]; 2], phi: f64) -> f64 {
+    let (n, t) = ([phi.cos(), phi.sin()], [-phi.sin(), phi.cos()]);
+    let en = [
+        eps[0][0] * n[0] + eps[0][1] * n[1],
+        eps[1][0] * n[0] + eps[1][1] * n[1],
+    ];
+    let (nn, tn) = (n[0] * en[0] + n[1] * en[1], t[0] * en[0] + t[1] * en[1]);
+    0.5 * s * s * (k.k_n * nn * nn + k.k_s * tn * tn)
+}
+
 #[test]
 fn the_bonds_are_the_templates_links() {
     let tpl = lattice_template(0.2e-3);
@@ -126,13 +137,7 @@ fn strain_energy(tpl: &Template, eps: [[f64; 2]; 2]) -> (f64, f64) {
                 LinkKind::D60 => 60f64.to_radians(),
                 LinkKind::D120 => 120f64.to_radians(),
             };
-        let (n, t) = ([phi.cos(), phi.sin()], [-phi.sin(), phi.cos()]);
-        let en = [
-            eps[0][0] * n[0] + eps[0][1] * n[1],
-            eps[1][0] * n[0] + eps[1][1] * n[1],
-        ];
-        let (nn, tn) = (n[0] * en[0] + n[1] * en[1], t[0] * en[0] + t[1] * en[1]);
-        expected += 0.5 * s * s * (k.k_n * nn * nn + k.k_s * tn * tn);
+        expected += link_energy(&k, s, eps, phi);
     }
     (bonds.strain_energy(), expected)
 }
@@ -172,14 +177,7 @@ fn three_link_directions_give_the_continuum_energy() {
     ] {
         let mut u = 0.0;
         for phi in [0.0f64, 60.0, 120.0] {
-            let phi = phi.to_radians() + 0.3;
-            let (n, tt) = ([phi.cos(), phi.sin()], [-phi.sin(), phi.cos()]);
-            let en = [
-                eps[0][0] * n[0] + eps[0][1] * n[1],
-                eps[1][0] * n[0] + eps[1][1] * n[1],
-            ];
-            let (nn, tn) = (n[0] * en[0] + n[1] * en[1], tt[0] * en[0] + tt[1] * en[1]);
-            u += 0.5 * s * s * (k.k_n * nn * nn + k.k_s * tn * tn);
+            u += link_energy(&k, s, eps, phi.to_radians() + 0.3);
         }
         let tr = eps[0][0] + eps[1][1];
         let ee: f64 = eps.iter().flatten().map(|v| v * v).sum();

@@ -54,7 +54,7 @@
 //! here yet: PFC's installation gap and slit (initially unbonded) elements: every element
 //! starts bonded, at zero force.
 
-use super::BondError;
+use super::{potyondy2004, BondError};
 use serde::{Deserialize, Serialize};
 
 /// The most elements an interface may have (the element state is a fixed-size array).
@@ -219,25 +219,9 @@ fn normal(kn: f64, t: f64, delta: f64, theta: f64, a: f64, b: f64, unbonded: boo
     // p(s) = q0 + q1 s per unit length along t̂ (N/m).
     let q0 = -kn * delta * t;
     let q1 = kn * theta * t;
-    let (mut lo, mut hi) = (a, b);
-    if unbonded {
-        if q1 == 0.0 {
-            if q0 <= 0.0 {
-                return (0.0, 0.0);
-            }
-        } else {
-            // p(s) ≥ 0 on one side of the root s0 = −q0/q1.
-            let s0 = -q0 / q1;
-            if q1 > 0.0 {
-                lo = lo.max(s0);
-            } else {
-                hi = hi.min(s0);
-            }
-            if lo >= hi {
-                return (0.0, 0.0);
-            }
-        }
-    }
+    let Some((lo, hi)) = loaded(q0, q1, a, b, unbonded) else {
+        return (0.0, 0.0);
+    };
     let (d1, d2, d3) = (
         hi - lo,
         (hi * hi - lo * lo) / 2.0,
@@ -361,33 +345,36 @@ fn intact(
         return None;
     }
     state.fs[..n].fill(fs);
-    let a = 2.0 * rbar * t;
-    let i = 2.0 / 3.0 * rbar * rbar * rbar * t;
+    let (a, i) = (potyondy2004::area(rbar, t), potyondy2004::inertia(rbar, t));
     Some([-p.kn * a * delta, fs * n as f64, -p.kn * i * theta])
+}
+
+/// The part of the element [a, b] on which a pressure c0 + c1·s acts: all of it when bonded;
+/// when unbonded, the part where it is compressive (on one side of its root −c0/c1); `None`
+/// when nothing is loaded.
+fn loaded(c0: f64, c1: f64, a: f64, b: f64, unbonded: bool) -> Option<(f64, f64)> {
+    if !unbonded {
+        return Some((a, b));
+    }
+    if c1 == 0.0 {
+        return (c0 > 0.0).then_some((a, b));
+    }
+    let root = -c0 / c1;
+    let (lo, hi) = if c1 > 0.0 {
+        (a.max(root), b)
+    } else {
+        (a, b.min(root))
+    };
+    (lo < hi).then_some((lo, hi))
 }
 
 /// Strain energy t∫p²/(2k̄n) ds of the normal pressure on [a, b] (clipped to p ≥ 0 when
 /// `unbonded`), p per unit area −k̄n(δ − θ s) (closed form).
 fn normal_energy(kn: f64, t: f64, delta: f64, theta: f64, a: f64, b: f64, unbonded: bool) -> f64 {
     let (s0, s1) = (-kn * delta, kn * theta);
-    let (mut lo, mut hi) = (a, b);
-    if unbonded {
-        if s1 == 0.0 {
-            if s0 <= 0.0 {
-                return 0.0;
-            }
-        } else {
-            let root = -s0 / s1;
-            if s1 > 0.0 {
-                lo = lo.max(root);
-            } else {
-                hi = hi.min(root);
-            }
-        }
-    }
-    if hi <= lo {
+    let Some((lo, hi)) = loaded(s0, s1, a, b, unbonded) else {
         return 0.0;
-    }
+    };
     // ∫ (s0 + s1 s)² ds = [(s0 + s1 s)³ / (3 s1)], or s0² (hi − lo) when s1 = 0.
     let int = if s1 == 0.0 {
         s0 * s0 * (hi - lo)
@@ -463,8 +450,7 @@ const LAST_SHEAR: u8 = 2;
 /// parallel bond's (same Ā and Ī, see the module doc).
 #[inline]
 pub fn stiffness(p: &FlatJointParams, rbar: f64, t: f64, arm: f64) -> (f64, f64) {
-    let a = 2.0 * rbar * t;
-    let i = 2.0 / 3.0 * rbar * rbar * rbar * t;
+    let (a, i) = (potyondy2004::area(rbar, t), potyondy2004::inertia(rbar, t));
     (p.kn.max(p.ks) * a, p.kn * i + p.ks * a * arm * arm)
 }
 
