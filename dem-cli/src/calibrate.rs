@@ -6,13 +6,13 @@
 
 use crate::lab_args::{progress_bar, LabArgs};
 use clap::Args;
+use dem_core::lab;
 use dem_core::lab::bending::BendingTest;
 use dem_core::lab::brazilian::BrazilianTest;
 use dem_core::lab::calibrate::{self, MaterialFile, Options};
 use dem_core::lab::senb::SenbTest;
 use dem_core::lab::ucs::UcsTest;
-use dem_core::lab::virtual_lab::VirtualLab;
-use dem_core::lab::{self, specimens};
+use dem_core::lab::virtual_lab::{self, VirtualLab};
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
@@ -34,6 +34,11 @@ pub struct CalibrateArgs {
     /// β of K_IC = β σ̄c √(πR̄) (S4; not given there), for the reported toughness.
     #[arg(long, default_value_t = 1.0)]
     pub kic_beta: f64,
+    /// Lower bound of the search in κ = k_n/k_s (ν falls with κ). Potyondy & Cundall (2004)
+    /// keep κ ≥ 1; a random 2D packing then gives ν ≥ ~0.26, so a lower ν target (SiC: 0.14)
+    /// needs a bound below 1 (shear springs stiffer than normal ones), e.g. 0.25.
+    #[arg(long, default_value_t = 1.0)]
+    pub kappa_min: f64,
     /// UCS specimen width and height, bending beam length, height and span, Brazilian disc
     /// diameter, all with units (defaults: 10mm,20mm 20mm,5mm,16mm 10mm).
     #[arg(long, default_value = "10mm,20mm")]
@@ -47,6 +52,16 @@ pub struct CalibrateArgs {
     /// diameter), e.g. `44mm,10mm`; the table gets a `K_IC (SENB)` row and the measured β.
     #[arg(long)]
     pub senb: Option<String>,
+    /// Specimens per test: seeds --seed, --seed + 1, …; every test's value is the mean over
+    /// them, and the table states each property's mean ± SE and range (a seed whose specimen
+    /// fails to generate is replaced by the next one, with a warning).
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=20))]
+    pub seeds: u32,
+    /// Largest number of calibration passes: another stiffness and strength search from the
+    /// last pass's model while its final E or ν is off the tolerance (ν moves with the
+    /// strengths).
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=5))]
+    pub passes: u32,
 }
 
 fn lengths(s: &str, flag: &str, n: usize) -> Result<Vec<f64>, String> {
@@ -123,17 +138,26 @@ pub fn run(a: CalibrateArgs) -> Result<ExitCode, String> {
     let opts = Options {
         rel_tol: a.tol,
         max_iter: a.max_iter,
+        passes: a.passes as usize,
         kic_beta: a.kic_beta,
+        kappa_bounds: [a.kappa_min, Options::default().kappa_bounds[1]],
         ..Options::default()
     };
+    if !(a.kappa_min > 0.0 && a.kappa_min <= opts.kappa_bounds[1]) {
+        return Err(format!(
+            "--kappa-min {}: must be positive and at most the upper bound {}",
+            a.kappa_min, opts.kappa_bounds[1]
+        ));
+    }
     let out = a.lab.out.clone();
     // The folder's lock (`run_lock`), keyed on the material file and the typed inputs.
     let inputs = serde_json::to_value((
         &p,
         &start,
         (&ucs, &bending, &brazilian),
-        (a.tol, a.max_iter, a.kic_beta),
+        (a.tol, a.max_iter, a.kic_beta, a.kappa_min),
         &senb,
+        (a.seeds, a.passes),
     ))
     .map_err(|e| e.to_string())?;
     let (_lock, notes) = crate::run_lock::acquire(
@@ -151,7 +175,7 @@ pub fn run(a: CalibrateArgs) -> Result<ExitCode, String> {
     let bar = progress_bar();
     bar.set_prefix("calibrate");
     let pool = a.lab.pool()?;
-    let (cal, measured, runs, lab_time) = pool.install(|| {
+    let (cal, measured, runs, lab_time, seeds, last) = pool.install(|| {
         let mut log = |l: &str| {
             bar.println(l);
             bar.set_message(l.to_string());
@@ -159,13 +183,13 @@ pub fn run(a: CalibrateArgs) -> Result<ExitCode, String> {
                 eprintln!("{l}");
             }
         };
-        let mut lab = VirtualLab::prepare(&p, &out, ucs, bending, brazilian, &mut log)
+        let n = a.seeds as usize;
+        let mut lab = VirtualLab::prepare(&p, &out, ucs, bending, brazilian, n, &mut log)
             .map_err(|e| e.to_string())?;
-        for s in [
-            &lab.ucs_specimen,
-            &lab.bending_specimen,
-            &lab.brazilian_specimen,
-        ] {
+        for s in (lab.ucs_specimen.iter())
+            .chain(&lab.bending_specimen)
+            .chain(&lab.brazilian_specimen)
+        {
             crate::lab_args::strict_cover(&a.lab, s).map_err(|e| e.to_string())?;
             for l in crate::specimen::cover_lines(&s.file, &s.below_cover) {
                 log(&format!("warning: {l}"));
@@ -175,23 +199,58 @@ pub fn run(a: CalibrateArgs) -> Result<ExitCode, String> {
             .map_err(|e| e.to_string())?;
         let measured = match &senb {
             Some(t) => {
-                let file = out.join("senb-specimen.json");
-                log(&format!("senb specimen: {}", file.display()));
-                let spec = specimens::prepare(&p, t.shape(), &file, &mut |_| {})
-                    .map_err(|e| e.to_string())?;
+                let (specs, seeds) =
+                    virtual_lab::prepare_seeds(&p, &out, "senb", t.shape(), n, &mut log)
+                        .map_err(|e| e.to_string())?;
                 log("senb: K_IC with the calibrated model");
-                let o = lab::senb::run(t, &c.model, &spec, &mut |_, _| {})
-                    .map_err(|e| e.to_string())?;
-                Some(o.result)
+                let mut all = Vec::new();
+                for (k, (spec, &seed)) in specs.iter().zip(&seeds).enumerate() {
+                    let t = SenbTest {
+                        name: if k == 0 {
+                            t.name.clone()
+                        } else {
+                            format!("{}-seed{seed}", t.name)
+                        },
+                        ..t.clone()
+                    };
+                    let o = lab::senb::run(&t, &c.model, spec, &mut |_, _| {})
+                        .map_err(|e| e.to_string())?;
+                    all.push(o.result);
+                }
+                Some((all, seeds))
             }
             None => None,
         };
-        Ok::<_, String>((c, measured, lab.runs, lab.wall_time_s))
+        Ok::<_, String>((c, measured, lab.runs, lab.wall_time_s, lab.seeds, lab.last))
     })?;
     bar.finish_and_clear();
     let mut table = calibrate::table(&mat, p.method.name(), &cal);
-    if let Some(r) = &measured {
-        table.add_senb(r);
+    if let Some((all, _)) = &measured {
+        table.add_senb(&mean_senb(all));
+    }
+    if a.seeds > 1 {
+        let [s_ucs, s_bend, s_braz] = &seeds;
+        let ucs_of = |f: fn(&dem_core::lab::analysis::UcsResult) -> f64| -> Vec<f64> {
+            last.ucs.iter().map(f).collect()
+        };
+        let mut notes = vec![
+            calibrate::seed_scatter("E", "GPa", 1e9, s_ucs, &ucs_of(|r| r.young)),
+            calibrate::seed_scatter("ν", "", 1.0, s_ucs, &ucs_of(|r| r.poisson)),
+            calibrate::seed_scatter("UCS", "MPa", 1e6, s_ucs, &ucs_of(|r| r.ucs)),
+            calibrate::seed_scatter("σ_f", "MPa", 1e6, s_bend, &last.bending),
+            calibrate::seed_scatter("Brazilian σ_t", "MPa", 1e6, s_braz, &last.brazilian),
+        ];
+        if let Some((all, s)) = &measured {
+            let k: Vec<f64> = all.iter().map(|r| r.fracture_toughness).collect();
+            notes.push(calibrate::seed_scatter(
+                "K_IC (SENB)",
+                "MPa·m^½",
+                1e6,
+                s,
+                &k,
+            ));
+        }
+        table.notes.extend(notes);
     }
     let write = |name: &str, text: String| -> Result<PathBuf, String> {
         let f = out.join(name);
@@ -226,4 +285,18 @@ pub fn run(a: CalibrateArgs) -> Result<ExitCode, String> {
 
 fn pretty(r: Result<String, serde_json::Error>) -> Result<String, String> {
     r.map(|s| s + "\n").map_err(|e| e.to_string())
+}
+
+/// The SENB report whose toughness, peak load, β and crack-mouth opening are the means over
+/// the seeds' reports (the geometry is the same beam on every seed).
+fn mean_senb(all: &[lab::senb::SenbReport]) -> lab::senb::SenbReport {
+    let n = all.len() as f64;
+    let m = |f: fn(&lab::senb::SenbReport) -> f64| all.iter().map(f).sum::<f64>() / n;
+    lab::senb::SenbReport {
+        fracture_toughness: m(|r| r.fracture_toughness),
+        peak_load: m(|r| r.peak_load),
+        beta: m(|r| r.beta),
+        cmod_at_peak: m(|r| r.cmod_at_peak),
+        ..all[0].clone()
+    }
 }

@@ -165,6 +165,28 @@ fn bad_arguments_name_the_flag_or_field() {
         assert_eq!(o.status.code(), Some(2), "{}", text(&o));
         assert!(text(&o).contains(want), "{}", text(&o));
     }
+    // The κ search's lower bound must be positive and below its upper bound.
+    for k in ["0", "9"] {
+        let o = dem(&[
+            "calibrate",
+            "--r-min",
+            "0.1mm",
+            "--r-max",
+            "0.16mm",
+            "--material",
+            &m,
+            "--kappa-min",
+            k,
+            "--out",
+            out,
+        ]);
+        assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+        assert!(
+            text(&o).contains(&format!("--kappa-min {k}: must be positive")),
+            "{}",
+            text(&o)
+        );
+    }
     assert!(!dir.join("ucs-specimen.json").exists());
 }
 

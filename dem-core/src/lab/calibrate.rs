@@ -218,10 +218,16 @@ pub struct Options {
     pub max_iter: usize,
     /// β of K_IC = β σ̄_c √(πR̄).
     pub kic_beta: f64,
+    /// Largest number of passes (stiffness then strength searches): a further pass starts from
+    /// the last one's model when its final E or ν left the tolerance (ν in the 10–50 % band
+    /// moves with the strengths: SiC with flat joints, 0.145 at σ̄c = 214 MPa, 0.163 at the
+    /// calibrated 659 MPa).
+    pub passes: usize,
 }
 
 impl Default for Options {
-    /// 2 % on E and strengths, 0.01 on ν, κ in [1, 8], ρ in [0.2, 20], 8 runs per search, β = 1.
+    /// 2 % on E and strengths, 0.01 on ν, κ in [1, 8], ρ in [0.2, 20], 8 runs per search, β = 1,
+    /// one pass.
     fn default() -> Options {
         Options {
             rel_tol: 0.02,
@@ -230,6 +236,7 @@ impl Default for Options {
             ratio_bounds: [0.2, 20.0],
             max_iter: 8,
             kic_beta: 1.0,
+            passes: 1,
         }
     }
 }
@@ -398,9 +405,50 @@ fn run_tensile(
     Ok(v)
 }
 
-/// Runs the calibration from `start` (its strengths are the starting guess; its κ the first κ).
-/// `progress` gets one line per run.
+/// Runs the calibration from `start` (its strengths are the starting guess; its κ the first κ),
+/// in up to `opts.passes` passes: while the final runs leave E or ν outside the tolerances,
+/// the next pass searches again from the last pass's model. `progress` gets one line per run.
+/// The steps of every pass are kept (stages of pass k > 1 named `pass k: …`), the notes of the
+/// last pass, with a note of the passes made.
 pub fn calibrate(
+    lab: &mut dyn Lab,
+    start: &LabModel,
+    targets: &Targets,
+    opts: &Options,
+    progress: &mut dyn FnMut(&str),
+) -> Result<Calibration, LabError> {
+    let mut c = calibrate_pass(lab, start, targets, opts, progress)?;
+    for pass in 2..=opts.passes {
+        let nu_off =
+            (targets.poisson).is_some_and(|nu| (c.achieved.poisson - nu).abs() > opts.poisson_tol);
+        let e_off = (c.achieved.young / targets.young - 1.0).abs() > opts.rel_tol;
+        if !(nu_off || e_off) {
+            break;
+        }
+        let why = format!(
+            "pass {pass}: the final runs of pass {} gave E {:.4e} Pa, ν {:.4} (targets {:.4e} Pa, {})",
+            pass - 1,
+            c.achieved.young,
+            c.achieved.poisson,
+            targets.young,
+            targets.poisson.map_or("–".into(), |v| format!("{v}"))
+        );
+        progress(&why);
+        let mut next = calibrate_pass(lab, &c.model, targets, opts, progress)?;
+        for s in &mut next.steps {
+            s.stage = format!("pass {pass}: {}", s.stage);
+        }
+        let mut steps = std::mem::take(&mut c.steps);
+        steps.append(&mut next.steps);
+        next.steps = steps;
+        next.notes.insert(0, why);
+        c = next;
+    }
+    Ok(c)
+}
+
+/// One pass of [`calibrate`]: stiffness, strengths, final E, report runs.
+fn calibrate_pass(
     lab: &mut dyn Lab,
     start: &LabModel,
     targets: &Targets,
@@ -580,6 +628,39 @@ pub fn calibrate(
     })
 }
 
+/// A property's spread over the seeds of a calibration (each seed one specimen), for the
+/// table's notes: `"<name> over seeds 1, 2, 3: mean ± SE <unit> (range lo–hi)"`, values divided
+/// by `scale` (1e9 for GPa, 1e6 for MPa). SE = sd/√n with the n − 1 sample sd; one seed gives
+/// its value alone.
+pub fn seed_scatter(name: &str, unit: &str, scale: f64, seeds: &[u64], v: &[f64]) -> String {
+    let list = seeds
+        .iter()
+        .map(u64::to_string)
+        .collect::<Vec<_>>()
+        .join(", ");
+    let x: Vec<f64> = v.iter().map(|a| a / scale).collect();
+    let n = x.len() as f64;
+    let mean = x.iter().sum::<f64>() / n;
+    let u = if unit.is_empty() {
+        String::new()
+    } else {
+        format!(" {unit}")
+    };
+    if x.len() < 2 {
+        return format!("{name} on seed {list}: {mean:.4}{u}");
+    }
+    let sd = (x.iter().map(|a| (a - mean).powi(2)).sum::<f64>() / (n - 1.0)).sqrt();
+    let (lo, hi) = x
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &a| {
+            (l.min(a), h.max(a))
+        });
+    format!(
+        "{name} over seeds {list}: {mean:.4} ± {:.4}{u} (mean ± SE; range {lo:.4}–{hi:.4})",
+        sd / n.sqrt()
+    )
+}
+
 /// One row of a calibration table: a property in display units (GPa, MPa, MPa·m^½).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Row {
@@ -752,13 +833,33 @@ impl Table {
             r.peak_load,
             r.beta
         ));
+        // S4: K_IC = β σ̄c √(πR̄). At fixed σ̄c and β (both independent of the length scale:
+        // every length × s leaves E, ν and the strengths unchanged, docs/lab-tests.md) K_IC
+        // scales as √s, so the target is met at the resolution s = (K_target / K_IC)².
+        if let Some(k) = base.measured.filter(|&x| x > 0.0 && ours > 0.0) {
+            let s = (k / ours).powi(2);
+            self.notes.push(format!(
+                "K_IC {k} MPa·m^½ at the measured β needs every length (radii, specimens) × \
+                 {s:.4}: mean disc radius {:.3e} m (S4: K_IC = β σ̄c √(πR̄); rerun the \
+                 calibration at that resolution to measure all five there)",
+                s * self.model.r_mean
+            ));
+        }
     }
 
     /// Markdown: property, unit, measured, paper model, ours, error, role.
     pub fn markdown(&self) -> String {
         let f = |v: Option<f64>| v.map_or("–".to_string(), |x| format!("{x:.4}"));
+        let bonds = match &self.model.flat_joint {
+            None => "parallel bonds".to_string(),
+            Some(f) if f.bonded_fraction < 1.0 => format!(
+                "flat joints, {} elements, μ {}, bonded fraction {}",
+                f.elements, f.friction, f.bonded_fraction
+            ),
+            Some(f) => format!("flat joints, {} elements, μ {}", f.elements, f.friction),
+        };
         let mut s = format!(
-            "### {} ({} specimen)\n\n| property | unit | measured | paper's model | ours | ours vs measured | role |\n|---|---|---|---|---|---|---|\n",
+            "### {} ({} specimen, {bonds})\n\n| property | unit | measured | paper's model | ours | ours vs measured | role |\n|---|---|---|---|---|---|---|\n",
             self.material, self.method
         );
         for r in &self.rows {
@@ -801,11 +902,13 @@ mod tests {
     use crate::specimen::{Method, SpecimenParams};
 
     /// A synthetic laboratory with the scaling laws of a bonded-particle model and a known
-    /// answer: E = 0.6 E_c (1 + 1/κ)/2, ν = 0.4 (κ − 1)/(κ + 2), σ_t = 0.9 σ̄c,
+    /// answer: E = 0.6 E_c (1 + 1/κ)/2, ν = ν₀ + 0.4 (κ − 1)/(κ + 2), σ_t = 0.9 σ̄c,
     /// σ_f = 1.4 σ̄c, UCS = σ̄c (2 + 3 ρ)/(1 + 0.1 ρ) (saturating in ρ = c̄/σ̄c), plus 0.5 %
     /// deterministic noise.
     struct Synthetic {
         runs: usize,
+        /// ν at κ = 1 (0; our packings give ~0.26).
+        nu0: f64,
     }
     impl Synthetic {
         fn noise(&mut self) -> f64 {
@@ -821,7 +924,7 @@ mod tests {
             let n = self.noise();
             Ok(UcsResult {
                 young: 0.6 * p.contact_modulus * (1.0 + 1.0 / k) / 2.0 * n,
-                poisson: 0.4 * (k - 1.0) / (k + 2.0) * n,
+                poisson: (self.nu0 + 0.4 * (k - 1.0) / (k + 2.0)) * n,
                 ucs: p.boundary_tensile * (2.0 + 3.0 * rho) / (1.0 + 0.1 * rho) * n,
             })
         }
@@ -858,7 +961,7 @@ mod tests {
             brazilian: None,
             kic: Some(3.5e6),
         };
-        let mut lab = Synthetic { runs: 0 };
+        let mut lab = Synthetic { runs: 0, nu0: 0.0 };
         let c = calibrate(&mut lab, &start(), &t, &Options::default(), &mut |l| {
             eprintln!("{l}")
         })
@@ -884,7 +987,7 @@ mod tests {
             flexural: Some(100e6),
             ..Targets::default()
         };
-        let mut lab = Synthetic { runs: 0 };
+        let mut lab = Synthetic { runs: 0, nu0: 0.0 };
         let c = calibrate(&mut lab, &start(), &t, &Options::default(), &mut |_| {}).unwrap();
         assert!(
             c.notes.iter().any(|n| n.contains("not reached")),
@@ -902,7 +1005,7 @@ mod tests {
         let t = mat.targets().unwrap();
         assert_eq!(t.young, 430e9);
         assert_eq!(t.brazilian, Some(214e6));
-        let mut lab = Synthetic { runs: 0 };
+        let mut lab = Synthetic { runs: 0, nu0: 0.0 };
         let c = calibrate(&mut lab, &start(), &t, &Options::default(), &mut |_| {}).unwrap();
         let tab = table(&mat, "traditional", &c);
         let e = &tab.rows[0];
@@ -956,9 +1059,137 @@ mod tests {
         ));
         assert!(ts
             .notes
-            .last()
-            .unwrap()
-            .contains("β = K_IC / (σ̄c √(πR̄)) = 0.500"));
+            .iter()
+            .any(|n| n.contains("β = K_IC / (σ̄c √(πR̄)) = 0.500")));
+        // K_IC ∝ √R̄: twice the target needs a quarter of every length.
+        let want = format!(
+            "needs every length (radii, specimens) × 0.2500: mean disc radius {:.3e} m",
+            0.25 * ts.model.r_mean
+        );
+        assert!(ts.notes.last().unwrap().contains(&want), "{:?}", ts.notes);
+    }
+
+    #[test]
+    fn kappa_below_one_reaches_a_low_poisson_ratio() {
+        // As our packings: ν = 0.26 at κ = 1; ν = 0.14 needs κ = 0.4 (0.4 (κ−1)/(κ+2) = −0.12).
+        let t = Targets {
+            young: 100e9,
+            poisson: Some(0.14),
+            ..Targets::default()
+        };
+        let mut lab = Synthetic { runs: 0, nu0: 0.26 };
+        let c = calibrate(&mut lab, &start(), &t, &Options::default(), &mut |_| {}).unwrap();
+        assert!(
+            c.notes.iter().any(|n| n.contains("at the κ bound 1")),
+            "{:?}",
+            c.notes
+        );
+        let opts = Options {
+            kappa_bounds: [0.25, 8.0],
+            ..Options::default()
+        };
+        let c = calibrate(&mut lab, &start(), &t, &opts, &mut |_| {}).unwrap();
+        assert!(
+            !c.notes.iter().any(|n| n.contains("κ bound")),
+            "{:?}",
+            c.notes
+        );
+        assert!(
+            (c.achieved.poisson - 0.14).abs() < 0.012,
+            "ν {}",
+            c.achieved.poisson
+        );
+        let k = c.model.micro.stiffness_ratio;
+        assert!((0.3..0.5).contains(&k), "κ {k}");
+    }
+
+    /// A lab whose ν rises with the bond strength (as the flat-joint specimens' does: the
+    /// 10–50 % band sits on a curve that damage bends), so the first pass, searching κ at the
+    /// starting strengths, ends off the ν target.
+    struct StrengthDependentNu(Synthetic);
+    impl Lab for StrengthDependentNu {
+        fn ucs(&mut self, m: &LabModel) -> Result<UcsResult, LabError> {
+            let mut r = self.0.ucs(m)?;
+            r.poisson += 0.012 * (m.micro.boundary_tensile / 100e6).ln();
+            Ok(r)
+        }
+        fn bending(&mut self, m: &LabModel) -> Result<f64, LabError> {
+            self.0.bending(m)
+        }
+        fn brazilian(&mut self, m: &LabModel) -> Result<f64, LabError> {
+            self.0.brazilian(m)
+        }
+    }
+
+    #[test]
+    fn a_second_pass_brings_back_a_poisson_ratio_the_strengths_moved() {
+        let t = Targets {
+            young: 100e9,
+            poisson: Some(0.14),
+            flexural: Some(4.0 * 1.4 * 100e6),
+            ..Targets::default()
+        };
+        let opts = Options {
+            kappa_bounds: [0.25, 8.0],
+            ..Options::default()
+        };
+        let new = || StrengthDependentNu(Synthetic { runs: 0, nu0: 0.26 });
+        let one = calibrate(&mut new(), &start(), &t, &opts, &mut |_| {}).unwrap();
+        // The strength search moves σ̄c from its start and ν by 0.012 ln(σ̄c/100 MPa) with it:
+        // off the 0.01 tolerance after one pass.
+        assert!(
+            one.achieved.poisson - 0.14 > 0.011,
+            "ν {}",
+            one.achieved.poisson
+        );
+        let opts2 = Options { passes: 3, ..opts };
+        let two = calibrate(&mut new(), &start(), &t, &opts2, &mut |_| {}).unwrap();
+        assert!(
+            (two.achieved.poisson - 0.14).abs() < 0.012,
+            "ν {}",
+            two.achieved.poisson
+        );
+        assert!((two.achieved.flexural.unwrap() / 560e6 - 1.0).abs() < 0.026);
+        assert!(two.steps.iter().any(|s| s.stage.starts_with("pass 2: ")));
+        assert!(
+            two.notes[0].starts_with("pass 2: the final runs of pass 1 gave"),
+            "{:?}",
+            two.notes
+        );
+        assert!(two.steps.len() > one.steps.len());
+    }
+
+    #[test]
+    fn seed_scatter_gives_mean_se_and_range() {
+        let s = seed_scatter("σ_f", "MPa", 1e6, &[1, 2, 4], &[500e6, 600e6, 700e6]);
+        // mean 600, sd 100, SE 100/√3 = 57.735.
+        assert_eq!(
+            s,
+            "σ_f over seeds 1, 2, 4: 600.0000 ± 57.7350 MPa (mean ± SE; range 500.0000–700.0000)"
+        );
+        assert_eq!(
+            seed_scatter("ν", "", 1.0, &[3], &[0.14]),
+            "ν on seed 3: 0.1400"
+        );
+    }
+
+    #[test]
+    fn committed_sic_models_at_the_kic_resolution_load() {
+        let pb: LabModel = serde_json::from_str(include_str!(
+            "../../../data/models/sic-r9.6um-pb.model.json"
+        ))
+        .unwrap();
+        let fj: LabModel = serde_json::from_str(include_str!(
+            "../../../data/models/sic-r9.6um-fj4.model.json"
+        ))
+        .unwrap();
+        for m in [&pb, &fj] {
+            assert!((m.r_mean / 9.568e-6 - 1.0).abs() < 1e-9, "{}", m.r_mean);
+            assert!(m.micro.stiffness_ratio < 1.0);
+        }
+        assert!(pb.flat_joint.is_none());
+        let f = fj.flat_joint.as_ref().unwrap();
+        assert_eq!((f.elements, f.friction, f.bonded_fraction), (4, 0.5, 1.0));
     }
 
     #[test]

@@ -70,6 +70,27 @@ struct Key {
 
 const KEY_SCHEMA: &str = "dem.lab-specimen-key/1";
 
+/// What `x.failed.json` beside a specimen that failed to generate records: its key and the
+/// error. Generation is deterministic (the same bits for any thread count), so the same key
+/// fails again the same way; [`prepare`] returns the recorded error at once instead of
+/// spending the failed run's steps again (a stress servo that does not converge costs up to
+/// 12 M steps). Deleting the file, or any change of the inputs, tries again.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+struct Failed {
+    key: Key,
+    error: String,
+}
+
+/// `x.json` → `x.failed.json`.
+pub fn failed_path(file: &Path) -> PathBuf {
+    let k = key_path(file);
+    let name = k.file_name().map(|n| n.to_string_lossy().into_owned());
+    let name = name
+        .unwrap_or_default()
+        .replace(".key.json", ".failed.json");
+    file.with_file_name(name)
+}
+
 /// `x.json` → `x.key.json`.
 pub fn key_path(file: &Path) -> PathBuf {
     let name = file
@@ -130,7 +151,37 @@ pub fn prepare(
             source,
         })?;
     }
-    let spec = specimen::generate(&p, progress)?;
+    let fp = failed_path(file);
+    if let Ok(text) = std::fs::read_to_string(&fp) {
+        if let Ok(f) = serde_json::from_str::<Failed>(&text) {
+            if f.key == key {
+                return Err(LabError::Param {
+                    field: file.display().to_string(),
+                    reason: format!(
+                        "{} (recorded in {} by an earlier run of the same inputs; delete it to \
+                         try again)",
+                        f.error,
+                        fp.display()
+                    ),
+                });
+            }
+        }
+    }
+    let spec = match specimen::generate(&p, progress) {
+        Ok(s) => s,
+        Err(e) => {
+            let f = Failed {
+                key,
+                error: e.to_string(),
+            };
+            if let Ok(text) = serde_json::to_string_pretty(&f) {
+                // Best effort: the generation error is what the caller must see.
+                let _ = io::write_atomic(&fp, &text);
+            }
+            return Err(e.into());
+        }
+    };
+    let _ = std::fs::remove_file(&fp);
     let mut sf = io::to_file(&spec, DEFAULT_MATERIAL);
     match shape {
         Shape::Disc { diameter } => sf = carve_disc(&sf, diameter, p.method),
@@ -464,6 +515,59 @@ mod tests {
                 contact_offsets: Some((0..24).map(|k| -(k as f64)).collect()),
             }],
         }
+    }
+
+    #[test]
+    fn a_failed_generation_is_recorded_and_not_run_again() {
+        let dir = std::env::temp_dir().join(format!("dem-failed-spec-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        let mut p = SpecimenParams::new(
+            crate::specimen::Method::Traditional,
+            2e-3,
+            2e-3,
+            0.1e-3,
+            0.15e-3,
+            3100.0,
+            430e9,
+            214e6,
+            1,
+        );
+        p.max_stage_steps = 3; // no stage reaches equilibrium in 3 steps
+        let shape = Shape::Rectangle {
+            width: 2e-3,
+            height: 2e-3,
+        };
+        let file = dir.join("s.json");
+        let first = prepare(&p, shape, &file, &mut |_| {})
+            .unwrap_err()
+            .to_string();
+        let fp = failed_path(&file);
+        assert_eq!(fp, dir.join("s.failed.json"));
+        assert!(fp.exists(), "{first}");
+        let t0 = std::time::Instant::now();
+        let again = prepare(&p, shape, &file, &mut |_| {})
+            .unwrap_err()
+            .to_string();
+        assert!(again.contains("recorded in"), "{again}");
+        assert!(again.contains(&first), "{again} / {first}");
+        assert!(t0.elapsed().as_secs_f64() < 1.0);
+        // Other inputs are another specimen: generated, and the record of the failure goes.
+        p.max_stage_steps = SpecimenParams::new(
+            crate::specimen::Method::Traditional,
+            2e-3,
+            2e-3,
+            0.1e-3,
+            0.15e-3,
+            3100.0,
+            430e9,
+            214e6,
+            1,
+        )
+        .max_stage_steps;
+        let ok = prepare(&p, shape, &file, &mut |_| {}).unwrap();
+        assert!(ok.discs > 0 && !ok.reused);
+        assert!(!fp.exists());
+        let _ = std::fs::remove_dir_all(&dir);
     }
 
     #[test]
