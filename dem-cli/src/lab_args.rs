@@ -4,12 +4,13 @@
 
 use crate::specimen::{cover_lines, material_values, method_and_dist, parse_length, parse_stress};
 use clap::Args;
+use dem_core::lab::model::FlatJointOption;
 use dem_core::lab::specimens::TestSpecimen;
 use dem_core::lab::{LabError, LabModel};
 use dem_core::specimen::{GrainMode, Method, SpecimenParams};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// Specimen, material model and output flags shared by every test (the specimen flags are
 /// those of `dem specimen`; the test sets the width and height).
@@ -75,17 +76,10 @@ pub struct LabArgs {
     /// specimen geometry is still generated with the specimen flags.
     #[arg(long)]
     pub model: Option<PathBuf>,
-    /// Flat joints of this many elements (1–8; Potyondy 2012) instead of parallel bonds in both
-    /// bond groups, with the model's stiffness and strengths (docs/scene-schema.md).
-    #[arg(long, value_parser = clap::value_parser!(u8).range(1..=8))]
-    pub flat_joint: Option<u8>,
-    /// With --flat-joint: friction coefficient of the unbonded elements (default 0).
-    #[arg(long, requires = "flat_joint")]
-    pub joint_friction: Option<f64>,
-    /// With --flat-joint: fraction of the elements bonded at installation, the rest slit
-    /// (unbonded from the start), in [0, 1] (default 1).
-    #[arg(long, requires = "flat_joint")]
-    pub joint_bonded_fraction: Option<f64>,
+    /// Flat joints instead of parallel bonds: --flat-joint, --joint-friction,
+    /// --joint-bonded-fraction.
+    #[command(flatten)]
+    pub joints: FlatJointArgs,
     /// Output folder: specimen file (reused when its parameters match), scene, run outputs
     /// and `<test>.result.json`.
     #[arg(long)]
@@ -154,36 +148,14 @@ impl LabArgs {
         Ok(p)
     }
 
-    /// The material model: `--model` if given, else the specimen's own.
+    /// The material model: `--model` if given, else the specimen's own; with --flat-joint,
+    /// flat joints of those flags ([`FlatJointArgs::apply`]).
     pub fn lab_model(&self, p: &SpecimenParams) -> Result<LabModel, String> {
-        let mut m: LabModel = match &self.model {
-            Some(path) => {
-                let text = std::fs::read_to_string(path)
-                    .map_err(|e| format!("--model {}: {e}", path.display()))?;
-                serde_json::from_str(&text)
-                    .map_err(|e| format!("--model {}: {e}", path.display()))?
-            }
+        let mut m = match &self.model {
+            Some(path) => read_model(path)?,
             None => LabModel::from_params(p),
         };
-        if let Some(elements) = self.flat_joint {
-            let friction = self.joint_friction.unwrap_or(0.0);
-            if !(friction >= 0.0 && friction.is_finite()) {
-                return Err(format!(
-                    "--joint-friction {friction}: must be a finite number >= 0"
-                ));
-            }
-            let bonded_fraction = self.joint_bonded_fraction.unwrap_or(1.0);
-            if !(0.0..=1.0).contains(&bonded_fraction) {
-                return Err(format!(
-                    "--joint-bonded-fraction {bonded_fraction}: must lie in [0, 1]"
-                ));
-            }
-            m.flat_joint = Some(dem_core::lab::model::FlatJointOption {
-                elements,
-                friction,
-                bonded_fraction,
-            });
-        }
+        self.joints.apply(&mut m)?;
         Ok(m)
     }
 
@@ -194,6 +166,73 @@ impl LabArgs {
             .build()
             .map_err(|e| e.to_string())
     }
+}
+
+/// The flat-joint flags (Potyondy 2012, [`dem_core::bond::flat_joint`]) of every lab test
+/// (through [`LabArgs`]), `dem calibrate` and `dem test cutting` (flattened into both), so
+/// all of them read and check them in one place.
+#[derive(Args, Clone, Debug, Default)]
+pub struct FlatJointArgs {
+    /// Flat joints of this many elements (1–8; Potyondy 2012) instead of parallel bonds in both
+    /// bond groups, with the model's stiffness and strengths (docs/scene-schema.md).
+    #[arg(long, value_parser = clap::value_parser!(u8).range(1..=8))]
+    pub flat_joint: Option<u8>,
+    /// With --flat-joint: friction coefficient of the unbonded elements (default 0).
+    #[arg(long, requires = "flat_joint")]
+    pub joint_friction: Option<f64>,
+    /// With --flat-joint: fraction of the elements bonded at installation, the rest slit
+    /// (unbonded from the start), in [0, 1] (default 1).
+    #[arg(long, requires = "flat_joint")]
+    pub joint_bonded_fraction: Option<f64>,
+}
+
+impl FlatJointArgs {
+    /// The option the flags give (`None` without --flat-joint): N elements, friction μ
+    /// (default 0), bonded fraction φ_B (default 1), checked by
+    /// [`FlatJointOption::check`] with the error naming the flag.
+    pub fn option(&self) -> Result<Option<FlatJointOption>, String> {
+        let Some(elements) = self.flat_joint else {
+            return Ok(None);
+        };
+        let o = FlatJointOption {
+            elements,
+            friction: self.joint_friction.unwrap_or(0.0),
+            bonded_fraction: self.joint_bonded_fraction.unwrap_or(1.0),
+        };
+        o.check().map_err(|(field, why)| {
+            let flag = match field {
+                "elements" => "--flat-joint",
+                "friction" => "--joint-friction",
+                _ => "--joint-bonded-fraction",
+            };
+            format!("{flag} {why}")
+        })?;
+        Ok(Some(o))
+    }
+
+    /// Puts the flags' option on `m`: the command line wins over a `flat_joint` record the
+    /// model already has (from `--model`); without --flat-joint `m` is left as it is.
+    pub fn apply(&self, m: &mut LabModel) -> Result<(), String> {
+        if let Some(o) = self.option()? {
+            m.flat_joint = Some(o);
+        }
+        Ok(())
+    }
+}
+
+/// A `--model` file (a [`LabModel`] JSON, as `dem calibrate` writes it), its `flat_joint`
+/// record checked ([`FlatJointOption::check`]); errors name `--model`, the file and the field.
+pub fn read_model(path: &Path) -> Result<LabModel, String> {
+    let text =
+        std::fs::read_to_string(path).map_err(|e| format!("--model {}: {e}", path.display()))?;
+    let m: LabModel =
+        serde_json::from_str(&text).map_err(|e| format!("--model {}: {e}", path.display()))?;
+    if let Some(o) = &m.flat_joint {
+        o.check().map_err(|(field, why)| {
+            format!("--model {}: flat_joint.{field} {why}", path.display())
+        })?;
+    }
+    Ok(m)
 }
 
 /// With `--strict`, a specimen with grains below their cover target is an error naming them.

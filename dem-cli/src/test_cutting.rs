@@ -4,10 +4,11 @@
 //! analysed: peak and mean main and vertical force over the steady window, chips, broken
 //! bonds, machined surface, residual cracks.
 
-use crate::lab_args::{progress_bar, LabArgs};
+use crate::lab_args::{progress_bar, read_model, FlatJointArgs, LabArgs};
 use crate::specimen::{parse_length, read_material};
 use clap::Args;
 use dem_core::lab::cutting::{self, CuttingResult, CuttingTest};
+use dem_core::lab::model::FlatJointOption;
 use dem_core::lab::tool::ToolModel;
 use dem_core::lab::LabModel;
 use dem_core::specimen::{io, SpecimenParams};
@@ -151,9 +152,15 @@ pub struct CuttingArgs {
     #[arg(long)]
     pub delete_fragments: bool,
     /// A LabModel JSON (density, thickness, r_mean, micro; `dem calibrate` writes one) to run
-    /// with instead of the specimen's own micro-parameters.
+    /// with instead of the specimen's own micro-parameters. Its `flat_joint` record (`dem
+    /// calibrate --flat-joint` writes one) is kept: the cut runs with flat joints.
     #[arg(long)]
     pub model: Option<PathBuf>,
+    /// Flat joints (Potyondy 2012) instead of parallel bonds, as in the other lab tests:
+    /// --flat-joint N, --joint-friction μ, --joint-bonded-fraction φ. They win over the
+    /// model's own `flat_joint` record (of --model, or of the specimen's scene).
+    #[command(flatten)]
+    pub joints: FlatJointArgs,
     /// Resolve the specimen parameters, model and test, write them to
     /// `<out>/cutting.inputs.json` and print them; generate and run nothing.
     #[arg(long)]
@@ -308,16 +315,19 @@ impl CuttingArgs {
         })
     }
 
-    /// The `--model` file, if given.
+    /// The `--model` file, if given, as it is (its `flat_joint` record checked, not yet
+    /// overridden by --flat-joint: see [`CuttingArgs::with_joints`]).
     pub fn model_file(&self) -> Result<Option<LabModel>, String> {
-        let Some(p) = &self.model else {
-            return Ok(None);
-        };
-        let text =
-            std::fs::read_to_string(p).map_err(|e| format!("--model {}: {e}", p.display()))?;
-        serde_json::from_str(&text)
-            .map(Some)
-            .map_err(|e| format!("--model {}: {e}", p.display()))
+        self.model.as_deref().map(read_model).transpose()
+    }
+
+    /// `m` with the flat-joint flags applied ([`FlatJointArgs::apply`]): with --flat-joint
+    /// the cut runs with those flat joints whatever the model said (a `flat_joint` record of
+    /// --model, or of the specimen's scene: [`cutting::model_from_specimen`]); without it the
+    /// model's own choice stays. Every path to the cut's model goes through here.
+    pub fn with_joints(&self, mut m: LabModel) -> Result<LabModel, String> {
+        self.joints.apply(&mut m)?;
+        Ok(m)
     }
 
     /// The shared lab-test flags of the specimen to generate (density, E and σ_t from
@@ -346,9 +356,7 @@ impl CuttingArgs {
             irregular_count: self.irregular_count,
             irregular_size: self.irregular_size.clone(),
             model: self.model.clone(),
-            flat_joint: None,
-            joint_friction: None,
-            joint_bonded_fraction: None,
+            joints: self.joints.clone(),
             out: self.out.clone(),
             threads: self.threads,
             dt_factor: self.dt_factor,
@@ -525,10 +533,15 @@ impl CuttingArgs {
     }
 
     /// What the cut runs: the specimen (parameters, or the file), the model (`None` until a
-    /// generated specimen's own model is known: no --model) and the test.
+    /// generated specimen's own model is known: no --model), the flat-joint flags and the
+    /// test. The model is --model with the flat-joint flags applied ([`Self::with_joints`]).
     pub fn inputs(&self) -> Result<Inputs, String> {
         let test = self.test()?;
-        let mut model = self.model_file()?;
+        let flat_joint = self.joints.option()?;
+        let mut model = self
+            .model_file()?
+            .map(|m| self.with_joints(m))
+            .transpose()?;
         let specimen = match &self.specimen {
             Some(_) if self.specimen_from_model => {
                 return Err(
@@ -545,6 +558,7 @@ impl CuttingArgs {
             specimen,
             specimen_file: self.specimen.as_ref().map(|p| p.display().to_string()),
             model,
+            flat_joint,
             test,
         })
     }
@@ -562,6 +576,12 @@ pub struct Inputs {
     /// The material model the cut runs with; `null` until a generated specimen's own is known
     /// (no --model).
     pub model: Option<LabModel>,
+    /// The flat joints of --flat-joint (with --joint-friction, --joint-bonded-fraction), which
+    /// the model gets whichever way it is found: recorded here too so a cut whose model is not
+    /// known yet says (and its run lock's key holds) that it runs with flat joints. Absent
+    /// without --flat-joint, so the inputs of parallel-bond cuts are as before.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub flat_joint: Option<FlatJointOption>,
     pub test: CuttingTest,
 }
 
@@ -622,7 +642,10 @@ pub fn run(a: CuttingArgs) -> Result<ExitCode, String> {
     let model = match inputs.model.clone() {
         Some(m) => m,
         None => {
+            // The specimen's own model (its files carry a flat joint only if its scene names
+            // one; `dem specimen` writes parallel bonds): --flat-joint wins over it.
             let m = cutting::model_from_specimen(&specimen).map_err(|e| e.to_string())?;
+            let m = a.with_joints(m)?;
             inputs.model = Some(m.clone());
             write_inputs(&a.out, &inputs)?;
             m
@@ -656,6 +679,12 @@ pub fn run(a: CuttingArgs) -> Result<ExitCode, String> {
         test.contact_damping,
         test.dt_factor
     );
+    if let Some(f) = &model.flat_joint {
+        println!(
+            "bonds: flat joints (Potyondy 2012) of {} elements, friction {}, bonded fraction {}",
+            f.elements, f.friction, f.bonded_fraction
+        );
+    }
     let bar = if std::io::stderr().is_terminal() {
         let b = ProgressBar::new(1);
         if let Ok(s) = ProgressStyle::with_template(
@@ -736,11 +765,26 @@ pub fn report(r: &CuttingResult) -> String {
         );
     }
     for b in &r.broken_bonds {
-        let _ = writeln!(
+        let _ = write!(
             s,
             "  broken {:<12} {} tension, {} shear (of {})",
             b.group, b.tension, b.shear, b.total
         );
+        // Flat joints: an interface is broken when its cement is all gone.
+        if let (Some(p), Some(e), Some(eb)) = (
+            b.partly_broken,
+            b.elements_broken,
+            b.elements_bonded.filter(|&n| n > 0),
+        ) {
+            let _ = write!(
+                s,
+                " flat-joint interfaces; {p} partly broken, {e} of {eb} bonded elements broken"
+            );
+            if let Some(n) = b.slit.filter(|&n| n > 0) {
+                let _ = write!(s, ", {n} interfaces slit from the start");
+            }
+        }
+        s.push('\n');
     }
     if let Some(f) = &r.surface {
         let _ = writeln!(
@@ -792,4 +836,144 @@ pub fn report(r: &CuttingResult) -> String {
         let _ = writeln!(s, "  file {f}");
     }
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::Parser;
+
+    #[derive(Parser)]
+    struct Cmd {
+        #[command(flatten)]
+        a: CuttingArgs,
+    }
+
+    fn args(extra: &[&str]) -> Result<CuttingArgs, clap::Error> {
+        let material = concat!(env!("CARGO_MANIFEST_DIR"), "/../data/materials/si3n4.json");
+        let mut v = vec!["cutting", "--out", "unused-out", "--r-min", "0.1mm"];
+        v.extend_from_slice(&["--r-max", "0.16mm"]);
+        if !extra.contains(&"--specimen-from-model") {
+            // (--specimen-from-model takes the density and moduli from --model.)
+            v.extend_from_slice(&["--material", material]);
+        }
+        v.extend_from_slice(extra);
+        Cmd::try_parse_from(v).map(|c| c.a)
+    }
+
+    fn model_file(dir: &std::path::Path, fj: Option<FlatJointOption>) -> String {
+        let p = SpecimenParams::new(
+            dem_core::specimen::Method::Traditional,
+            20e-3,
+            10e-3,
+            0.175e-3,
+            0.285e-3,
+            3200.0,
+            310e9,
+            800e6,
+            1,
+        );
+        let m = LabModel {
+            flat_joint: fj,
+            ..LabModel::from_params(&p)
+        };
+        let name = format!("model-{}.json", fj.map_or(0, |f| f.elements));
+        let f = dir.join(name);
+        std::fs::write(&f, serde_json::to_string(&m).unwrap()).unwrap();
+        f.display().to_string()
+    }
+
+    /// The flat-joint option reaches the cut's model on every path: the flags alone (the
+    /// inputs carry them until the specimen's own model is read, which `with_joints` then
+    /// changes), a --model's `flat_joint` record (kept, also with --specimen-from-model), and
+    /// the flags over such a record. Without them nothing changes (no `flat_joint` key).
+    #[test]
+    fn the_flat_joint_option_survives_every_model_path() {
+        let dir = std::env::temp_dir().join(format!("dem-cut-fj-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let four = FlatJointOption {
+            elements: 4,
+            friction: 0.5,
+            bonded_fraction: 1.0,
+        };
+        let record = model_file(&dir, Some(four));
+        let plain = model_file(&dir, None);
+
+        // No flags, no model: nothing about flat joints in the inputs.
+        let a = args(&[]).unwrap();
+        let i = a.inputs().unwrap();
+        assert!(i.flat_joint.is_none() && i.model.is_none());
+        assert!(!serde_json::to_string(&i).unwrap().contains("flat_joint"));
+
+        // The flags alone: in the inputs, and put on the specimen's own model when read.
+        let a = args(&["--flat-joint", "2", "--joint-friction", "0.3"]).unwrap();
+        let i = a.inputs().unwrap();
+        let two = FlatJointOption {
+            elements: 2,
+            friction: 0.3,
+            bonded_fraction: 1.0,
+        };
+        assert_eq!(i.flat_joint, Some(two));
+        let own = LabModel::from_params(i.specimen.as_ref().unwrap());
+        assert_eq!(own.flat_joint, None);
+        assert_eq!(a.with_joints(own).unwrap().flat_joint, Some(two));
+
+        // A --model with a flat_joint record, also with --specimen-from-model.
+        for extra in [&[][..], &["--specimen-from-model"][..]] {
+            let mut v = vec!["--model", record.as_str()];
+            v.extend_from_slice(extra);
+            let i = args(&v).unwrap().inputs().unwrap();
+            assert_eq!(i.model.unwrap().flat_joint, Some(four), "{extra:?}");
+            assert_eq!(i.flat_joint, None);
+        }
+        // The flags win over the record, and put flat joints on a model without one.
+        for m in [&record, &plain] {
+            let i = args(&[
+                "--model",
+                m.as_str(),
+                "--flat-joint",
+                "2",
+                "--joint-friction",
+                "0.3",
+            ])
+            .unwrap()
+            .inputs()
+            .unwrap();
+            assert_eq!(i.model.unwrap().flat_joint, Some(two), "{m}");
+        }
+        // A --model without a record stays parallel bonds.
+        let i = args(&["--model", &plain]).unwrap().inputs().unwrap();
+        assert_eq!(i.model.unwrap().flat_joint, None);
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    /// Bad flat-joint values are errors naming the flag (or the model file's field), checked
+    /// as the other lab tests check them.
+    #[test]
+    fn bad_flat_joint_values_name_the_flag() {
+        let e = |v: &[&str]| args(v).unwrap().inputs().unwrap_err();
+        let t = e(&["--flat-joint", "2", "--joint-friction=-1"]);
+        assert!(t.starts_with("--joint-friction -1"), "{t}");
+        let t = e(&["--flat-joint", "2", "--joint-bonded-fraction", "1.5"]);
+        assert!(t.starts_with("--joint-bonded-fraction 1.5"), "{t}");
+        for bad in [&["--flat-joint", "9"][..], &["--joint-friction", "0.5"][..]] {
+            assert!(args(bad).is_err(), "{bad:?}");
+        }
+        let dir = std::env::temp_dir().join(format!("dem-cut-fj-bad-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let f = model_file(
+            &dir,
+            Some(FlatJointOption {
+                elements: 2,
+                friction: -0.5,
+                bonded_fraction: 1.0,
+            }),
+        );
+        let t = e(&["--model", &f]);
+        assert!(
+            t.contains("--model") && t.contains("flat_joint.friction -0.5"),
+            "{t}"
+        );
+        let _ = std::fs::remove_dir_all(&dir);
+    }
 }

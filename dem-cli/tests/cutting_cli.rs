@@ -380,6 +380,73 @@ fn specimen_cache_gives_the_generated_specimen() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// `--flat-joint 2` (Potyondy 2012) on the smallest cut of these tests: the scene's bond groups
+/// are flat joints of those elements, the cut finishes with a positive mean force and broken
+/// interfaces (cement all gone), and reports the element figures; the inputs record the
+/// option and the model it ran with carries it.
+#[test]
+fn cutting_with_flat_joints_runs_and_counts_broken_interfaces() {
+    let dir = tmp("flat-joint");
+    let out = dir.join("cut");
+    let o = small_cut(
+        &out,
+        &[
+            "--seed",
+            "2",
+            "--speed",
+            "10m/s",
+            "--history-rows",
+            "200",
+            "--flat-joint",
+            "2",
+            "--joint-friction",
+            "0.5",
+        ],
+    );
+    let t = text(&o);
+    assert!(o.status.success(), "{t}");
+    assert!(
+        t.contains("flat joints (Potyondy 2012) of 2 elements"),
+        "{t}"
+    );
+    assert!(t.contains("flat-joint interfaces"), "{t}");
+    let read = |f: &str| -> serde_json::Value {
+        serde_json::from_str(&std::fs::read_to_string(out.join(f)).unwrap()).unwrap()
+    };
+    let scene = read("cutting.scene.json");
+    let groups = scene["bond_groups"].as_array().unwrap();
+    assert_eq!(groups.len(), 2);
+    for g in groups {
+        assert_eq!(g["model"], "flat_joint_potyondy2012", "{g}");
+        assert_eq!(g["elements"], 2, "{g}");
+        assert_eq!(g["friction"], 0.5, "{g}");
+    }
+    let i = read("cutting.inputs.json");
+    assert_eq!(i["flat_joint"]["elements"], 2);
+    assert_eq!(i["model"]["flat_joint"]["elements"], 2);
+    assert_eq!(i["model"]["flat_joint"]["friction"], 0.5);
+    let r = read("cutting.result.json");
+    assert!(
+        r["main_force"]["mean"].as_f64().unwrap() > 0.0,
+        "{}",
+        r["main_force"]
+    );
+    let broken = r["broken_total"].as_u64().unwrap();
+    assert!(broken >= 1, "{}", r["broken_bonds"]);
+    let mut sum = 0;
+    for b in r["broken_bonds"].as_array().unwrap() {
+        let n = |k: &str| b[k].as_u64().unwrap_or_else(|| panic!("{k}: {b}"));
+        sum += n("tension") + n("shear");
+        // Each broken interface lost every one of its bonded elements (1 or 2).
+        assert!(n("elements_broken") >= n("tension") + n("shear"), "{b}");
+        assert!(n("elements_broken") <= n("elements_bonded"), "{b}");
+        assert!(n("tension") + n("shear") <= n("total"), "{b}");
+        assert_eq!(n("slit"), 0, "{b}");
+    }
+    assert_eq!(sum, broken);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// `dem test cutting` generating a 3 × 1.5 mm Si3N4 specimen (radii 0.1–0.16 mm) and cutting
 /// 1 mm of it 0.4 mm deep, with the flags `extra` (seed, speed, history rows, ...), into `out`.
 fn small_cut(out: &std::path::Path, extra: &[&str]) -> std::process::Output {

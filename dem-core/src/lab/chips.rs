@@ -4,8 +4,19 @@
 //! above the nominal machined surface is a chip; one below it is a loose fragment left in the
 //! workpiece (a disc or grain cracked free but still in place). Broken bonds between two
 //! workpiece discs below the nominal surface are residual (subsurface) cracks.
+//!
+//! Flat joints (Potyondy 2012, [`crate::bond::flat_joint`]) break element by element. The store
+//! reports an interface as intact ([`BondStatus::Intact`] in its [`crate::bond::BondView`],
+//! counted by `Bonds::n_intact`) while any of its bonded elements holds, and as broken once
+//! the last one has broken (its cement is gone; it is then logged once, with that element's
+//! mode, and counted in `Bonds::broken_counts`), even while the interface still touches as a
+//! frictional contact. So here a flat joint joins its two discs into one fragment while it
+//! has cement, and a residual crack is an interface whose cement is all gone. An interface
+//! installed with every element slit (bonded fraction below 1) never had cement: the store
+//! reports it broken from the start, but it is no crack ([`cemented_at_install`]).
 
-use crate::bond::{BondStatus, Bonds};
+use crate::bond::flat_joint::FlatJointState;
+use crate::bond::{BondModel, BondStatus, Bonds};
 use crate::state::{State, FREE};
 use serde::{Deserialize, Serialize};
 
@@ -162,8 +173,30 @@ pub fn classify(frags: &[Fragment], surface_y: f64) -> ChipReport {
     r
 }
 
+/// Bonded elements of flat joint `k` (store position) at installation and now, `None` for
+/// other bonds. The installed set is recomputed as the store drew it
+/// ([`FlatJointState::installed`]: a hash of the bond id and the element index against the
+/// bonded fraction φ_B), so it is known without a record kept from the start.
+pub fn flat_joint_elements(b: &Bonds, k: usize) -> Option<(u32, u32)> {
+    let v = b.get(k);
+    let BondModel::FlatJoint(p) = b.groups()[v.group as usize].model else {
+        return None;
+    };
+    let now = b.flat_joint(k)?.bonded_count();
+    Some((FlatJointState::installed(&p, v.id).bonded_count(), now))
+}
+
+/// Whether bond `k` (store position) had cement when it was installed: every parallel and
+/// contact bond; a flat joint unless all its elements were slit (Potyondy 2012's slit
+/// elements, [`crate::bond::flat_joint::FlatJointParams::bonded_fraction`]).
+pub fn cemented_at_install(b: &Bonds, k: usize) -> bool {
+    flat_joint_elements(b, k).is_none_or(|(installed, _)| installed > 0)
+}
+
 /// Residual cracks: broken bonds whose two discs are both in the workpiece and whose contact
-/// point (current positions) lies below the nominal machined surface.
+/// point (current positions) lies below the nominal machined surface. A flat joint counts when
+/// its cement is all gone (the store's broken status), not when only some elements broke, and
+/// never when it was installed without cement (see the module docs).
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct ResidualCracks {
     pub count: usize,
@@ -196,7 +229,11 @@ pub fn residual_cracks(
     let mut depth_sum = 0.0;
     for k in 0..b.len() {
         let v = b.get(k);
-        if v.status == BondStatus::Intact || !in_work[v.i as usize] || !in_work[v.j as usize] {
+        if v.status == BondStatus::Intact
+            || !in_work[v.i as usize]
+            || !in_work[v.j as usize]
+            || !cemented_at_install(b, k)
+        {
             continue;
         }
         let [x, y] = b.centre(st, k);
@@ -326,5 +363,88 @@ mod tests {
             residual_cracks(&st, Some(&b), work, -1.0, -1.0, 2.0).count,
             0
         );
+    }
+
+    fn flat_joint_group(name: &str, bonded_fraction: f64) -> BondGroup {
+        BondGroup {
+            name: name.into(),
+            model: BondModel::FlatJoint(crate::bond::flat_joint::FlatJointParams {
+                kn: 1e12,
+                ks: 4e11,
+                lambda: 1.0,
+                elements: 2,
+                friction: 0.5,
+                bonded_fraction,
+            }),
+            ..group()
+        }
+    }
+
+    /// Flat joints (Potyondy 2012): a fully slit interface (bonded fraction 0) is reported
+    /// broken by the store from the start but is no crack and no broken bond, and does not
+    /// join its discs; a cemented interface pulled open breaks both its elements, is one
+    /// broken bond and one residual crack. Discs 0, 1 on y = 0, 2 above and 3 below them.
+    #[test]
+    fn flat_joints_count_as_broken_when_their_cement_is_gone() {
+        let mut st = State::default();
+        for (x, y) in [(0.0, 0.0), (1.0, 0.0), (0.5, 0.866), (0.5, -0.866)] {
+            st.discs.push_uniform(x, y, 0.5, 1000.0, 1.0, 0);
+        }
+        let mut b = Bonds::new(vec![
+            flat_joint_group("fj", 1.0),
+            flat_joint_group("slit", 0.0),
+        ])
+        .unwrap();
+        b.add(&st, 1, 2, 1).unwrap();
+        for (i, j) in [(0, 1), (0, 2), (0, 3), (1, 3)] {
+            b.add(&st, i, j, 0).unwrap();
+        }
+        assert_eq!(flat_joint_elements(&b, 0), Some((0, 0)));
+        assert!(!cemented_at_install(&b, 0));
+        assert_ne!(b.get(0).status, BondStatus::Intact);
+        for k in 1..5 {
+            assert_eq!(flat_joint_elements(&b, k), Some((2, 2)));
+            assert!(cemented_at_install(&b, k));
+        }
+        let f = fragments(&st, Some(&b));
+        assert_eq!(f.len(), 1);
+        assert_eq!(
+            residual_cracks(&st, Some(&b), &f[0], 2.0, -1.0, 2.0).count,
+            0
+        );
+        let bb = crate::lab::cutting::broken_bonds(&b);
+        assert_eq!(
+            (
+                bb[1].total,
+                bb[1].slit,
+                bb[1].elements_bonded,
+                bb[1].tension
+            ),
+            (0, Some(1), Some(0), 0)
+        );
+        assert_eq!((bb[0].total, bb[0].elements_bonded), (4, Some(8)));
+        // Disc 1 moved by Δ = 1.5e-4 m along x: the 0-1 interface opens evenly, k̄n Δ =
+        // 1.5e8 Pa ≥ σc = 1e8 on both elements, which break in tension; 1-3 opens by about
+        // 0.5 Δ (0.75e8 Pa) and holds, so all four discs stay one fragment through 3.
+        st.discs.x[1] += 1.5e-4;
+        b.compute(&mut st, 1.0);
+        assert_eq!(flat_joint_elements(&b, 1), Some((2, 0)));
+        assert_ne!(b.get(1).status, BondStatus::Intact);
+        for k in 2..5 {
+            assert_eq!(b.get(k).status, BondStatus::Intact, "bond {k}");
+        }
+        let f = fragments(&st, Some(&b));
+        assert_eq!(f.len(), 1);
+        // One crack, the 0-1 interface (contact point y = 0, depth 2), not the slit 1-2 one.
+        let c = residual_cracks(&st, Some(&b), &f[0], 2.0, -1.0, 2.0);
+        assert_eq!(c.count, 1);
+        assert!((c.deepest - 2.0).abs() < 1e-3, "{c:?}");
+        let bb = crate::lab::cutting::broken_bonds(&b);
+        assert_eq!((bb[0].tension, bb[0].shear, bb[0].total), (1, 0, 4));
+        assert_eq!(
+            (bb[0].elements_broken, bb[0].partly_broken, bb[0].slit),
+            (Some(2), Some(0), Some(0))
+        );
+        assert_eq!(bb[1].tension + bb[1].shear, 0);
     }
 }

@@ -446,6 +446,14 @@ impl SpecimenInfo {
 /// The model a specimen written by `dem specimen` was generated with: thickness and
 /// micro-parameters from `<stem>.summary.json`, density and the bond stiffness from
 /// `<stem>.scene.json` (r̄ = Ē_c / (2 k̄_n), so the bond stiffness is reproduced exactly).
+///
+/// The bond model: flat joints ([`LabModel::flat_joint`], Potyondy 2012) when the scene's
+/// bond groups are `flat_joint_potyondy2012` groups with one choice of elements, friction and
+/// bonded fraction (a scene edited to flat joints, or written from a flat-joint model);
+/// parallel bonds otherwise. `dem specimen` writes parallel bonds, and the summary has no
+/// bond model, so a specimen's own files say "parallel bonds" unless the scene was changed:
+/// `dem test cutting --flat-joint` puts its option on the model read here (the command line
+/// wins, `CuttingArgs::with_joints` in dem-cli).
 pub fn model_from_specimen(path: &Path) -> Result<LabModel, LabError> {
     let read = |p: &Path| -> Result<Value, LabError> {
         let text = std::fs::read_to_string(p).map_err(|source| LabError::Io {
@@ -481,8 +489,64 @@ pub fn model_from_specimen(path: &Path) -> Result<LabModel, LabError> {
         thickness: summary.thickness,
         r_mean: summary.micro.bond_modulus / (2.0 * bond_kn),
         micro: summary.micro,
-        flat_joint: None,
+        flat_joint: scene_flat_joint(&scene, &scene_path)?,
     })
+}
+
+/// The flat-joint choice of a scene's bond groups (`None`: none is a flat joint). Each
+/// flat-joint group is read as the scene loader reads it (defaults, ranges); the model has one choice for both
+/// groups, so groups of flat joints that differ in elements, friction or bonded fraction, or
+/// flat joints beside other bonds, are an error naming the scene's `bond_groups`.
+fn scene_flat_joint(
+    scene: &Value,
+    file: &Path,
+) -> Result<Option<super::model::FlatJointOption>, LabError> {
+    use crate::bond::BondModel;
+    let name = file.display().to_string();
+    let err = |reason: String| LabError::Param {
+        field: format!("{name}: bond_groups"),
+        reason,
+    };
+    let ck = crate::scene::check::Ck { file: name.clone() };
+    let groups = scene["bond_groups"].as_array().cloned().unwrap_or_default();
+    let mut found: Vec<Option<super::model::FlatJointOption>> = Vec::new();
+    for (k, g) in groups.into_iter().enumerate() {
+        if g["model"] != "flat_joint_potyondy2012" {
+            // (Other bonds are not read: the scene as the specimen wrote it.)
+            found.push(None);
+            continue;
+        }
+        let spec: crate::scene::schema::BondGroupSpec =
+            serde_json::from_value(g).map_err(|e| err(format!("[{k}]: {e}")))?;
+        let group = crate::scene::bondspec::bond_group(&ck, k, &spec)?;
+        found.push(match group.model {
+            BondModel::FlatJoint(p) => Some(super::model::FlatJointOption {
+                elements: p.elements,
+                friction: p.friction,
+                bonded_fraction: p.bonded_fraction,
+            }),
+            _ => None,
+        });
+    }
+    match found.split_first() {
+        None => Ok(None),
+        Some((first, rest)) if rest.iter().all(|o| o == first) => Ok(*first),
+        Some(_) => Err(err(format!(
+            "the groups' bond models differ ({}); the cutting test's model has one choice \
+             (parallel bonds, or flat joints of one kind) for all of them",
+            found
+                .iter()
+                .map(|o| match o {
+                    None => "parallel or contact".to_string(),
+                    Some(f) => format!(
+                        "flat joint N {} μ {} φ_B {}",
+                        f.elements, f.friction, f.bonded_fraction
+                    ),
+                })
+                .collect::<Vec<_>>()
+                .join(", ")
+        ))),
+    }
 }
 
 /// The cutting scene (plain `dem.scene/1` JSON): the model's materials (disc material renamed
@@ -640,13 +704,82 @@ impl ForceHistory {
 }
 
 /// Broken bonds of one group.
+///
+/// With flat joints (Potyondy 2012; [`LabModel::flat_joint`]) a bond is an interface of N
+/// elements that break one by one. `tension` and `shear` are then, as the store counts them
+/// (`Bonds::broken_counts`), the interfaces whose last bonded element broke (their cement is
+/// all gone), by that element's mode: an interface with some cement left is not broken (it
+/// still joins its discs, see [`chips`]). `total` counts the interfaces that had cement at
+/// installation: one installed with every element slit (bonded fraction φ_B < 1) can never
+/// break and is counted in `slit` instead. The element-level figures are beside them.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct BrokenBonds {
     pub group: String,
     pub tension: u64,
     pub shear: u64,
-    /// Bonds of the group at the start.
+    /// Bonds of the group at the start (with flat joints: those with cement, see above;
+    /// bonds that went with deleted fragments included).
     pub total: usize,
+    /// Flat joints only (absent for parallel bonds): interfaces installed with every element
+    /// slit, never cemented (not in `total`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub slit: Option<usize>,
+    /// Flat joints only: interfaces that lost some but not all of their bonded elements (not
+    /// broken: cement left).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub partly_broken: Option<usize>,
+    /// Flat joints only: bonded elements broken over the run, those of broken interfaces
+    /// included (of `elements_bonded` at installation).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub elements_broken: Option<u64>,
+    /// Flat joints only: bonded elements at installation.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub elements_bonded: Option<u64>,
+}
+
+/// [`BrokenBonds`] of every group of `b` (see there for flat joints; the element figures of
+/// interfaces that went with deleted fragments are not known and left out).
+pub fn broken_bonds(b: &crate::bond::Bonds) -> Vec<BrokenBonds> {
+    let groups = b.groups();
+    let mut total = vec![0usize; groups.len()];
+    // Flat-joint groups: [slit, partly broken, elements broken, elements bonded].
+    let mut fj: Vec<Option<[u64; 4]>> = groups
+        .iter()
+        .map(|g| matches!(g.model, crate::bond::BondModel::FlatJoint(_)).then_some([0; 4]))
+        .collect();
+    for k in 0..b.len() {
+        let g = b.get(k).group as usize;
+        match (chips::flat_joint_elements(b, k), fj[g].as_mut()) {
+            (Some((0, _)), Some(c)) => c[0] += 1,
+            (Some((installed, now)), Some(c)) => {
+                total[g] += 1;
+                c[1] += u64::from(now > 0 && now < installed);
+                c[2] += u64::from(installed - now);
+                c[3] += u64::from(installed);
+            }
+            _ => total[g] += 1,
+        }
+    }
+    // (Bonds that went with deleted fragments, see `CuttingTest::delete_fragments`.)
+    for (t, d) in total.iter_mut().zip(b.dropped_counts()) {
+        *t += d as usize;
+    }
+    groups
+        .iter()
+        .zip(b.broken_counts())
+        .zip(total)
+        .zip(fj)
+        .map(|(((grp, c), n), f)| BrokenBonds {
+            group: grp.name.clone(),
+            tension: c[0],
+            shear: c[1],
+            total: n,
+            slit: f.map(|f| f[0] as usize),
+            partly_broken: f.map(|f| f[1] as usize),
+            elements_broken: f.map(|f| f[2]),
+            elements_bonded: f.map(|f| f[3]),
+        })
+        .collect()
 }
 
 /// How the run went (filled from the history and the world; wall time by [`run`]).
@@ -798,25 +931,7 @@ pub fn analyze(
             y0,
         )
     });
-    let mut broken_bonds = Vec::new();
-    if let Some(b) = bonds {
-        let mut total = vec![0usize; b.groups().len()];
-        for v in b.iter() {
-            total[v.group as usize] += 1;
-        }
-        // (Bonds that went with deleted fragments, see `CuttingTest::delete_fragments`.)
-        for (t, d) in total.iter_mut().zip(b.dropped_counts()) {
-            *t += d as usize;
-        }
-        for ((grp, c), n) in b.groups().iter().zip(b.broken_counts()).zip(total) {
-            broken_bonds.push(BrokenBonds {
-                group: grp.name.clone(),
-                tension: c[0],
-                shear: c[1],
-                total: n,
-            });
-        }
-    }
+    let broken_bonds = bonds.map(broken_bonds).unwrap_or_default();
     let broken_total = broken_bonds.iter().map(|b| b.tension + b.shear).sum();
     let bal = history
         .column("balance_error", history_file)
@@ -1190,7 +1305,8 @@ impl CutGeometry {
 
 #[cfg(test)]
 mod tests {
-    use super::{check_geometry, CuttingTest};
+    use super::{check_geometry, model_from_specimen, CuttingTest};
+    use crate::lab::model::FlatJointOption;
     use crate::lab::LabError;
 
     fn field(r: Result<(), LabError>) -> Option<(String, String)> {
@@ -1248,5 +1364,70 @@ mod tests {
             };
             assert_eq!(field(t.validate()).unwrap().0, "mass_scaling", "{bad}");
         }
+    }
+
+    /// The model read back from a specimen's files keeps a flat joint its scene names (both
+    /// groups alike), is parallel bonds for the scene `dem specimen` writes, and refuses
+    /// groups of different bond models by the scene's `bond_groups`.
+    #[test]
+    fn a_specimens_model_keeps_the_flat_joints_of_its_scene() {
+        use crate::specimen::{self, Method, SpecimenParams};
+        // The small specimen of dem-cli's cutting tests (3 × 1.5 mm, Si3N4, seed 2).
+        let dir = std::env::temp_dir().join(format!("dem-fj-model-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        let p = SpecimenParams::new(
+            Method::Traditional,
+            3e-3,
+            1.5e-3,
+            0.1e-3,
+            0.16e-3,
+            3200.0,
+            310e9,
+            800e6,
+            2,
+        );
+        let s = specimen::generate(&p, &mut |_| {}).unwrap();
+        let path = dir.join("s.json");
+        specimen::io::save(&s, "si3n4", &path).unwrap();
+        let mut scene = specimen::io::example_scene(&s, "si3n4", "s.json", 10);
+        let write = |v: &serde_json::Value| {
+            std::fs::write(dir.join("s.scene.json"), v.to_string()).unwrap();
+        };
+        write(&scene);
+        let pb = model_from_specimen(&path).unwrap();
+        assert_eq!(pb.flat_joint, None);
+        assert!(!serde_json::to_string(&pb).unwrap().contains("flat_joint"));
+        let fj = FlatJointOption {
+            elements: 3,
+            friction: 0.4,
+            bonded_fraction: 0.75,
+        };
+        let with = crate::lab::LabModel {
+            flat_joint: Some(fj),
+            ..pb.clone()
+        };
+        scene["bond_groups"] = with.bond_groups();
+        write(&scene);
+        let back = model_from_specimen(&path).unwrap();
+        assert_eq!(back.flat_joint, Some(fj));
+        assert_eq!(back, with);
+        // One group a flat joint, the other a parallel bond: refused, naming the groups.
+        scene["bond_groups"][1] = pb.bond_groups()[1].clone();
+        write(&scene);
+        match model_from_specimen(&path) {
+            Err(LabError::Param { field, reason }) => {
+                assert!(field.ends_with("bond_groups"), "{field}");
+                assert!(reason.contains("flat joint N 3"), "{reason}");
+            }
+            other => panic!("{other:?}"),
+        }
+        // A flat-joint group the scene loader refuses is refused here too (by its field).
+        scene["bond_groups"] = with.bond_groups();
+        scene["bond_groups"][0]["elements"] = serde_json::json!(9);
+        write(&scene);
+        let e = model_from_specimen(&path).unwrap_err().to_string();
+        assert!(e.contains("elements"), "{e}");
+        let _ = std::fs::remove_dir_all(&dir);
     }
 }

@@ -49,6 +49,33 @@ fn one() -> f64 {
     1.0
 }
 
+impl FlatJointOption {
+    /// Checks the option against the flat joint's limits (Potyondy 2012 as built here,
+    /// [`crate::bond::flat_joint::FlatJointParams::validate`]): 1–8 elements, a finite friction
+    /// coefficient ≥ 0, a bonded fraction in [0, 1]. The error is the field at fault
+    /// (`elements`, `friction` or `bonded_fraction`) and why, so a caller names it as its
+    /// user gave it (a command-line flag, or a `flat_joint` record of a model file).
+    pub fn check(&self) -> Result<(), (&'static str, String)> {
+        let max = crate::bond::flat_joint::MAX_ELEMENTS;
+        if self.elements == 0 || self.elements as usize > max {
+            return Err(("elements", format!("{}: must be 1 to {max}", self.elements)));
+        }
+        if !(self.friction >= 0.0 && self.friction.is_finite()) {
+            return Err((
+                "friction",
+                format!("{}: must be a finite number >= 0", self.friction),
+            ));
+        }
+        if !(0.0..=1.0).contains(&self.bonded_fraction) {
+            return Err((
+                "bonded_fraction",
+                format!("{}: must lie in [0, 1]", self.bonded_fraction),
+            ));
+        }
+        Ok(())
+    }
+}
+
 fn is_one(v: &f64) -> bool {
     *v == 1.0
 }
@@ -228,6 +255,51 @@ mod tests {
         }
         let back: LabModel = serde_json::from_str(&serde_json::to_string(&m).unwrap()).unwrap();
         assert_eq!(back, m);
+    }
+
+    /// The option's check names the field at fault and lets the limits through.
+    #[test]
+    fn flat_joint_option_is_checked_by_field() {
+        let ok = FlatJointOption {
+            elements: 8,
+            friction: 0.0,
+            bonded_fraction: 0.0,
+        };
+        assert_eq!(ok.check(), Ok(()));
+        for (bad, field) in [
+            (FlatJointOption { elements: 0, ..ok }, "elements"),
+            (FlatJointOption { elements: 9, ..ok }, "elements"),
+            (
+                FlatJointOption {
+                    friction: -0.1,
+                    ..ok
+                },
+                "friction",
+            ),
+            (
+                FlatJointOption {
+                    friction: f64::INFINITY,
+                    ..ok
+                },
+                "friction",
+            ),
+            (
+                FlatJointOption {
+                    bonded_fraction: 1.5,
+                    ..ok
+                },
+                "bonded_fraction",
+            ),
+            (
+                FlatJointOption {
+                    bonded_fraction: f64::NAN,
+                    ..ok
+                },
+                "bonded_fraction",
+            ),
+        ] {
+            assert_eq!(bad.check().unwrap_err().0, field, "{bad:?}");
+        }
     }
 
     #[test]
