@@ -209,11 +209,7 @@ pub fn run(a: CalibrateArgs) -> Result<ExitCode, String> {
             let mut all = Vec::new();
             for (k, (spec, &seed)) in specs.iter().zip(&seeds).enumerate() {
                 let t = SenbTest {
-                    name: if k == 0 {
-                        t.name.clone()
-                    } else {
-                        format!("{}-seed{seed}", t.name)
-                    },
+                    name: virtual_lab::test_name(&t.name, k, seed),
                     ..t.clone()
                 };
                 let o = lab::senb::run(&t, &c.model, spec, &mut |_, _| {})

@@ -140,14 +140,17 @@ fn bad_arguments_name_the_flag_or_field() {
     let o = ucs(out, &["--method", "orc", "--irregular-count", "3"]);
     assert_eq!(o.status.code(), Some(2));
     assert!(text(&o).contains("need --irregular few"), "{}", text(&o));
-    // dem calibrate --senb: two lengths, a beam longer than its span 4W; refused before any
-    // specimen is generated.
-    for (senb, want) in [
-        ("10mm", "--senb \"10mm\": give 2 lengths"),
+    // dem calibrate --senb: two lengths, a beam longer than its span 4W; the κ search's lower
+    // bound positive and below its upper bound; refused before any specimen is generated.
+    for (flag, value, want) in [
+        ("--senb", "10mm", "--senb \"10mm\": give 2 lengths"),
         (
+            "--senb",
             "10mm,2.8mm",
             "--senb 10mm,2.8mm: senb.length: 0.01 m must exceed the span",
         ),
+        ("--kappa-min", "0", "--kappa-min 0: must be positive"),
+        ("--kappa-min", "9", "--kappa-min 9: must be positive"),
     ] {
         let o = dem(&[
             "calibrate",
@@ -157,35 +160,13 @@ fn bad_arguments_name_the_flag_or_field() {
             "0.16mm",
             "--material",
             &m,
-            "--senb",
-            senb,
+            flag,
+            value,
             "--out",
             out,
         ]);
         assert_eq!(o.status.code(), Some(2), "{}", text(&o));
         assert!(text(&o).contains(want), "{}", text(&o));
-    }
-    // The κ search's lower bound must be positive and below its upper bound.
-    for k in ["0", "9"] {
-        let o = dem(&[
-            "calibrate",
-            "--r-min",
-            "0.1mm",
-            "--r-max",
-            "0.16mm",
-            "--material",
-            &m,
-            "--kappa-min",
-            k,
-            "--out",
-            out,
-        ]);
-        assert_eq!(o.status.code(), Some(2), "{}", text(&o));
-        assert!(
-            text(&o).contains(&format!("--kappa-min {k}: must be positive")),
-            "{}",
-            text(&o)
-        );
     }
     assert!(!dir.join("ucs-specimen.json").exists());
 }

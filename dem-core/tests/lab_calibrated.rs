@@ -18,11 +18,9 @@ use dem_core::lab::virtual_lab::VirtualLab;
 use dem_core::lab::LabModel;
 use dem_core::specimen::{Method, SpecimenParams};
 
-#[test]
-fn calibrated_specimen_gives_the_targets() {
-    let dir = std::env::temp_dir().join(format!("dem-lab-calibrated-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    let p = SpecimenParams::new(
+/// The coarse traditional SiC specimen of these tests (radii 0.4–0.6 mm, 10 × 20 mm).
+fn coarse(seed: u64) -> SpecimenParams {
+    SpecimenParams::new(
         Method::Traditional,
         10e-3,
         20e-3,
@@ -31,8 +29,15 @@ fn calibrated_specimen_gives_the_targets() {
         3100.0,
         430e9,
         214e6,
-        1,
-    );
+        seed,
+    )
+}
+
+#[test]
+fn calibrated_specimen_gives_the_targets() {
+    let dir = std::env::temp_dir().join(format!("dem-lab-calibrated-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let p = coarse(1);
     let mut lab = VirtualLab::prepare(
         &p,
         &dir,
@@ -102,17 +107,7 @@ fn two_seeds_are_two_specimens_and_the_lab_returns_their_mean() {
     use dem_core::lab::calibrate::Lab;
     let dir = std::env::temp_dir().join(format!("dem-lab-seeds-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
-    let p = SpecimenParams::new(
-        Method::Traditional,
-        10e-3,
-        20e-3,
-        0.4e-3,
-        0.6e-3,
-        3100.0,
-        430e9,
-        214e6,
-        4,
-    );
+    let p = coarse(4);
     let mut lab = VirtualLab::prepare(
         &p,
         &dir,

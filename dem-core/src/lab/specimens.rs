@@ -532,6 +532,7 @@ mod tests {
             214e6,
             1,
         );
+        let default_steps = p.max_stage_steps;
         p.max_stage_steps = 3; // no stage reaches equilibrium in 3 steps
         let shape = Shape::Rectangle {
             width: 2e-3,
@@ -552,18 +553,7 @@ mod tests {
         assert!(again.contains(&first), "{again} / {first}");
         assert!(t0.elapsed().as_secs_f64() < 1.0);
         // Other inputs are another specimen: generated, and the record of the failure goes.
-        p.max_stage_steps = SpecimenParams::new(
-            crate::specimen::Method::Traditional,
-            2e-3,
-            2e-3,
-            0.1e-3,
-            0.15e-3,
-            3100.0,
-            430e9,
-            214e6,
-            1,
-        )
-        .max_stage_steps;
+        p.max_stage_steps = default_steps;
         let ok = prepare(&p, shape, &file, &mut |_| {}).unwrap();
         assert!(ok.discs > 0 && !ok.reused);
         assert!(!fp.exists());

@@ -14,6 +14,7 @@ use super::analysis::UcsResult;
 use super::bending::{self, BendingTest};
 use super::brazilian::{self, BrazilianTest};
 use super::calibrate::Lab;
+use super::common::Outcome;
 use super::specimens::{prepare, Shape, TestSpecimen};
 use super::ucs::{self, UcsTest};
 use super::{LabError, LabModel};
@@ -59,7 +60,7 @@ fn specimen_name(name: &str, k: usize, seed: u64) -> String {
 }
 
 /// The test name of the `k`-th seed (`ucs`, `ucs-seed2`, …).
-fn test_name(name: &str, k: usize, seed: u64) -> String {
+pub fn test_name(name: &str, k: usize, seed: u64) -> String {
     if k == 0 {
         name.to_string()
     } else {
@@ -200,19 +201,41 @@ fn mean(v: &[f64]) -> f64 {
     v.iter().sum::<f64>() / v.len() as f64
 }
 
+/// Runs one test on each of its seeds' specimens with `run`, counting the runs and their wall
+/// time; the per-seed results in seed order.
+fn run_each<T, R>(
+    tests: &[T],
+    specimens: &[TestSpecimen],
+    runs: &mut usize,
+    wall_time_s: &mut f64,
+    run: impl Fn(&T, &TestSpecimen) -> Result<Outcome<T, R>, LabError>,
+) -> Result<Vec<R>, LabError> {
+    let mut all = Vec::new();
+    for (t, s) in tests.iter().zip(specimens) {
+        let o = run(t, s)?;
+        *runs += 1;
+        *wall_time_s += o.run.wall_time_s;
+        all.push(o.result);
+    }
+    Ok(all)
+}
+
 impl Lab for VirtualLab {
     fn ucs(&mut self, model: &LabModel) -> Result<UcsResult, LabError> {
-        let mut all = Vec::new();
-        for (t, s) in self.ucs.iter().zip(&self.ucs_specimen) {
-            let o = ucs::run(t, model, s, &mut |_, _| {})?;
-            self.runs += 1;
-            self.wall_time_s += o.run.wall_time_s;
-            all.push(UcsResult {
-                young: o.result.young,
-                poisson: o.result.poisson,
-                ucs: o.result.ucs,
-            });
-        }
+        let all: Vec<UcsResult> = run_each(
+            &self.ucs,
+            &self.ucs_specimen,
+            &mut self.runs,
+            &mut self.wall_time_s,
+            |t, s| ucs::run(t, model, s, &mut |_, _| {}),
+        )?
+        .into_iter()
+        .map(|r| UcsResult {
+            young: r.young,
+            poisson: r.poisson,
+            ucs: r.ucs,
+        })
+        .collect();
         let m = |f: fn(&UcsResult) -> f64| mean(&all.iter().map(f).collect::<Vec<_>>());
         let r = UcsResult {
             young: m(|r| r.young),
@@ -224,26 +247,32 @@ impl Lab for VirtualLab {
     }
 
     fn bending(&mut self, model: &LabModel) -> Result<f64, LabError> {
-        let mut all = Vec::new();
-        for (t, s) in self.bending.iter().zip(&self.bending_specimen) {
-            let o = bending::run(t, model, s, &mut |_, _| {})?;
-            self.runs += 1;
-            self.wall_time_s += o.run.wall_time_s;
-            all.push(o.result.flexural_strength);
-        }
+        let all: Vec<f64> = run_each(
+            &self.bending,
+            &self.bending_specimen,
+            &mut self.runs,
+            &mut self.wall_time_s,
+            |t, s| bending::run(t, model, s, &mut |_, _| {}),
+        )?
+        .into_iter()
+        .map(|r| r.flexural_strength)
+        .collect();
         let r = mean(&all);
         self.last.bending = all;
         Ok(r)
     }
 
     fn brazilian(&mut self, model: &LabModel) -> Result<f64, LabError> {
-        let mut all = Vec::new();
-        for (t, s) in self.brazilian.iter().zip(&self.brazilian_specimen) {
-            let o = brazilian::run(t, model, s, &mut |_, _| {})?;
-            self.runs += 1;
-            self.wall_time_s += o.run.wall_time_s;
-            all.push(o.result.tensile_strength);
-        }
+        let all: Vec<f64> = run_each(
+            &self.brazilian,
+            &self.brazilian_specimen,
+            &mut self.runs,
+            &mut self.wall_time_s,
+            |t, s| brazilian::run(t, model, s, &mut |_, _| {}),
+        )?
+        .into_iter()
+        .map(|r| r.tensile_strength)
+        .collect();
         let r = mean(&all);
         self.last.brazilian = all;
         Ok(r)
