@@ -8,6 +8,7 @@ use crate::lab_args::{progress_bar, LabArgs};
 use clap::Args;
 use dem_core::lab;
 use dem_core::lab::bending::BendingTest;
+use dem_core::lab::biaxial::BiaxialTest;
 use dem_core::lab::brazilian::BrazilianTest;
 use dem_core::lab::calibrate::{self, MaterialFile, Options};
 use dem_core::lab::senb::SenbTest;
@@ -53,6 +54,12 @@ pub struct CalibrateArgs {
     /// the SENB fails, the calibration is still written, the table says why, exit code 2.
     #[arg(long)]
     pub senb: Option<String>,
+    /// After calibrating, run biaxial tests (`dem test biaxial`) with the calibrated model on
+    /// the UCS specimens at these confinements σ3 with unit, e.g. `0MPa,100MPa,200MPa`; the
+    /// table gets the friction angle φ, the cohesion c (Mohr–Coulomb over all seeds' peaks)
+    /// and UCS/σ_t. If a biaxial run fails, the calibration is still written, exit code 2.
+    #[arg(long, value_delimiter = ',')]
+    pub biaxial: Vec<String>,
     /// Specimens per test: seeds --seed, --seed + 1, …; every test's value is the mean over
     /// them, and the table states each property's mean ± SE and range (a seed whose specimen
     /// fails to generate is replaced by the next one, with a warning).
@@ -135,6 +142,19 @@ pub fn run(a: CalibrateArgs) -> Result<ExitCode, String> {
         }
         None => None,
     };
+    let confinements = crate::test::parse_confinements(&a.biaxial, "--biaxial")?;
+    if confinements.len() == 1 {
+        return Err(format!(
+            "--biaxial {}: give two or more confinements (a friction angle needs two)",
+            a.biaxial[0]
+        ));
+    }
+    let biaxial = BiaxialTest {
+        name: "biaxial".into(),
+        width: ucs.width,
+        height: ucs.height,
+        ..BiaxialTest::default()
+    };
     let start = a.lab.lab_model(&p)?;
     let opts = Options {
         rel_tol: a.tol,
@@ -160,6 +180,13 @@ pub fn run(a: CalibrateArgs) -> Result<ExitCode, String> {
         &senb,
         (a.seeds, a.passes),
     ))
+    .map(|mut v| {
+        // Only a calibration with biaxial tests adds them to its key.
+        if let (false, Some(a)) = (confinements.is_empty(), v.as_array_mut()) {
+            a.push(serde_json::json!(confinements));
+        }
+        v
+    })
     .map_err(|e| e.to_string())?;
     let (_lock, notes) = crate::run_lock::acquire(
         &out,
@@ -176,7 +203,7 @@ pub fn run(a: CalibrateArgs) -> Result<ExitCode, String> {
     let bar = progress_bar();
     bar.set_prefix("calibrate");
     let pool = a.lab.pool()?;
-    let (cal, measured, runs, lab_time, seeds, last) = pool.install(|| {
+    let (cal, measured, confined, runs, lab_time, seeds, last) = pool.install(|| {
         let mut log = |l: &str| {
             bar.println(l);
             bar.set_message(l.to_string());
@@ -218,7 +245,30 @@ pub fn run(a: CalibrateArgs) -> Result<ExitCode, String> {
             }
             Ok::<_, String>((all, seeds))
         });
-        Ok::<_, String>((c, measured, lab.runs, lab.wall_time_s, lab.seeds, lab.last))
+        // The biaxial tests, after the calibration too, on the UCS specimens.
+        let confined = (!confinements.is_empty()).then(|| {
+            log("biaxial: friction angle with the calibrated model");
+            let mut all = Vec::new();
+            for (k, (spec, &seed)) in lab.ucs_specimen.iter().zip(&lab.seeds[0]).enumerate() {
+                let t = BiaxialTest {
+                    name: virtual_lab::test_name(&biaxial.name, k, seed),
+                    ..biaxial.clone()
+                };
+                let s = lab::biaxial::run_series(&t, &confinements, &c.model, spec, &mut |_, _| {})
+                    .map_err(|e| format!("seed {seed}: {e}"))?;
+                all.push(s);
+            }
+            Ok::<_, String>(all)
+        });
+        Ok::<_, String>((
+            c,
+            measured,
+            confined,
+            lab.runs,
+            lab.wall_time_s,
+            lab.seeds,
+            lab.last,
+        ))
     })?;
     bar.finish_and_clear();
     let mut table = calibrate::table(&mat, p.method.name(), &cal);
@@ -235,6 +285,46 @@ pub fn run(a: CalibrateArgs) -> Result<ExitCode, String> {
         }
         None => None,
     };
+    let mut biaxial_failed = None;
+    match confined {
+        Some(Ok(all)) => {
+            let pts: Vec<(f64, f64)> = (all.iter().flat_map(|s| &s.results))
+                .map(|r| (r.sigma3, r.sigma1))
+                .collect();
+            match lab::analysis::mohr_coulomb(&pts) {
+                Some(fit) => {
+                    table.add_biaxial(&fit, &confinements);
+                    if all.len() > 1 {
+                        let phi: Vec<f64> = (all.iter())
+                            .map(|s| s.mohr_coulomb.map_or(f64::NAN, |m| m.friction_angle_deg))
+                            .collect();
+                        if phi.iter().all(|x| x.is_finite()) {
+                            table.notes.push(calibrate::seed_scatter(
+                                "friction angle φ (each seed's own fit)",
+                                "°",
+                                1.0,
+                                &seeds[0],
+                                &phi,
+                            ));
+                        }
+                    }
+                }
+                None => {
+                    let e =
+                        "the peak strength does not rise with the confinement: no friction angle";
+                    table.notes.push(format!("biaxial: {e}"));
+                    biaxial_failed = Some(e.to_string());
+                }
+            }
+        }
+        Some(Err(e)) => {
+            table
+                .notes
+                .push(format!("friction angle not measured: {e}"));
+            biaxial_failed = Some(e);
+        }
+        None => {}
+    }
     if a.seeds > 1 {
         let [s_ucs, s_bend, s_braz] = &seeds;
         let ucs_of = |f: fn(&dem_core::lab::analysis::UcsResult) -> f64| -> Vec<f64> {
@@ -287,8 +377,13 @@ pub fn run(a: CalibrateArgs) -> Result<ExitCode, String> {
     for f in files {
         println!("wrote {}", f.display());
     }
-    if let Some(e) = senb_failed {
+    if let Some(e) = &biaxial_failed {
+        eprintln!("error: --biaxial: {e}; the calibration is written without the friction angle");
+    }
+    if let Some(e) = &senb_failed {
         eprintln!("error: --senb: {e}; the calibration is written without the K_IC (SENB) row");
+    }
+    if senb_failed.is_some() || biaxial_failed.is_some() {
         return Ok(ExitCode::from(2));
     }
     Ok(ExitCode::SUCCESS)

@@ -1,4 +1,4 @@
-//! `dem test ucs|brazilian|bending|senb`: virtual lab tests on a specimen generated (or reused) with
+//! `dem test ucs|biaxial|brazilian|bending|senb`: virtual lab tests on a specimen generated (or reused) with
 //! the same parameters as `dem specimen`, each written as a plain scene file that `dem run` can
 //! re-run, then run and analysed (`docs/lab-tests.md`).
 //!
@@ -10,6 +10,7 @@ use crate::lab_args::{progress_bar, strict_cover, LabArgs};
 use crate::specimen::{parse_length, print_cover};
 use clap::{Args, Subcommand};
 use dem_core::lab::bending::BendingTest;
+use dem_core::lab::biaxial::BiaxialTest;
 use dem_core::lab::brazilian::BrazilianTest;
 use dem_core::lab::senb::SenbTest;
 use dem_core::lab::specimens::{self, Shape, TestSpecimen};
@@ -25,6 +26,9 @@ use std::process::ExitCode;
 pub enum TestKind {
     /// Uniaxial compression between two platens: E, ν (10–50 % pre-peak band) and UCS.
     Ucs(UcsArgs),
+    /// Biaxial (confined) compression at one or more confinements held by servo side walls:
+    /// peak σ1 at each σ3, friction angle and cohesion (Mohr–Coulomb).
+    Biaxial(BiaxialArgs),
     /// Brazilian disc between two platens: σ_t = 2F/(πDt).
     Brazilian(BrazilianArgs),
     /// Three-point bending of a beam: σ_f = 3FL/(2bh²) and the elastic stiffness.
@@ -67,6 +71,26 @@ pub struct UcsArgs {
     pub height: String,
     /// Platen speed (each platen) with unit, e.g. `0.05m/s`; default from the quasi-static
     /// rule (docs/lab-tests.md).
+    #[arg(long)]
+    pub speed: Option<String>,
+}
+
+/// `dem test biaxial` flags.
+#[derive(Args)]
+pub struct BiaxialArgs {
+    #[command(flatten)]
+    pub lab: LabArgs,
+    /// Specimen width with unit.
+    #[arg(long, default_value = "10mm")]
+    pub width: String,
+    /// Specimen height with unit (2:1 tall by default).
+    #[arg(long, default_value = "20mm")]
+    pub height: String,
+    /// Confining stresses σ3 with unit, comma-separated, one run each on the same specimen
+    /// (e.g. `0MPa,100MPa,200MPa`); two or more give φ and c.
+    #[arg(long, value_delimiter = ',', required = true)]
+    pub confining: Vec<String>,
+    /// Platen speed (each platen) with unit; default from the quasi-static rule.
     #[arg(long)]
     pub speed: Option<String>,
 }
@@ -128,11 +152,26 @@ pub struct SenbArgs {
 pub fn run(kind: TestKind) -> Result<ExitCode, String> {
     match kind {
         TestKind::Ucs(a) => ucs(a),
+        TestKind::Biaxial(a) => biaxial(a),
         TestKind::Brazilian(a) => brazilian(a),
         TestKind::Bending(a) => bending(a),
         TestKind::Senb(a) => senb(a),
         TestKind::Cutting(a) => crate::test_cutting::run(a),
     }
+}
+
+/// Confining stresses with unit (`0MPa`, `100MPa`, …; zero allowed) → Pa.
+pub fn parse_confinements(list: &[String], flag: &str) -> Result<Vec<f64>, String> {
+    list.iter()
+        .map(|s| {
+            let num = s.trim().trim_end_matches(|c: char| c.is_alphabetic());
+            if num.parse::<f64>() == Ok(0.0) {
+                return Ok(0.0);
+            }
+            crate::specimen::parse_stress(s, flag)
+                .map_err(|e| format!("{e} (a confinement is ≥ 0, compression positive)"))
+        })
+        .collect()
 }
 
 /// `0.05m/s`, `50mm/s` (or without `/s`) → m/s.
@@ -300,6 +339,76 @@ fn ucs(a: UcsArgs) -> Result<ExitCode, String> {
         r.platen_speed, r.strain_rate, r.quasi_static_ratio
     );
     print_run(&o.run, &a.lab.out.join("ucs.result.json"));
+    Ok(ExitCode::SUCCESS)
+}
+
+fn biaxial(a: BiaxialArgs) -> Result<ExitCode, String> {
+    let w = parse_length(&a.width, "--width")?;
+    let h = parse_length(&a.height, "--height")?;
+    let confinements = parse_confinements(&a.confining, "--confining")?;
+    let p = a.lab.specimen_params(w, h)?;
+    let model = a.lab.lab_model(&p)?;
+    let test = BiaxialTest {
+        width: w,
+        height: h,
+        loading: loading(&a.lab, &a.speed, BiaxialTest::default().loading)?,
+        ..BiaxialTest::default()
+    };
+    test.validate().map_err(|e| e.to_string())?;
+    test.check_geometry([w, h], nominal_r_mean(&p))
+        .map_err(|e| {
+            flag_message(
+                e,
+                &[
+                    ("biaxial.width", "--width", &a.width),
+                    ("biaxial.height", "--height", &a.height),
+                ],
+            )
+        })?;
+    let (spec, s) = with_specimen(
+        &a.lab,
+        &p,
+        test.shape(),
+        ("biaxial", inputs(&p, &model, &(&test, &confinements))?),
+        |spec, pr| {
+            strict_cover(&a.lab, spec)?;
+            lab::biaxial::run_series(&test, &confinements, &model, spec, pr)
+        },
+    )?;
+    print_cover(&spec.file, &spec.below_cover);
+    for (k, r) in s.results.iter().enumerate() {
+        println!(
+            "biaxial-{k}: σ3 = {:.1} MPa (asked {:.1}, held within {:.1} %), peak σ1 = {:.1} MPa, deviator {:.1} MPa, E = {:.2} GPa, ν = {:.3}, {:.1} transit times to peak",
+            r.sigma3 * 1e-6,
+            r.confining * 1e-6,
+            100.0 * r.confining_error,
+            r.sigma1 * 1e-6,
+            r.deviator * 1e-6,
+            r.young * 1e-9,
+            r.poisson,
+            r.quasi_static_ratio
+        );
+    }
+    match &s.mohr_coulomb {
+        Some(m) => println!(
+            "Mohr–Coulomb: φ = {:.1}°, c = {:.1} MPa (σ1 = {:.1} MPa + {:.3} σ3, R² {:.4})",
+            m.friction_angle_deg,
+            m.cohesion * 1e-6,
+            m.intercept * 1e-6,
+            m.slope,
+            m.r2
+        ),
+        None if s.results.len() < 2 => {
+            println!("Mohr–Coulomb: give two or more confinements for φ and c")
+        }
+        None => println!("Mohr–Coulomb: no envelope (the strength does not rise with σ3)"),
+    }
+    println!(
+        "runs: {} steps, {:.1} s; result: {}",
+        s.steps,
+        s.wall_time_s,
+        a.lab.out.join("biaxial.result.json").display()
+    );
     Ok(ExitCode::SUCCESS)
 }
 

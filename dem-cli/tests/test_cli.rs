@@ -151,6 +151,12 @@ fn bad_arguments_name_the_flag_or_field() {
         ),
         ("--kappa-min", "0", "--kappa-min 0: must be positive"),
         ("--kappa-min", "9", "--kappa-min 9: must be positive"),
+        (
+            "--biaxial",
+            "100MPa",
+            "--biaxial 100MPa: give two or more confinements",
+        ),
+        ("--biaxial", "0MPa,-5MPa", "--biaxial"),
     ] {
         let o = dem(&[
             "calibrate",
@@ -168,7 +174,75 @@ fn bad_arguments_name_the_flag_or_field() {
         assert_eq!(o.status.code(), Some(2), "{}", text(&o));
         assert!(text(&o).contains(want), "{}", text(&o));
     }
+    // dem test biaxial: confinements ≥ 0 with a unit.
+    for (value, want) in [("-5MPa", "a confinement is ≥ 0"), ("100", "--confining")] {
+        let o = dem(&[
+            "test",
+            "biaxial",
+            "--r-min",
+            "0.1mm",
+            "--r-max",
+            "0.16mm",
+            "--material",
+            &m,
+            "--width",
+            "2mm",
+            "--height",
+            "4mm",
+            "--confining",
+            value,
+            "--out",
+            out,
+        ]);
+        assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+        assert!(text(&o).contains(want), "{}", text(&o));
+    }
     assert!(!dir.join("ucs-specimen.json").exists());
+    assert!(!dir.join("biaxial.specimen.json").exists());
+}
+
+/// `dem test biaxial` at two confinements: one specimen, a run and a result per confinement,
+/// the envelope's φ and c printed and in `biaxial.result.json`.
+#[test]
+fn biaxial_runs_each_confinement_and_fits_the_envelope() {
+    let dir = tmp("biaxial");
+    let m = material();
+    let o = dem(&[
+        "test",
+        "biaxial",
+        "--r-min",
+        "0.1mm",
+        "--r-max",
+        "0.16mm",
+        "--material",
+        &m,
+        "--width",
+        "2mm",
+        "--height",
+        "4mm",
+        "--confining",
+        "0MPa,100MPa",
+        "--threads",
+        "1",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(text(&o).contains("Mohr–Coulomb: φ = "), "{}", text(&o));
+    for f in [
+        "biaxial-0.result.json",
+        "biaxial-1.result.json",
+        "biaxial-1.out/history.csv",
+    ] {
+        assert!(dir.join(f).exists(), "{f}");
+    }
+    let r: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("biaxial.result.json")).unwrap())
+            .unwrap();
+    let phi = r["mohr_coulomb"]["friction_angle_deg"].as_f64().unwrap();
+    assert!(phi > 5.0 && phi < 70.0, "{phi}");
+    let s3 = r["results"][1]["sigma3"].as_f64().unwrap();
+    assert!((s3 / 100e6 - 1.0).abs() < 0.1, "{s3}");
 }
 
 #[test]

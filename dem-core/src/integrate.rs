@@ -517,6 +517,16 @@ pub fn integrate_discs(
     total
 }
 
+/// Sets each servo wall's velocity for the next step from the force and contact stiffness of
+/// this one ([`crate::wall_servo`]); `thickness` the discs' t (m).
+pub fn servo_walls(walls: &mut [crate::state::Wall], dt: f64, thickness: f64) {
+    for w in walls {
+        if let Some(s) = w.servo {
+            w.v = s.velocity(w.force, w.stiffness, dt, thickness);
+        }
+    }
+}
+
 /// Move walls rigidly: rotate by ω dt about `center`, then translate by v dt.
 pub fn advance_walls(walls: &mut [crate::state::Wall], dt: f64) {
     for w in walls {

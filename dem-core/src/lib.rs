@@ -65,6 +65,7 @@ pub mod state;
 pub mod team;
 pub mod timestep;
 pub mod validate;
+pub mod wall_servo;
 
 pub use contact::{ContactLaws, ContactModel, ContactView, HertzMindlin, LinearSpringDashpot};
 pub use energy::EnergyReport;

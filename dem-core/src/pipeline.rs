@@ -394,6 +394,7 @@ impl World {
             moved.add(&mc);
         }
         integrate::advance_walls(&mut self.state.walls, dt);
+        integrate::servo_walls(&mut self.state.walls, dt, self.state.thickness);
         if track && !self.loads.is_empty() {
             // F · (v(t − dt/2) + v(t + dt/2))/2 · dt: the discrete work-energy identity of
             // central differences.

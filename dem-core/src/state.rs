@@ -204,6 +204,13 @@ pub struct Wall {
     pub moment: f64,
     /// Work done by the wall on the discs since the start (J).
     pub work: f64,
+    /// Stress control (a servo sets `v` each step; [`crate::wall_servo`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub servo: Option<crate::wall_servo::WallServo>,
+    /// Sum of the normal stiffnesses of the wall's touching contacts in the last step (N/m;
+    /// summed only for a servo wall).
+    #[serde(skip)]
+    pub stiffness: f64,
 }
 
 impl Wall {
@@ -220,6 +227,8 @@ impl Wall {
             force: [0.0; 2],
             moment: 0.0,
             work: 0.0,
+            servo: None,
+            stiffness: 0.0,
         }
     }
 

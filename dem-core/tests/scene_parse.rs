@@ -438,3 +438,55 @@ fn hertz_takes_restitution_not_a_damping_ratio() {
         "{e}"
     );
 }
+
+#[test]
+fn servo_walls_convert_and_bad_servos_are_named() {
+    let servo = serde_json::json!({"stress": 2e6, "length": 4, "direction": [0, 3],
+                                   "max_speed": 50});
+    let mut v = base();
+    v["walls"][0]["servo"] = servo.clone();
+    let s = load_value(&v, "servo.json").unwrap();
+    let sv = s.walls[0].servo.expect("servo");
+    // Lengths and speeds in the scene's unit (mm), the direction normalised, α 0.5 by default.
+    assert_eq!(
+        (sv.stress, sv.length, sv.direction, sv.alpha, sv.max_speed),
+        (2e6, 4e-3, [0.0, 1.0], 0.5, 50e-3)
+    );
+    for (field, bad, want) in [
+        ("stress", serde_json::json!(-1.0), "walls[0].servo.stress"),
+        ("length", serde_json::json!(0.0), "walls[0].servo.length"),
+        (
+            "direction",
+            serde_json::json!([0, 0]),
+            "walls[0].servo.direction",
+        ),
+        ("alpha", serde_json::json!(0.0), "walls[0].servo.alpha"),
+        ("alpha", serde_json::json!(1.5), "walls[0].servo.alpha"),
+        (
+            "max_speed",
+            serde_json::json!(-2.0),
+            "walls[0].servo.max_speed",
+        ),
+    ] {
+        let e = error_of(
+            |v| {
+                v["walls"][0]["servo"] = servo.clone();
+                v["walls"][0]["servo"][field] = bad;
+            },
+            "servo.json",
+        );
+        assert!(e.contains(want), "{field}: {e}");
+    }
+    // A servo sets the wall's velocity: a prescribed one as well is refused.
+    let e = error_of(
+        |v| {
+            v["walls"][0]["servo"] = servo.clone();
+            v["walls"][0]["velocity"] = serde_json::json!([1, 0]);
+        },
+        "servo.json",
+    );
+    assert!(
+        e.contains("walls[0].servo") && e.contains("velocity"),
+        "{e}"
+    );
+}

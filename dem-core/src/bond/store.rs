@@ -154,7 +154,7 @@ impl Bonds {
     }
 
     /// Whether a group is a flat joint (then every bond has a [`FlatJointState`]).
-    fn has_flat_joints(&self) -> bool {
+    pub fn has_flat_joints(&self) -> bool {
         self.groups
             .iter()
             .any(|g| matches!(g.model, BondModel::FlatJoint(_)))
@@ -205,6 +205,26 @@ impl Bonds {
     /// Broken bonds per group as `[tension, shear]`, indexed like [`Bonds::groups`].
     pub fn broken_counts(&self) -> &[[u64; 2]] {
         &self.broken
+    }
+
+    /// Flat-joint elements broken so far per group, indexed like [`Bonds::groups`]: for a
+    /// flat-joint group the elements bonded at installation minus those bonded now, over its
+    /// bonds in the store (partly broken interfaces count their broken elements; slit elements
+    /// never count); `None` for other groups.
+    pub fn elements_broken(&self) -> Vec<Option<u64>> {
+        let mut out: Vec<Option<u64>> = (self.groups.iter())
+            .map(|g| matches!(g.model, BondModel::FlatJoint(_)).then_some(0))
+            .collect();
+        for b in 0..self.len() {
+            let g = self.group[b] as usize;
+            if let (BondModel::FlatJoint(p), Some(f), Some(c)) =
+                (&self.groups[g].model, self.fj.get(b), out[g].as_mut())
+            {
+                let installed = FlatJointState::installed(p, self.id[b]).bonded_count();
+                *c += u64::from(installed.saturating_sub(f.bonded_count()));
+            }
+        }
+        out
     }
 
     /// The crack record.

@@ -36,6 +36,7 @@ pub fn compute(
     for w in walls.iter_mut() {
         w.force = [0.0; 2];
         w.moment = 0.0;
+        w.stiffness = 0.0;
     }
     let rolling = laws.any_rolling();
     for q in 0..wp.wall.len() {
@@ -107,6 +108,9 @@ pub fn compute(
         w.force[0] += fx;
         w.force[1] += fy;
         w.moment += lx * fy - ly * fx;
+        if w.servo.is_some() {
+            w.stiffness += model.kn(r, delta);
+        }
         w.work += -(fx * vwx + fy * vwy) * dt;
         if track_energy {
             e.strain += o.e_strain;

@@ -82,6 +82,52 @@ pub fn uniaxial_compression(
     })
 }
 
+/// The Mohr–Coulomb envelope fitted to peak strengths at several confinements.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct MohrCoulomb {
+    /// Friction angle φ (degrees) and cohesion c (Pa).
+    pub friction_angle_deg: f64,
+    pub cohesion: f64,
+    /// The fitted line σ1 = intercept + slope σ3: slope = (1 + sin φ)/(1 − sin φ) (the
+    /// passive coefficient), intercept = 2c cos φ/(1 − sin φ) (the envelope's UCS).
+    pub slope: f64,
+    pub intercept: f64,
+    /// Coefficient of determination of the line (1 for two points).
+    pub r2: f64,
+}
+
+/// Friction angle and cohesion from peak strengths `(σ3, σ1)` (Pa, compression positive) at
+/// two or more distinct confinements: the least-squares line σ1 = a + q σ3 and
+/// sin φ = (q − 1)/(q + 1), c = a (1 − sin φ)/(2 cos φ) (Jaeger, Cook & Zimmerman 2007,
+/// "Fundamentals of Rock Mechanics", 4th ed., §4.5; Potyondy & Cundall 2004 §3 derive φ and c
+/// of the bonded-particle model this way from biaxial tests). `None` for fewer than two
+/// distinct σ3 or a slope q ≤ 1 (no friction: strength falling with confinement).
+pub fn mohr_coulomb(points: &[(f64, f64)]) -> Option<MohrCoulomb> {
+    let s3: Vec<f64> = points.iter().map(|p| p.0).collect();
+    let s1: Vec<f64> = points.iter().map(|p| p.1).collect();
+    let (q, a) = linear_fit(&s3, &s1)?;
+    if q.is_nan() || q <= 1.0 {
+        return None;
+    }
+    let sin = (q - 1.0) / (q + 1.0);
+    let phi = sin.asin();
+    let mean = s1.iter().sum::<f64>() / s1.len() as f64;
+    let (ss_res, ss_tot) = points.iter().fold((0.0, 0.0), |(r, t), &(x, y)| {
+        (r + (y - a - q * x).powi(2), t + (y - mean).powi(2))
+    });
+    Some(MohrCoulomb {
+        friction_angle_deg: phi.to_degrees(),
+        cohesion: a * (1.0 - sin) / (2.0 * phi.cos()),
+        slope: q,
+        intercept: a,
+        r2: if ss_tot > 0.0 {
+            1.0 - ss_res / ss_tot
+        } else {
+            1.0
+        },
+    })
+}
+
 /// Brazilian (indirect tensile) strength of a disc of diameter `d` and thickness `t` failing at
 /// load `f`: σ_t = 2F/(πDt) (ISRM 1978 suggested method; S4).
 pub fn brazilian_strength(f: f64, d: f64, t: f64) -> f64 {
@@ -203,6 +249,32 @@ pub fn moving_mean_peak(
 mod tests {
     use super::*;
     use std::f64::consts::PI;
+
+    /// Strengths on an exact Mohr–Coulomb line give back φ and c; the envelope's intercept is
+    /// its UCS 2c cos φ/(1 − sin φ).
+    #[test]
+    fn mohr_coulomb_recovers_the_friction_angle_and_cohesion() {
+        for (phi_deg, c) in [(30.0_f64, 10e6), (52.0, 230e6), (5.0, 1e6)] {
+            let phi = phi_deg.to_radians();
+            let q = (1.0 + phi.sin()) / (1.0 - phi.sin());
+            let ucs = 2.0 * c * phi.cos() / (1.0 - phi.sin());
+            let pts: Vec<(f64, f64)> = [0.0, 20e6, 50e6, 100e6]
+                .iter()
+                .map(|&s3| (s3, ucs + q * s3))
+                .collect();
+            let m = mohr_coulomb(&pts).unwrap();
+            assert!((m.friction_angle_deg - phi_deg).abs() < 1e-9, "{m:?}");
+            assert!((m.cohesion / c - 1.0).abs() < 1e-9, "{m:?}");
+            assert!((m.intercept / ucs - 1.0).abs() < 1e-9 && (m.r2 - 1.0).abs() < 1e-12);
+            // Two points are enough.
+            let m2 = mohr_coulomb(&pts[1..3]).unwrap();
+            assert!((m2.friction_angle_deg - phi_deg).abs() < 1e-9, "{m2:?}");
+        }
+        // Strength falling with confinement, or one confinement only: no envelope.
+        assert!(mohr_coulomb(&[(0.0, 100e6), (50e6, 90e6)]).is_none());
+        assert!(mohr_coulomb(&[(10e6, 100e6), (10e6, 120e6)]).is_none());
+        assert!(mohr_coulomb(&[(10e6, 100e6)]).is_none());
+    }
 
     #[test]
     #[allow(clippy::approx_constant)] // 3.14 is E399's tabulated f(0.55), not π

@@ -345,7 +345,9 @@ fn load_roller_material(s: &mut Value, walls: &mut [Value], mu: f64) -> Result<(
     Ok(())
 }
 
-/// Bonds broken by the end of a history (the sum of its `broken_*` columns' last row).
+/// Bonds and flat-joint elements broken by the end of a history (the sum of its `broken_*`
+/// columns' last row: whole bonds by mode, and `broken_<group>_elements` for flat-joint
+/// groups, whose beams can lose their load while every interface keeps some cement).
 fn bonds_broken(t: &Table) -> f64 {
     (t.names.iter().enumerate())
         .filter(|(_, n)| n.starts_with("broken_"))
@@ -354,9 +356,9 @@ fn bonds_broken(t: &Table) -> f64 {
 }
 
 /// The row and value of the peak of the roller `load` of history `t`, if the beam fractured:
-/// the load fell below 95 % of its peak by the end, and with at least one bond broken (a drop
-/// with none is a sliding or ringing beam, or a roller pressing a loose grain). Errors name
-/// `test`.
+/// the load fell below 95 % of its peak by the end, and with at least one bond (or flat-joint
+/// element) broken (a drop with none is a sliding or ringing beam, or a roller pressing a loose
+/// grain). Errors name `test`.
 pub fn fracture_peak(t: &Table, load: &[f64], test: &str) -> Result<(usize, f64), LabError> {
     let (ip, f) = analysis::peak(load).ok_or_else(|| common::analysis_error(test, "no load"))?;
     let last = *load.last().unwrap_or(&0.0);
@@ -583,11 +585,12 @@ mod tests {
                 "sup_left_y",
                 "sup_right_y",
                 "broken_grain_boundary_tension",
+                "broken_grain_boundary_elements",
             ]
             .map(String::from),
         );
         let loads = [0.0, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.8, 1.0, 0.5];
-        let table = |broken: f64| Table {
+        let table = |broken: f64, elements: f64| Table {
             names: names.clone(),
             rows: (loads.iter().enumerate())
                 .map(|(i, &f)| {
@@ -598,6 +601,7 @@ mod tests {
                         0.0,
                         0.0,
                         if i == 9 { broken } else { 0.0 },
+                        if i == 9 { elements } else { 0.0 },
                     ]);
                     r
                 })
@@ -624,11 +628,14 @@ mod tests {
             below_cover: vec![],
         };
         let (t, m) = (BendingTest::default(), LabModel::from_params(&p));
-        match analyze(&table(0.0), &t, &m, &spec) {
+        match analyze(&table(0.0, 0.0), &t, &m, &spec) {
             Err(LabError::Analysis { reason, .. }) => assert!(reason.contains("no bond broken")),
             other => panic!("{other:?}"),
         }
-        let r = analyze(&table(2.0), &t, &m, &spec).unwrap();
+        let r = analyze(&table(2.0, 0.0), &t, &m, &spec).unwrap();
+        assert!((r.peak_load - 1e3).abs() < 1e-9);
+        // Flat joints: elements broken, every interface still partly cemented — a fracture.
+        let r = analyze(&table(0.0, 3.0), &t, &m, &spec).unwrap();
         assert!((r.peak_load - 1e3).abs() < 1e-9);
         // The JSON of the default test is unchanged by the new field (run keys, locks).
         let v = serde_json::to_value(&t).unwrap();

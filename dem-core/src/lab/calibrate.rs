@@ -803,6 +803,55 @@ pub fn table(mat: &MaterialFile, method: &str, c: &Calibration) -> Table {
 }
 
 impl Table {
+    /// Adds the friction angle and cohesion that biaxial tests ([`super::biaxial`]) with the
+    /// calibrated model measured (the Mohr–Coulomb envelope `fit` of their peaks), and
+    /// UCS/σ_t (the achieved UCS over the flexural, else Brazilian, strength), as reported
+    /// rows at the end, with a note on the confinements.
+    pub fn add_biaxial(&mut self, fit: &super::analysis::MohrCoulomb, confinements: &[f64]) {
+        let value = |name: &str| {
+            self.rows
+                .iter()
+                .find(|r| r.property == name)
+                .and_then(|r| r.ours)
+        };
+        let ratio =
+            value("UCS").zip(value("flexural strength").or(value("Brazilian tensile strength")));
+        let reported = |property: &str, unit: &str, ours: Option<f64>| Row {
+            property: property.into(),
+            unit: unit.into(),
+            measured: None,
+            basis: String::new(),
+            role: "reported".into(),
+            paper_model: None,
+            ours,
+            rel_err: None,
+        };
+        if let Some((u, t)) = ratio.filter(|&(_, t)| t > 0.0) {
+            self.rows.push(reported("UCS/σ_t", "", Some(u / t)));
+        }
+        self.rows.push(reported(
+            "friction angle φ",
+            "°",
+            Some(fit.friction_angle_deg),
+        ));
+        self.rows
+            .push(reported("cohesion c", "MPa", Some(fit.cohesion / 1e6)));
+        let list = confinements
+            .iter()
+            .map(|c| format!("{:.1}", c / 1e6))
+            .collect::<Vec<_>>()
+            .join(", ");
+        self.notes.push(format!(
+            "φ and c from biaxial tests with the calibrated model on the UCS specimens (servo \
+             side walls; σ3 = {list} MPa): σ1 = {:.1} MPa + {:.3} σ3 (R² {:.4}), \
+             sin φ = (q − 1)/(q + 1), c = σ1(0)(1 − sin φ)/(2 cos φ); UCS/σ_t over the \
+             flexural (else Brazilian) strength",
+            fit.intercept / 1e6,
+            fit.slope,
+            fit.r2
+        ));
+    }
+
     /// Adds the K_IC a single-edge-notched beam test ([`super::senb`]) measured with the
     /// calibrated model, as the row `K_IC (SENB)` after the β σ̄_c √(πR̄) row (same measured and
     /// paper values), and a note with the measured β and the beam.

@@ -44,6 +44,7 @@
 
 pub mod analysis;
 pub mod bending;
+pub mod biaxial;
 pub mod brazilian;
 pub mod calibrate;
 pub mod chips;

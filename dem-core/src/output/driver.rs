@@ -231,7 +231,16 @@ impl Simulation {
             let walls: Vec<&str> = world.state.walls.iter().map(|w| w.name.as_str()).collect();
             let groups: Vec<&str> = group_names.iter().map(String::as_str).collect();
             let gauges: Vec<&str> = o.gauges.iter().map(|g| g.name.as_str()).collect();
-            let mut h = History::with_gauges(&out.join("history.csv"), &walls, &gauges, &groups);
+            let fj: Vec<&str> = (world.bonds.as_ref())
+                .map(|b| {
+                    (b.groups().iter())
+                        .filter(|g| matches!(g.model, crate::bond::BondModel::FlatJoint(_)))
+                        .map(|g| g.name.as_str())
+                        .collect()
+                })
+                .unwrap_or_default();
+            let mut h = History::with_gauges(&out.join("history.csv"), &walls, &gauges, &groups)
+                .with_element_columns(&fj);
             h.set_rows(rows);
             h
         });
@@ -481,6 +490,10 @@ impl Simulation {
             .as_ref()
             .map(|b| b.broken_counts().to_vec())
             .unwrap_or_default();
+        let elements: Vec<u64> = (self.world.bonds.as_ref())
+            .filter(|b| b.has_flat_joints())
+            .map(|b| b.elements_broken().into_iter().flatten().collect())
+            .unwrap_or_default();
         let st = &self.world.state;
         let gauges = gauge_positions(st, &self.gauges);
         h.push(
@@ -491,6 +504,7 @@ impl Simulation {
             &gauges,
             &self.world.energy(),
             &broken,
+            &elements,
         )
     }
 

@@ -73,6 +73,8 @@ pub struct History {
     walls: usize,
     gauges: usize,
     groups: usize,
+    /// Flat-joint groups with a `broken_<group>_elements` column (none: the column is absent).
+    element_groups: usize,
 }
 
 impl History {
@@ -114,7 +116,22 @@ impl History {
             walls: walls.len(),
             gauges: gauges.len(),
             groups: bond_groups.len(),
+            element_groups: 0,
         }
+    }
+
+    /// Adds a `broken_<group>_elements` column (flat-joint elements broken so far) per group of
+    /// `flat_joint_groups`, after the broken-bond columns; their values are the `elements` of
+    /// [`History::push`]. Histories without flat joints are unchanged.
+    pub fn with_element_columns(mut self, flat_joint_groups: &[&str]) -> History {
+        self.header.pop();
+        for g in flat_joint_groups {
+            let g = column_name(g);
+            self.header.push_str(&format!(",broken_{g}_elements"));
+        }
+        self.header.push('\n');
+        self.element_groups = flat_joint_groups.len();
+        self
     }
 
     pub fn path(&self) -> &Path {
@@ -133,10 +150,12 @@ impl History {
         gauges: &[[f64; 2]],
         e: &EnergyReport,
         broken: &[[u64; 2]],
+        elements: &[u64],
     ) -> Result<(), OutputError> {
         debug_assert_eq!(walls.len(), self.walls);
         debug_assert_eq!(gauges.len(), self.gauges);
         debug_assert_eq!(broken.len(), self.groups);
+        debug_assert_eq!(elements.len(), self.element_groups);
         let p = &self.path;
         let mut row = String::with_capacity(256);
         push_num(
@@ -169,6 +188,9 @@ impl History {
         }
         for b in broken {
             row.push_str(&format!(",{},{}", b[0], b[1]));
+        }
+        for e in elements {
+            row.push_str(&format!(",{e}"));
         }
         row.push('\n');
         self.rows.push_str(&row);
@@ -216,9 +238,12 @@ mod tests {
             kinetic_translation: 1.5,
             ..EnergyReport::default()
         };
-        h.push(0.001, 10, 1e-4, &w, &[], &e, &[[3, 1]]).unwrap();
+        h.push(0.001, 10, 1e-4, &w, &[], &e, &[[3, 1]], &[])
+            .unwrap();
         w[1].moment = f64::NAN;
-        let err = h.push(0.002, 20, 1e-4, &w, &[], &e, &[[3, 1]]).unwrap_err();
+        let err = h
+            .push(0.002, 20, 1e-4, &w, &[], &e, &[[3, 1]], &[])
+            .unwrap_err();
         assert!(
             err.to_string().contains("left wall moment at step 20"),
             "{err}"
@@ -232,6 +257,18 @@ mod tests {
         assert_eq!(lines[0].split(',').count(), lines[1].split(',').count());
         assert!(lines[1].starts_with("0.001,10,0.0001,0.5,-2,0,0,0,0,1.5,"));
         assert!(lines[1].ends_with(",3,1"));
+
+        // Flat-joint groups add their broken-element column after the broken bonds.
+        let mut h = History::new(&path, &["floor", "left wall"], &["gb", "fj"])
+            .with_element_columns(&["fj"]);
+        w[1].moment = 0.0;
+        h.push(0.001, 10, 1e-4, &w, &[], &e, &[[3, 1], [0, 0]], &[7])
+            .unwrap_or_else(|e| panic!("{e}"));
+        let row = h.rows().to_string();
+        assert!(h
+            .header()
+            .ends_with("broken_fj_tension,broken_fj_shear,broken_fj_elements\n"));
+        assert!(row.ends_with(",3,1,0,0,7\n"), "{row}");
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }

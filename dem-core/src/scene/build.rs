@@ -159,6 +159,7 @@ pub fn build(scene: &Scene) -> Result<World, SceneError> {
         wall.v = w.velocity;
         wall.omega = w.angular_velocity;
         wall.center = w.center;
+        wall.servo = w.servo;
         st.walls.push(wall);
     }
     let (params, laws) = (params(scene), laws(scene));

@@ -157,6 +157,7 @@ pub struct WallInit {
     pub velocity: [f64; 2],
     pub angular_velocity: f64,
     pub center: [f64; 2],
+    pub servo: Option<crate::wall_servo::WallServo>,
 }
 
 #[derive(Debug, Clone, Copy, Default, Serialize)]

@@ -530,9 +530,53 @@ impl Resolver {
                     velocity: p("velocity", w.velocity)?,
                     angular_velocity: ck.finite(&f("angular_velocity"), w.angular_velocity)?,
                     center,
+                    servo: w
+                        .servo
+                        .as_ref()
+                        .map(|s| self.servo(s, w, &f("servo"), u))
+                        .transpose()?,
                 })
             })
             .collect()
+    }
+
+    /// A wall's servo in SI; `field` names it (`walls[i].servo`).
+    fn servo(
+        &self,
+        s: &ServoSpec,
+        w: &WallSpec,
+        field: &str,
+        u: f64,
+    ) -> Result<crate::wall_servo::WallServo, SceneError> {
+        let ck = &self.ck;
+        let f = |k: &str| format!("{field}.{k}");
+        if w.velocity != [0.0; 2] || w.angular_velocity != 0.0 {
+            return Err(ck.err(
+                field.to_string(),
+                "a servo wall's velocity is the servo's: give velocity [0, 0] and no angular_velocity",
+            ));
+        }
+        let d = [
+            ck.finite(&f("direction[0]"), s.direction[0])?,
+            ck.finite(&f("direction[1]"), s.direction[1])?,
+        ];
+        let n = d[0].hypot(d[1]);
+        if n == 0.0 {
+            return Err(ck.err(f("direction"), "must not be [0, 0]"));
+        }
+        Ok(crate::wall_servo::WallServo {
+            stress: ck.non_negative(&f("stress"), s.stress)?,
+            length: ck.positive(&f("length"), s.length)? * u,
+            direction: [d[0] / n, d[1] / n],
+            alpha: ck.range(
+                &f("alpha"),
+                ck.positive(&f("alpha"), s.alpha)?,
+                0.0,
+                1.0,
+                true,
+            )?,
+            max_speed: ck.positive(&f("max_speed"), s.max_speed)? * u,
+        })
     }
 
     fn loads(&self, raw: &[LoadSpec]) -> Result<Vec<crate::pipeline::ExternalLoad>, SceneError> {

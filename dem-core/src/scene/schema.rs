@@ -443,6 +443,34 @@ pub struct WallSpec {
     /// Centre of rotation and of the recorded moment; default the segment's midpoint.
     #[serde(default)]
     pub center: Option<[f64; 2]>,
+    /// Stress control instead of a prescribed velocity (`velocity` and `angular_velocity`
+    /// must then be zero).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub servo: Option<ServoSpec>,
+}
+
+/// A wall's servo (PFC's biaxial-test servo, `dem_core::wall_servo`): each step the wall
+/// moves along `direction` at G (σ_req − σ), G = α L t / (K Δt), σ = F/(L t) its measured
+/// normal stress, K its contacts' normal stiffness.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
+#[serde(deny_unknown_fields)]
+pub struct ServoSpec {
+    /// Target normal stress σ_req (Pa, compression positive; ≥ 0).
+    pub stress: f64,
+    /// Loaded length L the stress is measured over (length unit).
+    pub length: f64,
+    /// Direction of the wall's approach to the specimen (normalised on reading).
+    pub direction: [f64; 2],
+    /// Relaxation factor α in (0, 1] (default 0.5, as PFC).
+    #[serde(default = "half")]
+    pub alpha: f64,
+    /// Speed limit (length unit / s).
+    pub max_speed: f64,
+}
+
+fn half() -> f64 {
+    0.5
 }
 
 /// A constant external force (N) and torque (N·m) on the disc with creation index `disc` (on
