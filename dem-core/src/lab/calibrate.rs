@@ -1116,6 +1116,25 @@ mod tests {
             0.25 * ts.model.r_mean
         );
         assert!(ts.notes.last().unwrap().contains(&want), "{:?}", ts.notes);
+
+        // Biaxial tests add UCS/σ_t (over the flexural strength when there is one), φ and c.
+        let mut tb = tab.clone();
+        let phi = 40.0_f64.to_radians();
+        let fit = crate::lab::analysis::MohrCoulomb {
+            friction_angle_deg: 40.0,
+            cohesion: 300e6,
+            slope: (1.0 + phi.sin()) / (1.0 - phi.sin()),
+            intercept: 2.0 * 300e6 * phi.cos() / (1.0 - phi.sin()),
+            r2: 0.99,
+        };
+        tb.add_biaxial(&fit, &[0.0, 100e6, 200e6]);
+        let row = |p: &str| tb.rows.iter().find(|r| r.property == p).unwrap().clone();
+        let ratio = row("UCS").ours.unwrap() / row("flexural strength").ours.unwrap();
+        assert_eq!(row("UCS/σ_t").ours, Some(ratio));
+        assert_eq!(row("friction angle φ").ours, Some(40.0));
+        assert_eq!(row("cohesion c").ours, Some(300.0));
+        assert_eq!(tb.rows.len(), tab.rows.len() + 3);
+        assert!(tb.notes.last().unwrap().contains("σ3 = 0.0, 100.0, 200.0 MPa"));
     }
 
     #[test]
@@ -1237,6 +1256,14 @@ mod tests {
             assert!(m.micro.stiffness_ratio < 1.0);
         }
         assert!(pb.flat_joint.is_none());
+        // The ORC model at the cutting resolution (issue 22 item 1: parallel bonds on rigid
+        // grains reach SiC's UCS/σ_f), κ below 1 too.
+        let orc: LabModel = serde_json::from_str(include_str!(
+            "../../../data/models/sic-orc.model.json"
+        ))
+        .unwrap();
+        assert!((orc.r_mean / 2.3e-4 - 1.0).abs() < 1e-9 && orc.micro.stiffness_ratio < 1.0);
+        assert!(orc.flat_joint.is_none());
         let f = fj.flat_joint.as_ref().unwrap();
         assert_eq!((f.elements, f.friction, f.bonded_fraction), (4, 0.5, 1.0));
     }
