@@ -3,8 +3,7 @@
 //! into one here (`--outline` with `--spacing`, as `dem clump --method lattice`).
 
 use crate::lab_args::progress_bar;
-use crate::specimen::parse_stress;
-use crate::test::parse_speed;
+use crate::specimen::{parse_length, parse_stress};
 use clap::Args;
 use clumpgen::clump::LatticeParams;
 use clumpgen::{make_template, ClumpParams, Method, ReadOptions};
@@ -188,7 +187,10 @@ pub fn run(a: CrushArgs) -> Result<ExitCode, String> {
         ..CrushTest::default()
     };
     if let Some(v) = &a.speed {
-        test.speed = Some(parse_speed(v, "--speed")?);
+        test.speed = Some(parse_length(
+            v.trim().strip_suffix("/s").unwrap_or(v.trim()),
+            "--speed",
+        )?);
     }
     if let Some(f) = a.dt_factor {
         test.dt_factor = f;
@@ -212,7 +214,7 @@ pub fn run(a: CrushArgs) -> Result<ExitCode, String> {
                 "--outline needs --spacing S (a fraction of R_eq like 0.18, or a length like 0.2mm)",
             )?;
             let spacing = crate::clump::parse_length(s, "spacing")?;
-            let thickness = crate::specimen::parse_length(&a.thickness, "--thickness")?;
+            let thickness = parse_length(&a.thickness, "--thickness")?;
             let p = ClumpParams {
                 method: Method::Lattice,
                 density: a.density,

@@ -195,6 +195,12 @@ fn a_crushed_disc_breaks_in_two_stages_with_its_energy_balanced() {
         .split(',')
         .map(|v| v.parse().unwrap())
         .collect();
-    assert!((last[1] - r.stage2.closure).abs() <= 1e-9 * r.stage2.closure);
+    // The last row is at the last multiple of the history cadence before the end.
+    assert!(
+        last[1] <= r.stage2.closure * (1.0 + 1e-12) && last[1] >= 0.99 * r.stage2.closure,
+        "{} vs {}",
+        last[1],
+        r.stage2.closure
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }

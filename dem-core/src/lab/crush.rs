@@ -658,6 +658,28 @@ pub fn run(
         },
         grain: g,
     };
+    // Never write a NaN: name the first figure that is not finite.
+    for (name, v) in [
+        ("peak_force", report.peak_force),
+        ("strength", report.strength),
+        (
+            "kinetic_over_strain_at_peak",
+            report.kinetic_over_strain_at_peak,
+        ),
+        ("work", report.work),
+        ("strain_energy", report.strain_energy),
+        ("damping", report.damping),
+        ("friction", report.friction),
+        ("released", report.released),
+        ("balance_error", report.balance_error),
+    ] {
+        if !v.is_finite() {
+            return Err(common::analysis_error(
+                TEST,
+                format!("{name} is not finite ({v}); the result is not written"),
+            ));
+        }
+    }
     let o = CrushOutcome {
         test: test.clone(),
         result: report,
