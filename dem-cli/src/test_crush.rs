@@ -147,7 +147,7 @@ pub fn criterion(a: &CrushArgs) -> Result<LinkCriterion, String> {
     }
 }
 
-fn message(e: LabError, a: &CrushArgs) -> String {
+fn message(e: LabError) -> String {
     match e {
         LabError::Param { field, reason } => {
             let flag = match field.as_str() {
@@ -164,7 +164,6 @@ fn message(e: LabError, a: &CrushArgs) -> String {
                 "template" => return format!("--template: {reason}"),
                 _ => return format!("{field}: {reason}"),
             };
-            let _ = a;
             format!("{flag}: {reason}")
         }
         e => e.to_string(),
@@ -195,7 +194,7 @@ pub fn run(a: CrushArgs) -> Result<ExitCode, String> {
     if let Some(f) = a.dt_factor {
         test.dt_factor = f;
     }
-    test.validate().map_err(|e| message(e, &a))?;
+    test.validate().map_err(message)?;
     std::fs::create_dir_all(&a.out).map_err(|e| format!("{}: {e}", a.out.display()))?;
     let template = match (&a.template, &a.outline) {
         (Some(_), Some(_)) => return Err("give --template or --outline, not both".into()),
@@ -252,7 +251,7 @@ pub fn run(a: CrushArgs) -> Result<ExitCode, String> {
                 bar.set_position((done * 1000).checked_div(total).unwrap_or(0));
             })
         })
-        .map_err(|e| message(e, &a));
+        .map_err(message);
     bar.finish_and_clear();
     let o = o?;
     let r = &o.result;

@@ -553,7 +553,7 @@ pub fn run(
     let h1 = rows(&r1.history)?;
     let (ip, peak) = super::analysis::peak(&h1.force)
         .ok_or_else(|| common::analysis_error(TEST, "no platen force"))?;
-    if !(peak > 0.0) {
+    if peak.is_nan() || peak <= 0.0 {
         return Err(common::analysis_error(
             TEST,
             "the platens never loaded the grain",
