@@ -118,7 +118,7 @@ fn parse_export(s: &str) -> Result<Format, String> {
 }
 
 /// `0.05` → fraction of R_eq; `20um`, `0.1mm`, `1e-4m` → metres.
-fn parse_length(s: &str, what: &str) -> Result<Length, String> {
+pub(crate) fn parse_length(s: &str, what: &str) -> Result<Length, String> {
     let s = s.trim();
     for (suffix, scale) in [("um", 1e-6), ("µm", 1e-6), ("mm", 1e-3), ("m", 1.0)] {
         if let Some(num) = s.strip_suffix(suffix) {

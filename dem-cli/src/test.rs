@@ -39,6 +39,10 @@ pub enum TestKind {
     /// Orthogonal cutting: peak and mean main and vertical force, chips, broken bonds,
     /// machined surface (docs/cutting.md).
     Cutting(crate::test_cutting::CuttingArgs),
+    /// One lattice grain crushed between two platens: force–displacement, crushing strength
+    /// σ = F/(d t), fragments after the first breakage and a second loading stage
+    /// (docs/lattice.md).
+    Crush(crate::test_crush::CrushArgs),
 }
 
 /// A lab-test error as a message naming the flag: `flags` maps a field (`ucs.width`) to its
@@ -157,6 +161,7 @@ pub fn run(kind: TestKind) -> Result<ExitCode, String> {
         TestKind::Bending(a) => bending(a),
         TestKind::Senb(a) => senb(a),
         TestKind::Cutting(a) => crate::test_cutting::run(a),
+        TestKind::Crush(a) => crate::test_crush::run(a),
     }
 }
 

@@ -51,6 +51,7 @@ pub mod clump;
 pub mod contact;
 pub mod counters;
 pub mod energy;
+pub mod fragments;
 pub mod guard;
 pub mod integrate;
 pub mod lab;

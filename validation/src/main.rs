@@ -27,7 +27,7 @@ struct Args {
     #[arg(long)]
     quick: bool,
     /// Run only these sections (comma-separated): table1, sweep, table2, table3, pictures,
-    /// convergence, stability. Cutting (and Table 3's bending) runs already in the output
+    /// convergence, stability, crush. Cutting (and Table 3's bending) runs already in the output
     /// folder with the same parameters are read back, not run again.
     #[arg(long, value_delimiter = ',')]
     only: Vec<String>,

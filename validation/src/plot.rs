@@ -104,6 +104,38 @@ pub fn lines(
     log_x: bool,
     log_y: bool,
 ) -> Result<String, String> {
+    chart(title, x_label, y_label, series, &[], (log_x, log_y))
+}
+
+/// Line chart whose series `k` with `markers_only[k]` true are drawn as markers alone (a
+/// scatter of measured points beside fitted lines).
+pub fn scatter_and_lines(
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    series: &[Series],
+    markers_only: &[bool],
+    log_x: bool,
+    log_y: bool,
+) -> Result<String, String> {
+    chart(
+        title,
+        x_label,
+        y_label,
+        series,
+        markers_only,
+        (log_x, log_y),
+    )
+}
+
+fn chart(
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    series: &[Series],
+    markers_only: &[bool],
+    (log_x, log_y): (bool, bool),
+) -> Result<String, String> {
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, (720, 440)).into_drawing_area();
@@ -140,6 +172,15 @@ pub fn lines(
                         .copied()
                         .filter(|p| p.0.is_finite() && p.1.is_finite())
                         .collect();
+                    let only = markers_only.get(k).copied().unwrap_or(false);
+                    if only {
+                        chart
+                            .draw_series(pts.iter().map(|p| Circle::new(*p, 3, c.filled())))
+                            .map_err(err)?
+                            .label(s.name.clone())
+                            .legend(move |(x, y)| Circle::new((x + 9, y), 3, c.filled()));
+                        continue;
+                    }
                     chart
                         .draw_series(LineSeries::new(pts.clone(), c.stroke_width(2)))
                         .map_err(err)?

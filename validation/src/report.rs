@@ -38,7 +38,7 @@ pub struct ReportOptions {
 }
 
 /// Section names, in the order they run.
-pub const SECTIONS: [&str; 7] = [
+pub const SECTIONS: [&str; 8] = [
     "table1",
     "sweep",
     "table2",
@@ -46,6 +46,7 @@ pub const SECTIONS: [&str; 7] = [
     "pictures",
     "convergence",
     "stability",
+    "crush",
 ];
 
 /// What one section hands to the later ones.
@@ -181,6 +182,11 @@ fn convergence_section(o: &ReportOptions, sh: &mut Shared) -> Result<Section, St
     sw.section()
 }
 
+/// Crushable grains: single-grain crushing, Weibull fit, size effect ([`crate::crush`]).
+fn crush_section(o: &ReportOptions, _: &mut Shared) -> Result<Section, String> {
+    crate::crush::section(&o.data, &o.out, o.quick)
+}
+
 /// Drops a leading `# ...` title line (sections get their own `##` title).
 fn strip_h1(md: &str) -> String {
     match md.strip_prefix("# ") {
@@ -200,7 +206,7 @@ pub fn run(o: &ReportOptions) -> Result<String, String> {
     let mut env = Environment::capture(mode);
     let mut sections = Vec::new();
     type Builder = fn(&ReportOptions, &mut Shared) -> Result<Section, String>;
-    let all: [Builder; 7] = [
+    let all: [Builder; 8] = [
         table1_section,
         sweep_section,
         table2_section,
@@ -208,6 +214,7 @@ pub fn run(o: &ReportOptions) -> Result<String, String> {
         pictures_section,
         convergence_section,
         stability_section,
+        crush_section,
     ];
     if let Some(bad) = o.only.iter().find(|n| !SECTIONS.contains(&n.as_str())) {
         return Err(format!(

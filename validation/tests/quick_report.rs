@@ -40,6 +40,13 @@ fn quick_report_writes_sane_json_for_every_section() {
         assert!(out.join(f).is_file(), "{f} missing");
     }
     assert!(md.contains("Table 2") && md.contains("error against run time"));
+    // Crushable grains: two grains at two sizes, their strengths and the fits.
+    assert!(md.contains("## Crushable grains"), "{md}");
+    let cr = read(&out.join("crush"), "results.json");
+    assert_eq!(cr["plan"]["grains"].as_array().unwrap().len(), 2);
+    for r in cr["rows"].as_array().unwrap() {
+        assert!(num(r, "strength") > 0.0, "{r}");
+    }
     // The committed pictures of the three specimens and their cuts, inlined in one figure.
     assert!(md.contains("## Specimens and cuts, pictures") && !md.contains("could not be read"));
     let pics = std::fs::read_to_string(out.join("cut_pictures.svg")).unwrap();

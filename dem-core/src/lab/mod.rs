@@ -49,6 +49,7 @@ pub mod brazilian;
 pub mod calibrate;
 pub mod chips;
 pub mod common;
+pub mod crush;
 pub mod cutting;
 pub mod debris;
 pub mod force_stats;
@@ -62,6 +63,7 @@ pub mod surface;
 pub mod tool;
 pub mod ucs;
 pub mod virtual_lab;
+pub mod weibull;
 
 pub use model::LabModel;
 

@@ -49,6 +49,12 @@ pub struct StepHook {
     pub every: u64,
     #[allow(clippy::type_complexity)]
     pub run: Box<dyn FnMut(&mut World) -> Result<(), String>>,
+    /// Asked after `run`, at the same steps: `true` ends the run there as at failure
+    /// ([`Ending::Failure`], summary status `failure`, a history row and the final checkpoint
+    /// written), e.g. a crushed grain's first major breakage (`lab::crush`). A function of
+    /// the world alone, as `run`.
+    #[allow(clippy::type_complexity)]
+    pub stop: Option<Box<dyn FnMut(&World) -> bool>>,
 }
 
 /// Why a run did not complete.
@@ -382,21 +388,25 @@ impl Simulation {
             });
             self.dt_range = dr;
             let s = self.world.state.step;
+            let mut hook_stop = false;
             if let Some(h) = self.hook.as_mut().filter(|_| every(hook_every, s)) {
                 (h.run)(&mut self.world).map_err(|reason| RunError::Hook { step: s, reason })?;
+                if let Some(f) = h.stop.as_mut() {
+                    hook_stop = f(&self.world);
+                }
             }
             let (h, v, c) = (
-                every(o.history_every, s),
+                every(o.history_every, s) || (hook_stop && o.history_every > 0),
                 every(o.vtk_every, s),
                 every(o.checkpoint_every, s),
             );
-            if h || v || c || every(o.guard_every, s) {
+            if h || v || c || hook_stop || every(o.guard_every, s) {
                 let ts = Instant::now();
                 self.guard(t0)?;
-                let mut failed = false;
+                let mut failed = hook_stop;
                 if h {
                     self.history_row()?;
-                    failed = self.failed();
+                    failed |= self.failed();
                 }
                 if v {
                     self.snapshot()?;
