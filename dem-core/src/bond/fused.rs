@@ -37,7 +37,8 @@
 use super::criteria::{BreakMode, Criterion};
 use super::kernel::{INTACT, NEW};
 use super::BondModel;
-use crate::contact::kernel::BLOCK;
+use crate::contact::kernel::{Cols, PairHook, BLOCK};
+use crate::neighbors::MinImage;
 use crate::team::SyncPtr;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
@@ -308,18 +309,35 @@ impl View<'_> {
     }
 }
 
-/// The gathered columns of a block of pairs (the contact pass's scratch, see
-/// `contact::kernel::Scratch`): raw centre differences `dx`, `dy` (before the minimum image),
-/// radii, spins and velocity differences.
-pub(crate) struct Cols<'a> {
-    pub dx: &'a [f64; BLOCK],
-    pub dy: &'a [f64; BLOCK],
-    pub ri: &'a [f64; BLOCK],
-    pub rj: &'a [f64; BLOCK],
-    pub wi: &'a [f64; BLOCK],
-    pub wj: &'a [f64; BLOCK],
-    pub dvx: &'a [f64; BLOCK],
-    pub dvy: &'a [f64; BLOCK],
+/// The fused bond stage is the contact pass's per-pair hook: [`block`] on its general path,
+/// [`four`] in its four-lane kernel.
+impl PairHook for View<'_> {
+    #[inline(always)]
+    fn block<const PER: bool>(
+        &self,
+        img: &MinImage,
+        dt: f64,
+        p0: usize,
+        q: usize,
+        c: &Cols,
+        out: [&mut [f64; BLOCK]; 4],
+    ) {
+        block::<PER>(self, img, dt, p0, q, c, out)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    unsafe fn four(
+        &self,
+        p: usize,
+        m: usize,
+        g: [std::arch::x86_64::__m256d; 9],
+        dt: f64,
+        f: &mut [std::arch::x86_64::__m256d; 4],
+    ) {
+        // SAFETY: the caller's contract is `four`'s (AVX2, p + m <= the pair count).
+        four(self, p, m, g, dt, f)
+    }
 }
 
 /// [`law`] over a block of pairs p0..p0 + q of the contact pass's general path: the
@@ -331,7 +349,7 @@ pub(crate) struct Cols<'a> {
 #[allow(clippy::needless_range_loop)] // one index over many arrays: the vectorisable form
 pub(crate) fn block<const PER: bool>(
     v: &View,
-    img: &crate::neighbors::MinImage,
+    img: &MinImage,
     dt: f64,
     p0: usize,
     q: usize,

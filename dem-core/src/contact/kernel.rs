@@ -148,7 +148,7 @@ impl PairLaw for ContactLaws {
 }
 
 /// Read-only data of the pass.
-pub(crate) struct Ctx<'a, L: PairLaw> {
+pub(crate) struct Ctx<'a, L: PairLaw, H: PairHook> {
     pub(crate) x: &'a [f64],
     pub(crate) y: &'a [f64],
     pub(crate) vx: &'a [f64],
@@ -165,8 +165,61 @@ pub(crate) struct Ctx<'a, L: PairLaw> {
     pub(crate) law: &'a L,
     pub(crate) img: MinImage,
     pub(crate) dt: f64,
-    /// Parallel bonds evaluated with their pairs (see `bond::fused`), or none.
-    pub(crate) fused: Option<&'a crate::bond::fused::View<'a>>,
+    /// The per-pair hook evaluated with the pairs (the parallel bonds of `bond::fused`), or
+    /// none.
+    pub(crate) hook: Option<&'a H>,
+}
+
+/// A per-pair hook of the pass: work evaluated with the listed pairs from the geometry the
+/// pass has just computed, adding to the pairs' forces before the scatter. The parallel bonds
+/// of a bonded lattice are evaluated this way (`bond::fused` implements it, see there): the
+/// bond module depends on this one, not the other way round. The pass is generic over the hook
+/// type (static dispatch, one instantiation per type), so the hook's bodies are inlined into
+/// the kernels as if written there.
+pub(crate) trait PairHook: Sync {
+    /// Add the hook's outputs for pairs p0..p0 + q (q ≤ [`BLOCK`]) of a block of the general
+    /// path (after [`eval`]): `c` the block's gathered columns, `out` its force columns
+    /// `[fx, fy, ti, tj]` (entries 0..q). `PER`: apply the minimum image `img`.
+    fn block<const PER: bool>(
+        &self,
+        img: &MinImage,
+        dt: f64,
+        p0: usize,
+        q: usize,
+        c: &Cols,
+        out: [&mut [f64; BLOCK]; 4],
+    );
+
+    /// The four-lane form, called by the four-lane kernel ([`super::linear4`]) for pairs
+    /// p..p + m (m ≤ 4; the other lanes are ignored): the pair geometry `g` = [d, r_i + r_j,
+    /// n_x, n_y, a_i, a_j, v_t, ω_i, ω_j] in registers (see [`Cols`] for its terms), outputs
+    /// added to the force columns `f = [fx, fy, ti, tj]`.
+    ///
+    /// # Safety
+    /// The CPU must support AVX2; `p + m` must not exceed the pair count.
+    #[cfg(target_arch = "x86_64")]
+    unsafe fn four(
+        &self,
+        p: usize,
+        m: usize,
+        g: [std::arch::x86_64::__m256d; 9],
+        dt: f64,
+        f: &mut [std::arch::x86_64::__m256d; 4],
+    );
+}
+
+/// The gathered columns of a block of pairs (the pass's [`Scratch`]) that a [`PairHook`]
+/// reads: raw centre differences `dx`, `dy` (before the minimum image), radii, spins and
+/// velocity differences.
+pub(crate) struct Cols<'a> {
+    pub dx: &'a [f64; BLOCK],
+    pub dy: &'a [f64; BLOCK],
+    pub ri: &'a [f64; BLOCK],
+    pub rj: &'a [f64; BLOCK],
+    pub wi: &'a [f64; BLOCK],
+    pub wj: &'a [f64; BLOCK],
+    pub dvx: &'a [f64; BLOCK],
+    pub dvy: &'a [f64; BLOCK],
 }
 
 /// Working arrays of one block (inputs gathered per pair, outputs per pair).
@@ -244,21 +297,21 @@ impl Default for Scratch {
 /// they are: [`eval`] applies the minimum image (branch-free, vectorised); the reach
 /// r_i + r_j is stored only with reference gaps (`G0`), else [`eval`] forms it.
 #[inline(always)]
-fn gather<L: PairLaw, const G0: bool>(
-    c: &Ctx<L>,
+fn gather<L: PairLaw, H: PairHook, const G0: bool>(
+    c: &Ctx<L, H>,
     p0: usize,
     q: usize,
     gi: &mut usize,
     mr: &[f64],
     s: &mut Scratch,
 ) {
-    gather_from::<L, G0>(c, p0, q, 0, gi, mr, s)
+    gather_from::<L, H, G0>(c, p0, q, 0, gi, mr, s)
 }
 
 /// [`gather`] of the block's entries k0..q only (pairs p0 + k0..p0 + q).
 #[inline(always)]
-fn gather_from<L: PairLaw, const G0: bool>(
-    c: &Ctx<L>,
+fn gather_from<L: PairLaw, H: PairHook, const G0: bool>(
+    c: &Ctx<L, H>,
     p0: usize,
     q: usize,
     k0: usize,
@@ -389,8 +442,8 @@ pub(crate) unsafe fn pair_columns(
 /// The CPU must support AVX2.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-pub(crate) unsafe fn pack<L: PairLaw>(
-    c: &Ctx<L>,
+pub(crate) unsafe fn pack<L: PairLaw, H: PairHook>(
+    c: &Ctx<L, H>,
     lo: usize,
     pk: &mut [Packed],
     f: &mut [Acc4],
@@ -527,8 +580,8 @@ pub(crate) unsafe fn repack_moved(c: &PackSrc, pk: &mut [Packed]) {
 /// == c.start.len()`) and the list must be valid (see [`at`]).
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-unsafe fn gather_aos<L: PairLaw, const G0: bool>(
-    c: &Ctx<L>,
+unsafe fn gather_aos<L: PairLaw, H: PairHook, const G0: bool>(
+    c: &Ctx<L, H>,
     pk: &[Packed],
     p0: usize,
     q: usize,
@@ -580,7 +633,7 @@ unsafe fn gather_aos<L: PairLaw, const G0: bool>(
         *gi = at!(c.owner, p0 + k - 1) as usize;
     }
     if k < q {
-        gather_from::<L, G0>(c, p0, q, k, gi, mr, s);
+        gather_from::<L, H, G0>(c, p0, q, k, gi, mr, s);
     }
 }
 
@@ -687,8 +740,15 @@ unsafe fn eval_avx2<const E: bool, const D: bool, const PER: bool, const G0: boo
 
 /// Evaluate one gathered block with the best instruction set available.
 #[inline(always)]
-fn eval_best<const E: bool, const D: bool, const PER: bool, const G0: bool, L: PairLaw>(
-    c: &Ctx<L>,
+fn eval_best<
+    const E: bool,
+    const D: bool,
+    const PER: bool,
+    const G0: bool,
+    L: PairLaw,
+    H: PairHook,
+>(
+    c: &Ctx<L, H>,
     s: &mut Scratch,
     us: &mut [f64; BLOCK],
     avx2: bool,
@@ -703,26 +763,20 @@ fn eval_best<const E: bool, const D: bool, const PER: bool, const G0: bool, L: P
     eval::<E, D, PER, G0, L>(c.law, c.dt, &c.img, s, us)
 }
 
-/// Add the forces of the intact parallel bonds of pairs p0..p0 + q to the block's outputs
-/// (`bond::fused::block`, from the gathered columns; compiled for AVX2 when there is one, as
+/// Run the hook over pairs p0..p0 + q of a block after the law (`PairHook::block`, from the
+/// gathered columns, adding to the block's outputs; compiled for AVX2 when there is one, as
 /// [`eval`] is).
-fn fused_bonds<L: PairLaw>(
-    c: &Ctx<L>,
-    v: &crate::bond::fused::View,
+fn hook_block<L: PairLaw, H: PairHook>(
+    c: &Ctx<L, H>,
+    h: &H,
     p0: usize,
     q: usize,
     s: &mut Scratch,
     avx2: bool,
 ) {
     #[inline(always)]
-    fn go<L: PairLaw>(
-        c: &Ctx<L>,
-        v: &crate::bond::fused::View,
-        p0: usize,
-        q: usize,
-        s: &mut Scratch,
-    ) {
-        let cols = crate::bond::fused::Cols {
+    fn go<L: PairLaw, H: PairHook>(c: &Ctx<L, H>, h: &H, p0: usize, q: usize, s: &mut Scratch) {
+        let cols = Cols {
             dx: &s.dx,
             dy: &s.dy,
             ri: &s.ri,
@@ -734,30 +788,30 @@ fn fused_bonds<L: PairLaw>(
         };
         let out = [&mut s.fx, &mut s.fy, &mut s.ti, &mut s.tj];
         if c.img.is_periodic() {
-            crate::bond::fused::block::<true>(v, &c.img, c.dt, p0, q, &cols, out);
+            h.block::<true>(&c.img, c.dt, p0, q, &cols, out);
         } else {
-            crate::bond::fused::block::<false>(v, &c.img, c.dt, p0, q, &cols, out);
+            h.block::<false>(&c.img, c.dt, p0, q, &cols, out);
         }
     }
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    unsafe fn go_avx2<L: PairLaw>(
-        c: &Ctx<L>,
-        v: &crate::bond::fused::View,
+    unsafe fn go_avx2<L: PairLaw, H: PairHook>(
+        c: &Ctx<L, H>,
+        h: &H,
         p0: usize,
         q: usize,
         s: &mut Scratch,
     ) {
-        go(c, v, p0, q, s)
+        go(c, h, p0, q, s)
     }
     #[cfg(target_arch = "x86_64")]
     if avx2 {
         // SAFETY: `avx2` is true only when the CPU reports AVX2 (see `has_avx2`).
-        unsafe { go_avx2(c, v, p0, q, s) };
+        unsafe { go_avx2(c, h, p0, q, s) };
         return;
     }
     let _ = avx2;
-    go(c, v, p0, q, s)
+    go(c, h, p0, q, s)
 }
 
 pub(crate) fn has_avx2() -> bool {
@@ -778,8 +832,8 @@ pub(crate) fn has_avx2() -> bool {
 /// [`gather_aos`] runs, which needs `avx2`) or empty (the portable gather).
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-pub(crate) fn block<const E: bool, const D: bool, L: PairLaw>(
-    c: &Ctx<L>,
+pub(crate) fn block<const E: bool, const D: bool, L: PairLaw, H: PairHook>(
+    c: &Ctx<L, H>,
     pk: &[Packed],
     p0: usize,
     gi: &mut usize,
@@ -798,12 +852,12 @@ pub(crate) fn block<const E: bool, const D: bool, L: PairLaw>(
         let per = c.img.is_periodic();
         // (`FUSED` separately compiled: scenes without fused bonds run the kernel without
         // the bond hook.)
-        let fz = c.fused.is_some();
+        let fz = c.hook.is_some();
         macro_rules! go {
             ($($per:literal $ratio:literal $g0:literal $fz:literal),*) => {
                 match (per, lin.ratio, g0, fz) {
                     $(($per, $ratio, $g0, $fz) => {
-                        linear4::block::<L, $per, $ratio, E, $g0, $fz>(c, &lin, pk, p0, q, gi, us, s)
+                        linear4::block::<L, H, $per, $ratio, E, $g0, $fz>(c, &lin, pk, p0, q, gi, us, s)
                     })*
                 }
             };
@@ -834,24 +888,24 @@ pub(crate) fn block<const E: bool, const D: bool, L: PairLaw>(
         // SAFETY: the CPU has AVX2 (`avx2`, see `has_avx2`); `pk` holds one record per disc.
         unsafe {
             if g0 {
-                gather_aos::<L, true>(c, pk, p0, q, gi, mr, s);
+                gather_aos::<L, H, true>(c, pk, p0, q, gi, mr, s);
             } else {
-                gather_aos::<L, false>(c, pk, p0, q, gi, mr, s);
+                gather_aos::<L, H, false>(c, pk, p0, q, gi, mr, s);
             }
         }
     }
     if pk.is_empty() {
         if g0 {
-            gather::<L, true>(c, p0, q, gi, mr, s);
+            gather::<L, H, true>(c, p0, q, gi, mr, s);
         } else {
-            gather::<L, false>(c, p0, q, gi, mr, s);
+            gather::<L, H, false>(c, p0, q, gi, mr, s);
         }
     }
     let run = |s: &mut Scratch, u: &mut [f64; BLOCK]| match (c.img.is_periodic(), g0) {
-        (false, false) => eval_best::<E, D, false, false, L>(c, s, u, avx2),
-        (true, false) => eval_best::<E, D, true, false, L>(c, s, u, avx2),
-        (false, true) => eval_best::<E, D, false, true, L>(c, s, u, avx2),
-        (true, true) => eval_best::<E, D, true, true, L>(c, s, u, avx2),
+        (false, false) => eval_best::<E, D, false, false, L, H>(c, s, u, avx2),
+        (true, false) => eval_best::<E, D, true, false, L, H>(c, s, u, avx2),
+        (false, true) => eval_best::<E, D, false, true, L, H>(c, s, u, avx2),
+        (true, true) => eval_best::<E, D, true, true, L, H>(c, s, u, avx2),
     };
     match <&mut [f64; BLOCK]>::try_from(&mut *us) {
         Ok(u) => run(s, u),
@@ -867,8 +921,8 @@ pub(crate) fn block<const E: bool, const D: bool, L: PairLaw>(
     if L::ROLLING {
         mr.copy_from_slice(&s.mr[..q]);
     }
-    if let Some(v) = c.fused {
-        fused_bonds(c, v, p0, q, s, avx2);
+    if let Some(h) = c.hook {
+        hook_block(c, h, p0, q, s, avx2);
     }
     if E {
         for k in 0..q {

@@ -13,7 +13,7 @@
 //! [`super::LinearSpringDashpot::force_cn`]), so the results are the same bits; the tests
 //! compare it with the portable path.
 
-use super::kernel::{at, pair_columns, Ctx, Packed, PairLaw, Scratch, BLOCK};
+use super::kernel::{at, pair_columns, Ctx, Packed, PairHook, PairLaw, Scratch, BLOCK};
 
 /// The parameters of a uniform linear law, as the four-lane kernel needs them.
 #[derive(Clone, Copy, Debug)]
@@ -61,13 +61,14 @@ pub(crate) static BLOCKS: std::sync::atomic::AtomicUsize = std::sync::atomic::At
 #[allow(clippy::too_many_arguments)]
 pub(crate) unsafe fn block<
     L: PairLaw,
+    H: PairHook,
     const PER: bool,
     const RATIO: bool,
     const E: bool,
     const G0: bool,
     const FUSED: bool,
 >(
-    c: &Ctx<L>,
+    c: &Ctx<L, H>,
     lin: &Linear4,
     pk: &[Packed],
     p0: usize,
@@ -233,14 +234,15 @@ pub(crate) unsafe fn block<
                 _mm256_and_pd(touch, ti),
                 _mm256_and_pd(touch, tj),
             );
-            let (fx, fy, ti, tj) = match (FUSED, c.fused) {
-                (true, Some(v)) => {
-                    // The pairs' parallel bonds (`bond::fused`), from this geometry.
+            let (fx, fy, ti, tj) = match (FUSED, c.hook) {
+                (true, Some(h)) => {
+                    // The per-pair hook (the pairs' parallel bonds, `bond::fused`), from this
+                    // geometry.
                     let g = [dd, rc, nx, ny, ai, aj, vt, wi, wj];
                     let mut f = [fx, fy, ti, tj];
                     // SAFETY: AVX2 (this function's contract); k + m <= q, pairs p0..p0 + q
                     // exist.
-                    crate::bond::fused::four(v, p0 + k, m, g, c.dt, &mut f);
+                    h.four(p0 + k, m, g, c.dt, &mut f);
                     (f[0], f[1], f[2], f[3])
                 }
                 _ => (fx, fy, ti, tj),

@@ -22,7 +22,9 @@
 //! accumulators (+0.0 copied) and get their sums in the second pass as before.
 
 use super::disc_disc::{PassEnergy, Slots, CHUNK};
-use super::kernel::{at, block, has_avx2, pack, Acc4, Ctx, Packed, PairLaw, Scratch, BLOCK};
+use super::kernel::{
+    at, block, has_avx2, pack, Acc4, Ctx, Packed, PairHook, PairLaw, Scratch, BLOCK,
+};
 use crate::team::SyncPtr;
 
 /// The parts of the neighbour list the split needs.
@@ -214,9 +216,9 @@ impl Sink<'_, '_> {
 
     /// Scatter the forces of pairs p..p+q (scratch entries 0..q) in list order (portable).
     #[inline(always)]
-    fn scatter<const D: bool, const SPLIT: bool, L: PairLaw>(
+    fn scatter<const D: bool, const SPLIT: bool, L: PairLaw, H: PairHook>(
         &mut self,
-        c: &Ctx<L>,
+        c: &Ctx<L, H>,
         p: usize,
         q: usize,
         sc: &Scratch,
@@ -287,9 +289,9 @@ impl Sink<'_, '_> {
     /// valid (see [`at`]).
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    unsafe fn scatter_aos<const D: bool, const SPLIT: bool, L: PairLaw>(
+    unsafe fn scatter_aos<const D: bool, const SPLIT: bool, L: PairLaw, H: PairHook>(
         &mut self,
-        c: &Ctx<L>,
+        c: &Ctx<L, H>,
         p: usize,
         q: usize,
         sc: &Scratch,
@@ -408,8 +410,8 @@ impl Sink<'_, '_> {
 /// disc records (then `ds.f` has the range's accumulators and the AVX2 gather and scatter
 /// run, which need `avx2`) or empty (portable gather and scatter).
 #[allow(clippy::too_many_arguments)]
-fn range_pass<const E: bool, const D: bool, const SPLIT: bool, L: PairLaw>(
-    c: &Ctx<L>,
+fn range_pass<const E: bool, const D: bool, const SPLIT: bool, L: PairLaw, H: PairHook>(
+    c: &Ctx<L, H>,
     pk: &[Packed],
     shared: &[bool],
     (lo, hi): (usize, usize),
@@ -444,7 +446,7 @@ fn range_pass<const E: bool, const D: bool, const SPLIT: bool, L: PairLaw>(
         while p < pend {
             let q = BLOCK.min(pend - p);
             let (u, m) = (&mut us[p - p0..p - p0 + q], &mut mr[p - p0..p - p0 + q]);
-            block::<E, D, L>(c, pk, p, &mut gi, u, m, sc, &mut e, avx2);
+            block::<E, D, L, H>(c, pk, p, &mut gi, u, m, sc, &mut e, avx2);
             // In a block of clean discs the split's tests are all false (see `Plan::dirty`).
             let plain = !SPLIT || Plan::plain(dirty, p, q);
             #[cfg(target_arch = "x86_64")]
@@ -452,17 +454,17 @@ fn range_pass<const E: bool, const D: bool, const SPLIT: bool, L: PairLaw>(
                 // SAFETY: `aos` implies AVX2 (asserted above) and `f` of the range's length.
                 unsafe {
                     if plain {
-                        sink.scatter_aos::<D, false, L>(c, p, q, sc)
+                        sink.scatter_aos::<D, false, L, H>(c, p, q, sc)
                     } else {
-                        sink.scatter_aos::<D, SPLIT, L>(c, p, q, sc)
+                        sink.scatter_aos::<D, SPLIT, L, H>(c, p, q, sc)
                     }
                 };
             }
             if !aos {
                 if plain {
-                    sink.scatter::<D, false, L>(c, p, q, sc);
+                    sink.scatter::<D, false, L, H>(c, p, q, sc);
                 } else {
-                    sink.scatter::<D, SPLIT, L>(c, p, q, sc);
+                    sink.scatter::<D, SPLIT, L, H>(c, p, q, sc);
                 }
             }
             p += q;
@@ -552,8 +554,8 @@ pub(crate) struct Outs<'a> {
 /// [`range_pass`]. The forces `outs.fx, fy, tq` are replaced (the portable path clears them
 /// first; the AVX2 path copies its accumulators, cleared by `pack`, into every disc). (Kept out of line: inlined into its caller it compiles to slower code.)
 #[inline(never)]
-pub(crate) fn pass<const E: bool, const D: bool, L: PairLaw>(
-    c: &Ctx<L>,
+pub(crate) fn pass<const E: bool, const D: bool, L: PairLaw, H: PairHook>(
+    c: &Ctx<L, H>,
     us: &mut [f64],
     mr: &mut [f64],
     nb: &ListRef,
@@ -632,7 +634,7 @@ pub(crate) fn pass<const E: bool, const D: bool, L: PairLaw>(
             slot: Default::default(),
         };
         let sc = &mut *s.scratch;
-        range_pass::<E, D, false, L>(
+        range_pass::<E, D, false, L, H>(
             c,
             pk,
             &[],
@@ -732,7 +734,7 @@ pub(crate) fn pass<const E: bool, const D: bool, L: PairLaw>(
             SCRATCH.with(|sc| {
                 let sc = &mut sc.borrow_mut();
                 let lh = (lo, hi);
-                range_pass::<E, D, true, L>(c, pk, shared, lh, dirty, ds, ps, en, sc, avx2);
+                range_pass::<E, D, true, L, H>(c, pk, shared, lh, dirty, ds, ps, en, sc, avx2);
             });
         });
         // Shared discs: partner-side slots in increasing pair order, then the own sum.
