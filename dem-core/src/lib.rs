@@ -54,6 +54,7 @@ pub mod energy;
 pub mod guard;
 pub mod integrate;
 pub mod lab;
+pub mod lanes;
 pub mod mass_scaling;
 pub mod neighbors;
 pub mod output;

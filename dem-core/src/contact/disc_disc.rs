@@ -9,9 +9,10 @@
 //! thread count. Energies are summed in pair order within fixed chunks of [`CHUNK`] discs and
 //! the chunk sums added in chunk order.
 
-use super::kernel::{Acc4, Ctx, LinearGamma, LinearRatio, Packed, PairHook, PairLaw, Scratch};
+use super::kernel::{Acc4, Ctx, LinearGamma, LinearRatio, PairHook, PairLaw, Scratch};
 use super::owned::{self, ListRef, Outs, Plan};
 use super::{ContactLaws, ContactModel, NormalDamping};
+use crate::lanes::Packed;
 use crate::neighbors::{MinImage, Neighbors};
 use crate::state::Discs;
 
