@@ -8,8 +8,8 @@
 //!   (no FMA contraction), so results do not depend on the answer.
 //! - [`PAIR_BLOCK`] and [`BOND_BLOCK`]: the block sizes of the contact pass and of the bond
 //!   kernel, with their reasons.
-//! - [`Packed`]: one disc's 64-byte record of the AVX2 gathers, [`transpose4`] and
-//!   [`pair_columns`]: the loads and transposes that turn records into the SoA columns of
+//! - [`Packed`]: one disc's 64-byte record of the AVX2 gathers, `transpose4` and
+//!   `pair_columns`: the loads and transposes that turn records into the SoA columns of
 //!   four pairs (or bonds).
 //!
 //! Not here (yet): the minimum image. The contact pass uses `neighbors::MinImage` (compare
