@@ -11,7 +11,7 @@
 //! the two half-step velocities.
 
 use crate::contact::disc_disc::{Dashpot, CHUNK};
-use crate::contact::kernel::Packed;
+use crate::lanes::Packed;
 use crate::state::Discs;
 use crate::team::SyncPtr;
 use serde::{Deserialize, Serialize};
@@ -385,7 +385,7 @@ unsafe fn chunk_best<const E: bool, const D: bool, const DAMP: bool, const VISC:
     terms: &mut Terms,
 ) -> Moved {
     #[cfg(target_arch = "x86_64")]
-    if std::is_x86_feature_detected!("avx2") {
+    if crate::lanes::has_avx2() {
         return chunk_avx2::<E, D, DAMP, VISC>(p, d, c, x0, y0, k, lo, hi, terms);
     }
     chunk::<E, D, DAMP, VISC>(p, d, c, x0, y0, k, lo, hi, terms)

@@ -55,6 +55,7 @@ pub mod fragments;
 pub mod guard;
 pub mod integrate;
 pub mod lab;
+pub mod lanes;
 pub mod mass_scaling;
 pub mod neighbors;
 pub mod output;

@@ -353,7 +353,7 @@ impl World {
         let pack = batch
             && self.state.clumps.is_empty()
             && !self.slots.portable
-            && crate::contact::kernel::has_avx2();
+            && crate::lanes::has_avx2();
         if pack {
             self.slots
                 .packed

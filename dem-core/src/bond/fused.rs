@@ -37,7 +37,9 @@
 use super::criteria::{BreakMode, Criterion};
 use super::kernel::{INTACT, NEW};
 use super::BondModel;
-use crate::contact::kernel::BLOCK;
+use crate::contact::kernel::{Cols, PairHook};
+use crate::lanes::PAIR_BLOCK;
+use crate::neighbors::MinImage;
 use crate::team::SyncPtr;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
@@ -308,18 +310,35 @@ impl View<'_> {
     }
 }
 
-/// The gathered columns of a block of pairs (the contact pass's scratch, see
-/// `contact::kernel::Scratch`): raw centre differences `dx`, `dy` (before the minimum image),
-/// radii, spins and velocity differences.
-pub(crate) struct Cols<'a> {
-    pub dx: &'a [f64; BLOCK],
-    pub dy: &'a [f64; BLOCK],
-    pub ri: &'a [f64; BLOCK],
-    pub rj: &'a [f64; BLOCK],
-    pub wi: &'a [f64; BLOCK],
-    pub wj: &'a [f64; BLOCK],
-    pub dvx: &'a [f64; BLOCK],
-    pub dvy: &'a [f64; BLOCK],
+/// The fused bond stage is the contact pass's per-pair hook: [`block`] on its general path,
+/// [`four`] in its four-lane kernel.
+impl PairHook for View<'_> {
+    #[inline(always)]
+    fn block<const PER: bool>(
+        &self,
+        img: &MinImage,
+        dt: f64,
+        p0: usize,
+        q: usize,
+        c: &Cols,
+        out: [&mut [f64; PAIR_BLOCK]; 4],
+    ) {
+        block::<PER>(self, img, dt, p0, q, c, out)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    unsafe fn four(
+        &self,
+        p: usize,
+        m: usize,
+        g: [std::arch::x86_64::__m256d; 9],
+        dt: f64,
+        f: &mut [std::arch::x86_64::__m256d; 4],
+    ) {
+        // SAFETY: the caller's contract is `four`'s (AVX2, p + m <= the pair count).
+        four(self, p, m, g, dt, f)
+    }
 }
 
 /// [`law`] over a block of pairs p0..p0 + q of the contact pass's general path: the
@@ -331,16 +350,16 @@ pub(crate) struct Cols<'a> {
 #[allow(clippy::needless_range_loop)] // one index over many arrays: the vectorisable form
 pub(crate) fn block<const PER: bool>(
     v: &View,
-    img: &crate::neighbors::MinImage,
+    img: &MinImage,
     dt: f64,
     p0: usize,
     q: usize,
     c: &Cols,
-    out: [&mut [f64; BLOCK]; 4],
+    out: [&mut [f64; PAIR_BLOCK]; 4],
 ) {
-    let q = q.min(BLOCK);
-    let mut idx = [usize::MAX; BLOCK];
-    let mut rev = [false; BLOCK];
+    let q = q.min(PAIR_BLOCK);
+    let mut idx = [usize::MAX; PAIR_BLOCK];
+    let mut rev = [false; PAIR_BLOCK];
     let mut any = false;
     for k in 0..q {
         if let Some((b, r)) = v.bond_of(p0 + k) {
@@ -351,9 +370,9 @@ pub(crate) fn block<const PER: bool>(
         return;
     }
     // Bond entries per pair (zeros where there is none: finite, and ignored).
-    let z = [0.0; BLOCK];
+    let z = [0.0; PAIR_BLOCK];
     let (mut rbar, mut g0, mut fs, mut mp) = (z, z, z, z);
-    let mut par = [[0.0; BLOCK]; 6];
+    let mut par = [[0.0; PAIR_BLOCK]; 6];
     for k in 0..q {
         let b = idx[k];
         if b == usize::MAX {
@@ -370,9 +389,9 @@ pub(crate) fn block<const PER: bool>(
     }
     let (mut f0, mut f1, mut f2) = (z, z, z);
     let mut o = [z; 4];
-    let mut brk = [false; BLOCK];
-    let mut ten = [false; BLOCK];
-    for k in 0..BLOCK {
+    let mut brk = [false; PAIR_BLOCK];
+    let mut ten = [false; PAIR_BLOCK];
+    for k in 0..PAIR_BLOCK {
         let (dx, dy) = if PER {
             img.delta_select(c.dx[k], c.dy[k])
         } else {
@@ -842,7 +861,7 @@ mod tests {
                 .iter()
                 .any(|&e| e != super::NONE && e & super::REV != 0));
             #[cfg(target_arch = "x86_64")]
-            if crate::contact::kernel::has_avx2() {
+            if crate::lanes::has_avx2() {
                 use std::sync::atomic::Ordering::Relaxed;
                 assert!(super::FAST.load(Relaxed) > 0 && super::LANES.load(Relaxed) > 0);
             }

@@ -1,4 +1,4 @@
-//! The per-step bond kernel: bonds are processed in blocks of [`BLOCK`]; per block, the pair
+//! The per-step bond kernel: bonds are processed in blocks of [`BOND_BLOCK`]; per block, the pair
 //! data are gathered, the geometry and kinematics computed branch-free over the block (the
 //! compiler emits packed SIMD), then the bond laws and criteria are applied (also branch-free
 //! for the common case of a block of intact parallel bonds with the stress criterion), and the
@@ -15,8 +15,8 @@ use super::potyondy2004::{Kinematics, ParallelBondParams};
 use super::split::Split;
 use super::{contact_bond, potyondy2004, BondGroup, BondModel};
 #[cfg(target_arch = "x86_64")]
-use crate::contact::kernel::transpose4;
-use crate::contact::kernel::Packed;
+use crate::lanes::transpose4;
+use crate::lanes::{Packed, BOND_BLOCK};
 use crate::state::Periodic;
 
 /// `status` codes: intact, broken (tension/shear), and broken in the current step (not yet
@@ -25,8 +25,6 @@ pub(super) const INTACT: u8 = 0;
 pub(super) const BROKEN: u8 = 1; // + mode index
 pub(super) const NEW: u8 = 3; // + mode index
 
-/// Bonds per block.
-pub(super) const BLOCK: usize = 32;
 /// Use the parallel path (ranges of bonds, [`super::split`]) from this many bonds on (and with
 /// more than one thread).
 pub(super) const PAR_MIN_BONDS: usize = 8192;
@@ -139,7 +137,7 @@ pub(super) struct DiscOut<'a> {
 
 /// Run the bond stage over all bonds: update forces and status, add the forces of intact
 /// bonds to the discs. Returns the number of bonds broken now (marked [`NEW`] + mode).
-/// `avx2`: use the AVX2 build of the block loop (pass [`has_avx2`]; same results either way).
+/// `avx2`: use the AVX2 build of the block loop (pass [`crate::lanes::has_avx2`]; same results either way).
 /// `index_bound`: [`index_bound`] of `b.i`, `b.j` (cached by the store). `serial`: the work
 /// arrays of the one-thread path (kept by the store, so they are not re-zeroed every step).
 /// The parallel path ([`super::split`]) uses `scratch` (per-bond slots, resized as needed),
@@ -169,8 +167,8 @@ pub(super) fn run(
     if !parallel {
         let SerialWork { w, o } = serial;
         let mut broke = 0;
-        for k in (0..nb).step_by(BLOCK) {
-            let e = (k + BLOCK).min(nb);
+        for k in (0..nb).step_by(BOND_BLOCK) {
+            let e = (k + BOND_BLOCK).min(nb);
             let mut s = sub(&mut m, k..e);
             let (nbrk, all_intact) = block_best(c, b, k, &mut s, o, w, avx2, valid);
             broke += nbrk;
@@ -252,7 +250,7 @@ pub(super) fn index_bound(i: &[u32], j: &[u32]) -> usize {
 ///
 /// # Safety
 /// Every index in `i` and `j` must be below the common length of `fx`, `fy` and `tq`, and
-/// `i` and `j` must have one length, at most [`BLOCK`].
+/// `i` and `j` must have one length, at most [`BOND_BLOCK`].
 #[inline(always)]
 unsafe fn scatter_unchecked(
     fx: &mut [f64],
@@ -263,7 +261,7 @@ unsafe fn scatter_unchecked(
     o: &BlockOut,
 ) {
     let [ox, oy, oti, otj] = o;
-    for k in 0..i.len().min(BLOCK) {
+    for k in 0..i.len().min(BOND_BLOCK) {
         let (i, j) = (*i.get_unchecked(k) as usize, *j.get_unchecked(k) as usize);
         let (f0, f1, f2, f3) = (ox[k], oy[k], oti[k], otj[k]);
         *fx.get_unchecked_mut(i) -= f0;
@@ -285,18 +283,18 @@ unsafe fn scatter_unchecked(
 ///
 /// # Safety
 /// The CPU must support AVX2; every index in `i_` and `j_` must be below `pk.len()`, and
-/// they must have one length, at most [`BLOCK`].
+/// they must have one length, at most [`BOND_BLOCK`].
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 unsafe fn gather_packed(
     pk: &[Packed],
     i_: &[u32],
     j_: &[u32],
-    dv: [&mut [f64; BLOCK]; 4],
-    ws: [&mut [f64; BLOCK]; 4],
+    dv: [&mut [f64; BOND_BLOCK]; 4],
+    ws: [&mut [f64; BOND_BLOCK]; 4],
 ) {
     use std::arch::x86_64::*;
-    let n = i_.len().min(j_.len()).min(BLOCK);
+    let n = i_.len().min(j_.len()).min(BOND_BLOCK);
     let base = pk.as_ptr();
     // SAFETY (record loads): indices below pk.len() (the contract); records are 64-byte
     // aligned, so both 32-byte halves are aligned.
@@ -309,8 +307,8 @@ unsafe fn gather_packed(
         let (i, j) = (i_.get_unchecked(k..k + 4), j_.get_unchecked(k..k + 4));
         let d = |l: usize| _mm256_sub_pd(ld_a(j[l]), ld_a(i[l]));
         let [dx, dy, dvxv, dvyv] = transpose4([d(0), d(1), d(2), d(3)]);
-        // SAFETY (stores): k + 4 <= n <= BLOCK.
-        let st = |a: &mut [f64; BLOCK], v| _mm256_storeu_pd(a.as_mut_ptr().add(k), v);
+        // SAFETY (stores): k + 4 <= n <= BOND_BLOCK.
+        let st = |a: &mut [f64; BOND_BLOCK], v| _mm256_storeu_pd(a.as_mut_ptr().add(k), v);
         st(dxs, dx);
         st(dys, dy);
         st(dvx, dvxv);
@@ -390,18 +388,6 @@ pub(super) fn block_best(
     }
 }
 
-/// Does the CPU support AVX2?
-pub(super) fn has_avx2() -> bool {
-    #[cfg(target_arch = "x86_64")]
-    {
-        std::is_x86_feature_detected!("avx2")
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    {
-        false
-    }
-}
-
 /// Work arrays of the one-thread path: [`Work`] and the block's outputs.
 #[derive(Clone, Debug)]
 pub(super) struct SerialWork {
@@ -411,13 +397,13 @@ pub(super) struct SerialWork {
 
 /// Outputs of one block, by component (force on j along x, y, torques on i, j) and bond: the
 /// vectorised pass stores whole vectors.
-pub(super) type BlockOut = [[f64; BLOCK]; 4];
+pub(super) type BlockOut = [[f64; BOND_BLOCK]; 4];
 
 impl Default for SerialWork {
     fn default() -> SerialWork {
         SerialWork {
             w: Work::new(),
-            o: [[0.0; BLOCK]; 4],
+            o: [[0.0; BOND_BLOCK]; 4],
         }
     }
 }
@@ -425,37 +411,37 @@ impl Default for SerialWork {
 /// Per-block work arrays, reused from block to block (not re-zeroed).
 #[derive(Clone, Debug)]
 pub(super) struct Work {
-    dxs: [f64; BLOCK],
-    dys: [f64; BLOCK],
-    ris: [f64; BLOCK],
-    rjs: [f64; BLOCK],
-    dvx: [f64; BLOCK],
-    dvy: [f64; BLOCK],
-    wis: [f64; BLOCK],
-    wjs: [f64; BLOCK],
+    dxs: [f64; BOND_BLOCK],
+    dys: [f64; BOND_BLOCK],
+    ris: [f64; BOND_BLOCK],
+    rjs: [f64; BOND_BLOCK],
+    dvx: [f64; BOND_BLOCK],
+    dvy: [f64; BOND_BLOCK],
+    wis: [f64; BOND_BLOCK],
+    wjs: [f64; BOND_BLOCK],
     /// n̂x, n̂y, gap, a_i, a_j, v_t, Δω.
-    geo: [[f64; BLOCK]; 7],
+    geo: [[f64; BOND_BLOCK]; 7],
 }
 
 impl Work {
     pub(super) fn new() -> Work {
         Work {
-            dxs: [1.0; BLOCK],
-            dys: [0.0; BLOCK],
-            ris: [0.0; BLOCK],
-            rjs: [0.0; BLOCK],
-            dvx: [0.0; BLOCK],
-            dvy: [0.0; BLOCK],
-            wis: [0.0; BLOCK],
-            wjs: [0.0; BLOCK],
-            geo: [[0.0; BLOCK]; 7],
+            dxs: [1.0; BOND_BLOCK],
+            dys: [0.0; BOND_BLOCK],
+            ris: [0.0; BOND_BLOCK],
+            rjs: [0.0; BOND_BLOCK],
+            dvx: [0.0; BOND_BLOCK],
+            dvy: [0.0; BOND_BLOCK],
+            wis: [0.0; BOND_BLOCK],
+            wjs: [0.0; BOND_BLOCK],
+            geo: [[0.0; BOND_BLOCK]; 7],
         }
     }
 }
 
 /// Per-bond parameters of parallel bonds with the stress criterion (k̄n, k̄s, λ̄, β̄, σ̄c, c̄,
-/// tan φ̄; zeros for other bonds), and per block of [`BLOCK`] bonds (blocks start at multiples
-/// of BLOCK) whether all its bonds are such bonds. Built from the groups once (the store
+/// tan φ̄; zeros for other bonds), and per block of [`BOND_BLOCK`] bonds (blocks start at multiples
+/// of BOND_BLOCK) whether all its bonds are such bonds. Built from the groups once (the store
 /// rebuilds it when bonds are added or reordered), so that a block whose bonds interleave
 /// several such groups (improved ORC: intra-grain and grain-boundary bonds) reads them as
 /// arrays instead of looking up each bond's group every step.
@@ -495,25 +481,33 @@ impl StressParams {
                 ok[k] = true;
             }
         }
-        s.block_ok = ok.chunks(BLOCK).map(|c| c.iter().all(|&o| o)).collect();
+        s.block_ok = ok
+            .chunks(BOND_BLOCK)
+            .map(|c| c.iter().all(|&o| o))
+            .collect();
         s
     }
 
     /// Whether the store had `n` bonds when this was built.
     pub(super) fn fits(&self, n: usize) -> bool {
-        self.par[0].len() == n && self.block_ok.len() == n.div_ceil(BLOCK)
+        self.par[0].len() == n && self.block_ok.len() == n.div_ceil(BOND_BLOCK)
     }
 
-    /// The parameters of the full block starting at `base` (a multiple of [`BLOCK`]) when all
+    /// The parameters of the full block starting at `base` (a multiple of [`BOND_BLOCK`]) when all
     /// its bonds are parallel bonds with the stress criterion.
     #[inline(always)]
-    fn block(&self, base: usize) -> Option<[&[f64; BLOCK]; 7]> {
-        if !base.is_multiple_of(BLOCK) || !self.block_ok.get(base / BLOCK).copied().unwrap_or(false)
+    fn block(&self, base: usize) -> Option<[&[f64; BOND_BLOCK]; 7]> {
+        if !base.is_multiple_of(BOND_BLOCK)
+            || !self
+                .block_ok
+                .get(base / BOND_BLOCK)
+                .copied()
+                .unwrap_or(false)
         {
             return None;
         }
-        let r = base..base + BLOCK;
-        fn a(v: &[f64], r: std::ops::Range<usize>) -> Option<&[f64; BLOCK]> {
+        let r = base..base + BOND_BLOCK;
+        fn a(v: &[f64], r: std::ops::Range<usize>) -> Option<&[f64; BOND_BLOCK]> {
             v.get(r)?.try_into().ok()
         }
         Some([
@@ -567,7 +561,7 @@ fn block<const VALID: bool>(
     // A full block of intact parallel bonds with the stress criterion, with the packed
     // records: the four-lane kernel (the same bits).
     #[cfg(target_arch = "x86_64")]
-    if VALID && n == BLOCK && !broken_any && c.packed.len() == c.v.x.len() {
+    if VALID && n == BOND_BLOCK && !broken_any && c.packed.len() == c.v.x.len() {
         use super::parallel4::{block as four, Par};
         let par = match uniform_stress(c, &b.group[base..base + n]) {
             Some((p, tensile, cohesion, tan_phi)) => Some(Par::Uniform([
@@ -656,7 +650,7 @@ fn block<const VALID: bool>(
     // ((v_j − ω_j a_j t̂) − (v_i + ω_i a_i t̂))·t̂ with t̂ = (−n_y, n_x), and relative spin.
     {
         let [gnx, gny, ggap, gai, gaj, gvt, gdw] = geo;
-        for k in 0..BLOCK {
+        for k in 0..BOND_BLOCK {
             let dx = min_image(dxs[k], v.per[0]);
             let dy = min_image(dys[k], v.per[1]);
             let (nx, ny, gap, ai, aj) = normal_gap(dx, dy, ris[k], rjs[k]);
@@ -714,13 +708,13 @@ fn block<const VALID: bool>(
     } else {
         0
     };
-    let straight_ok = n == BLOCK && broken <= BLOCK / 4;
+    let straight_ok = n == BOND_BLOCK && broken <= BOND_BLOCK / 4;
     let fast = if straight_ok {
         uniform_stress(c, grp)
     } else {
         None
     };
-    let mut codes = [0u8; BLOCK];
+    let mut codes = [0u8; BOND_BLOCK];
     // Several groups, all parallel bonds with the stress criterion (improved ORC: intra-grain
     // and grain-boundary bonds interleave in store order): their parameters are read per
     // bond and the straight-line loop below evaluates the same expressions as the general
@@ -736,7 +730,7 @@ fn block<const VALID: bool>(
     // to be left as they are.
     macro_rules! straight {
         ($masked:expr, $par:expr) => {
-            for k in 0..BLOCK {
+            for k in 0..BOND_BLOCK {
                 let (p, tensile, cohesion, tan_phi) = $par(k);
                 let (f, l) = potyondy2004::update(
                     &p,

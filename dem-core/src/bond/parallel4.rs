@@ -1,7 +1,7 @@
 //! The parallel bond of Potyondy & Cundall (2004) with the maximum-stress criterion (see
 //! [`super::potyondy2004`] and [`super::criteria`]) over four bonds at a time in AVX2
 //! registers: the contact pass's packed records of the two discs of each bond are loaded and
-//! transposed (`contact::kernel::pair_columns`), geometry, kinematics, the force update and the
+//! transposed (`lanes::pair_columns`), geometry, kinematics, the force update and the
 //! criterion are evaluated on the vectors, and only the new bond forces and the four output
 //! columns (force on j along x, y, torques on i and j) are stored. The block kernel's
 //! straight-line path stores the gathered columns and the geometry to work arrays and reads
@@ -17,8 +17,9 @@
 //! compare it with the general path.
 
 use super::criteria::BreakMode;
-use super::kernel::{BlockOut, BondsIn, BondsMut, Ctx, BLOCK, MAGIC, NEW};
-use crate::contact::kernel::pair_columns;
+use super::kernel::{BlockOut, BondsIn, BondsMut, Ctx, MAGIC, NEW};
+use crate::lanes::pair_columns;
+use crate::lanes::BOND_BLOCK;
 
 #[cfg(test)]
 thread_local! {
@@ -30,10 +31,10 @@ thread_local! {
 /// group) or per bond (`StressParams::block`: several groups; 56 more bytes read per bond).
 pub(super) enum Par<'a> {
     Uniform([f64; 7]),
-    PerBond([&'a [f64; BLOCK]; 7]),
+    PerBond([&'a [f64; BOND_BLOCK]; 7]),
 }
 
-/// Update the full block of intact bonds `base..base + BLOCK` (`m` holds that block's
+/// Update the full block of intact bonds `base..base + BOND_BLOCK` (`m` holds that block's
 /// entries): new forces in `m`, the outputs `[fx, fy, ti, tj]` of every bond in `out`, and
 /// the status of the bonds breaking now ([`NEW`] + mode). Returns the number of bonds broken
 /// now.
@@ -83,20 +84,20 @@ unsafe fn block_with(
     use std::arch::x86_64::*;
     #[cfg(test)]
     BLOCKS.with(|b| b.set(b.get() + 1));
-    let r = base..base + BLOCK;
-    // (Bounds checked here, once: every access below is at k + l < BLOCK.)
-    let (i_, j_): (&[u32; BLOCK], &[u32; BLOCK]) = (
+    let r = base..base + BOND_BLOCK;
+    // (Bounds checked here, once: every access below is at k + l < BOND_BLOCK.)
+    let (i_, j_): (&[u32; BOND_BLOCK], &[u32; BOND_BLOCK]) = (
         b.i[r.clone()].try_into().expect("a full block"),
         b.j[r.clone()].try_into().expect("a full block"),
     );
-    let (g0_, rbar_): (&[f64; BLOCK], &[f64; BLOCK]) = (
+    let (g0_, rbar_): (&[f64; BOND_BLOCK], &[f64; BOND_BLOCK]) = (
         b.g0[r.clone()].try_into().expect("a full block"),
         b.rbar[r].try_into().expect("a full block"),
     );
-    let f_n: &mut [f64; BLOCK] = (&mut *m.fn_).try_into().expect("a full block");
-    let f_s: &mut [f64; BLOCK] = (&mut *m.fs).try_into().expect("a full block");
-    let f_m: &mut [f64; BLOCK] = (&mut *m.m).try_into().expect("a full block");
-    let status: &mut [u8; BLOCK] = (&mut *m.status).try_into().expect("a full block");
+    let f_n: &mut [f64; BOND_BLOCK] = (&mut *m.fn_).try_into().expect("a full block");
+    let f_s: &mut [f64; BOND_BLOCK] = (&mut *m.fs).try_into().expect("a full block");
+    let f_m: &mut [f64; BOND_BLOCK] = (&mut *m.m).try_into().expect("a full block");
+    let status: &mut [u8; BOND_BLOCK] = (&mut *m.status).try_into().expect("a full block");
     let base_pk = c.packed.as_ptr();
     let set = _mm256_set1_pd;
     let [(lx, ix), (ly, iy)] = c.v.per;
@@ -106,15 +107,15 @@ unsafe fn block_with(
     let (t, dt) = (set(c.t), set(c.dt));
     let (add, sub, mul) = (_mm256_add_pd, _mm256_sub_pd, _mm256_mul_pd);
     let neg = |a| _mm256_xor_pd(a, sign);
-    // SAFETY (loads and stores at k): k + 4 <= BLOCK, the arrays' length.
-    let ld = |a: &[f64; BLOCK], k: usize| _mm256_loadu_pd(a.as_ptr().add(k));
-    let st = |a: &mut [f64; BLOCK], k: usize, v| _mm256_storeu_pd(a.as_mut_ptr().add(k), v);
+    // SAFETY (loads and stores at k): k + 4 <= BOND_BLOCK, the arrays' length.
+    let ld = |a: &[f64; BOND_BLOCK], k: usize| _mm256_loadu_pd(a.as_ptr().add(k));
+    let st = |a: &mut [f64; BOND_BLOCK], k: usize, v| _mm256_storeu_pd(a.as_mut_ptr().add(k), v);
     // `kernel::min_image`: d − l·((d/l + M) − M), (l, 1/l) = (0, 0) when not periodic.
     let image = |d, l, inv| sub(d, mul(l, sub(add(mul(d, inv), magic), magic)));
     let [ox, oy, oti, otj] = out;
     // Bits k of the block: tension and shear conditions.
     let (mut tension, mut shear) = (0u32, 0u32);
-    for k in (0..BLOCK).step_by(4) {
+    for k in (0..BOND_BLOCK).step_by(4) {
         let ii = std::array::from_fn(|l| i_[k + l] as usize);
         let jj = std::array::from_fn(|l| j_[k + l] as usize);
         // SAFETY: every index below c.packed.len() (the contract).

@@ -15,7 +15,8 @@
 //! read back every step.
 
 use super::incidence::Incidence;
-use super::kernel::{block_best, sub, BlockOut, BondsIn, BondsMut, Ctx, Work, BLOCK, INTACT};
+use super::kernel::{block_best, sub, BlockOut, BondsIn, BondsMut, Ctx, Work, INTACT};
+use crate::lanes::BOND_BLOCK;
 use crate::team::SyncPtr;
 use std::sync::atomic::{AtomicUsize, Ordering::Relaxed};
 
@@ -24,13 +25,13 @@ use std::sync::atomic::{AtomicUsize, Ordering::Relaxed};
 pub(super) struct Split {
     /// (bonds, discs, ranges) it was made for (the store drops it when its bonds change).
     key: (usize, usize, usize),
-    /// Range r holds bonds `bounds[r]..bounds[r + 1]` (multiples of [`BLOCK`] but the last).
+    /// Range r holds bonds `bounds[r]..bounds[r + 1]` (multiples of [`BOND_BLOCK`] but the last).
     bounds: Vec<usize>,
     /// Whether disc d is touched by the bonds of more than one range.
     shared: Vec<bool>,
     /// The shared discs, increasing.
     shared_list: Vec<u32>,
-    /// Per block of [`BLOCK`] bonds: whether one of its bonds has a shared disc.
+    /// Per block of [`BOND_BLOCK`] bonds: whether one of its bonds has a shared disc.
     dirty: Vec<bool>,
 }
 
@@ -47,7 +48,7 @@ impl Split {
         let ranges = ranges.max(1);
         let mut bounds = vec![0];
         for r in 1..ranges {
-            let k = (nb * r / ranges) / BLOCK * BLOCK;
+            let k = (nb * r / ranges) / BOND_BLOCK * BOND_BLOCK;
             bounds.push(k.max(bounds[r - 1]));
         }
         bounds.push(nb);
@@ -68,9 +69,10 @@ impl Split {
         }
         let shared_list = (0..nd as u32).filter(|&d| shared[d as usize]).collect();
         let dirty = (0..nb)
-            .step_by(BLOCK)
+            .step_by(BOND_BLOCK)
             .map(|k| {
-                (k..(k + BLOCK).min(nb)).any(|q| shared[i[q] as usize] || shared[j[q] as usize])
+                (k..(k + BOND_BLOCK).min(nb))
+                    .any(|q| shared[i[q] as usize] || shared[j[q] as usize])
             })
             .collect();
         Split {
@@ -149,15 +151,15 @@ pub(super) fn run(
             (mr, psl.slice(lo, n))
         };
         let mut w = Work::new();
-        let mut o: BlockOut = [[0.0; BLOCK]; 4];
+        let mut o: BlockOut = [[0.0; BOND_BLOCK]; 4];
         let mut n_broke = 0;
-        for k in (lo..hi).step_by(BLOCK) {
-            let e = (k + BLOCK).min(hi);
+        for k in (lo..hi).step_by(BOND_BLOCK) {
+            let e = (k + BOND_BLOCK).min(hi);
             let mut s = sub(&mut mr, k - lo..e - lo);
             let (nbrk, all_intact) = block_best(c, b, k, &mut s, &mut o, &mut w, avx2, true);
             n_broke += nbrk;
             let all = all_intact && nbrk == 0;
-            let dirty = split.dirty[k / BLOCK];
+            let dirty = split.dirty[k / BOND_BLOCK];
             for q in k..e {
                 if !all && s.status[q - k] != INTACT {
                     continue;

@@ -7,7 +7,7 @@ use super::{
     contact_bond, install, potyondy2004, BondError, BondGroup, BondModel, BondStatus, BreakEvent,
     BreakLog,
 };
-use crate::contact::kernel::Packed;
+use crate::lanes::Packed;
 use crate::state::{State, FREE};
 use serde::{Deserialize, Serialize};
 use std::collections::HashSet;
@@ -484,14 +484,14 @@ impl Bonds {
     /// velocities (at t − dt/2), add bond forces and torques to the discs, break bonds whose
     /// criterion is met (their force vanishes from this step on) and log the breaks.
     pub fn compute(&mut self, st: &mut State, dt: f64) {
-        self.compute_with(st, dt, kernel::has_avx2(), &[]);
+        self.compute_with(st, dt, crate::lanes::has_avx2(), &[]);
     }
 
     /// [`Bonds::compute`] reading the discs from `pk`, the contact pass's packed records of
-    /// the current state (AVX2; see [`crate::contact::kernel::Packed`]), when not empty:
+    /// the current state (AVX2; see [`crate::lanes::Packed`]), when not empty:
     /// one cache line per disc instead of six arrays, same results.
     pub(crate) fn compute_packed(&mut self, st: &mut State, dt: f64, pk: &[Packed]) {
-        self.compute_with(st, dt, kernel::has_avx2(), pk);
+        self.compute_with(st, dt, crate::lanes::has_avx2(), pk);
     }
 
     /// [`Bonds::compute`] with the AVX2 build of the kernel on or off and the packed records

@@ -9,9 +9,10 @@
 //! thread count. Energies are summed in pair order within fixed chunks of [`CHUNK`] discs and
 //! the chunk sums added in chunk order.
 
-use super::kernel::{Acc4, Ctx, LinearGamma, LinearRatio, Packed, PairLaw, Scratch};
+use super::kernel::{Acc4, Ctx, LinearGamma, LinearRatio, PairHook, PairLaw, Scratch};
 use super::owned::{self, ListRef, Outs, Plan};
 use super::{ContactLaws, ContactModel, NormalDamping};
+use crate::lanes::Packed;
 use crate::neighbors::{MinImage, Neighbors};
 use crate::state::Discs;
 
@@ -144,9 +145,11 @@ fn valid(d: &Discs, nb: &Neighbors, minv: &[f64]) -> bool {
 /// accumulators, which start at +0.0, so the caller need not clear them). Returns the pass energies (zero unless `track_energy`). `dashpots` (only with
 /// `track_energy`): sum the dashpot forces per disc into `slots.dashpot` for the integration
 /// pass; the caller passes `false` when no law has a dashpot
-/// ([`ContactLaws::has_dashpots`]), and the sums are then neither reset nor filled.
+/// ([`ContactLaws::has_dashpots`]), and the sums are then neither reset nor filled. `hook`:
+/// evaluated with the pairs ([`super::kernel::PairHook`]; the pipeline passes the fused
+/// parallel bonds, `bond::fused`), or none.
 #[allow(clippy::too_many_arguments)]
-pub(crate) fn compute(
+pub(crate) fn compute<H: PairHook>(
     d: &mut Discs,
     nb: &mut Neighbors,
     minv: &[f64],
@@ -156,7 +159,7 @@ pub(crate) fn compute(
     track_energy: bool,
     dashpots: bool,
     slots: &mut Slots,
-    fused: Option<&crate::bond::fused::View>,
+    hook: Option<&H>,
 ) -> PassEnergy {
     assert!(valid(d, nb, minv), "neighbour list out of date");
     if !nb.verified || nb.owner.len() != nb.nbr.len() {
@@ -168,7 +171,7 @@ pub(crate) fn compute(
         slots.dashpot.reset(d.len());
     }
     let model = uniform_model(d, laws);
-    let a = (d, nb, minv, img, dt, (track_energy, dashpots), slots, fused);
+    let a = (d, nb, minv, img, dt, (track_energy, dashpots), slots, hook);
     match model {
         Some(ContactModel::Linear(l)) => match l.damping {
             NormalDamping::Gamma(g) => run(a, &LinearGamma(l, g)),
@@ -197,7 +200,7 @@ pub(crate) fn uniform_linear(d: &Discs, laws: &ContactLaws, dashpots: bool) -> b
     !dashpots && matches!(uniform_model(d, laws), Some(ContactModel::Linear(_)))
 }
 
-type Args<'a> = (
+type Args<'a, H> = (
     &'a mut Discs,
     &'a mut Neighbors,
     &'a [f64],
@@ -205,11 +208,11 @@ type Args<'a> = (
     f64,
     (bool, bool),
     &'a mut Slots,
-    Option<&'a crate::bond::fused::View<'a>>,
+    Option<&'a H>,
 );
 
-fn run<L: PairLaw>(a: Args, law: &L) -> PassEnergy {
-    let (d, nb, minv, img, dt, track, slots, fused) = a;
+fn run<L: PairLaw, H: PairHook>(a: Args<H>, law: &L) -> PassEnergy {
+    let (d, nb, minv, img, dt, track, slots, hook) = a;
     let threads = rayon::current_num_threads();
     let ranges = if threads > 1 && nb.nbr.len() >= PAR_MIN_PAIRS {
         threads
@@ -245,7 +248,7 @@ fn run<L: PairLaw>(a: Args, law: &L) -> PassEnergy {
         law,
         img,
         dt,
-        fused,
+        hook,
     };
     let (us, mr) = (&mut nb.us, &mut nb.mr);
     let list = ListRef {
@@ -264,9 +267,9 @@ fn run<L: PairLaw>(a: Args, law: &L) -> PassEnergy {
         dash: [&mut dash.fx, &mut dash.fy, &mut dash.t],
     };
     let e = match track {
-        (true, true) => owned::pass::<true, true, L>(&c, us, mr, &list, outs, slots, ranges),
-        (true, false) => owned::pass::<true, false, L>(&c, us, mr, &list, outs, slots, ranges),
-        (false, _) => owned::pass::<false, false, L>(&c, us, mr, &list, outs, slots, ranges),
+        (true, true) => owned::pass::<true, true, L, H>(&c, us, mr, &list, outs, slots, ranges),
+        (true, false) => owned::pass::<true, false, L, H>(&c, us, mr, &list, outs, slots, ranges),
+        (false, _) => owned::pass::<false, false, L, H>(&c, us, mr, &list, outs, slots, ranges),
     };
     slots.dashpot = dash;
     e

@@ -1,4 +1,4 @@
-//! The blocked pair kernel of the disc–disc pass: a gather loop copies up to [`BLOCK`] pairs'
+//! The blocked pair kernel of the disc–disc pass: a gather loop copies up to [`PAIR_BLOCK`] pairs'
 //! data into small local arrays (disc by disc, so the first disc's data is read once), a
 //! branch-free loop evaluates the law over the whole block (compiled twice: baseline and AVX2,
 //! chosen at run time; only correctly rounded IEEE operations and no FMA contraction are used,
@@ -13,10 +13,10 @@
 use super::disc_disc::PassEnergy;
 use super::linear4::{self, Linear4};
 use super::{ContactLaws, HertzMindlin, LinearSpringDashpot, PairKin, PairOut};
+#[cfg(target_arch = "x86_64")]
+use crate::lanes::{pair_columns, transpose4};
+use crate::lanes::{Packed, PAIR_BLOCK};
 use crate::neighbors::MinImage;
-
-/// Pairs per block of the kernel.
-pub const BLOCK: usize = 64;
 
 /// Unchecked read; the force pass validates all indices once per call.
 macro_rules! at {
@@ -148,7 +148,7 @@ impl PairLaw for ContactLaws {
 }
 
 /// Read-only data of the pass.
-pub(crate) struct Ctx<'a, L: PairLaw> {
+pub(crate) struct Ctx<'a, L: PairLaw, H: PairHook> {
     pub(crate) x: &'a [f64],
     pub(crate) y: &'a [f64],
     pub(crate) vx: &'a [f64],
@@ -165,39 +165,92 @@ pub(crate) struct Ctx<'a, L: PairLaw> {
     pub(crate) law: &'a L,
     pub(crate) img: MinImage,
     pub(crate) dt: f64,
-    /// Parallel bonds evaluated with their pairs (see `bond::fused`), or none.
-    pub(crate) fused: Option<&'a crate::bond::fused::View<'a>>,
+    /// The per-pair hook evaluated with the pairs (the parallel bonds of `bond::fused`), or
+    /// none.
+    pub(crate) hook: Option<&'a H>,
+}
+
+/// A per-pair hook of the pass: work evaluated with the listed pairs from the geometry the
+/// pass has just computed, adding to the pairs' forces before the scatter. The parallel bonds
+/// of a bonded lattice are evaluated this way (`bond::fused` implements it, see there): the
+/// bond module depends on this one, not the other way round. The pass is generic over the hook
+/// type (static dispatch, one instantiation per type), so the hook's bodies are inlined into
+/// the kernels as if written there.
+pub(crate) trait PairHook: Sync {
+    /// Add the hook's outputs for pairs p0..p0 + q (q ≤ [`PAIR_BLOCK`]) of a block of the general
+    /// path (after [`eval`]): `c` the block's gathered columns, `out` its force columns
+    /// `[fx, fy, ti, tj]` (entries 0..q). `PER`: apply the minimum image `img`.
+    fn block<const PER: bool>(
+        &self,
+        img: &MinImage,
+        dt: f64,
+        p0: usize,
+        q: usize,
+        c: &Cols,
+        out: [&mut [f64; PAIR_BLOCK]; 4],
+    );
+
+    /// The four-lane form, called by the four-lane kernel ([`super::linear4`]) for pairs
+    /// p..p + m (m ≤ 4; the other lanes are ignored): the pair geometry `g` = [d, r_i + r_j,
+    /// n_x, n_y, a_i, a_j, v_t, ω_i, ω_j] in registers (see [`Cols`] for its terms), outputs
+    /// added to the force columns `f = [fx, fy, ti, tj]`.
+    ///
+    /// # Safety
+    /// The CPU must support AVX2; `p + m` must not exceed the pair count.
+    #[cfg(target_arch = "x86_64")]
+    unsafe fn four(
+        &self,
+        p: usize,
+        m: usize,
+        g: [std::arch::x86_64::__m256d; 9],
+        dt: f64,
+        f: &mut [std::arch::x86_64::__m256d; 4],
+    );
+}
+
+/// The gathered columns of a block of pairs (the pass's [`Scratch`]) that a [`PairHook`]
+/// reads: raw centre differences `dx`, `dy` (before the minimum image), radii, spins and
+/// velocity differences.
+pub(crate) struct Cols<'a> {
+    pub dx: &'a [f64; PAIR_BLOCK],
+    pub dy: &'a [f64; PAIR_BLOCK],
+    pub ri: &'a [f64; PAIR_BLOCK],
+    pub rj: &'a [f64; PAIR_BLOCK],
+    pub wi: &'a [f64; PAIR_BLOCK],
+    pub wj: &'a [f64; PAIR_BLOCK],
+    pub dvx: &'a [f64; PAIR_BLOCK],
+    pub dvy: &'a [f64; PAIR_BLOCK],
 }
 
 /// Working arrays of one block (inputs gathered per pair, outputs per pair).
 #[derive(Clone)]
 pub struct Scratch {
-    dx: [f64; BLOCK],
-    dy: [f64; BLOCK],
-    reach: [f64; BLOCK],
+    dx: [f64; PAIR_BLOCK],
+    dy: [f64; PAIR_BLOCK],
+    reach: [f64; PAIR_BLOCK],
     /// Angular velocities of i and j (combined in [`eval`], vectorised).
-    wi: [f64; BLOCK],
-    wj: [f64; BLOCK],
-    dvx: [f64; BLOCK],
-    dvy: [f64; BLOCK],
-    ms: [f64; BLOCK],
-    ri: [f64; BLOCK],
-    rj: [f64; BLOCK],
-    mi: [u16; BLOCK],
-    mj: [u16; BLOCK],
-    pub(crate) us: [f64; BLOCK],
-    pub(crate) mr: [f64; BLOCK],
-    pub(crate) fx: [f64; BLOCK],
-    pub(crate) fy: [f64; BLOCK],
-    pub(crate) ti: [f64; BLOCK],
-    pub(crate) tj: [f64; BLOCK],
-    pub(crate) es: [f64; BLOCK],
-    pub(crate) ef: [f64; BLOCK],
+    wi: [f64; PAIR_BLOCK],
+    wj: [f64; PAIR_BLOCK],
+    dvx: [f64; PAIR_BLOCK],
+    dvy: [f64; PAIR_BLOCK],
+    ms: [f64; PAIR_BLOCK],
+    ri: [f64; PAIR_BLOCK],
+    rj: [f64; PAIR_BLOCK],
+    mi: [u16; PAIR_BLOCK],
+    mj: [u16; PAIR_BLOCK],
+    pub(crate) us: [f64; PAIR_BLOCK],
+    pub(crate) mr: [f64; PAIR_BLOCK],
+    pub(crate) fx: [f64; PAIR_BLOCK],
+    pub(crate) fy: [f64; PAIR_BLOCK],
+    pub(crate) ti: [f64; PAIR_BLOCK],
+    pub(crate) tj: [f64; PAIR_BLOCK],
+    pub(crate) es: [f64; PAIR_BLOCK],
+    pub(crate) ef: [f64; PAIR_BLOCK],
     /// Dashpot force on j and dashpot torques on i, j (energy tracking only).
-    pub(crate) dfx: [f64; BLOCK],
-    pub(crate) dfy: [f64; BLOCK],
-    pub(crate) dti: [f64; BLOCK],
-    pub(crate) dtj: [f64; BLOCK],
+    pub(crate) dfx: [f64; PAIR_BLOCK],
+    pub(crate) dfy: [f64; PAIR_BLOCK],
+    pub(crate) dti: [f64; PAIR_BLOCK],
+    pub(crate) dtj: [f64; PAIR_BLOCK],
 }
 
 impl std::fmt::Debug for Scratch {
@@ -208,7 +261,7 @@ impl std::fmt::Debug for Scratch {
 
 impl Default for Scratch {
     fn default() -> Scratch {
-        let z = [0.0; BLOCK];
+        let z = [0.0; PAIR_BLOCK];
         Scratch {
             dx: z,
             dy: z,
@@ -220,8 +273,8 @@ impl Default for Scratch {
             ms: z,
             ri: z,
             rj: z,
-            mi: [0; BLOCK],
-            mj: [0; BLOCK],
+            mi: [0; PAIR_BLOCK],
+            mj: [0; PAIR_BLOCK],
             us: z,
             mr: z,
             fx: z,
@@ -238,27 +291,27 @@ impl Default for Scratch {
     }
 }
 
-/// Gather pairs p0..p0+q (q ≤ BLOCK) into the scratch arrays, disc by disc (`gi` is the
+/// Gather pairs p0..p0+q (q ≤ PAIR_BLOCK) into the scratch arrays, disc by disc (`gi` is the
 /// disc owning pair p0 or an earlier disc; it is advanced). The rolling history is read from
 /// `mr`, the slots of these q pairs (indexed from 0). The centre differences are stored as
 /// they are: [`eval`] applies the minimum image (branch-free, vectorised); the reach
 /// r_i + r_j is stored only with reference gaps (`G0`), else [`eval`] forms it.
 #[inline(always)]
-fn gather<L: PairLaw, const G0: bool>(
-    c: &Ctx<L>,
+fn gather<L: PairLaw, H: PairHook, const G0: bool>(
+    c: &Ctx<L, H>,
     p0: usize,
     q: usize,
     gi: &mut usize,
     mr: &[f64],
     s: &mut Scratch,
 ) {
-    gather_from::<L, G0>(c, p0, q, 0, gi, mr, s)
+    gather_from::<L, H, G0>(c, p0, q, 0, gi, mr, s)
 }
 
 /// [`gather`] of the block's entries k0..q only (pairs p0 + k0..p0 + q).
 #[inline(always)]
-fn gather_from<L: PairLaw, const G0: bool>(
-    c: &Ctx<L>,
+fn gather_from<L: PairLaw, H: PairHook, const G0: bool>(
+    c: &Ctx<L, H>,
     p0: usize,
     q: usize,
     k0: usize,
@@ -266,7 +319,7 @@ fn gather_from<L: PairLaw, const G0: bool>(
     mr: &[f64],
     s: &mut Scratch,
 ) {
-    assert!(q <= BLOCK && mr.len() == q && k0 <= q);
+    assert!(q <= PAIR_BLOCK && mr.len() == q && k0 <= q);
     let (mut p, end) = (p0 + k0, p0 + q);
     let mut k = k0;
     while p < end {
@@ -304,17 +357,7 @@ fn gather_from<L: PairLaw, const G0: bool>(
             p += 1;
         }
     }
-    // Entries q..BLOCK keep stale but finite data (or zeros) and are ignored.
-}
-
-/// One disc's data packed for the AVX2 gather (`gather_aos`): `a` = [x, y, v_x, v_y],
-/// `b` = [ω, r, 1/m, 0] (the inverse contact mass), 64 bytes, one cache line. Built once per
-/// force pass by `pack` from the SoA disc arrays (plain copies: the same bits).
-#[derive(Clone, Copy, Debug, Default)]
-#[repr(C, align(64))]
-pub struct Packed {
-    pub(crate) a: [f64; 4],
-    pub(crate) b: [f64; 4],
+    // Entries q..PAIR_BLOCK keep stale but finite data (or zeros) and are ignored.
 }
 
 /// One disc's force accumulator of the AVX2 scatter: [f_x, f_y, torque, unused] (32 bytes,
@@ -322,64 +365,6 @@ pub struct Packed {
 #[derive(Clone, Copy, Debug, Default)]
 #[repr(C, align(32))]
 pub struct Acc4(pub(crate) [f64; 4]);
-
-/// The 4×4 transpose of four rows [a, b, c, d]ₖ (k = 0..3) into the four columns
-/// [a₀ a₁ a₂ a₃], [b..], [c..], [d..] in registers (AVX: two unpacks and a lane permute per
-/// column; plain moves, so the values keep their bits). Used by the packing of the disc
-/// records and by the packed gathers of the contact and bond passes.
-///
-/// # Safety
-/// The CPU must support AVX2.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-#[inline]
-pub(crate) unsafe fn transpose4(
-    r: [std::arch::x86_64::__m256d; 4],
-) -> [std::arch::x86_64::__m256d; 4] {
-    use std::arch::x86_64::*;
-    let t0 = _mm256_unpacklo_pd(r[0], r[1]); // a0 a1 c0 c1
-    let t1 = _mm256_unpackhi_pd(r[0], r[1]); // b0 b1 d0 d1
-    let t2 = _mm256_unpacklo_pd(r[2], r[3]);
-    let t3 = _mm256_unpackhi_pd(r[2], r[3]);
-    [
-        _mm256_permute2f128_pd(t0, t2, 0x20),
-        _mm256_permute2f128_pd(t1, t3, 0x20),
-        _mm256_permute2f128_pd(t0, t2, 0x31),
-        _mm256_permute2f128_pd(t1, t3, 0x31),
-    ]
-}
-
-/// The columns of four pairs (discs `ii[l]`, `jj[l]`) from the packed records at `base`:
-/// [d_x, d_y, Δv_x, Δv_y] (the records' [x, y, v_x, v_y]_j − [..]_i, one lane-wise subtraction
-/// per pair, then a transpose) and [ω, r, 1/m] of the four i and of the four j. Plain loads,
-/// moves and the same subtractions as the scalar gather: the same bits. Shared by the packed
-/// gather ([`gather_aos`]) and the four-lane linear kernel ([`super::linear4`]).
-///
-/// # Safety
-/// The CPU must support AVX2; every index must be that of a record at `base` (64-byte
-/// aligned, so both halves are aligned).
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-#[inline]
-#[allow(clippy::type_complexity)]
-pub(crate) unsafe fn pair_columns(
-    base: *const Packed,
-    ii: [usize; 4],
-    jj: [usize; 4],
-) -> (
-    [std::arch::x86_64::__m256d; 4],
-    [std::arch::x86_64::__m256d; 3],
-    [std::arch::x86_64::__m256d; 3],
-) {
-    use std::arch::x86_64::*;
-    let ld_a = |k: usize| _mm256_load_pd((*base.add(k)).a.as_ptr());
-    let ld_b = |k: usize| _mm256_load_pd((*base.add(k)).b.as_ptr());
-    let d = |l: usize| _mm256_sub_pd(ld_a(jj[l]), ld_a(ii[l]));
-    let dv = transpose4([d(0), d(1), d(2), d(3)]);
-    let [wi, ri, mi, _] = transpose4([ld_b(ii[0]), ld_b(ii[1]), ld_b(ii[2]), ld_b(ii[3])]);
-    let [wj, rj, mj, _] = transpose4([ld_b(jj[0]), ld_b(jj[1]), ld_b(jj[2]), ld_b(jj[3])]);
-    (dv, [wi, ri, mi], [wj, rj, mj])
-}
 
 /// Pack discs `lo..lo + pk.len()` into `pk` and, with `clear`, set their accumulators `f` to
 /// +0.0 (AVX2: four discs at a time, 4×4 transposes in registers; plain copies). (Without
@@ -389,8 +374,8 @@ pub(crate) unsafe fn pair_columns(
 /// The CPU must support AVX2.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-pub(crate) unsafe fn pack<L: PairLaw>(
-    c: &Ctx<L>,
+pub(crate) unsafe fn pack<L: PairLaw, H: PairHook>(
+    c: &Ctx<L, H>,
     lo: usize,
     pk: &mut [Packed],
     f: &mut [Acc4],
@@ -527,8 +512,8 @@ pub(crate) unsafe fn repack_moved(c: &PackSrc, pk: &mut [Packed]) {
 /// == c.start.len()`) and the list must be valid (see [`at`]).
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-unsafe fn gather_aos<L: PairLaw, const G0: bool>(
-    c: &Ctx<L>,
+unsafe fn gather_aos<L: PairLaw, H: PairHook, const G0: bool>(
+    c: &Ctx<L, H>,
     pk: &[Packed],
     p0: usize,
     q: usize,
@@ -537,7 +522,7 @@ unsafe fn gather_aos<L: PairLaw, const G0: bool>(
     s: &mut Scratch,
 ) {
     use std::arch::x86_64::*;
-    assert!(q <= BLOCK && mr.len() == q);
+    assert!(q <= PAIR_BLOCK && mr.len() == q);
     let base = pk.as_ptr();
     assert!(c.owner.len() == c.nbr.len());
     let mut k = 0;
@@ -548,8 +533,8 @@ unsafe fn gather_aos<L: PairLaw, const G0: bool>(
         let jj: [usize; 4] = std::array::from_fn(|l| at!(c.nbr, p + l) as usize);
         // SAFETY: every disc index comes from the valid list (< n = pk.len()).
         let ([dx, dy, dvx, dvy], [wi, ri, mi], [wj, rj, mj]) = pair_columns(base, ii, jj);
-        // SAFETY (scratch stores): k + 4 <= q <= BLOCK.
-        let st = |a: &mut [f64; BLOCK], v| _mm256_storeu_pd(a.as_mut_ptr().add(k), v);
+        // SAFETY (scratch stores): k + 4 <= q <= PAIR_BLOCK.
+        let st = |a: &mut [f64; PAIR_BLOCK], v| _mm256_storeu_pd(a.as_mut_ptr().add(k), v);
         st(&mut s.dx, dx);
         st(&mut s.dvx, dvx);
         st(&mut s.dy, dy);
@@ -580,11 +565,11 @@ unsafe fn gather_aos<L: PairLaw, const G0: bool>(
         *gi = at!(c.owner, p0 + k - 1) as usize;
     }
     if k < q {
-        gather_from::<L, G0>(c, p0, q, k, gi, mr, s);
+        gather_from::<L, H, G0>(c, p0, q, k, gi, mr, s);
     }
 }
 
-/// Evaluate the law for all BLOCK entries (branch-free, fixed trip count: vectorisable).
+/// Evaluate the law for all PAIR_BLOCK entries (branch-free, fixed trip count: vectorisable).
 /// `E`: energies; `D` (only with `E`): the dashpot parts of the forces (for their per-disc sums).
 /// `PER`: apply the minimum image `img` (else the box is not periodic and
 /// [`MinImage::delta`] would be the identity); `G0`: the reach was gathered (else it is
@@ -596,9 +581,9 @@ fn eval<const E: bool, const D: bool, const PER: bool, const G0: bool, L: PairLa
     dt: f64,
     img: &MinImage,
     s: &mut Scratch,
-    us: &mut [f64; BLOCK],
+    us: &mut [f64; PAIR_BLOCK],
 ) {
-    for k in 0..BLOCK {
+    for k in 0..PAIR_BLOCK {
         let (dx, dy) = if PER {
             img.delta_select(s.dx[k], s.dy[k])
         } else {
@@ -680,17 +665,24 @@ unsafe fn eval_avx2<const E: bool, const D: bool, const PER: bool, const G0: boo
     dt: f64,
     img: &MinImage,
     s: &mut Scratch,
-    us: &mut [f64; BLOCK],
+    us: &mut [f64; PAIR_BLOCK],
 ) {
     eval::<E, D, PER, G0, L>(law, dt, img, s, us)
 }
 
 /// Evaluate one gathered block with the best instruction set available.
 #[inline(always)]
-fn eval_best<const E: bool, const D: bool, const PER: bool, const G0: bool, L: PairLaw>(
-    c: &Ctx<L>,
+fn eval_best<
+    const E: bool,
+    const D: bool,
+    const PER: bool,
+    const G0: bool,
+    L: PairLaw,
+    H: PairHook,
+>(
+    c: &Ctx<L, H>,
     s: &mut Scratch,
-    us: &mut [f64; BLOCK],
+    us: &mut [f64; PAIR_BLOCK],
     avx2: bool,
 ) {
     #[cfg(target_arch = "x86_64")]
@@ -703,26 +695,20 @@ fn eval_best<const E: bool, const D: bool, const PER: bool, const G0: bool, L: P
     eval::<E, D, PER, G0, L>(c.law, c.dt, &c.img, s, us)
 }
 
-/// Add the forces of the intact parallel bonds of pairs p0..p0 + q to the block's outputs
-/// (`bond::fused::block`, from the gathered columns; compiled for AVX2 when there is one, as
+/// Run the hook over pairs p0..p0 + q of a block after the law (`PairHook::block`, from the
+/// gathered columns, adding to the block's outputs; compiled for AVX2 when there is one, as
 /// [`eval`] is).
-fn fused_bonds<L: PairLaw>(
-    c: &Ctx<L>,
-    v: &crate::bond::fused::View,
+fn hook_block<L: PairLaw, H: PairHook>(
+    c: &Ctx<L, H>,
+    h: &H,
     p0: usize,
     q: usize,
     s: &mut Scratch,
     avx2: bool,
 ) {
     #[inline(always)]
-    fn go<L: PairLaw>(
-        c: &Ctx<L>,
-        v: &crate::bond::fused::View,
-        p0: usize,
-        q: usize,
-        s: &mut Scratch,
-    ) {
-        let cols = crate::bond::fused::Cols {
+    fn go<L: PairLaw, H: PairHook>(c: &Ctx<L, H>, h: &H, p0: usize, q: usize, s: &mut Scratch) {
+        let cols = Cols {
             dx: &s.dx,
             dy: &s.dy,
             ri: &s.ri,
@@ -734,41 +720,30 @@ fn fused_bonds<L: PairLaw>(
         };
         let out = [&mut s.fx, &mut s.fy, &mut s.ti, &mut s.tj];
         if c.img.is_periodic() {
-            crate::bond::fused::block::<true>(v, &c.img, c.dt, p0, q, &cols, out);
+            h.block::<true>(&c.img, c.dt, p0, q, &cols, out);
         } else {
-            crate::bond::fused::block::<false>(v, &c.img, c.dt, p0, q, &cols, out);
+            h.block::<false>(&c.img, c.dt, p0, q, &cols, out);
         }
     }
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    unsafe fn go_avx2<L: PairLaw>(
-        c: &Ctx<L>,
-        v: &crate::bond::fused::View,
+    unsafe fn go_avx2<L: PairLaw, H: PairHook>(
+        c: &Ctx<L, H>,
+        h: &H,
         p0: usize,
         q: usize,
         s: &mut Scratch,
     ) {
-        go(c, v, p0, q, s)
+        go(c, h, p0, q, s)
     }
     #[cfg(target_arch = "x86_64")]
     if avx2 {
         // SAFETY: `avx2` is true only when the CPU reports AVX2 (see `has_avx2`).
-        unsafe { go_avx2(c, v, p0, q, s) };
+        unsafe { go_avx2(c, h, p0, q, s) };
         return;
     }
     let _ = avx2;
-    go(c, v, p0, q, s)
-}
-
-pub(crate) fn has_avx2() -> bool {
-    #[cfg(target_arch = "x86_64")]
-    {
-        std::is_x86_feature_detected!("avx2")
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    {
-        false
-    }
+    go(c, h, p0, q, s)
 }
 
 /// Evaluate pairs p0..p0+q: gather, evaluate, write the rolling history back and add the
@@ -778,8 +753,8 @@ pub(crate) fn has_avx2() -> bool {
 /// [`gather_aos`] runs, which needs `avx2`) or empty (the portable gather).
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-pub(crate) fn block<const E: bool, const D: bool, L: PairLaw>(
-    c: &Ctx<L>,
+pub(crate) fn block<const E: bool, const D: bool, L: PairLaw, H: PairHook>(
+    c: &Ctx<L, H>,
     pk: &[Packed],
     p0: usize,
     gi: &mut usize,
@@ -798,12 +773,12 @@ pub(crate) fn block<const E: bool, const D: bool, L: PairLaw>(
         let per = c.img.is_periodic();
         // (`FUSED` separately compiled: scenes without fused bonds run the kernel without
         // the bond hook.)
-        let fz = c.fused.is_some();
+        let fz = c.hook.is_some();
         macro_rules! go {
             ($($per:literal $ratio:literal $g0:literal $fz:literal),*) => {
                 match (per, lin.ratio, g0, fz) {
                     $(($per, $ratio, $g0, $fz) => {
-                        linear4::block::<L, $per, $ratio, E, $g0, $fz>(c, &lin, pk, p0, q, gi, us, s)
+                        linear4::block::<L, H, $per, $ratio, E, $g0, $fz>(c, &lin, pk, p0, q, gi, us, s)
                     })*
                 }
             };
@@ -834,29 +809,29 @@ pub(crate) fn block<const E: bool, const D: bool, L: PairLaw>(
         // SAFETY: the CPU has AVX2 (`avx2`, see `has_avx2`); `pk` holds one record per disc.
         unsafe {
             if g0 {
-                gather_aos::<L, true>(c, pk, p0, q, gi, mr, s);
+                gather_aos::<L, H, true>(c, pk, p0, q, gi, mr, s);
             } else {
-                gather_aos::<L, false>(c, pk, p0, q, gi, mr, s);
+                gather_aos::<L, H, false>(c, pk, p0, q, gi, mr, s);
             }
         }
     }
     if pk.is_empty() {
         if g0 {
-            gather::<L, true>(c, p0, q, gi, mr, s);
+            gather::<L, H, true>(c, p0, q, gi, mr, s);
         } else {
-            gather::<L, false>(c, p0, q, gi, mr, s);
+            gather::<L, H, false>(c, p0, q, gi, mr, s);
         }
     }
-    let run = |s: &mut Scratch, u: &mut [f64; BLOCK]| match (c.img.is_periodic(), g0) {
-        (false, false) => eval_best::<E, D, false, false, L>(c, s, u, avx2),
-        (true, false) => eval_best::<E, D, true, false, L>(c, s, u, avx2),
-        (false, true) => eval_best::<E, D, false, true, L>(c, s, u, avx2),
-        (true, true) => eval_best::<E, D, true, true, L>(c, s, u, avx2),
+    let run = |s: &mut Scratch, u: &mut [f64; PAIR_BLOCK]| match (c.img.is_periodic(), g0) {
+        (false, false) => eval_best::<E, D, false, false, L, H>(c, s, u, avx2),
+        (true, false) => eval_best::<E, D, true, false, L, H>(c, s, u, avx2),
+        (false, true) => eval_best::<E, D, false, true, L, H>(c, s, u, avx2),
+        (true, true) => eval_best::<E, D, true, true, L, H>(c, s, u, avx2),
     };
-    match <&mut [f64; BLOCK]>::try_from(&mut *us) {
+    match <&mut [f64; PAIR_BLOCK]>::try_from(&mut *us) {
         Ok(u) => run(s, u),
         Err(_) => {
-            // Entries q..BLOCK of the history keep stale but finite data and are ignored.
+            // Entries q..PAIR_BLOCK of the history keep stale but finite data and are ignored.
             let mut u = s.us;
             u[..q].copy_from_slice(us);
             run(s, &mut u);
@@ -867,8 +842,8 @@ pub(crate) fn block<const E: bool, const D: bool, L: PairLaw>(
     if L::ROLLING {
         mr.copy_from_slice(&s.mr[..q]);
     }
-    if let Some(v) = c.fused {
-        fused_bonds(c, v, p0, q, s, avx2);
+    if let Some(h) = c.hook {
+        hook_block(c, h, p0, q, s, avx2);
     }
     if E {
         for k in 0..q {

@@ -13,7 +13,8 @@
 //! [`super::LinearSpringDashpot::force_cn`]), so the results are the same bits; the tests
 //! compare it with the portable path.
 
-use super::kernel::{at, pair_columns, Ctx, Packed, PairLaw, Scratch, BLOCK};
+use super::kernel::{at, Ctx, PairHook, PairLaw, Scratch};
+use crate::lanes::{pair_columns, Packed, PAIR_BLOCK};
 
 /// The parameters of a uniform linear law, as the four-lane kernel needs them.
 #[derive(Clone, Copy, Debug)]
@@ -47,7 +48,7 @@ impl Linear4 {
 #[cfg(test)]
 pub(crate) static BLOCKS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
 
-/// Gather, evaluate and store the forces of pairs p0..p0 + q (q ≤ [`BLOCK`]) into the scratch
+/// Gather, evaluate and store the forces of pairs p0..p0 + q (q ≤ [`PAIR_BLOCK`]) into the scratch
 /// columns `fx, fy, ti, tj` (entries 0..q; the entries of the last group's unused lanes get
 /// finite values, ignored as every entry ≥ q is); the tangential histories `us` (the q pairs'
 /// slots) are updated in place. `gi` is left at the disc of the last pair (as the general
@@ -61,13 +62,14 @@ pub(crate) static BLOCKS: std::sync::atomic::AtomicUsize = std::sync::atomic::At
 #[allow(clippy::too_many_arguments)]
 pub(crate) unsafe fn block<
     L: PairLaw,
+    H: PairHook,
     const PER: bool,
     const RATIO: bool,
     const E: bool,
     const G0: bool,
     const FUSED: bool,
 >(
-    c: &Ctx<L>,
+    c: &Ctx<L, H>,
     lin: &Linear4,
     pk: &[Packed],
     p0: usize,
@@ -77,7 +79,7 @@ pub(crate) unsafe fn block<
     s: &mut Scratch,
 ) {
     use std::arch::x86_64::*;
-    assert!(q <= BLOCK && us.len() == q && c.owner.len() == c.nbr.len());
+    assert!(q <= PAIR_BLOCK && us.len() == q && c.owner.len() == c.nbr.len());
     #[cfg(test)]
     BLOCKS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
     assert!(pk.len() + 1 == c.start.len());
@@ -203,7 +205,7 @@ pub(crate) unsafe fn block<
                     _mm256_mul_pd(_mm256_mul_pd(hks, u1), u1),
                 );
                 let released = _mm256_mul_pd(_mm256_mul_pd(hks, u0), u0);
-                let st = |a: &mut [f64; BLOCK], v| _mm256_storeu_pd(a.as_mut_ptr().add(k), v);
+                let st = |a: &mut [f64; PAIR_BLOCK], v| _mm256_storeu_pd(a.as_mut_ptr().add(k), v);
                 st(
                     &mut s.es,
                     _mm256_and_pd(touch, _mm256_add_pd(e_strain, zero)),
@@ -225,22 +227,23 @@ pub(crate) unsafe fn block<
             // −a_i f_t + 0 (the rolling moment, none) and −a_j f_t − 0.
             let ti = _mm256_add_pd(_mm256_mul_pd(_mm256_xor_pd(ai, sign), f_t), zero);
             let tj = _mm256_mul_pd(_mm256_xor_pd(aj, sign), f_t);
-            // SAFETY (scratch stores): k < q <= BLOCK and k, BLOCK are multiples of 4.
-            let st = |a: &mut [f64; BLOCK], v| _mm256_storeu_pd(a.as_mut_ptr().add(k), v);
+            // SAFETY (scratch stores): k < q <= PAIR_BLOCK and k, PAIR_BLOCK are multiples of 4.
+            let st = |a: &mut [f64; PAIR_BLOCK], v| _mm256_storeu_pd(a.as_mut_ptr().add(k), v);
             let (fx, fy, ti, tj) = (
                 _mm256_and_pd(touch, fx),
                 _mm256_and_pd(touch, fy),
                 _mm256_and_pd(touch, ti),
                 _mm256_and_pd(touch, tj),
             );
-            let (fx, fy, ti, tj) = match (FUSED, c.fused) {
-                (true, Some(v)) => {
-                    // The pairs' parallel bonds (`bond::fused`), from this geometry.
+            let (fx, fy, ti, tj) = match (FUSED, c.hook) {
+                (true, Some(h)) => {
+                    // The per-pair hook (the pairs' parallel bonds, `bond::fused`), from this
+                    // geometry.
                     let g = [dd, rc, nx, ny, ai, aj, vt, wi, wj];
                     let mut f = [fx, fy, ti, tj];
                     // SAFETY: AVX2 (this function's contract); k + m <= q, pairs p0..p0 + q
                     // exist.
-                    crate::bond::fused::four(v, p0 + k, m, g, c.dt, &mut f);
+                    h.four(p0 + k, m, g, c.dt, &mut f);
                     (f[0], f[1], f[2], f[3])
                 }
                 _ => (fx, fy, ti, tj),
@@ -361,7 +364,7 @@ mod tests {
             // Open and touching pairs, and a list whose length is not a multiple of four.
             assert!(us.contains(&0.0) && us.iter().any(|&u| u != 0.0));
             assert!(np % 4 != 0, "{np} pairs");
-            if !crate::contact::kernel::has_avx2() {
+            if !crate::lanes::has_avx2() {
                 return;
             }
             for threads in [1, 2] {

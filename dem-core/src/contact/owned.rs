@@ -22,7 +22,8 @@
 //! accumulators (+0.0 copied) and get their sums in the second pass as before.
 
 use super::disc_disc::{PassEnergy, Slots, CHUNK};
-use super::kernel::{at, block, has_avx2, pack, Acc4, Ctx, Packed, PairLaw, Scratch, BLOCK};
+use super::kernel::{at, block, pack, Acc4, Ctx, PairHook, PairLaw, Scratch};
+use crate::lanes::{has_avx2, Packed, PAIR_BLOCK};
 use crate::team::SyncPtr;
 
 /// The parts of the neighbour list the split needs.
@@ -61,15 +62,15 @@ impl Plan {
         dirty[p + q] == dirty[p.saturating_sub(1)]
     }
 
-    /// (plain, other) blocks of [`BLOCK`] pairs counted from pair 0 (tests: both kinds run).
+    /// (plain, other) blocks of [`PAIR_BLOCK`] pairs counted from pair 0 (tests: both kinds run).
     #[cfg(test)]
     fn block_kinds(&self) -> (usize, usize) {
         let np = self.dirty.len().saturating_sub(1);
         let plain = (0..np)
-            .step_by(BLOCK)
-            .filter(|&p| Plan::plain(&self.dirty, p, BLOCK.min(np - p)))
+            .step_by(PAIR_BLOCK)
+            .filter(|&p| Plan::plain(&self.dirty, p, PAIR_BLOCK.min(np - p)))
             .count();
-        (plain, np.div_ceil(BLOCK) - plain)
+        (plain, np.div_ceil(PAIR_BLOCK) - plain)
     }
 
     /// Make (or keep) the plan for `ranges` ranges over the list `nb` of `n` discs.
@@ -214,9 +215,9 @@ impl Sink<'_, '_> {
 
     /// Scatter the forces of pairs p..p+q (scratch entries 0..q) in list order (portable).
     #[inline(always)]
-    fn scatter<const D: bool, const SPLIT: bool, L: PairLaw>(
+    fn scatter<const D: bool, const SPLIT: bool, L: PairLaw, H: PairHook>(
         &mut self,
-        c: &Ctx<L>,
+        c: &Ctx<L, H>,
         p: usize,
         q: usize,
         sc: &Scratch,
@@ -287,15 +288,15 @@ impl Sink<'_, '_> {
     /// valid (see [`at`]).
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    unsafe fn scatter_aos<const D: bool, const SPLIT: bool, L: PairLaw>(
+    unsafe fn scatter_aos<const D: bool, const SPLIT: bool, L: PairLaw, H: PairHook>(
         &mut self,
-        c: &Ctx<L>,
+        c: &Ctx<L, H>,
         p: usize,
         q: usize,
         sc: &Scratch,
     ) {
         use std::arch::x86_64::*;
-        assert!(q <= BLOCK);
+        assert!(q <= PAIR_BLOCK);
         let lo = self.lo;
         // Accumulator of disc k at fb + 4 k (k in lo..hi; only such addresses are accessed).
         let fb = (self.ds.f.as_mut_ptr() as *mut f64).wrapping_sub(4 * lo);
@@ -360,9 +361,9 @@ impl Sink<'_, '_> {
         }
         let mut g = 0;
         while g < q {
-            // SAFETY: g + 4 <= BLOCK (a multiple of 4); entries q..BLOCK are stale but
+            // SAFETY: g + 4 <= PAIR_BLOCK (a multiple of 4); entries q..PAIR_BLOCK are stale but
             // finite, and not used.
-            let ld = |a: &[f64; BLOCK]| _mm256_loadu_pd(a.as_ptr().add(g));
+            let ld = |a: &[f64; PAIR_BLOCK]| _mm256_loadu_pd(a.as_ptr().add(g));
             let (fx, fy) = (ld(&sc.fx), ld(&sc.fy));
             let nti = _mm256_xor_pd(ld(&sc.ti), sign);
             let tj = ld(&sc.tj);
@@ -408,8 +409,8 @@ impl Sink<'_, '_> {
 /// disc records (then `ds.f` has the range's accumulators and the AVX2 gather and scatter
 /// run, which need `avx2`) or empty (portable gather and scatter).
 #[allow(clippy::too_many_arguments)]
-fn range_pass<const E: bool, const D: bool, const SPLIT: bool, L: PairLaw>(
-    c: &Ctx<L>,
+fn range_pass<const E: bool, const D: bool, const SPLIT: bool, L: PairLaw, H: PairHook>(
+    c: &Ctx<L, H>,
     pk: &[Packed],
     shared: &[bool],
     (lo, hi): (usize, usize),
@@ -442,9 +443,9 @@ fn range_pass<const E: bool, const D: bool, const SPLIT: bool, L: PairLaw>(
         let mut e = PassEnergy::default();
         let (mut p, pend) = (at!(c.start, clo) as usize, at!(c.start, chi) as usize);
         while p < pend {
-            let q = BLOCK.min(pend - p);
+            let q = PAIR_BLOCK.min(pend - p);
             let (u, m) = (&mut us[p - p0..p - p0 + q], &mut mr[p - p0..p - p0 + q]);
-            block::<E, D, L>(c, pk, p, &mut gi, u, m, sc, &mut e, avx2);
+            block::<E, D, L, H>(c, pk, p, &mut gi, u, m, sc, &mut e, avx2);
             // In a block of clean discs the split's tests are all false (see `Plan::dirty`).
             let plain = !SPLIT || Plan::plain(dirty, p, q);
             #[cfg(target_arch = "x86_64")]
@@ -452,17 +453,17 @@ fn range_pass<const E: bool, const D: bool, const SPLIT: bool, L: PairLaw>(
                 // SAFETY: `aos` implies AVX2 (asserted above) and `f` of the range's length.
                 unsafe {
                     if plain {
-                        sink.scatter_aos::<D, false, L>(c, p, q, sc)
+                        sink.scatter_aos::<D, false, L, H>(c, p, q, sc)
                     } else {
-                        sink.scatter_aos::<D, SPLIT, L>(c, p, q, sc)
+                        sink.scatter_aos::<D, SPLIT, L, H>(c, p, q, sc)
                     }
                 };
             }
             if !aos {
                 if plain {
-                    sink.scatter::<D, false, L>(c, p, q, sc);
+                    sink.scatter::<D, false, L, H>(c, p, q, sc);
                 } else {
-                    sink.scatter::<D, SPLIT, L>(c, p, q, sc);
+                    sink.scatter::<D, SPLIT, L, H>(c, p, q, sc);
                 }
             }
             p += q;
@@ -504,7 +505,7 @@ unsafe fn copy_out(acc: &mut [Acc4], fx: &mut [f64], fy: &mut [f64], tq: &mut [f
         // SAFETY: k + 4 <= n: the four records and the stores are in bounds; the records
         // are 32-byte aligned.
         let r = |l: usize| _mm256_load_pd(f.add(4 * (k + l)));
-        let [cx, cy, ct, _] = super::kernel::transpose4([r(0), r(1), r(2), r(3)]);
+        let [cx, cy, ct, _] = crate::lanes::transpose4([r(0), r(1), r(2), r(3)]);
         _mm256_storeu_pd(fx.as_mut_ptr().add(k), cx);
         _mm256_storeu_pd(fy.as_mut_ptr().add(k), cy);
         _mm256_storeu_pd(tq.as_mut_ptr().add(k), ct);
@@ -552,8 +553,8 @@ pub(crate) struct Outs<'a> {
 /// [`range_pass`]. The forces `outs.fx, fy, tq` are replaced (the portable path clears them
 /// first; the AVX2 path copies its accumulators, cleared by `pack`, into every disc). (Kept out of line: inlined into its caller it compiles to slower code.)
 #[inline(never)]
-pub(crate) fn pass<const E: bool, const D: bool, L: PairLaw>(
-    c: &Ctx<L>,
+pub(crate) fn pass<const E: bool, const D: bool, L: PairLaw, H: PairHook>(
+    c: &Ctx<L, H>,
     us: &mut [f64],
     mr: &mut [f64],
     nb: &ListRef,
@@ -567,7 +568,7 @@ pub(crate) fn pass<const E: bool, const D: bool, L: PairLaw>(
     s.chunk_energy.clear();
     s.chunk_energy.resize(nchunks, PassEnergy::default());
     let avx2 = has_avx2();
-    // The packed gather and the accumulator scatter (AVX2; see `kernel::Packed`).
+    // The packed gather and the accumulator scatter (AVX2; see `lanes::Packed`).
     let aos = cfg!(target_arch = "x86_64") && avx2 && !s.portable && n > 0;
     // Every record is written below (packed by the integrator or here).
     s.packed_current = aos;
@@ -632,7 +633,7 @@ pub(crate) fn pass<const E: bool, const D: bool, L: PairLaw>(
             slot: Default::default(),
         };
         let sc = &mut *s.scratch;
-        range_pass::<E, D, false, L>(
+        range_pass::<E, D, false, L, H>(
             c,
             pk,
             &[],
@@ -732,7 +733,7 @@ pub(crate) fn pass<const E: bool, const D: bool, L: PairLaw>(
             SCRATCH.with(|sc| {
                 let sc = &mut sc.borrow_mut();
                 let lh = (lo, hi);
-                range_pass::<E, D, true, L>(c, pk, shared, lh, dirty, ds, ps, en, sc, avx2);
+                range_pass::<E, D, true, L, H>(c, pk, shared, lh, dirty, ds, ps, en, sc, avx2);
             });
         });
         // Shared discs: partner-side slots in increasing pair order, then the own sum.

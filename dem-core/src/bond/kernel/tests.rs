@@ -4,6 +4,7 @@ use super::super::bench::{bonded_lattice_state, lattice_bond_group, shaken_hex_l
 use super::super::BondStatus;
 use super::super::Bonds;
 use super::*;
+use crate::lanes::has_avx2;
 
 /// The AVX2 and baseline builds of the block loop give the same bits (on CPUs with AVX2;
 /// elsewhere both runs take the baseline path).
@@ -32,7 +33,7 @@ fn avx2_and_baseline_agree_bitwise() {
 #[cfg(target_arch = "x86_64")]
 #[test]
 fn packed_records_give_the_array_bits() {
-    use crate::contact::kernel::Packed;
+    use crate::lanes::Packed;
     if !has_avx2() {
         return;
     }
@@ -46,7 +47,7 @@ fn packed_records_give_the_array_bits() {
         })
         .unwrap();
     assert!(
-        !bonds.len().is_multiple_of(4) && !bonds.len().is_multiple_of(BLOCK),
+        !bonds.len().is_multiple_of(4) && !bonds.len().is_multiple_of(BOND_BLOCK),
         "{}",
         bonds.len()
     );
@@ -74,8 +75,9 @@ fn packed_records_give_the_array_bits() {
 /// # Panics
 /// Without AVX2.
 #[cfg(target_arch = "x86_64")]
-fn records(st: &crate::state::State) -> Vec<crate::contact::kernel::Packed> {
-    use crate::contact::kernel::{pack_records, PackSrc, Packed};
+fn records(st: &crate::state::State) -> Vec<crate::lanes::Packed> {
+    use crate::contact::kernel::{pack_records, PackSrc};
+    use crate::lanes::Packed;
     assert!(has_avx2());
     let d = &st.discs;
     let minv = vec![1.0; d.len()];
@@ -130,9 +132,9 @@ fn four_lane_kernel_gives_the_baseline_bits() {
             let mut bonds = Bonds::new(groups).unwrap();
             let assign = |i: usize, j: usize| Some(if two { ((i + j) % 2) as u16 } else { 0 });
             bonds.install_within_gap(&st, 0.1 * RADIUS, assign).unwrap();
-            assert!(bonds.len() >= 8 * BLOCK);
+            assert!(bonds.len() >= 8 * BOND_BLOCK);
             let pk = records(&st);
-            let go = |avx2: bool, pk: &[crate::contact::kernel::Packed]| {
+            let go = |avx2: bool, pk: &[crate::lanes::Packed]| {
                 let (mut b, mut s) = (bonds.clone(), st.clone());
                 let mut forces = Vec::new();
                 for _ in 0..40 {
@@ -191,8 +193,8 @@ fn shaken_state(seed: u64) -> crate::state::State {
 }
 
 /// Run `steps` steps of the store built with `groups` (bond group `assign(i, j)`) whole and
-/// split into stores of fewer than BLOCK bonds (the general per-bond path); assert equal bits
-/// and return whether some full block of the whole store had between 1 and BLOCK/4 broken
+/// split into stores of fewer than BOND_BLOCK bonds (the general per-bond path); assert equal bits
+/// and return whether some full block of the whole store had between 1 and BOND_BLOCK/4 broken
 /// bonds before a step (the masked straight-line path).
 fn whole_against_split(
     groups: Vec<super::super::BondGroup>,
@@ -204,10 +206,10 @@ fn whole_against_split(
     all.install_within_gap(&st, 0.1 * RADIUS, |i, j| Some(assign(i, j)))
         .unwrap();
     let views: Vec<_> = all.iter().collect();
-    assert!(views.len() >= 4 * BLOCK);
-    // The same bonds in stores of fewer than BLOCK bonds: the general path.
+    assert!(views.len() >= 4 * BOND_BLOCK);
+    // The same bonds in stores of fewer than BOND_BLOCK bonds: the general path.
     let mut parts: Vec<Bonds> = views
-        .chunks(BLOCK - 1)
+        .chunks(BOND_BLOCK - 1)
         .map(|c| {
             let mut b = Bonds::new(groups.clone()).unwrap();
             b.install_pairs(&st, c.iter().map(|v| (v.i as usize, v.j as usize, v.group)))
@@ -219,9 +221,9 @@ fn whole_against_split(
     let mut masked = false;
     for _ in 0..steps {
         let v: Vec<_> = all.iter().collect();
-        masked |= v.chunks_exact(BLOCK).any(|c| {
+        masked |= v.chunks_exact(BOND_BLOCK).any(|c| {
             let b = c.iter().filter(|v| v.status != BondStatus::Intact).count();
-            (1..=BLOCK / 4).contains(&b)
+            (1..=BOND_BLOCK / 4).contains(&b)
         });
         let mut a = st.clone();
         a.discs.clear_forces();
@@ -256,7 +258,7 @@ fn two_groups(tensile: f64, cohesion: f64) -> Vec<super::super::BondGroup> {
 
 /// Blocks of intact parallel bonds in two stress-criterion groups (the improved-ORC case)
 /// take the straight-line path with per-bond parameters; it gives the bits of the general
-/// per-bond path, which every block of a store with fewer than BLOCK bonds takes.
+/// per-bond path, which every block of a store with fewer than BOND_BLOCK bonds takes.
 #[test]
 fn mixed_group_blocks_give_the_general_path_bits() {
     let st = shaken_state(7);
@@ -265,7 +267,7 @@ fn mixed_group_blocks_give_the_general_path_bits() {
     b.install_within_gap(&st, 0.1 * RADIUS, |i, j| Some(((i + j) % 2) as u16))
         .unwrap();
     let v: Vec<_> = b.iter().collect();
-    assert!(v[..BLOCK].iter().any(|x| x.group != v[0].group));
+    assert!(v[..BOND_BLOCK].iter().any(|x| x.group != v[0].group));
     whole_against_split(groups, |i, j| ((i + j) % 2) as u16, 3);
 }
 
@@ -324,7 +326,7 @@ fn split_ranges_give_the_one_thread_bits() {
                     #[cfg(target_arch = "x86_64")]
                     let pk = if packed { records(&st) } else { Vec::new() };
                     #[cfg(not(target_arch = "x86_64"))]
-                    let pk: Vec<crate::contact::kernel::Packed> = Vec::new();
+                    let pk: Vec<crate::lanes::Packed> = Vec::new();
                     b.compute_with(&mut st, dt, has_avx2(), &pk);
                     let d = &mut st.discs;
                     for k in 0..d.len() {
