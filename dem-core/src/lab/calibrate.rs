@@ -1134,7 +1134,11 @@ mod tests {
         assert_eq!(row("friction angle φ").ours, Some(40.0));
         assert_eq!(row("cohesion c").ours, Some(300.0));
         assert_eq!(tb.rows.len(), tab.rows.len() + 3);
-        assert!(tb.notes.last().unwrap().contains("σ3 = 0.0, 100.0, 200.0 MPa"));
+        assert!(tb
+            .notes
+            .last()
+            .unwrap()
+            .contains("σ3 = 0.0, 100.0, 200.0 MPa"));
     }
 
     #[test]
@@ -1258,10 +1262,8 @@ mod tests {
         assert!(pb.flat_joint.is_none());
         // The ORC model at the cutting resolution (issue 22 item 1: parallel bonds on rigid
         // grains reach SiC's UCS/σ_f), κ below 1 too.
-        let orc: LabModel = serde_json::from_str(include_str!(
-            "../../../data/models/sic-orc.model.json"
-        ))
-        .unwrap();
+        let orc: LabModel =
+            serde_json::from_str(include_str!("../../../data/models/sic-orc.model.json")).unwrap();
         assert!((orc.r_mean / 2.3e-4 - 1.0).abs() < 1e-9 && orc.micro.stiffness_ratio < 1.0);
         assert!(orc.flat_joint.is_none());
         let f = fj.flat_joint.as_ref().unwrap();
