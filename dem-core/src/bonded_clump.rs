@@ -197,7 +197,7 @@ fn touching_edges(st: &State, discs: &[usize], touch_tol: f64) -> Vec<(usize, us
         }
     }
     pairs.sort_by(|x, y| x.0.total_cmp(&y.0).then((x.1, x.2).cmp(&(y.1, y.2))));
-    let mut uf = UnionFind::new(n);
+    let mut uf = crate::fragments::UnionFind::new(n);
     let mut edges = Vec::new();
     for &(_, a, b, gap) in &pairs {
         if gap <= touch_tol.max(0.0) {
@@ -212,43 +212,6 @@ fn touching_edges(st: &State, discs: &[usize], touch_tol: f64) -> Vec<(usize, us
         }
     }
     edges
-}
-
-/// Disjoint sets over member indices (path halving, union by size).
-struct UnionFind {
-    parent: Vec<usize>,
-    size: Vec<usize>,
-}
-
-impl UnionFind {
-    fn new(n: usize) -> Self {
-        UnionFind {
-            parent: (0..n).collect(),
-            size: vec![1; n],
-        }
-    }
-
-    fn find(&mut self, mut a: usize) -> usize {
-        while self.parent[a] != a {
-            self.parent[a] = self.parent[self.parent[a]];
-            a = self.parent[a];
-        }
-        a
-    }
-
-    /// Join the sets of `a` and `b`; false when they were already one.
-    fn union(&mut self, a: usize, b: usize) -> bool {
-        let (mut a, mut b) = (self.find(a), self.find(b));
-        if a == b {
-            return false;
-        }
-        if self.size[a] < self.size[b] {
-            std::mem::swap(&mut a, &mut b);
-        }
-        self.parent[b] = a;
-        self.size[a] += self.size[b];
-        true
-    }
 }
 
 /// Add a bonded clump to a running world: members go into `world.state`, intra bonds into
