@@ -344,6 +344,7 @@ fn cutting(b: CuttingBench) -> Result<ExitCode, String> {
                 irregular: "all".into(),
                 irregular_count: None,
                 irregular_size: None,
+                insertion: None,
                 model: Some(b.model.clone()),
                 joints: Default::default(),
                 out: dir.0.clone(),

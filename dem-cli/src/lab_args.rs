@@ -71,6 +71,9 @@ pub struct LabArgs {
     /// default --grain-size.
     #[arg(long)]
     pub irregular_size: Option<String>,
+    /// With `--irregular few`, improved ORC: `affine` (default) or `servo`, as `dem specimen`.
+    #[arg(long)]
+    pub insertion: Option<String>,
     /// A LabModel JSON (density, thickness, r_mean, micro; `dem calibrate` writes one) whose
     /// micro-parameters the test runs with, instead of those of the specimen flags. The
     /// specimen geometry is still generated with the specimen flags.
@@ -138,6 +141,7 @@ impl LabArgs {
             &self.irregular,
             self.irregular_count,
             self.irregular_size.as_deref(),
+            self.insertion.as_deref(),
         )?;
         if p.method == Method::Traditional {
             // No irregular grains: the default mode keeps the parameters' JSON (and the keys

@@ -73,6 +73,11 @@ pub struct SpecimenArgs {
     /// default --grain-size.
     #[arg(long)]
     irregular_size: Option<String>,
+    /// With `--irregular few`, improved ORC: how the specimen returns to σ0 after its
+    /// templates are put in: `affine` (default; settle, then affine steps) or `servo`
+    /// (stress-controlled walls; keeps more contacts on thin beams; docs/specimen.md).
+    #[arg(long)]
+    insertion: Option<String>,
     /// Largest number of discs per improved-ORC grain (9 in the paper).
     #[arg(long, default_value_t = 9)]
     max_discs: usize,
@@ -180,12 +185,14 @@ pub fn grain_mode(
     mode: &str,
     count: Option<usize>,
     size: Option<&str>,
+    insertion: Option<&str>,
 ) -> Result<GrainMode, String> {
     match mode {
         "all" => {
-            if count.is_some() || size.is_some() {
+            if count.is_some() || size.is_some() || insertion.is_some() {
                 return Err(
-                    "--irregular-count and --irregular-size need --irregular few".to_string(),
+                    "--irregular-count, --irregular-size and --insertion need --irregular few"
+                        .to_string(),
                 );
             }
             Ok(GrainMode::All)
@@ -197,6 +204,10 @@ pub fn grain_mode(
             }
             if let Some(s) = size {
                 f.diameter = parse_length(s, "--irregular-size")?;
+            }
+            if let Some(s) = insertion {
+                f.insertion = specimen::Insertion::parse(s)
+                    .ok_or_else(|| format!("--insertion {s:?}: use affine or servo"))?;
             }
             Ok(GrainMode::Few(f))
         }
@@ -273,6 +284,7 @@ pub fn run(a: SpecimenArgs) -> Result<ExitCode, String> {
         &a.irregular,
         a.irregular_count,
         a.irregular_size.as_deref(),
+        a.insertion.as_deref(),
     )?;
     p.validate().map_err(|e| e.to_string())?;
     p.check_resolution().map_err(|e| match e {

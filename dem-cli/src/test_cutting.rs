@@ -61,6 +61,10 @@ pub struct CuttingArgs {
     /// unit (default --grain-size).
     #[arg(long)]
     pub irregular_size: Option<String>,
+    /// Generation, with `--irregular few`, improved ORC: `affine` (default; Table 2's
+    /// specimens) or `servo`, as `dem specimen --insertion`.
+    #[arg(long)]
+    pub insertion: Option<String>,
     /// Generation: build the specimen with --model's density and micro-parameters (E = its
     /// contact modulus, σ_t = its grain-boundary tensile strength, σ0 = 1 % of σ_t) instead of
     /// a material's, and run with the model's r_mean set to the specimen's (r_min + r_max)/2
@@ -355,6 +359,7 @@ impl CuttingArgs {
             irregular: self.irregular.clone(),
             irregular_count: self.irregular_count,
             irregular_size: self.irregular_size.clone(),
+            insertion: self.insertion.clone(),
             model: self.model.clone(),
             joints: self.joints.clone(),
             out: self.out.clone(),

@@ -266,6 +266,20 @@ fn irregular_few_flags_build_few_rigid_grains() {
     let o = dem(&bad);
     assert_eq!(o.status.code(), Some(2));
     assert!(text(&o).contains("need --irregular few"), "{}", text(&o));
+    let mut bad = args.clone();
+    bad.extend(["--insertion", "servo"]);
+    let o = dem(&bad);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(text(&o).contains("need --irregular few"), "{}", text(&o));
+    let mut bad = args.clone();
+    bad.extend(["--irregular", "few", "--insertion", "slow"]);
+    let o = dem(&bad);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        text(&o).contains("--insertion \"slow\": use affine or servo"),
+        "{}",
+        text(&o)
+    );
     let mut bad = args;
     bad.extend(["--irregular", "few", "--irregular-size", "5mm"]);
     let o = dem(&bad);

@@ -261,6 +261,38 @@ pub struct FewGrains {
     /// smallest is `template_r_min`, the cover and disc cap `template_cover`,
     /// `template_max_discs`).
     pub template_r_max: f64,
+    /// How an improved-ORC specimen is brought back to σ0 after its templates are put in
+    /// ([`few`], "Insertion"); ORC specimens do not use it. Left out of the JSON when
+    /// [`Insertion::Affine`] (the default, so the keys of earlier specimens stay valid).
+    #[serde(default, skip_serializing_if = "Insertion::is_affine")]
+    pub insertion: Insertion,
+}
+
+/// The stress stage after improved-ORC templates are inserted ([`few`], "Insertion").
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Insertion {
+    /// Settle in the fixed box, then affine steps of the box and mass centres to σ0 (the
+    /// first method; Table 2's specimens).
+    #[default]
+    Affine,
+    /// Stress-controlled walls (PFC's servo) from the ramp's stress down to σ0.
+    Servo,
+}
+
+impl Insertion {
+    pub fn is_affine(&self) -> bool {
+        *self == Insertion::Affine
+    }
+
+    /// `affine` or `servo`.
+    pub fn parse(s: &str) -> Option<Insertion> {
+        match s {
+            "affine" => Some(Insertion::Affine),
+            "servo" => Some(Insertion::Servo),
+            _ => None,
+        }
+    }
 }
 
 impl FewGrains {
@@ -282,6 +314,7 @@ impl FewGrains {
             concavity: 0.2,
             vertices: 64,
             template_r_max: p.r_min,
+            insertion: Insertion::Affine,
         }
     }
 
