@@ -1268,6 +1268,13 @@ mod tests {
         assert!(orc.flat_joint.is_none());
         let f = fj.flat_joint.as_ref().unwrap();
         assert_eq!((f.elements, f.friction, f.bonded_fraction), (4, 0.5, 1.0));
+        // Si3N4 at its K_IC resolution (step 5, R̄ 7.9 µm), parallel bonds.
+        let si: LabModel = serde_json::from_str(include_str!(
+            "../../../data/models/si3n4-r7.9um-pb.model.json"
+        ))
+        .unwrap();
+        assert!((si.r_mean / 7.9e-6 - 1.0).abs() < 1e-9, "{}", si.r_mean);
+        assert!(si.flat_joint.is_none() && si.density == 3200.0);
     }
 
     #[test]
