@@ -92,6 +92,26 @@ pub struct CrushArgs {
 
 /// The criterion from the flags; errors name the flag.
 pub fn criterion(a: &CrushArgs) -> Result<LinkCriterion, String> {
+    criterion_of(&CriterionFlags {
+        criterion: &a.criterion,
+        link_force: a.link_force,
+        link_strain: a.link_strain,
+        link_shear: a.link_shear,
+        fracture_energy: a.fracture_energy,
+    })
+}
+
+/// The criterion flags `dem test crush` and `dem test column` share.
+pub struct CriterionFlags<'a> {
+    pub criterion: &'a str,
+    pub link_force: Option<f64>,
+    pub link_strain: Option<f64>,
+    pub link_shear: Option<f64>,
+    pub fracture_energy: Option<f64>,
+}
+
+/// The criterion from its flags; errors name the flag.
+pub fn criterion_of(a: &CriterionFlags) -> Result<LinkCriterion, String> {
     let given = |name: &str, v: Option<f64>, allowed: bool| -> Result<(), String> {
         if v.is_some() && !allowed {
             return Err(format!(
@@ -108,7 +128,7 @@ pub fn criterion(a: &CrushArgs) -> Result<LinkCriterion, String> {
         }
         Ok(v)
     };
-    let c = a.criterion.as_str();
+    let c = a.criterion;
     given("--link-force", a.link_force, c == "force")?;
     given("--link-strain", a.link_strain, c == "strain")?;
     given("--link-shear", a.link_shear, c == "force" || c == "strain")?;
