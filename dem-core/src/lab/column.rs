@@ -692,7 +692,8 @@ fn pieces(w: &crate::World, density: f64) -> (Vec<(f64, f64)>, usize, usize, f64
     let f = fragments::fragments(&w.state, w.bonds.as_ref(), density, None);
     let total: f64 = f.iter().map(|p| p.mass).sum();
     let fines: Vec<&fragments::Fragment> = f.iter().filter(|p| p.is_fines()).collect();
-    let fm: f64 = fines.iter().map(|p| p.mass).sum();
+    // fold from +0.0: an empty f64 sum is −0.0, which would print as "-0.0000".
+    let fm = fines.iter().map(|p| p.mass).fold(0.0, |a, b| a + b);
     (
         f.iter().map(|p| (p.d_eq, p.mass)).collect(),
         f.len() - fines.len(),
