@@ -15,6 +15,7 @@ mod schema;
 mod specimen;
 mod sweep;
 mod test;
+mod test_column;
 mod test_crush;
 mod test_cutting;
 

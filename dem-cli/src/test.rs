@@ -43,6 +43,9 @@ pub enum TestKind {
     /// σ = F/(d t), fragments after the first breakage and a second loading stage
     /// (docs/lattice.md).
     Crush(crate::test_crush::CrushArgs),
+    /// A crushable column: 200+ lattice grains in a box under one-dimensional compression;
+    /// stress–strain, gradings at stress levels, Hardin's relative breakage (docs/lattice.md).
+    Column(crate::test_column::ColumnArgs),
 }
 
 /// A lab-test error as a message naming the flag: `flags` maps a field (`ucs.width`) to its
@@ -162,6 +165,7 @@ pub fn run(kind: TestKind) -> Result<ExitCode, String> {
         TestKind::Senb(a) => senb(a),
         TestKind::Cutting(a) => crate::test_cutting::run(a),
         TestKind::Crush(a) => crate::test_crush::run(a),
+        TestKind::Column(a) => crate::test_column::run(a),
     }
 }
 

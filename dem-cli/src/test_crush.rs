@@ -85,6 +85,10 @@ pub struct CrushArgs {
     /// `crush.breaks.csv`, `crush.result.json`.
     #[arg(long)]
     pub out: PathBuf,
+    /// Take the output folder even if another run holds it or held it for other inputs
+    /// (`<out>/crush.out/run.lock`).
+    #[arg(long)]
+    pub force: bool,
     /// Worker threads, at least 1 (default: all cores); results do not depend on it.
     #[arg(long, value_parser = crate::parse_threads)]
     pub threads: Option<usize>,
@@ -92,6 +96,26 @@ pub struct CrushArgs {
 
 /// The criterion from the flags; errors name the flag.
 pub fn criterion(a: &CrushArgs) -> Result<LinkCriterion, String> {
+    criterion_of(&CriterionFlags {
+        criterion: &a.criterion,
+        link_force: a.link_force,
+        link_strain: a.link_strain,
+        link_shear: a.link_shear,
+        fracture_energy: a.fracture_energy,
+    })
+}
+
+/// The criterion flags `dem test crush` and `dem test column` share.
+pub struct CriterionFlags<'a> {
+    pub criterion: &'a str,
+    pub link_force: Option<f64>,
+    pub link_strain: Option<f64>,
+    pub link_shear: Option<f64>,
+    pub fracture_energy: Option<f64>,
+}
+
+/// The criterion from its flags; errors name the flag.
+pub fn criterion_of(a: &CriterionFlags) -> Result<LinkCriterion, String> {
     let given = |name: &str, v: Option<f64>, allowed: bool| -> Result<(), String> {
         if v.is_some() && !allowed {
             return Err(format!(
@@ -108,7 +132,7 @@ pub fn criterion(a: &CrushArgs) -> Result<LinkCriterion, String> {
         }
         Ok(v)
     };
-    let c = a.criterion.as_str();
+    let c = a.criterion;
     given("--link-force", a.link_force, c == "force")?;
     given("--link-strain", a.link_strain, c == "strain")?;
     given("--link-shear", a.link_shear, c == "force" || c == "strain")?;
@@ -243,6 +267,21 @@ pub fn run(a: CrushArgs) -> Result<ExitCode, String> {
         .num_threads(a.threads.unwrap_or(0))
         .build()
         .map_err(|e| e.to_string())?;
+    // The folder stage 1's scene runs into is locked to this test's inputs (run_lock.rs), so
+    // two runs never mix their outputs there; the grain is part of the inputs.
+    let grain = std::fs::read(&template).map_err(|e| format!("{}: {e}", template.display()))?;
+    let (_lock, notes) = crate::run_lock::acquire(
+        &a.out.join(format!("{}.out", test.name)),
+        crate::run_lock::Claim {
+            command: "dem test crush",
+            scene: &a.out.join(format!("{}.json", test.name)),
+            hash: &crate::run_lock::inputs_hash(&(&test, crate::run_lock::inputs_hash(&grain))),
+        },
+        a.force,
+    )?;
+    for n in notes {
+        eprintln!("note: {n}");
+    }
     let bar = progress_bar();
     bar.set_prefix("crush");
     let o = pool

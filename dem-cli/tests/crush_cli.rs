@@ -61,6 +61,12 @@ fn crush_writes_its_result_and_logs() {
     assert!(!force.contains("NaN") && !breaks.contains("NaN"));
     // The scenes run again with `dem run`: both are plain files.
     assert!(o.join("crush.json").is_file() && o.join("crush-stage2.json").is_file());
+    // The run folder is locked to the test (run_lock.rs), the lock left with its pid cleared.
+    let lock = std::fs::read_to_string(o.join("crush.out").join("run.lock")).unwrap();
+    assert!(
+        lock.contains("\"dem test crush\"") && lock.contains("\"pid\": null"),
+        "{lock}"
+    );
     std::fs::remove_dir_all(&d).unwrap();
 }
 

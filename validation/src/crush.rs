@@ -583,10 +583,10 @@ pub fn section(data: &Path, out: &Path, quick: bool) -> Result<Section, String> 
         true,
         false,
     )?;
-    Ok(Section {
-        title: "Crushable grains: single-grain crushing, Weibull modulus, size effect".into(),
-        markdown: md,
-        figures: vec![
+    // The crushable column, from its committed run.
+    let (column_md, column_figures) = crate::crush_column::part(out)?;
+    md += &column_md;
+    let mut figures = vec![
             Figure {
                 file: "crush_strength_size.svg".into(),
                 caption: "Crushing strength of each grain against its size, and the fitted σ0 ∝ d^b".into(),
@@ -602,7 +602,12 @@ pub fn section(data: &Path, out: &Path, quick: bool) -> Result<Section, String> 
                 caption: "Fragment grading after the first major breakage (stage 1) and after the second loading stage".into(),
                 svg: grading_svg,
             },
-        ],
+        ];
+    figures.extend(column_figures);
+    Ok(Section {
+        title: "Crushable grains: single-grain crushing, Weibull modulus, size effect".into(),
+        markdown: md,
+        figures,
         data: vec![],
     })
 }

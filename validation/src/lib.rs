@@ -5,6 +5,7 @@
 pub mod clump_sweep;
 pub mod convergence;
 pub mod crush;
+pub mod crush_column;
 pub mod cutting_runs;
 pub mod environment;
 pub mod force_statistics;

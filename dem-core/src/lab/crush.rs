@@ -75,7 +75,12 @@ impl LinkCriterion {
     }
 
     fn validate(&self) -> Result<(), LabError> {
-        let check = |f: &str, v: f64| common::positive(TEST, f, v).map(|_| ());
+        self.validate_for(TEST)
+    }
+
+    /// Checks the parameters; errors name the field `<test>.criterion.<field>`.
+    pub(crate) fn validate_for(&self, test: &str) -> Result<(), LabError> {
+        let check = |f: &str, v: f64| common::positive(test, f, v).map(|_| ());
         match *self {
             LinkCriterion::Force { tensile, shear } | LinkCriterion::Strain { tensile, shear } => {
                 check("criterion.tensile", tensile)?;
@@ -105,7 +110,7 @@ impl LinkCriterion {
     }
 
     /// The scene's bond group fields of [`LinkCriterion::bond_criterion`].
-    fn bond_fields(&self, f: f64) -> Value {
+    pub(crate) fn bond_fields(&self, f: f64) -> Value {
         use crate::bond::Criterion;
         match self.bond_criterion(f) {
             Criterion::Force { tensile, shear, .. } => json!({"criterion": "force",

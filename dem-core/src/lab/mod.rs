@@ -48,6 +48,7 @@ pub mod biaxial;
 pub mod brazilian;
 pub mod calibrate;
 pub mod chips;
+pub mod column;
 pub mod common;
 pub mod crush;
 pub mod cutting;

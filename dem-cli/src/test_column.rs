@@ -1,0 +1,251 @@
+//! `dem test column`: a crushable granular column under one-dimensional compression
+//! (docs/lattice.md §7, `dem_core::lab::column`): 200+ lattice grains from outline files in a
+//! box of rigid walls, a top platen moving down; stress–strain, gradings at stress levels,
+//! Hardin's relative breakage.
+
+use crate::lab_args::progress_bar;
+use crate::specimen::{parse_length, parse_stress};
+use crate::test_crush::{criterion_of, CriterionFlags};
+use clap::Args;
+use dem_core::lab::column::{self, ColumnTest};
+use dem_core::lab::LabError;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+/// `dem test column` flags.
+#[derive(Args)]
+pub struct ColumnArgs {
+    /// Outline files or folders (as `dem clump` reads them, e.g. `data/outlines`); each grain
+    /// draws one.
+    #[arg(long, required = true, num_args = 1..)]
+    pub outlines: Vec<PathBuf>,
+    /// Number of grains.
+    #[arg(long, default_value_t = 210)]
+    pub grains: usize,
+    /// Box width in multiples of --d-max.
+    #[arg(long, default_value_t = 20.0)]
+    pub width: f64,
+    /// Smallest and largest grain size (equivalent diameter), with unit.
+    #[arg(long, default_value = "1.2mm")]
+    pub d_min: String,
+    #[arg(long, default_value = "2mm")]
+    pub d_max: String,
+    /// Size classes, geometrically spaced from --d-min to --d-max.
+    #[arg(long, default_value_t = 3)]
+    pub size_classes: usize,
+    /// Lattice spacing S of every grain, with unit.
+    #[arg(long, default_value = "0.2mm")]
+    pub spacing: String,
+    /// Node radius as a fraction of S/2, in (0, 1].
+    #[arg(long, default_value_t = 0.9)]
+    pub node_radius: f64,
+    /// Young's modulus E of the grain material, with unit.
+    #[arg(long, default_value = "70GPa")]
+    pub young: String,
+    /// Poisson's ratio ν, 0 ≤ ν < 1/3.
+    #[arg(long, default_value_t = 0.2)]
+    pub poisson: f64,
+    /// Density (kg/m³).
+    #[arg(long, default_value_t = 2650.0)]
+    pub density: f64,
+    /// Link breakage criterion: force, strain or energy (each needs its parameter flag).
+    #[arg(long, default_value = "energy")]
+    pub criterion: String,
+    #[arg(long)]
+    pub link_force: Option<f64>,
+    #[arg(long)]
+    pub link_strain: Option<f64>,
+    #[arg(long)]
+    pub link_shear: Option<f64>,
+    /// energy: the material's fracture energy G_c (J/m²).
+    #[arg(long, default_value = "30")]
+    pub fracture_energy: Option<f64>,
+    /// Friction: node–node, node–platen, node–side wall.
+    #[arg(long, default_value_t = 0.5)]
+    pub friction: f64,
+    #[arg(long, default_value_t = 0.5)]
+    pub platen_friction: f64,
+    #[arg(long, default_value_t = 0.0)]
+    pub wall_friction: f64,
+    /// Placement seed.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Vertical stresses at which the grading is recorded, comma-separated, with unit
+    /// (`2MPa,5MPa,10MPa`); the run ends at the last.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "2MPa,5MPa,10MPa,20MPa,40MPa"
+    )]
+    pub stress_levels: Vec<String>,
+    /// Seating before loading: rigid grains, the top platen moving down at --seat-speed until
+    /// both platens carry this stress (below the first level).
+    #[arg(long, default_value = "0.5MPa")]
+    pub seat_stress: String,
+    #[arg(long, default_value = "1m/s")]
+    pub seat_speed: String,
+    /// Platen speed with unit (`1m/s`); default from --inertial-number.
+    #[arg(long)]
+    pub speed: Option<String>,
+    /// Target inertial number at the first stress level (sets the platen speed).
+    #[arg(long, default_value_t = 1e-2)]
+    pub inertial_number: f64,
+    /// The run's cap: platen travel over the initial height.
+    #[arg(long, default_value_t = 0.5)]
+    pub max_strain: f64,
+    /// Output folder: templates, scene, run output, CSVs, `column.result.json`.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Take the output folder even if another run holds or held it.
+    #[arg(long)]
+    pub force: bool,
+    /// Worker threads, at least 1 (default: all cores).
+    #[arg(long, value_parser = crate::parse_threads)]
+    pub threads: Option<usize>,
+}
+
+fn message(e: LabError) -> String {
+    match e {
+        LabError::Param { field, reason } => {
+            let flag = match field.strip_prefix("column.") {
+                Some(f) if !f.starts_with("criterion") => format!("--{}", f.replace('_', "-")),
+                _ => field,
+            };
+            format!("{flag}: {reason}")
+        }
+        e => e.to_string(),
+    }
+}
+
+pub fn run(a: ColumnArgs) -> Result<ExitCode, String> {
+    let crit = criterion_of(&CriterionFlags {
+        criterion: &a.criterion,
+        link_force: a.link_force,
+        link_strain: a.link_strain,
+        link_shear: a.link_shear,
+        fracture_energy: if a.criterion == "energy" {
+            a.fracture_energy
+        } else {
+            None
+        },
+    })?;
+    let levels = a
+        .stress_levels
+        .iter()
+        .map(|s| parse_stress(s, "--stress-levels"))
+        .collect::<Result<Vec<f64>, String>>()?;
+    let mut test = ColumnTest {
+        grains: a.grains,
+        width: a.width,
+        d_min: parse_length(&a.d_min, "--d-min")?,
+        d_max: parse_length(&a.d_max, "--d-max")?,
+        size_classes: a.size_classes,
+        spacing: parse_length(&a.spacing, "--spacing")?,
+        node_radius: a.node_radius,
+        young: parse_stress(&a.young, "--young")?,
+        poisson: a.poisson,
+        density: a.density,
+        criterion: crit,
+        friction: a.friction,
+        platen_friction: a.platen_friction,
+        wall_friction: a.wall_friction,
+        seed: a.seed,
+        stress_levels: levels,
+        inertial_number: a.inertial_number,
+        seat_stress: parse_stress(&a.seat_stress, "--seat-stress")?,
+        seat_speed: crate::test::parse_speed(&a.seat_speed, "--seat-speed")?,
+        max_strain: a.max_strain,
+        ..ColumnTest::default()
+    };
+    if let Some(v) = &a.speed {
+        test.speed = Some(crate::test::parse_speed(v, "--speed")?);
+    }
+    test.validate().map_err(message)?;
+    let outlines: Vec<PathBuf> = clumpgen::batch::collect_inputs(&a.outlines)
+        .map_err(|e| format!("--outlines: {e}"))?
+        .into_iter()
+        .map(|i| i.path)
+        .collect();
+    if outlines.is_empty() {
+        return Err("--outlines: no outline files (csv, txt, xy, dat, json) found".into());
+    }
+    std::fs::create_dir_all(&a.out).map_err(|e| format!("{}: {e}", a.out.display()))?;
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(a.threads.unwrap_or(0))
+        .build()
+        .map_err(|e| e.to_string())?;
+    // The folder the scene runs into is locked to this test's inputs (run_lock.rs).
+    let command = "dem test column";
+    let (_lock, notes) = crate::run_lock::acquire(
+        &a.out.join(format!("{}.out", test.name)),
+        crate::run_lock::Claim {
+            command,
+            scene: &a.out.join(format!("{}.json", test.name)),
+            hash: &crate::run_lock::inputs_hash(&(&test, &outlines)),
+        },
+        a.force,
+    )?;
+    for n in notes {
+        eprintln!("note: {n}");
+    }
+    let bar = progress_bar();
+    bar.set_prefix("column");
+    let o = pool
+        .install(|| {
+            column::run(&test, &outlines, &a.out, &mut |done, total| {
+                bar.set_position((done * 1000).checked_div(total).unwrap_or(0));
+            })
+        })
+        .map_err(message);
+    bar.finish_and_clear();
+    let o = o?;
+    let r = &o.result;
+    println!(
+        "{} grains ({} outlines x {} sizes), {} nodes, {} links; box {:.3} mm wide; deposit {:.3} mm high (solid fraction {:.3}), seated (rigid, {} steps, {:.1} s) {:.3} mm ({:.3}); platen {:.4e} m/s",
+        r.grains,
+        outlines.len(),
+        test.size_classes,
+        r.nodes,
+        r.links,
+        r.width * 1e3,
+        r.deposit_height * 1e3,
+        r.deposit_solid_fraction,
+        o.seat.steps,
+        o.seat.wall_time_s,
+        r.height * 1e3,
+        r.initial_solid_fraction,
+        r.platen_speed
+    );
+    println!("level (MPa)  σ_v (MPa)  strain   broken links  B_r     fines mass  I");
+    for g in &r.gradings {
+        println!(
+            "{:>10.2}  {:>9.2}  {:.4}  {:>12}  {:.4}  {:.4}      {:.2e}",
+            g.level * 1e-6,
+            g.stress * 1e-6,
+            g.strain,
+            g.broken_links,
+            g.relative_breakage,
+            g.fines_mass_fraction,
+            g.inertial_number
+        );
+    }
+    if !r.levels_not_reached.is_empty() {
+        println!(
+            "not reached within a strain of {}: {:?} MPa",
+            test.max_strain,
+            r.levels_not_reached
+                .iter()
+                .map(|s| s * 1e-6)
+                .collect::<Vec<_>>()
+        );
+    }
+    println!(
+        "energy: work {:.4e} J, balance error {:.2e}; {} steps in {:.1} s, {:.3e} particle-steps/s",
+        r.work, r.balance_error, o.run.steps, o.run.wall_time_s, r.particle_steps_per_s
+    );
+    println!(
+        "result:  {}",
+        a.out.join(format!("{}.result.json", test.name)).display()
+    );
+    Ok(ExitCode::SUCCESS)
+}

@@ -1,0 +1,319 @@
+//! The crushable column of the "Crushable grains" section (`dem test column`,
+//! `dem_core::lab::column`, docs/lattice.md §7): read from the committed run
+//! (`<out>/crush/column/column.result.json` and a thinned `column.stress_strain.csv`), never run
+//! here (the run takes tens of minutes of one core); the section says so and how to make it
+//! when the files are missing.
+
+use crate::page::Figure;
+use crate::plot::{self, Series};
+use dem_core::lab::column::ColumnOutcome;
+use std::path::Path;
+
+/// The command that made the committed run (docs/lattice.md §7).
+pub const COMMAND: &str = "dem test column --outlines data/outlines --out <dir> --threads 1";
+
+/// Rows of the thinned stress–strain file: (strain, σ_top, σ_bottom) in Pa.
+fn stress_strain(text: &str) -> Result<Vec<(f64, f64, f64)>, String> {
+    let mut lines = text.lines();
+    let head: Vec<&str> = lines.next().unwrap_or("").split(',').collect();
+    let at = |n: &str| {
+        head.iter()
+            .position(|h| *h == n)
+            .ok_or_else(|| format!("column.stress_strain.csv: no column {n}"))
+    };
+    let (e, t, b) = (at("strain")?, at("stress_top")?, at("stress_bottom")?);
+    let mut out = vec![];
+    for (k, l) in lines.enumerate() {
+        let f: Vec<&str> = l.split(',').collect();
+        let num = |i: usize| -> Result<f64, String> {
+            f.get(i)
+                .and_then(|v| v.parse::<f64>().ok())
+                .filter(|v| v.is_finite())
+                .ok_or_else(|| format!("column.stress_strain.csv line {}: bad number", k + 2))
+        };
+        out.push((num(e)?, num(t)?, num(b)?));
+    }
+    Ok(out)
+}
+
+/// The column's markdown and figures.
+pub fn part(out: &Path) -> Result<(String, Vec<Figure>), String> {
+    let dir = out.join("crush").join("column");
+    let file = dir.join("column.result.json");
+    let Ok(text) = std::fs::read_to_string(&file) else {
+        return Ok((
+            format!(
+                "\n### Crushable column\n\nNo committed run in `{}`: make it with `{COMMAND}` and copy \
+                 `column.result.json` and `column.stress_strain.csv` there.\n",
+                dir.display()
+            ),
+            vec![],
+        ));
+    };
+    let o: ColumnOutcome =
+        serde_json::from_str(&text).map_err(|e| format!("{}: {e}", file.display()))?;
+    let ss_file = dir.join("column.stress_strain.csv");
+    let ss = stress_strain(
+        &std::fs::read_to_string(&ss_file).map_err(|e| format!("{}: {e}", ss_file.display()))?,
+    )?;
+    let (t, r) = (&o.test, &o.result);
+    let mut md = String::from("\n### Crushable column (one-dimensional compression)\n\n");
+    md += &format!(
+        "`dem test column` (docs/lattice.md §7): {} lattice grains from the {} outlines of \
+         `data/outlines`, scaled to d_eq = {} mm (one size class drawn per grain), one lattice \
+         spacing S = {:.3} mm (R_eq/S = {:.1}–{:.1}; {} nodes, {} links), the material of the \
+         single-grain study (E = {} GPa, ν = {}, energy criterion G_c = 30 J/m²), friction {} \
+         between nodes and {} at the platens, smooth side walls. Deposited (seed {}) into a box \
+         {:.1} mm wide ({:.1} mm high, solid fraction {:.3}), seated as rigid grains at {:.1} MPa \
+         ({:.1} mm, {:.3}), then loaded by the top platen at {:.3} m/s (inertial number {} at \
+         the first level). σ_v is the smaller of the two platens' stresses F/(W t); the \
+         grading is taken the first time σ_v reaches each level. Hardin's (1985) relative \
+         breakage B_r = B_t/B_p, with b_p = log10(d/d_f) and the fines cutoff d_f = {:.3} mm \
+         (two lattice cells: a single node is below it).\n\n",
+        r.grains,
+        o.outlines.len(),
+        t.sizes()
+            .iter()
+            .map(|d| format!("{:.2}", d * 1e3))
+            .collect::<Vec<_>>()
+            .join(", "),
+        t.spacing * 1e3,
+        0.5 * t.d_min / t.spacing,
+        0.5 * t.d_max / t.spacing,
+        r.nodes,
+        r.links,
+        t.young * 1e-9,
+        t.poisson,
+        t.friction,
+        t.platen_friction,
+        t.seed,
+        r.width * 1e3,
+        r.deposit_height * 1e3,
+        r.deposit_solid_fraction,
+        t.seat_stress * 1e-6,
+        r.height * 1e3,
+        r.initial_solid_fraction,
+        r.platen_speed,
+        t.inertial_number,
+        r.fines_cutoff * 1e3
+    );
+    md += "| level (MPa) | σ_v (MPa) | ε_v | broken links | pieces (≥ 2 nodes) | fines | fines mass | B_p | B_r | I | E_k/E_s |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
+    for g in &r.gradings {
+        md += &format!(
+            "| {:.0} | {:.2} | {:.4} | {} | {} | {} | {:.4} | {:.4} | {:.4} | {:.1e} | {:.3} |\n",
+            g.level * 1e-6,
+            g.stress * 1e-6,
+            g.strain,
+            g.broken_links,
+            g.fragments,
+            g.fines,
+            g.fines_mass_fraction,
+            g.breakage_potential,
+            g.relative_breakage,
+            g.inertial_number,
+            g.kinetic_over_strain
+        );
+    }
+    if !r.levels_not_reached.is_empty() {
+        md += &format!(
+            "\nNot reached within ε_v = {}: {:?} MPa.\n",
+            t.max_strain,
+            r.levels_not_reached
+                .iter()
+                .map(|s| s * 1e-6)
+                .collect::<Vec<_>>()
+        );
+    }
+    // Quasi-static honesty: the bottom platen's mean stress over the top one's while loaded.
+    let first = t.stress_levels.first().copied().unwrap_or(0.0);
+    let loaded: Vec<&(f64, f64, f64)> = ss.iter().filter(|x| x.1 >= first).collect();
+    let top_sum: f64 = loaded.iter().map(|x| x.1).sum();
+    let ratio = if top_sum > 0.0 {
+        loaded.iter().map(|x| x.2).sum::<f64>() / top_sum
+    } else {
+        0.0
+    };
+    let seat_ps = if o.seat.wall_time_s > 0.0 {
+        o.seat.discs as f64 * o.seat.steps as f64 / o.seat.wall_time_s
+    } else {
+        0.0
+    };
+    md += &format!(
+        "\nRun times (this 2-core VM, shared; one thread): seating {} steps in {:.0} s (rigid \
+         grains, dt {:.2e} s, {:.2e} particle-steps/s), loading {} steps in {:.0} s (dt {:.2e} \
+         s): **{:.2e} particle-steps/s** for the lattice column (nodes × steps / wall time). \
+         Energy balance at the end: work {:.3e} J, released at breaks {:.3e} J, error {:.1e} of \
+         the work. **Not quasi-static**: while σ_top ≥ {:.0} MPa the bottom platen carried on \
+         average {:.2} of the top one's stress (mean over mean; smooth side walls, so at \
+         equilibrium 1), and local damping took {:.0} % of the work (friction {:.0} %): the \
+         column is compressed at ε̇ = {:.0} /s, so the unbalanced forces, which local damping \
+         opposes, are large throughout; the levels are the bottom platen's stress σ_v, while \
+         the top of the column is loaded harder. A slower platen costs proportionally \
+         more steps, which this machine could not afford for this run (the loading alone took \
+         {:.0} s); B_r and the gradings are therefore those of a fast oedometric compression, \
+         not yet a quasi-static one. The stress–strain curve also starts with a spike: the \
+         loading starts at rest from the seated poses, whose overlaps at the top (the rigid \
+         seating was fast too) are released in the first steps.\n",
+        o.seat.steps,
+        o.seat.wall_time_s,
+        o.seat.dt,
+        seat_ps,
+        o.run.steps,
+        o.run.wall_time_s,
+        o.run.dt,
+        r.particle_steps_per_s,
+        r.work,
+        r.released,
+        r.balance_error,
+        first * 1e-6,
+        ratio,
+        100.0 * r.damping / r.work,
+        100.0 * r.friction / r.work,
+        r.platen_speed / r.height,
+        o.run.wall_time_s
+    );
+    // The speed check (60 grains at the default inertial number and at half of it), when
+    // committed beside the run.
+    let check: Vec<ColumnOutcome> = ["I-0.01", "I-0.005"]
+        .iter()
+        .filter_map(|n| {
+            let f = dir.join("speed-check").join(format!("{n}.result.json"));
+            serde_json::from_str(&std::fs::read_to_string(f).ok()?).ok()
+        })
+        .collect();
+    if check.len() == 2 {
+        md += &format!(
+            "
+Speed check (docs/lattice.md §7; {} grains, H0 = {:.1} mm): B_r at the levels \
+             {} MPa
+
+| I at the first level | platen (m/s) | B_r | loading steps |\n|---|---|---|---|\n",
+            check[0].result.grains,
+            check[0].result.height * 1e3,
+            check[0]
+                .test
+                .stress_levels
+                .iter()
+                .map(|l| format!("{:.0}", l * 1e-6))
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+        for c in &check {
+            md += &format!(
+                "| {} | {:.3} | {} | {} |\n",
+                c.test.inertial_number,
+                c.result.platen_speed,
+                c.result.gradings[1..]
+                    .iter()
+                    .map(|g| format!("{:.3}", g.relative_breakage))
+                    .collect::<Vec<_>>()
+                    .join(", "),
+                c.run.steps
+            );
+        }
+        md += "\nHalving the speed lowers B_r at the middle levels markedly and at the last one \
+               little: the gradings below the last level are not converged in the speed.\n";
+    }
+    // Gradings.
+    let gseries: Vec<Series> = r
+        .gradings
+        .iter()
+        .map(|g| Series {
+            name: if g.level == 0.0 {
+                "initial".into()
+            } else {
+                format!("{:.0} MPa (B_r {:.3})", g.level * 1e-6, g.relative_breakage)
+            },
+            points: r
+                .sieves
+                .iter()
+                .zip(&g.passing)
+                .map(|(s, p)| (s * 1e3, *p))
+                .collect(),
+        })
+        .collect();
+    let grading_svg = plot::lines(
+        "Crushable column: grading at each vertical stress",
+        "sieve size d (mm)",
+        "mass fraction finer than d",
+        &gseries,
+        true,
+        false,
+    )?;
+    let br_svg = plot::lines(
+        "Crushable column: Hardin's relative breakage and fines against vertical stress",
+        "σ_v (MPa): the smaller (bottom) platen's stress",
+        "fraction",
+        &[
+            Series {
+                name: "B_r (Hardin 1985)".into(),
+                points: r
+                    .gradings
+                    .iter()
+                    .map(|g| (g.stress * 1e-6, g.relative_breakage))
+                    .collect(),
+            },
+            Series {
+                name: "fines (single nodes) mass fraction".into(),
+                points: r
+                    .gradings
+                    .iter()
+                    .map(|g| (g.stress * 1e-6, g.fines_mass_fraction))
+                    .collect(),
+            },
+        ],
+        false,
+        false,
+    )?;
+    let ss_svg = plot::lines(
+        "Crushable column: vertical stress against vertical strain",
+        "ε_v = platen travel / H0",
+        "σ (MPa)",
+        &[
+            Series {
+                name: "top platen".into(),
+                points: ss.iter().map(|x| (x.0, x.1 * 1e-6)).collect(),
+            },
+            Series {
+                name: "bottom platen".into(),
+                points: ss.iter().map(|x| (x.0, x.2 * 1e-6)).collect(),
+            },
+        ],
+        false,
+        false,
+    )?;
+    Ok((
+        md,
+        vec![
+            Figure {
+                file: "crush_column_gradings.svg".into(),
+                caption: "Crushable column: grading curves (mass fraction finer than each sieve size) initially and at each vertical stress level".into(),
+                svg: grading_svg,
+            },
+            Figure {
+                file: "crush_column_breakage.svg".into(),
+                caption: "Crushable column: Hardin's relative breakage B_r and the fines' mass fraction against the vertical stress".into(),
+                svg: br_svg,
+            },
+            Figure {
+                file: "crush_column_stress_strain.svg".into(),
+                caption: "Crushable column: top and bottom platen stress against the vertical strain".into(),
+                svg: ss_svg,
+            },
+        ],
+    ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn stress_strain_rows_and_bad_numbers() {
+        let ok = "time,platen_travel,strain,stress_top,stress_bottom\n0,0,0.1,2e6,1e6\n";
+        assert_eq!(stress_strain(ok).unwrap(), vec![(0.1, 2e6, 1e6)]);
+        let bad = "strain,stress_top,stress_bottom\n0.1,NaN,1\n";
+        assert!(stress_strain(bad).unwrap_err().contains("line 2"));
+        assert!(stress_strain("a,b\n").unwrap_err().contains("strain"));
+    }
+}
