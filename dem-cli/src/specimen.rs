@@ -115,6 +115,11 @@ fn scene_path(out: &std::path::Path) -> PathBuf {
     out.with_file_name(format!("{stem}.scene.json"))
 }
 
+/// `0.05m/s`, `50mm/s` (or without `/s`) → m/s.
+pub fn parse_speed(s: &str, what: &str) -> Result<f64, String> {
+    parse_length(s.trim().strip_suffix("/s").unwrap_or(s.trim()), what)
+}
+
 /// `20mm`, `0.2mm`, `500um`, `1e-3m` → metres.
 pub fn parse_length(s: &str, what: &str) -> Result<f64, String> {
     parse_unit(

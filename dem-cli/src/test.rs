@@ -7,7 +7,7 @@
 //! its own variant.
 
 use crate::lab_args::{progress_bar, strict_cover, LabArgs};
-use crate::specimen::{parse_length, print_cover};
+use crate::specimen::{parse_length, parse_speed, print_cover};
 use clap::{Args, Subcommand};
 use dem_core::lab::bending::BendingTest;
 use dem_core::lab::biaxial::BiaxialTest;
@@ -181,11 +181,6 @@ pub fn parse_confinements(list: &[String], flag: &str) -> Result<Vec<f64>, Strin
                 .map_err(|e| format!("{e} (a confinement is ≥ 0, compression positive)"))
         })
         .collect()
-}
-
-/// `0.05m/s`, `50mm/s` (or without `/s`) → m/s.
-pub fn parse_speed(s: &str, what: &str) -> Result<f64, String> {
-    parse_length(s.trim().strip_suffix("/s").unwrap_or(s.trim()), what)
 }
 
 /// The loading settings from the shared flags and a test's `--speed`.

@@ -4,7 +4,7 @@
 //! Hardin's relative breakage.
 
 use crate::lab_args::progress_bar;
-use crate::specimen::{parse_length, parse_stress};
+use crate::specimen::{parse_length, parse_speed, parse_stress};
 use crate::test_crush::{criterion_of, CriterionFlags};
 use clap::Args;
 use dem_core::lab::column::{self, ColumnTest};
@@ -153,12 +153,12 @@ pub fn run(a: ColumnArgs) -> Result<ExitCode, String> {
         stress_levels: levels,
         inertial_number: a.inertial_number,
         seat_stress: parse_stress(&a.seat_stress, "--seat-stress")?,
-        seat_speed: crate::test::parse_speed(&a.seat_speed, "--seat-speed")?,
+        seat_speed: parse_speed(&a.seat_speed, "--seat-speed")?,
         max_strain: a.max_strain,
         ..ColumnTest::default()
     };
     if let Some(v) = &a.speed {
-        test.speed = Some(crate::test::parse_speed(v, "--speed")?);
+        test.speed = Some(parse_speed(v, "--speed")?);
     }
     test.validate().map_err(message)?;
     let outlines: Vec<PathBuf> = clumpgen::batch::collect_inputs(&a.outlines)

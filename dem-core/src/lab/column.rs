@@ -49,7 +49,7 @@ use std::cell::RefCell;
 use std::path::{Path, PathBuf};
 use std::rc::Rc;
 
-use super::crush::LinkCriterion;
+use super::crush::{extent, LinkCriterion};
 
 const TEST: &str = "column";
 
@@ -435,27 +435,6 @@ struct Placed {
     x: f64,
     y: f64,
     angle: f64,
-}
-
-/// Rotated extent [x0, y0, x1, y1] of a template's node discs about its origin.
-fn extent(t: &Template, angle: f64) -> [f64; 4] {
-    let (s, c) = angle.sin_cos();
-    let mut e = [
-        f64::INFINITY,
-        f64::INFINITY,
-        f64::NEG_INFINITY,
-        f64::NEG_INFINITY,
-    ];
-    for d in &t.discs {
-        let (x, y) = (c * d.x - s * d.y, s * d.x + c * d.y);
-        e = [
-            e[0].min(x - d.r),
-            e[1].min(y - d.r),
-            e[2].max(x + d.r),
-            e[3].max(y + d.r),
-        ];
-    }
-    e
 }
 
 /// The templates: every outline at every size class, template `o·classes + k`. Errors name the

@@ -367,22 +367,7 @@ fn grain_facts(
     let lat = tpl.lattice.as_ref().expect("checked by load_template");
     let k = clumpgen::link_stiffness(test.young, test.poisson, tpl.thickness)
         .map_err(|e| param("young", e.to_string()))?;
-    let (s, c) = test.angle.sin_cos();
-    let mut ext = [
-        f64::INFINITY,
-        f64::INFINITY,
-        f64::NEG_INFINITY,
-        f64::NEG_INFINITY,
-    ];
-    for d in &tpl.discs {
-        let (x, y) = (c * d.x - s * d.y, s * d.x + c * d.y);
-        ext = [
-            ext[0].min(x - d.r),
-            ext[1].min(y - d.r),
-            ext[2].max(x + d.r),
-            ext[3].max(y + d.r),
-        ];
-    }
+    let ext = extent(tpl, test.angle);
     let area = tpl.target.mass / (tpl.density * tpl.thickness);
     Ok((
         GrainFacts {
@@ -692,4 +677,25 @@ pub fn run(
     };
     common::write_result(&out.join(format!("{}.result.json", test.name)), &o)?;
     Ok(o)
+}
+
+/// Rotated extent [x0, y0, x1, y1] of a template's node discs about its origin.
+pub(super) fn extent(t: &Template, angle: f64) -> [f64; 4] {
+    let (s, c) = angle.sin_cos();
+    let mut e = [
+        f64::INFINITY,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        f64::NEG_INFINITY,
+    ];
+    for d in &t.discs {
+        let (x, y) = (c * d.x - s * d.y, s * d.x + c * d.y);
+        e = [
+            e[0].min(x - d.r),
+            e[1].min(y - d.r),
+            e[2].max(x + d.r),
+            e[3].max(y + d.r),
+        ];
+    }
+    e
 }
