@@ -188,7 +188,7 @@ pub fn run(a: CalibrateArgs) -> Result<ExitCode, String> {
         v
     })
     .map_err(|e| e.to_string())?;
-    let (_lock, notes) = crate::run_lock::acquire(
+    let _lock = crate::run_lock::acquire_noted(
         &out,
         crate::run_lock::Claim {
             command: "dem calibrate",
@@ -197,9 +197,6 @@ pub fn run(a: CalibrateArgs) -> Result<ExitCode, String> {
         },
         a.lab.force,
     )?;
-    for n in notes {
-        eprintln!("note: {n}");
-    }
     let bar = progress_bar();
     bar.set_prefix("calibrate");
     let pool = a.lab.pool()?;

@@ -107,7 +107,7 @@ pub fn run(a: RunArgs) -> Result<ExitCode, String> {
         let mut sim = Simulation::new(scene, &opts).map_err(|e| e.to_string())?;
         check_step_count(&sim, a.yes)?;
         check_output_size(&sim, a.yes)?;
-        let (_lock, notes) = crate::run_lock::acquire(
+        let _lock = crate::run_lock::acquire_noted(
             &out,
             crate::run_lock::Claim {
                 command: crate::run_lock::RUN,
@@ -116,9 +116,6 @@ pub fn run(a: RunArgs) -> Result<ExitCode, String> {
             },
             a.force,
         )?;
-        for n in notes {
-            eprintln!("note: {n}");
-        }
         let st = &sim.world.state;
         println!(
             "scene {}: {} discs, {} rigid clumps, {} bonds, {} walls; dt {:.4e} s",

@@ -143,6 +143,16 @@ pub struct Claim<'a> {
     pub hash: &'a str,
 }
 
+/// [`acquire`], with its notes (a stale lock taken over, a rerun) printed to stderr: what every
+/// command that runs into a locked folder does.
+pub fn acquire_noted(out: &Path, claim: Claim<'_>, force: bool) -> Result<RunLock, String> {
+    let (lock, notes) = acquire(out, claim, force)?;
+    for n in notes {
+        eprintln!("note: {n}");
+    }
+    Ok(lock)
+}
+
 /// SHA-256 (hex) of `value`'s JSON: the identity of a lab test's inputs in its lock.
 pub fn inputs_hash<T: serde::Serialize>(value: &T) -> String {
     use sha2::{Digest, Sha256};

@@ -48,6 +48,13 @@ pub enum TestKind {
     Column(crate::test_column::ColumnArgs),
 }
 
+/// [`flag_message`] for a rectangular specimen's `<test>.width` and `<test>.height`, given as
+/// `--width` and `--height`.
+fn size_message(e: LabError, test: &str, width: &str, height: &str) -> String {
+    let (fw, fh) = (format!("{test}.width"), format!("{test}.height"));
+    flag_message(e, &[(&fw, "--width", width), (&fh, "--height", height)])
+}
+
 /// A lab-test error as a message naming the flag: `flags` maps a field (`ucs.width`) to its
 /// flag and the value as given; other fields keep their name.
 fn flag_message(e: LabError, flags: &[(&str, &str, &str)]) -> String {
@@ -207,7 +214,7 @@ fn lock_test(
     inputs: &serde_json::Value,
 ) -> Result<crate::run_lock::RunLock, String> {
     let command = format!("dem test {test}");
-    let (lock, notes) = crate::run_lock::acquire(
+    crate::run_lock::acquire_noted(
         &lab.out.join(format!("{test}.out")),
         crate::run_lock::Claim {
             command: &command,
@@ -215,11 +222,7 @@ fn lock_test(
             hash: &crate::run_lock::inputs_hash(inputs),
         },
         lab.force,
-    )?;
-    for n in notes {
-        eprintln!("note: {n}");
-    }
-    Ok(lock)
+    )
 }
 
 /// Generates (or reuses) the test's specimen `<out>/<test>.specimen.json` and runs `body` on it
@@ -307,15 +310,7 @@ fn ucs(a: UcsArgs) -> Result<ExitCode, String> {
     };
     test.validate().map_err(|e| e.to_string())?;
     test.check_geometry([w, h], nominal_r_mean(&p))
-        .map_err(|e| {
-            flag_message(
-                e,
-                &[
-                    ("ucs.width", "--width", &a.width),
-                    ("ucs.height", "--height", &a.height),
-                ],
-            )
-        })?;
+        .map_err(|e| size_message(e, "ucs", &a.width, &a.height))?;
     let (spec, o) = with_specimen(
         &a.lab,
         &p,
@@ -360,15 +355,7 @@ fn biaxial(a: BiaxialArgs) -> Result<ExitCode, String> {
     };
     test.validate().map_err(|e| e.to_string())?;
     test.check_geometry([w, h], nominal_r_mean(&p))
-        .map_err(|e| {
-            flag_message(
-                e,
-                &[
-                    ("biaxial.width", "--width", &a.width),
-                    ("biaxial.height", "--height", &a.height),
-                ],
-            )
-        })?;
+        .map_err(|e| size_message(e, "biaxial", &a.width, &a.height))?;
     let (spec, s) = with_specimen(
         &a.lab,
         &p,

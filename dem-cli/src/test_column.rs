@@ -176,7 +176,7 @@ pub fn run(a: ColumnArgs) -> Result<ExitCode, String> {
         .map_err(|e| e.to_string())?;
     // The folder the scene runs into is locked to this test's inputs (run_lock.rs).
     let command = "dem test column";
-    let (_lock, notes) = crate::run_lock::acquire(
+    let _lock = crate::run_lock::acquire_noted(
         &a.out.join(format!("{}.out", test.name)),
         crate::run_lock::Claim {
             command,
@@ -185,9 +185,6 @@ pub fn run(a: ColumnArgs) -> Result<ExitCode, String> {
         },
         a.force,
     )?;
-    for n in notes {
-        eprintln!("note: {n}");
-    }
     let bar = progress_bar();
     bar.set_prefix("column");
     let o = pool

@@ -270,7 +270,7 @@ pub fn run(a: CrushArgs) -> Result<ExitCode, String> {
     // The folder stage 1's scene runs into is locked to this test's inputs (run_lock.rs), so
     // two runs never mix their outputs there; the grain is part of the inputs.
     let grain = std::fs::read(&template).map_err(|e| format!("{}: {e}", template.display()))?;
-    let (_lock, notes) = crate::run_lock::acquire(
+    let _lock = crate::run_lock::acquire_noted(
         &a.out.join(format!("{}.out", test.name)),
         crate::run_lock::Claim {
             command: "dem test crush",
@@ -279,9 +279,6 @@ pub fn run(a: CrushArgs) -> Result<ExitCode, String> {
         },
         a.force,
     )?;
-    for n in notes {
-        eprintln!("note: {n}");
-    }
     let bar = progress_bar();
     bar.set_prefix("crush");
     let o = pool

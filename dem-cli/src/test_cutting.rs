@@ -616,7 +616,7 @@ pub fn run(a: CuttingArgs) -> Result<ExitCode, String> {
     // The folder's lock (`run_lock`), before anything is written into it: keyed on the
     // inputs as resolved from the flags, so a rerun (or the run after a --dry-run) of the same
     // cut is the same run.
-    let (_lock, notes) = crate::run_lock::acquire(
+    let _lock = crate::run_lock::acquire_noted(
         &a.out,
         crate::run_lock::Claim {
             command: "dem test cutting",
@@ -625,9 +625,6 @@ pub fn run(a: CuttingArgs) -> Result<ExitCode, String> {
         },
         a.force,
     )?;
-    for n in notes {
-        eprintln!("note: {n}");
-    }
     let text = write_inputs(&a.out, &inputs)?;
     if a.dry_run {
         print!("{text}");

@@ -45,7 +45,7 @@ const GROW_STEPS: u64 = 40;
 pub const EQ_TOL: f64 = 2e-3;
 /// Most steps spent settling between two servo changes far from the target stress.
 const FAR_STEPS: u64 = 20_000;
-pub(super) const FLOATER_PASSES: usize = 3;
+const FLOATER_PASSES: usize = 3;
 
 fn draw_radius(rng: &mut Rng, p: &SpecimenParams) -> f64 {
     match p.distribution {
@@ -382,7 +382,7 @@ pub fn rest_energy(w: &World, p: &SpecimenParams) -> f64 {
 }
 
 /// Mean overlap of the touching pairs (0 when none).
-pub(super) fn mean_overlap(w: &World) -> f64 {
+fn mean_overlap(w: &World) -> f64 {
     let (mut s, mut n) = (0.0, 0usize);
     for c in w.contacts() {
         s += c.overlap;
@@ -397,7 +397,7 @@ pub(super) fn mean_overlap(w: &World) -> f64 {
 
 /// The circle tangent to three neighbours of disc `k` that overlaps no other disc, stays in the
 /// box and has the radius closest to disc k's, within [0.5 r, 1.5 r].
-pub(super) fn cage_circle(st: &State, k: usize, p: &SpecimenParams) -> Option<(f64, f64, f64)> {
+fn cage_circle(st: &State, k: usize, p: &SpecimenParams) -> Option<(f64, f64, f64)> {
     let d = &st.discs;
     let (x0, y0, r0) = (d.x[k], d.y[k], d.r[k]);
     let reach = r0 + 4.0 * p.r_max;
