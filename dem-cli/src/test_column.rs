@@ -84,11 +84,17 @@ pub struct ColumnArgs {
     pub seat_stress: String,
     #[arg(long, default_value = "1m/s")]
     pub seat_speed: String,
-    /// Platen speed with unit (`1m/s`); default from --inertial-number.
+    /// inertial: the platen's speed follows the stress so that the inertial number stays at
+    /// --inertial-number (quasi-static at 1e-3, GDR MiDi 2004); ramp: a constant speed
+    /// (--speed, or from --inertial-number at the first level).
+    #[arg(long, default_value = "inertial", value_parser = ["inertial", "ramp"])]
+    pub loading: String,
+    /// Platen speed with unit (`1m/s`), --loading ramp only; default from --inertial-number.
     #[arg(long)]
     pub speed: Option<String>,
-    /// Target inertial number at the first stress level (sets the platen speed).
-    #[arg(long, default_value_t = 1e-2)]
+    /// Inertial number I = ε̇ d̄ √(ρ/σ) held throughout (--loading inertial) or at the first
+    /// level (--loading ramp without --speed).
+    #[arg(long, default_value_t = 1e-3)]
     pub inertial_number: f64,
     /// The run's cap: platen travel over the initial height.
     #[arg(long, default_value_t = 0.5)]
@@ -155,9 +161,17 @@ pub fn run(a: ColumnArgs) -> Result<ExitCode, String> {
         seat_stress: parse_stress(&a.seat_stress, "--seat-stress")?,
         seat_speed: parse_speed(&a.seat_speed, "--seat-speed")?,
         max_strain: a.max_strain,
+        loading: if a.loading == "ramp" {
+            column::Loading::Ramp
+        } else {
+            column::Loading::Inertial
+        },
         ..ColumnTest::default()
     };
     if let Some(v) = &a.speed {
+        if test.loading != column::Loading::Ramp {
+            return Err("--speed: only with --loading ramp (inertial loading sets the speed from --inertial-number)".into());
+        }
         test.speed = Some(parse_speed(v, "--speed")?);
     }
     test.validate().map_err(message)?;
@@ -198,7 +212,7 @@ pub fn run(a: ColumnArgs) -> Result<ExitCode, String> {
     let o = o?;
     let r = &o.result;
     println!(
-        "{} grains ({} outlines x {} sizes), {} nodes, {} links; box {:.3} mm wide; deposit {:.3} mm high (solid fraction {:.3}), seated (rigid, {} steps, {:.1} s) {:.3} mm ({:.3}); platen {:.4e} m/s",
+        "{} grains ({} outlines x {} sizes), {} nodes, {} links; box {:.3} mm wide; deposit {:.3} mm high (solid fraction {:.3}), seated (rigid, {} steps, {:.1} s) {:.3} mm ({:.3}); platen {:.4e} m/s{}",
         r.grains,
         outlines.len(),
         test.size_classes,
@@ -211,19 +225,27 @@ pub fn run(a: ColumnArgs) -> Result<ExitCode, String> {
         o.seat.wall_time_s,
         r.height * 1e3,
         r.initial_solid_fraction,
-        r.platen_speed
+        r.platen_speed,
+        if test.loading == column::Loading::Inertial {
+            " at the start"
+        } else {
+            ""
+        }
     );
-    println!("level (MPa)  σ_v (MPa)  strain   broken links  B_r     fines mass  I");
+    println!(
+        "level (MPa)  σ_v (MPa)  strain   broken links  B_r     fines mass  I         unbalanced"
+    );
     for g in &r.gradings {
         println!(
-            "{:>10.2}  {:>9.2}  {:.4}  {:>12}  {:.4}  {:.4}      {:.2e}",
+            "{:>10.2}  {:>9.2}  {:.4}  {:>12}  {:.4}  {:.4}      {:.2e}  {:.2e}",
             g.level * 1e-6,
             g.stress * 1e-6,
             g.strain,
             g.broken_links,
             g.relative_breakage,
             g.fines_mass_fraction,
-            g.inertial_number
+            g.inertial_number,
+            g.unbalanced_ratio
         );
     }
     if !r.levels_not_reached.is_empty() {

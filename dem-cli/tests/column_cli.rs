@@ -37,6 +37,9 @@ fn bad_inputs_name_the_flag_or_outline() {
         (vec!["--width", "1"], "--width"),
         (vec!["--criterion", "force"], "--link-force"),
         (vec!["--criterion", "stress"], "--criterion stress"),
+        (vec!["--speed", "1m/s"], "--loading ramp"),
+        (vec!["--loading", "steps"], "--loading"),
+        (vec!["--inertial-number", "0"], "--inertial-number"),
     ] {
         let all = fails(&d, &flags);
         assert!(all.contains(expect), "{flags:?}: {all}");

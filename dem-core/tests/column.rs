@@ -1,7 +1,9 @@
 //! The crushable column (`dem_core::lab::column`, docs/lattice.md §7) on a small
 //! configuration: 16 grains of three outlines, a coarse lattice, two stress levels.
 //!
-//! - a grading is recorded at each level, when both platens carry it;
+//! - a grading is recorded at each level, when both platens carry it; with inertial loading
+//!   (the default) the platen's speed keeps the inertial number near its target at every
+//!   level, with a ramp the speed is constant and I falls as 1/√σ;
 //! - breakage is irreversible: pieces only split, so Hardin's breakage potential can only
 //!   fall and B_r rises (or stays) from level to level, within [0, 1];
 //! - every grading's mass sums to the column's (the largest sieve passes everything);
@@ -10,7 +12,7 @@
 //!   released at breaks) within 1 % of the work;
 //! - the outputs are written and hold no NaN; a bad value is refused naming its field.
 
-use dem_core::lab::column::{self, ColumnTest};
+use dem_core::lab::column::{self, ColumnTest, Loading};
 use dem_core::lab::LabError;
 use std::path::PathBuf;
 
@@ -32,6 +34,8 @@ fn small() -> ColumnTest {
         spacing: 0.3e-3,
         stress_levels: vec![5e6, 20e6],
         seat_stress: 1e6,
+        // Ten times the quasi-static default: a test, not a study.
+        inertial_number: 1e-2,
         ..ColumnTest::default()
     }
 }
@@ -51,8 +55,16 @@ fn a_small_column_crushes_with_rising_relative_breakage() {
     assert_eq!(r.gradings.len(), 3);
     let mut last = 0.0;
     for g in &r.gradings[1..] {
-        // Recorded when both platens carried the level.
+        // Recorded when both platens carried the level, at the target inertial number
+        // (the speed is set from the bottom platen's stress every history row).
         assert!(g.stress >= g.level, "{} < {}", g.stress, g.level);
+        let ratio = g.inertial_number / test.inertial_number;
+        assert!(
+            (0.7..1.3).contains(&ratio),
+            "I {} at {} Pa",
+            g.inertial_number,
+            g.level
+        );
         assert!(
             g.relative_breakage >= last - 1e-12 && g.relative_breakage <= 1.0,
             "B_r {} after {last}",
@@ -87,6 +99,38 @@ fn a_small_column_crushes_with_rising_relative_breakage() {
     ] {
         let text = std::fs::read_to_string(dir.join(f)).unwrap();
         assert!(!text.contains("NaN") && !text.contains("inf"), "{f}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Ramp loading: each grading the first time both platens carry the level; the platen moves
+/// at its constant speed, so the strain is the speed times the time over H0.
+#[test]
+fn a_ramp_records_each_level_when_both_platens_first_carry_it() {
+    let dir = std::env::temp_dir().join(format!("dem-column-ramp-{}", std::process::id()));
+    let test = ColumnTest {
+        loading: Loading::Ramp,
+        ..small()
+    };
+    let o = column::run(&test, &outlines(), &dir, &mut |_, _| {}).unwrap();
+    let r = &o.result;
+    assert_eq!(r.gradings.len(), 3);
+    for g in &r.gradings[1..] {
+        assert!(g.stress >= g.level, "{} < {}", g.stress, g.level);
+        // Constant speed: I falls as 1/√σ from its value at the first level.
+        let i1 = r.gradings[1].inertial_number;
+        let expect = i1 * (r.gradings[1].stress / g.stress).sqrt();
+        assert!(
+            (g.inertial_number / expect - 1.0).abs() < 0.3,
+            "{} vs {expect}",
+            g.inertial_number
+        );
+        let strain = r.platen_speed * g.time / r.height;
+        assert!(
+            (g.strain - strain).abs() <= 1e-9 * strain,
+            "{} vs {strain}",
+            g.strain
+        );
     }
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -6,7 +6,7 @@
 
 use crate::page::Figure;
 use crate::plot::{self, Series};
-use dem_core::lab::column::ColumnOutcome;
+use dem_core::lab::column::{ColumnOutcome, Loading};
 use std::path::Path;
 
 /// The command that made the committed run (docs/lattice.md §7).
@@ -36,6 +36,124 @@ fn stress_strain(text: &str) -> Result<Vec<(f64, f64, f64)>, String> {
     Ok(out)
 }
 
+/// Runs made before `relative_breakage` rounded its last bits to 0 hold −1e-16 for "no
+/// breakage" (the same pieces summed in another order), which prints as −0.000.
+fn tidy(o: &mut ColumnOutcome) {
+    for g in &mut o.result.gradings {
+        if g.relative_breakage.abs() < 1e-12 {
+            g.relative_breakage = 0.0;
+        }
+    }
+}
+
+/// How the platen loaded the column, in words.
+fn loading_words(o: &ColumnOutcome) -> String {
+    match o.test.loading {
+        Loading::Inertial => format!(
+            "at the inertial number I = ε̇ d̄ √(ρ/σ_v) = {} throughout (its speed set from the \
+             bottom platen's stress every {} steps; {:.3} m/s at the start)",
+            o.test.inertial_number, o.test.history_every, o.result.platen_speed
+        ),
+        Loading::Ramp => format!(
+            "at a constant {:.3} m/s (I = {} at the first level)",
+            o.result.platen_speed, o.test.inertial_number
+        ),
+    }
+}
+
+/// The loading-rate check: the committed runs of a smaller column in `dir` (`*.result.json`),
+/// B_r at each level against the loading, and each run's largest relative difference of B_r
+/// from the slowest inertial run's (at the levels where that one's B_r is at least 0.02).
+/// Empty when there are none.
+fn rate_check(dir: &Path) -> String {
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return String::new();
+    };
+    let mut runs: Vec<ColumnOutcome> = entries
+        .filter_map(|e| {
+            let p = e.ok()?.path();
+            if !p.to_string_lossy().ends_with(".result.json") {
+                return None;
+            }
+            let mut o = serde_json::from_str(&std::fs::read_to_string(p).ok()?).ok()?;
+            tidy(&mut o);
+            Some(o)
+        })
+        .collect();
+    // Ramps first, then by falling I; the reference is the last (the slowest inertial run).
+    runs.sort_by(|a, b| {
+        (a.test.loading == Loading::Inertial)
+            .cmp(&(b.test.loading == Loading::Inertial))
+            .then(b.test.inertial_number.total_cmp(&a.test.inertial_number))
+    });
+    let Some(reference) = runs.last() else {
+        return String::new();
+    };
+    let levels = |o: &ColumnOutcome| {
+        o.result.gradings[1..]
+            .iter()
+            .map(|g| format!("{:.0}", g.level * 1e-6))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let mut md = format!(
+        "\nLoading-rate check (docs/lattice.md §7; {} grains, H0 = {:.1} mm, the same deposit): \
+         B_r at {} MPa, and the largest difference from the run at I = {} where its B_r ≥ 0.02\n\n\
+         | loading | I | B_r | largest difference | loading steps | wall time (s) |\n\
+         |---|---|---|---|---|---|\n",
+        reference.result.grains,
+        reference.result.height * 1e3,
+        levels(reference),
+        reference.test.inertial_number
+    );
+    let by_level = |o: &ColumnOutcome, level: f64| {
+        o.result
+            .gradings
+            .iter()
+            .find(|g| g.level == level)
+            .map(|g| g.relative_breakage)
+    };
+    for c in &runs {
+        let worst = reference.result.gradings[1..]
+            .iter()
+            .filter(|g| g.relative_breakage >= 0.02)
+            .filter_map(|g| Some((by_level(c, g.level)? / g.relative_breakage - 1.0).abs()))
+            .fold(0.0, f64::max);
+        md += &format!(
+            "| {} | {} | {} | {:.0} % | {} | {:.0} |\n",
+            match c.test.loading {
+                Loading::Inertial => "inertial",
+                Loading::Ramp => "ramp (I at the first level)",
+            },
+            c.test.inertial_number,
+            c.result.gradings[1..]
+                .iter()
+                .map(|g| format!("{:.3}", g.relative_breakage))
+                .collect::<Vec<_>>()
+                .join(", "),
+            100.0 * worst,
+            c.run.steps,
+            c.run.wall_time_s
+        );
+    }
+    let i_ref = reference.test.inertial_number;
+    if let Some(near) = runs.iter().find(|c| {
+        c.test.loading == Loading::Inertial
+            && c.test.inertial_number != i_ref
+            && (c.test.inertial_number / i_ref - 1.0).abs() <= 0.2
+    }) {
+        md += &format!(
+            "\nThe run at I = {} is the reference's loading changed by {:.0} %: its difference is \
+             the scatter of one realization of this small column (a granular assembly's path is \
+             chaotic: any change of the loading gives another realization). A difference of \
+             another run below it is not a rate effect.\n",
+            near.test.inertial_number,
+            100.0 * (near.test.inertial_number / i_ref - 1.0).abs()
+        );
+    }
+    md
+}
+
 /// The column's markdown and figures.
 pub fn part(out: &Path) -> Result<(String, Vec<Figure>), String> {
     let dir = out.join("crush").join("column");
@@ -50,8 +168,9 @@ pub fn part(out: &Path) -> Result<(String, Vec<Figure>), String> {
             vec![],
         ));
     };
-    let o: ColumnOutcome =
+    let mut o: ColumnOutcome =
         serde_json::from_str(&text).map_err(|e| format!("{}: {e}", file.display()))?;
+    tidy(&mut o);
     let ss_file = dir.join("column.stress_strain.csv");
     let ss = stress_strain(
         &std::fs::read_to_string(&ss_file).map_err(|e| format!("{}: {e}", ss_file.display()))?,
@@ -65,9 +184,9 @@ pub fn part(out: &Path) -> Result<(String, Vec<Figure>), String> {
          single-grain study (E = {} GPa, ν = {}, energy criterion G_c = 30 J/m²), friction {} \
          between nodes and {} at the platens, smooth side walls. Deposited (seed {}) into a box \
          {:.1} mm wide ({:.1} mm high, solid fraction {:.3}), seated as rigid grains at {:.1} MPa \
-         ({:.1} mm, {:.3}), then loaded by the top platen at {:.3} m/s (inertial number {} at \
-         the first level). σ_v is the smaller of the two platens' stresses F/(W t); the \
-         grading is taken the first time σ_v reaches each level. Hardin's (1985) relative \
+         ({:.1} mm, {:.3}), then loaded by the top platen {}. σ_v is the smaller of the two \
+         platens' stresses F/(W t); the grading is taken the first time σ_v reaches each \
+         level. Hardin's (1985) relative \
          breakage B_r = B_t/B_p, with b_p = log10(d/d_f) and the fines cutoff d_f = {:.3} mm \
          (two lattice cells: a single node is below it).\n\n",
         r.grains,
@@ -93,14 +212,13 @@ pub fn part(out: &Path) -> Result<(String, Vec<Figure>), String> {
         t.seat_stress * 1e-6,
         r.height * 1e3,
         r.initial_solid_fraction,
-        r.platen_speed,
-        t.inertial_number,
+        loading_words(&o),
         r.fines_cutoff * 1e3
     );
-    md += "| level (MPa) | σ_v (MPa) | ε_v | broken links | pieces (≥ 2 nodes) | fines | fines mass | B_p | B_r | I | E_k/E_s |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
+    md += "| level (MPa) | σ_v (MPa) | ε_v | broken links | pieces (≥ 2 nodes) | fines | fines mass | B_p | B_r | I | E_k/E_s | unbalanced |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for g in &r.gradings {
         md += &format!(
-            "| {:.0} | {:.2} | {:.4} | {} | {} | {} | {:.4} | {:.4} | {:.4} | {:.1e} | {:.3} |\n",
+            "| {:.0} | {:.2} | {:.4} | {} | {} | {} | {:.4} | {:.4} | {:.4} | {:.1e} | {:.3} | {:.1e} |\n",
             g.level * 1e-6,
             g.stress * 1e-6,
             g.strain,
@@ -111,7 +229,8 @@ pub fn part(out: &Path) -> Result<(String, Vec<Figure>), String> {
             g.breakage_potential,
             g.relative_breakage,
             g.inertial_number,
-            g.kinetic_over_strain
+            g.kinetic_over_strain,
+            g.unbalanced_ratio
         );
     }
     if !r.levels_not_reached.is_empty() {
@@ -143,17 +262,9 @@ pub fn part(out: &Path) -> Result<(String, Vec<Figure>), String> {
          grains, dt {:.2e} s, {:.2e} particle-steps/s), loading {} steps in {:.0} s (dt {:.2e} \
          s): **{:.2e} particle-steps/s** for the lattice column (nodes × steps / wall time). \
          Energy balance at the end: work {:.3e} J, released at breaks {:.3e} J, error {:.1e} of \
-         the work. **Not quasi-static**: while σ_top ≥ {:.0} MPa the bottom platen carried on \
-         average {:.2} of the top one's stress (mean over mean; smooth side walls, so at \
-         equilibrium 1), and local damping took {:.0} % of the work (friction {:.0} %): the \
-         column is compressed at ε̇ = {:.0} /s, so the unbalanced forces, which local damping \
-         opposes, are large throughout; the levels are the bottom platen's stress σ_v, while \
-         the top of the column is loaded harder. A slower platen costs proportionally \
-         more steps, which this machine could not afford for this run (the loading alone took \
-         {:.0} s); B_r and the gradings are therefore those of a fast oedometric compression, \
-         not yet a quasi-static one. The stress–strain curve also starts with a spike: the \
-         loading starts at rest from the seated poses, whose overlaps at the top (the rigid \
-         seating was fast too) are released in the first steps.\n",
+         the work; local damping took {:.0} % of the work, friction {:.0} %. While σ_top ≥ \
+         {:.0} MPa the bottom platen carried on average **{:.2}** of the top one's stress (mean \
+         over mean; smooth side walls, so 1 at equilibrium).\n",
         o.seat.steps,
         o.seat.wall_time_s,
         o.seat.dt,
@@ -165,55 +276,12 @@ pub fn part(out: &Path) -> Result<(String, Vec<Figure>), String> {
         r.work,
         r.released,
         r.balance_error,
-        first * 1e-6,
-        ratio,
         100.0 * r.damping / r.work,
         100.0 * r.friction / r.work,
-        r.platen_speed / r.height,
-        o.run.wall_time_s
+        first * 1e-6,
+        ratio
     );
-    // The speed check (60 grains at the default inertial number and at half of it), when
-    // committed beside the run.
-    let check: Vec<ColumnOutcome> = ["I-0.01", "I-0.005"]
-        .iter()
-        .filter_map(|n| {
-            let f = dir.join("speed-check").join(format!("{n}.result.json"));
-            serde_json::from_str(&std::fs::read_to_string(f).ok()?).ok()
-        })
-        .collect();
-    if check.len() == 2 {
-        md += &format!(
-            "
-Speed check (docs/lattice.md §7; {} grains, H0 = {:.1} mm): B_r at the levels \
-             {} MPa
-
-| I at the first level | platen (m/s) | B_r | loading steps |\n|---|---|---|---|\n",
-            check[0].result.grains,
-            check[0].result.height * 1e3,
-            check[0]
-                .test
-                .stress_levels
-                .iter()
-                .map(|l| format!("{:.0}", l * 1e-6))
-                .collect::<Vec<_>>()
-                .join(", ")
-        );
-        for c in &check {
-            md += &format!(
-                "| {} | {:.3} | {} | {} |\n",
-                c.test.inertial_number,
-                c.result.platen_speed,
-                c.result.gradings[1..]
-                    .iter()
-                    .map(|g| format!("{:.3}", g.relative_breakage))
-                    .collect::<Vec<_>>()
-                    .join(", "),
-                c.run.steps
-            );
-        }
-        md += "\nHalving the speed lowers B_r at the middle levels markedly and at the last one \
-               little: the gradings below the last level are not converged in the speed.\n";
-    }
+    md += &rate_check(&dir.join("rate-check"));
     // Gradings.
     let gseries: Vec<Series> = r
         .gradings
