@@ -7,10 +7,24 @@
 //! those seeds (the width is chosen on seeds 1–5 and checked on fresh ones).
 
 use std::path::PathBuf;
+use std::process::ExitCode;
+use validation::error::{Error, Result};
 use validation::force_statistics as fs;
 use validation::table2::PaperTable2;
 
-fn main() -> Result<(), String> {
+/// Prints an error as `main` did when it returned its error as a `String`: `Error: "<message>"`,
+/// exit code 1.
+fn main() -> ExitCode {
+    match run() {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("Error: {:?}", e.to_string());
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn run() -> Result<()> {
     let mut args: Vec<String> = std::env::args().skip(1).collect();
     let json = match args.iter().position(|a| a == "--json") {
         Some(i) if i + 1 < args.len() => {
@@ -18,7 +32,7 @@ fn main() -> Result<(), String> {
             args.remove(i);
             Some(PathBuf::from(f))
         }
-        Some(_) => return Err("--json needs a file".into()),
+        Some(_) => return Err(Error::Other("--json needs a file".into())),
         None => None,
     };
     let seeds: Option<Vec<u64>> = match args.iter().position(|a| a == "--seeds") {
@@ -27,11 +41,16 @@ fn main() -> Result<(), String> {
             args.remove(i);
             Some(
                 list.split(',')
-                    .map(|x| x.trim().parse().map_err(|e| format!("--seeds `{x}`: {e}")))
-                    .collect::<Result<_, _>>()?,
+                    .map(|x| {
+                        x.trim().parse().map_err(|source| Error::SeedArg {
+                            text: x.to_string(),
+                            source,
+                        })
+                    })
+                    .collect::<Result<_>>()?,
             )
         }
-        Some(_) => return Err("--seeds needs a list".into()),
+        Some(_) => return Err(Error::Other("--seeds needs a list".into())),
         None => None,
     };
     let dir = PathBuf::from(
@@ -46,7 +65,7 @@ fn main() -> Result<(), String> {
     }
     let scale = fs::force_scale(&runs, &paper)?;
     let cells = fs::cells(&runs);
-    let study = |d: f64| -> Result<Vec<fs::WidthRow>, String> {
+    let study = |d: f64| -> Result<Vec<fs::WidthRow>> {
         cells
             .iter()
             .filter(|c| c[0].depth_mm == d)
@@ -60,7 +79,7 @@ fn main() -> Result<(), String> {
     let stats: Vec<fs::CellStats> = cells
         .iter()
         .map(|c| fs::cell_stats(c, fs::PEAK_WIDTH_AP))
-        .collect::<Result<_, _>>()?;
+        .collect::<Result<_>>()?;
     println!(
         "{} runs from {} (seeds {}); kN per N at the runs' thickness: {scale:.4e}\n",
         runs.len(),
@@ -88,9 +107,9 @@ fn main() -> Result<(), String> {
         });
         std::fs::write(
             &f,
-            serde_json::to_string_pretty(&v).map_err(|e| e.to_string())?,
+            serde_json::to_string_pretty(&v).map_err(Error::Serialize)?,
         )
-        .map_err(|e| format!("{}: {e}", f.display()))?;
+        .map_err(Error::io(&f))?;
     }
     Ok(())
 }

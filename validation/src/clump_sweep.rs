@@ -3,6 +3,7 @@
 //! over the equivalent radius), the mass-property residual, the disc count and the time per grain
 //! (one thread).
 
+use crate::error::{Error, Result};
 use clumpgen::batch::{collect_inputs, median};
 use clumpgen::cover::Circle;
 use clumpgen::hausdorff::boundary_deviation;
@@ -39,17 +40,12 @@ pub struct Sweep {
 }
 
 /// Runs the sweep over `covers` for all outlines in `folder` (serially, so times are per core).
-pub fn sweep(
-    folder: &Path,
-    covers: &[f64],
-    base: &ClumpParams,
-    repeats: usize,
-) -> Result<Sweep, String> {
-    let inputs = collect_inputs(&[folder.to_path_buf()]).map_err(|e| e.to_string())?;
+pub fn sweep(folder: &Path, covers: &[f64], base: &ClumpParams, repeats: usize) -> Result<Sweep> {
+    let inputs = collect_inputs(&[folder.to_path_buf()]).map_err(Error::BareIo)?;
     let outlines: Vec<Outline> = inputs
         .iter()
-        .map(|i| read_outline(&i.path, &ReadOptions::default()).map_err(|e| e.to_string()))
-        .collect::<Result<_, _>>()?;
+        .map(|i| read_outline(&i.path, &ReadOptions::default()))
+        .collect::<std::result::Result<_, _>>()?;
     let h_rel = 1e-3;
     let mut rows = Vec::new();
     for &cover in covers {

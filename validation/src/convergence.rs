@@ -9,6 +9,7 @@
 //! the 4× run at L = 10 mm alone would take hours of one core on the development machine.
 
 use crate::cutting_runs::{run_jobs, Job, Missing, Reused};
+use crate::error::{Error, Result};
 use crate::page::{json, Figure, Section};
 use crate::plot::{self, Series};
 use dem_core::lab::cutting::CuttingTest;
@@ -118,23 +119,22 @@ pub fn run(
     force_scale: Option<f64>,
     missing: Missing,
     progress: &(dyn Fn(&str) + Sync),
-) -> Result<Sweep, String> {
+) -> Result<Sweep> {
     let jobs = jobs(p);
     let outcome = run_jobs(&jobs, work, missing, progress);
     let reused = outcome.reused();
     let (done, failed) = (outcome.finished, outcome.errors);
     if !outcome.missing.is_empty() {
-        return Err(format!(
-            "not run yet: {} (a call without --finished-only runs them)",
-            outcome.missing.join(", ")
-        ));
+        return Err(Error::NotRun {
+            runs: outcome.missing,
+        });
     }
     let mut points: Vec<Point> = vec![];
     for f in &done {
         let j = jobs
             .iter()
             .find(|j| j.name == f.name)
-            .ok_or("finished run not in the plan")?;
+            .ok_or(Error::NotInPlan)?;
         let s = j.specimen.r_min / p.specimen.r_min;
         points.push(Point {
             radius_scale: s,
@@ -161,13 +161,16 @@ pub fn run(
     let reference = done
         .iter()
         .find(|f| f.name == finest_job.name)
-        .ok_or_else(|| format!("the finest run {} did not finish", finest_job.name))?;
+        .ok_or_else(|| Error::NoFinest {
+            run: finest_job.name.clone(),
+        })?;
     let (pk0, mn0) = (reference.record.peak_n, reference.record.mean_n);
     if !(pk0 > 0.0 && mn0 > 0.0) {
-        return Err(format!(
-            "the finest run {} has peak {pk0} N, mean {mn0} N: no reference to compare with",
-            finest_job.name
-        ));
+        return Err(Error::NoReference {
+            run: finest_job.name.clone(),
+            peak: pk0,
+            mean: mn0,
+        });
     }
     for q in &mut points {
         q.peak_err_vs_finest = q.peak_n / pk0 - 1.0;
@@ -244,7 +247,7 @@ impl Sweep {
 
     /// Error of the mean force against wall time, one line per dt factor (the finest run, at
     /// zero error, is left off the log axis and named in the caption).
-    pub fn plot(&self) -> Result<String, String> {
+    pub fn plot(&self) -> Result<String> {
         // CPU time when every run recorded it (wall time overstates it on a shared machine).
         let cpu = self.points.iter().all(|q| q.cpu_time_s.is_some());
         let time = |q: &Point| {
@@ -294,7 +297,7 @@ impl Sweep {
     }
 
     /// The report section.
-    pub fn section(&self) -> Result<Section, String> {
+    pub fn section(&self) -> Result<Section> {
         Ok(Section {
             title: "Cutting: error against run time".into(),
             markdown: self.markdown(),
@@ -316,7 +319,7 @@ impl Sweep {
 /// 1/2, dt factors 0.3 (the cutting default) and 0.6, L = 3 mm, window from 1 a_p. Quick: the
 /// quick Table 2 specimen (10 × 5 mm), s = √2 and 1, the same two factors, L = 1.5 mm, window
 /// from 0.5 a_p.
-pub fn plan(data: &Path, quick: bool) -> Result<SweepPlan, String> {
+pub fn plan(data: &Path, quick: bool) -> Result<SweepPlan> {
     let t2 = crate::table2_section::plan(data, quick)?;
     let (scales, length, window_start) = if quick {
         (vec![std::f64::consts::SQRT_2, 1.0], 1.5e-3, 0.5)

@@ -17,6 +17,7 @@
 //! The results are committed (`docs/report/crush/results.json`): the section reads them back
 //! when their plan matches, and runs the study (about 5 minutes on one core) otherwise.
 
+use crate::error::{Error, Result};
 use crate::page::{json, Figure, Section};
 use crate::plot::{self, Series};
 use clumpgen::clump::LatticeParams;
@@ -44,10 +45,10 @@ pub struct Plan {
 /// The study's plan: every outline of `data/outlines`, d_eq = 2, 4, 8 mm, S = 0.18 R_eq, a
 /// granite-like material (E 70 GPa, ν 0.2, ρ 2650 kg/m³, G_c 30 J/m²; K_IC = √(E G_c) =
 /// 1.45 MPa√m), energy criterion. `quick`: two grains at 2 and 4 mm, no half-speed runs.
-pub fn plan(data: &Path, quick: bool) -> Result<Plan, String> {
+pub fn plan(data: &Path, quick: bool) -> Result<Plan> {
     let dir = data.join("outlines");
     let mut grains: Vec<String> = std::fs::read_dir(&dir)
-        .map_err(|e| format!("{}: {e}", dir.display()))?
+        .map_err(Error::io(&dir))?
         .filter_map(|e| e.ok())
         .map(|e| e.file_name().to_string_lossy().into_owned())
         .filter(|n| n.ends_with(".csv"))
@@ -156,9 +157,8 @@ fn run_one(
     grain: &str,
     d_eq: f64,
     half: bool,
-) -> Result<Row, String> {
-    let ol0 = clumpgen::read_outline(&data.join(grain), &ReadOptions::default())
-        .map_err(|e| e.to_string())?;
+) -> Result<Row> {
+    let ol0 = clumpgen::read_outline(&data.join(grain), &ReadOptions::default())?;
     let mut ol = ol0.clone();
     let area = std::f64::consts::PI * 0.25 * d_eq * d_eq;
     ol.points = clumpgen::scale_to_area(&ol0.points, area);
@@ -172,7 +172,7 @@ fn run_one(
         }),
         ..ClumpParams::default()
     };
-    let tpl = make_template(&ol, &p).map_err(|e| e.to_string())?;
+    let tpl = make_template(&ol, &p)?;
     let stem = Path::new(grain)
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
@@ -182,16 +182,16 @@ fn run_one(
         d_eq * 1e3,
         if half { "-half" } else { "" }
     ));
-    std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    std::fs::create_dir_all(&dir).map_err(Error::io(&dir))?;
     let file = dir.join("grain.json");
-    tpl.save(&file).map_err(|e| e.to_string())?;
+    tpl.save(&file)?;
     let mut test = plan.test.clone();
     if half {
         // The rule's speed for this grain, halved.
-        let probe = crush::speed_of(&test, &tpl).map_err(|e| e.to_string())?;
+        let probe = crush::speed_of(&test, &tpl)?;
         test.speed = Some(0.5 * probe);
     }
-    let o = crush::run(&test, &file, &dir, &mut |_, _| {}).map_err(|e| format!("{grain}: {e}"))?;
+    let o = crush::run(&test, &file, &dir, &mut |_, _| {}).map_err(|e| Error::within(grain, e))?;
     let r = &o.result;
     let pieces = |s: &crush::StageFacts| Pieces {
         broken_links: s.broken_links,
@@ -325,7 +325,7 @@ pub fn fit(plan: Plan, rows: Vec<Row>, errors: Vec<String>, total_wall_time_s: f
 }
 
 /// The committed results (`<out>/crush/results.json`) when their plan is `plan`, else a run.
-pub fn results(plan: &Plan, data: &Path, out: &Path) -> Result<Results, String> {
+pub fn results(plan: &Plan, data: &Path, out: &Path) -> Result<Results> {
     let file = out.join("crush").join("results.json");
     if let Ok(text) = std::fs::read_to_string(&file) {
         if let Ok(r) = serde_json::from_str::<Results>(&text) {
@@ -338,7 +338,7 @@ pub fn results(plan: &Plan, data: &Path, out: &Path) -> Result<Results, String> 
     let runs: PathBuf = std::env::temp_dir().join(format!("dem-crush-runs-{}", std::process::id()));
     let r = run(plan, data, &runs, &|l| eprintln!("  {l}"));
     let _ = std::fs::remove_dir_all(&runs);
-    std::fs::create_dir_all(out.join("crush")).map_err(|e| e.to_string())?;
+    std::fs::create_dir_all(out.join("crush")).map_err(Error::BareIo)?;
     crate::page::write(&out.join("crush"), "results.json", &json(&r))?;
     Ok(r)
 }
@@ -378,7 +378,7 @@ fn grading(rows: &[&Row], stage: impl Fn(&Row) -> &Pieces) -> Vec<(f64, f64)> {
 }
 
 /// The section.
-pub fn section(data: &Path, out: &Path, quick: bool) -> Result<Section, String> {
+pub fn section(data: &Path, out: &Path, quick: bool) -> Result<Section> {
     let plan = plan(data, quick)?;
     let r = results(&plan, data, out)?;
     let main: Vec<&Row> = r.rows.iter().filter(|x| !x.half_speed).collect();

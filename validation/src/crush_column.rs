@@ -4,6 +4,7 @@
 //! here (the run takes tens of minutes of one core); the section says so and how to make it
 //! when the files are missing.
 
+use crate::error::{Error, Result};
 use crate::page::Figure;
 use crate::plot::{self, Series};
 use dem_core::lab::column::{ColumnOutcome, Loading};
@@ -13,23 +14,25 @@ use std::path::Path;
 pub const COMMAND: &str = "dem test column --outlines data/outlines --out <dir> --threads 1";
 
 /// Rows of the thinned stress–strain file: (strain, σ_top, σ_bottom) in Pa.
-fn stress_strain(text: &str) -> Result<Vec<(f64, f64, f64)>, String> {
+fn stress_strain(text: &str) -> Result<Vec<(f64, f64, f64)>> {
     let mut lines = text.lines();
     let head: Vec<&str> = lines.next().unwrap_or("").split(',').collect();
     let at = |n: &str| {
         head.iter()
             .position(|h| *h == n)
-            .ok_or_else(|| format!("column.stress_strain.csv: no column {n}"))
+            .ok_or_else(|| Error::NoColumn {
+                column: n.to_string(),
+            })
     };
     let (e, t, b) = (at("strain")?, at("stress_top")?, at("stress_bottom")?);
     let mut out = vec![];
     for (k, l) in lines.enumerate() {
         let f: Vec<&str> = l.split(',').collect();
-        let num = |i: usize| -> Result<f64, String> {
+        let num = |i: usize| -> Result<f64> {
             f.get(i)
                 .and_then(|v| v.parse::<f64>().ok())
                 .filter(|v| v.is_finite())
-                .ok_or_else(|| format!("column.stress_strain.csv line {}: bad number", k + 2))
+                .ok_or(Error::BadNumber { line: k + 2 })
         };
         out.push((num(e)?, num(t)?, num(b)?));
     }
@@ -155,7 +158,7 @@ fn rate_check(dir: &Path) -> String {
 }
 
 /// The column's markdown and figures.
-pub fn part(out: &Path) -> Result<(String, Vec<Figure>), String> {
+pub fn part(out: &Path) -> Result<(String, Vec<Figure>)> {
     let dir = out.join("crush").join("column");
     let file = dir.join("column.result.json");
     let Ok(text) = std::fs::read_to_string(&file) else {
@@ -168,13 +171,10 @@ pub fn part(out: &Path) -> Result<(String, Vec<Figure>), String> {
             vec![],
         ));
     };
-    let mut o: ColumnOutcome =
-        serde_json::from_str(&text).map_err(|e| format!("{}: {e}", file.display()))?;
+    let mut o: ColumnOutcome = serde_json::from_str(&text).map_err(Error::json(&file))?;
     tidy(&mut o);
     let ss_file = dir.join("column.stress_strain.csv");
-    let ss = stress_strain(
-        &std::fs::read_to_string(&ss_file).map_err(|e| format!("{}: {e}", ss_file.display()))?,
-    )?;
+    let ss = stress_strain(&std::fs::read_to_string(&ss_file).map_err(Error::io(&ss_file))?)?;
     let (t, r) = (&o.test, &o.result);
     let mut md = String::from("\n### Crushable column (one-dimensional compression)\n\n");
     md += &format!(
@@ -381,7 +381,13 @@ mod tests {
         let ok = "time,platen_travel,strain,stress_top,stress_bottom\n0,0,0.1,2e6,1e6\n";
         assert_eq!(stress_strain(ok).unwrap(), vec![(0.1, 2e6, 1e6)]);
         let bad = "strain,stress_top,stress_bottom\n0.1,NaN,1\n";
-        assert!(stress_strain(bad).unwrap_err().contains("line 2"));
-        assert!(stress_strain("a,b\n").unwrap_err().contains("strain"));
+        assert!(stress_strain(bad)
+            .unwrap_err()
+            .to_string()
+            .contains("line 2"));
+        assert!(stress_strain("a,b\n")
+            .unwrap_err()
+            .to_string()
+            .contains("strain"));
     }
 }

@@ -8,6 +8,7 @@
 //! running again. A long report (the full Table 2 is ~60 runs) can therefore be stopped and
 //! continued, or built up over several sessions.
 
+use crate::error::{Error, Result};
 use crate::force_statistics::main_force;
 use crate::table2::RunRecord;
 use dem_core::lab::cutting::{self, CuttingResult, CuttingTest};
@@ -112,9 +113,9 @@ fn fnv(s: &str) -> u64 {
 
 /// Generates (or reuses) the specimen of `p` in `dir`; returns its file. The file name carries
 /// the method, seed and a hash of all parameters, so different resolutions do not collide.
-pub fn specimen_file(p: &SpecimenParams, dir: &Path) -> Result<PathBuf, String> {
-    std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
-    let key = serde_json::to_string_pretty(p).map_err(|e| e.to_string())?;
+pub fn specimen_file(p: &SpecimenParams, dir: &Path) -> Result<PathBuf> {
+    std::fs::create_dir_all(dir).map_err(Error::io(dir))?;
+    let key = serde_json::to_string_pretty(p).map_err(Error::Serialize)?;
     let stem = format!(
         "{}-seed{}-{:08x}",
         p.method.name(),
@@ -126,8 +127,9 @@ pub fn specimen_file(p: &SpecimenParams, dir: &Path) -> Result<PathBuf, String> 
     if file.exists() && std::fs::read_to_string(&key_file).ok().as_deref() == Some(key.as_str()) {
         return Ok(file);
     }
-    let s = specimen::generate(p, &mut |_| {}).map_err(|e| format!("specimen {stem}: {e}"))?;
-    specimen::io::save(&s, specimen::DEFAULT_MATERIAL, &file).map_err(|e| e.to_string())?;
+    let s = specimen::generate(p, &mut |_| {})
+        .map_err(|e| Error::within(format!("specimen {stem}"), e))?;
+    specimen::io::save(&s, specimen::DEFAULT_MATERIAL, &file)?;
     crate::page::write(dir, &format!("{stem}.params.json"), &key)?;
     Ok(file)
 }
@@ -148,12 +150,8 @@ pub struct Finished {
 }
 
 /// The key of a run: its specimen parameters, model and test as pretty JSON (`run.key.json`).
-pub fn key_text(
-    specimen: &SpecimenParams,
-    model: &LabModel,
-    test: &CuttingTest,
-) -> Result<String, String> {
-    serde_json::to_string_pretty(&(specimen, model, test)).map_err(|e| e.to_string())
+pub fn key_text(specimen: &SpecimenParams, model: &LabModel, test: &CuttingTest) -> Result<String> {
+    serde_json::to_string_pretty(&(specimen, model, test)).map_err(Error::Serialize)
 }
 
 /// The key of a job ([`key_text`]).
@@ -360,14 +358,14 @@ pub fn run_jobs(
                 Some(f)
             }
             Err(e) => {
-                errors.lock().unwrap().push(e.clone());
+                errors.lock().unwrap().push(e.to_string());
                 progress(&format!("{what}: FAILED: {e}"));
                 None
             }
         }
     });
     // (job, specimen file to run on | result of the earlier run)
-    let runnable: Vec<(&Job, Result<PathBuf, CuttingResult>)> = jobs
+    let runnable: Vec<(&Job, std::result::Result<PathBuf, CuttingResult>)> = jobs
         .into_iter()
         .zip(before)
         .filter_map(|(j, b)| match b {
@@ -416,7 +414,7 @@ pub fn run_jobs(
                         (KEY_FILE, key.clone()),
                     ] {
                         if let Err(e) = crate::page::write(&dir, file, &text) {
-                            errors.lock().unwrap().push(e);
+                            errors.lock().unwrap().push(e.to_string());
                         }
                     }
                 }
@@ -459,7 +457,7 @@ pub fn run_jobs(
                     FAILED_FILE,
                     &serde_json::to_string_pretty(&record).unwrap_or_default(),
                 ) {
-                    errors.lock().unwrap().push(w);
+                    errors.lock().unwrap().push(w.to_string());
                 }
                 let msg = format!("{}: {e}", job.name);
                 progress(&format!("[{}/{total}] FAILED {msg}", *n));

@@ -16,6 +16,7 @@
 //! the a_p = 2 mm cells were looked at, and applied unchanged (as the same multiple of a_p) to
 //! a_p = 2 mm (docs/cutting.md, "Force statistics" and "Decision log").
 
+use crate::error::Error;
 use crate::table2::PaperTable2;
 use dem_core::lab::force_stats::{self, ForceStatsError, History};
 use serde::{Deserialize, Serialize};
@@ -85,32 +86,39 @@ pub fn parse_name(name: &str) -> Option<(String, f64, f64, u64)> {
 
 /// Reads the run in `dir` (named as [`parse_name`] reads): `cutting.result.json` (window,
 /// mean) and `cutting.forces.csv` (travel, main force).
-pub fn load_run(dir: &Path) -> Result<LoadedRun, String> {
+pub fn load_run(dir: &Path) -> crate::error::Result<LoadedRun> {
     let name = dir
         .file_name()
         .and_then(|n| n.to_str())
-        .ok_or_else(|| format!("{}: no folder name", dir.display()))?;
+        .ok_or_else(|| Error::NoFolderName {
+            dir: dir.display().to_string(),
+        })?;
     load_run_named(dir, name)
 }
 
 /// Reads the run in `dir` as [`load_run`] does, its method, depth, speed and seed from `name`
 /// (a sweep case's folder is named by its key, not by the run).
-pub fn load_run_named(dir: &Path, name: &str) -> Result<LoadedRun, String> {
-    let (method, depth_mm, speed_m_s, seed) =
-        parse_name(name).ok_or_else(|| format!("{name}: not <method>-d<a_p>-v<v>-s<seed>"))?;
+pub fn load_run_named(dir: &Path, name: &str) -> crate::error::Result<LoadedRun> {
+    let (method, depth_mm, speed_m_s, seed) = parse_name(name).ok_or_else(|| Error::RunName {
+        name: name.to_string(),
+    })?;
     let rf = dir.join(dem_core::lab::cutting::RESULT_FILE);
-    let text = std::fs::read_to_string(&rf).map_err(|e| format!("{}: {e}", rf.display()))?;
-    let v: serde_json::Value =
-        serde_json::from_str(&text).map_err(|e| format!("{}: {e}", rf.display()))?;
+    let text = std::fs::read_to_string(&rf).map_err(Error::io(&rf))?;
+    let v: serde_json::Value = serde_json::from_str(&text).map_err(Error::json(&rf))?;
     let window = [
-        v["window"][0].as_f64().ok_or("window")?,
-        v["window"][1].as_f64().ok_or("window")?,
+        v["window"][0].as_f64().ok_or(Error::NoWindow)?,
+        v["window"][1].as_f64().ok_or(Error::NoWindow)?,
     ];
     let mean_n = v["main_force"]["mean"]
         .as_f64()
-        .ok_or_else(|| format!("{}: no main_force.mean", rf.display()))?;
+        .ok_or_else(|| Error::Missing {
+            file: rf.display().to_string(),
+            field: "main_force.mean".to_string(),
+        })?;
     let ff = dir.join(dem_core::lab::cutting::FORCES_FILE);
-    let (travel, force) = main_force(&ff).ok_or_else(|| format!("{}: unreadable", ff.display()))?;
+    let (travel, force) = main_force(&ff).ok_or_else(|| Error::Unreadable {
+        file: ff.display().to_string(),
+    })?;
     Ok(LoadedRun {
         name: name.into(),
         method,
@@ -126,9 +134,9 @@ pub fn load_run_named(dir: &Path, name: &str) -> Result<LoadedRun, String> {
 
 /// Every run folder under `dir` (sorted by name); folders that are not runs are skipped,
 /// a run that cannot be read is an error.
-pub fn load_runs(dir: &Path) -> Result<Vec<LoadedRun>, String> {
+pub fn load_runs(dir: &Path) -> crate::error::Result<Vec<LoadedRun>> {
     let mut names: Vec<_> = std::fs::read_dir(dir)
-        .map_err(|e| format!("{}: {e}", dir.display()))?
+        .map_err(Error::io(dir))?
         .filter_map(|e| e.ok())
         .filter(|e| e.path().join(dem_core::lab::cutting::RESULT_FILE).exists())
         .map(|e| e.path())
@@ -158,14 +166,16 @@ pub fn cell_peak(
 /// The seed-averaged peaks at [`PEAK_WIDTH_AP`] of the finished runs `(folder, name)` (names
 /// as [`parse_name`] reads), one per cell (N at the runs' thickness); a cell whose window
 /// holds no stretch of that width (a short cut) has none. Errors: a run that cannot be read.
-pub fn seed_averaged(runs: &[(&Path, &str)]) -> Result<Vec<crate::table2::SeedAveraged>, String> {
+pub fn seed_averaged(
+    runs: &[(&Path, &str)],
+) -> crate::error::Result<Vec<crate::table2::SeedAveraged>> {
     let runs: Vec<LoadedRun> = runs
         .iter()
         .map(|(d, n)| load_run_named(d, n))
         .collect::<Result<_, _>>()?;
     let mut out = vec![];
     for c in cells(&runs) {
-        let p = cell_peak(&c, PEAK_WIDTH_AP).map_err(|e| format!("{}: {e}", c[0].name))?;
+        let p = cell_peak(&c, PEAK_WIDTH_AP).map_err(stats_of(&c[0].name))?;
         if let Some(p) = p {
             out.push(crate::table2::SeedAveraged {
                 method: c[0].method.clone(),
@@ -174,12 +184,19 @@ pub fn seed_averaged(runs: &[(&Path, &str)]) -> Result<Vec<crate::table2::SeedAv
                 seeds: c.len(),
                 peak_n: p.peak,
                 mean_n: p.mean,
-                peak_se_n: jackknife_se(&c, PEAK_WIDTH_AP)
-                    .map_err(|e| format!("{}: {e}", c[0].name))?,
+                peak_se_n: jackknife_se(&c, PEAK_WIDTH_AP).map_err(stats_of(&c[0].name))?,
             });
         }
     }
     Ok(out)
+}
+
+/// `map_err` for the force statistics of the run or cell `what`: [`Error::ForceStats`].
+fn stats_of(what: &str) -> impl FnOnce(ForceStatsError) -> Error + '_ {
+    move |source| Error::ForceStats {
+        what: what.to_string(),
+        source,
+    }
 }
 
 /// Jackknife standard error of the seed-averaged peak of one cell's runs: the peak with each
@@ -245,8 +262,8 @@ pub fn mean_se(v: &[f64]) -> (f64, f64) {
 }
 
 /// The statistics of one cell's runs (any number of seeds ≥ 1) at `width_ap` × a_p.
-pub fn cell_stats(runs: &[&LoadedRun], width_ap: f64) -> Result<CellStats, String> {
-    let first = runs.first().ok_or("a cell without runs")?;
+pub fn cell_stats(runs: &[&LoadedRun], width_ap: f64) -> crate::error::Result<CellStats> {
+    let first = runs.first().ok_or(Error::EmptyCell)?;
     let what = format!(
         "{} a_p {} mm v {} m/s",
         first.method, first.depth_mm, first.speed_m_s
@@ -256,13 +273,18 @@ pub fn cell_stats(runs: &[&LoadedRun], width_ap: f64) -> Result<CellStats, Strin
     for r in runs {
         per.push(
             force_stats::run_stats(r.history(), r.window, GRID_STEP_M, w)
-                .map_err(|e| format!("{}: {e}", r.name))?
-                .ok_or_else(|| format!("{}: empty window", r.name))?,
+                .map_err(stats_of(&r.name))?
+                .ok_or_else(|| Error::EmptyWindow {
+                    run: r.name.clone(),
+                })?,
         );
     }
     let p = cell_peak(runs, width_ap)
-        .map_err(|e| format!("{what}: {e}"))?
-        .ok_or_else(|| format!("{what}: no stretch of {w} m fits the common window"))?;
+        .map_err(stats_of(&what))?
+        .ok_or_else(|| Error::NoStretch {
+            cell: what.clone(),
+            width: w,
+        })?;
     let (mean_n, mean_se_n) = mean_se(&runs.iter().map(|r| r.mean_n).collect::<Vec<_>>());
     let avg = |f: &dyn Fn(&force_stats::RunStats) -> f64| {
         per.iter().map(f).sum::<f64>() / per.len() as f64
@@ -316,15 +338,15 @@ pub struct WidthRow {
 }
 
 /// The width study of one cell.
-pub fn width_row(runs: &[&LoadedRun]) -> Result<WidthRow, String> {
-    let first = runs.first().ok_or("a cell without runs")?;
+pub fn width_row(runs: &[&LoadedRun]) -> crate::error::Result<WidthRow> {
+    let first = runs.first().ok_or(Error::EmptyCell)?;
     let mut widths_ap = WIDTH_CANDIDATES_AP.to_vec();
     widths_ap.push(2.0 * WIDTH_CANDIDATES_AP[WIDTH_CANDIDATES_AP.len() - 1]);
     let mut pm = vec![];
     for &w in &widths_ap {
         pm.push(
             cell_peak(runs, w)
-                .map_err(|e| format!("{}: {e}", first.name))?
+                .map_err(stats_of(&first.name))?
                 .map(|p| p.peak / p.mean),
         );
     }
@@ -370,21 +392,21 @@ pub fn choose_width(rows: &[WidthRow]) -> (Option<f64>, Vec<Option<f64>>) {
 
 /// kN at the fitted thickness per N at the runs' thickness: the traditional a_p = 1 mm,
 /// v = 1 m/s seed-mean of the means set to the paper's 7.5 kN (as Table 2 does).
-pub fn force_scale(runs: &[LoadedRun], paper: &PaperTable2) -> Result<f64, String> {
+pub fn force_scale(runs: &[LoadedRun], paper: &PaperTable2) -> crate::error::Result<f64> {
     let fit: Vec<f64> = runs
         .iter()
         .filter(|r| r.method == "traditional" && r.depth_mm == 1.0 && r.speed_m_s == 1.0)
         .map(|r| r.mean_n)
         .collect();
     if fit.is_empty() {
-        return Err("no traditional run at a_p = 1 mm, v = 1 m/s".into());
+        return Err(Error::NoScaleRun);
     }
     let m = fit.iter().sum::<f64>() / fit.len() as f64;
     let p = paper
         .value("traditional", 1.0, 1.0)
-        .ok_or("the paper has no traditional 1 mm, 1 m/s cell")?[1];
+        .ok_or(Error::NoPaperCell)?[1];
     if m.is_nan() || m <= 0.0 {
-        return Err(format!("traditional 1 mm 1 m/s mean {m} N"));
+        return Err(Error::BadScaleMean { mean: m });
     }
     Ok(p / m)
 }

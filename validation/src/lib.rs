@@ -8,6 +8,7 @@ pub mod crush;
 pub mod crush_column;
 pub mod cutting_runs;
 pub mod environment;
+pub mod error;
 pub mod force_statistics;
 pub mod page;
 pub mod pictures;

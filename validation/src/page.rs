@@ -2,6 +2,7 @@
 //! `index.md` (figures linked) and a self-contained `index.html` (figures inlined, Markdown
 //! rendered by pulldown-cmark with tables).
 
+use crate::error::{Error, Result};
 use std::path::Path;
 
 /// A figure: file name in the report folder, caption, SVG text.
@@ -23,10 +24,9 @@ pub struct Section {
 }
 
 /// Writes `text` to `dir/name` atomically; errors name the file.
-pub fn write(dir: &Path, name: &str, text: &str) -> Result<(), String> {
+pub fn write(dir: &Path, name: &str, text: &str) -> Result<()> {
     let path = dir.join(name);
-    clumpgen::io::write_atomic(&path, text.as_bytes())
-        .map_err(|e| format!("{}: {e}", path.display()))
+    clumpgen::io::write_atomic(&path, text.as_bytes()).map_err(Error::io(&path))
 }
 
 /// Pretty JSON of report data.
@@ -93,8 +93,8 @@ pub fn markdown_to_html(md: &str) -> String {
 }
 
 /// Writes every section's figures and data, `index.md` and `index.html`; returns the Markdown.
-pub fn write_report(dir: &Path, title: &str, sections: &[Section]) -> Result<String, String> {
-    std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+pub fn write_report(dir: &Path, title: &str, sections: &[Section]) -> Result<String> {
+    std::fs::create_dir_all(dir).map_err(Error::io(dir))?;
     let mut md = format!("# {title}\n\n");
     let mut body = format!("<h1>{}</h1>\n", html_escape(title));
     for s in sections {

@@ -9,6 +9,7 @@
 //! improved one 514 s), too long for the quick report. A missing or unreadable picture is named
 //! in the section, which then says how to make it; the report does not fail for it.
 
+use crate::error::{Error, Result};
 use crate::page::{Figure, Section};
 use base64::Engine as _;
 use std::path::Path;
@@ -36,17 +37,21 @@ const TOP: f64 = 22.0;
 const GAP: f64 = 6.0;
 
 /// Width and height of a PNG from its IHDR chunk; an error names the file.
-pub fn png_size(bytes: &[u8], file: &str) -> Result<(u32, u32), String> {
+pub fn png_size(bytes: &[u8], file: &str) -> Result<(u32, u32)> {
     const SIGNATURE: [u8; 8] = [0x89, b'P', b'N', b'G', 0x0d, 0x0a, 0x1a, 0x0a];
     if bytes.len() < 24 || bytes[..8] != SIGNATURE || &bytes[12..16] != b"IHDR" {
-        return Err(format!(
-            "{file}: not a PNG file (no PNG signature and IHDR)"
-        ));
+        return Err(Error::NotPng {
+            file: file.to_string(),
+        });
     }
     let be = |k: usize| u32::from_be_bytes(bytes[k..k + 4].try_into().expect("4 bytes"));
     let (w, h) = (be(16), be(20));
     if w == 0 || h == 0 {
-        return Err(format!("{file}: PNG of {w} x {h} px"));
+        return Err(Error::PngSize {
+            file: file.to_string(),
+            width: w,
+            height: h,
+        });
     }
     Ok((w, h))
 }
@@ -63,12 +68,12 @@ pub fn section(dir: &Path) -> Section {
             let path = dir.join(format!("cut-{m}-{k}.png"));
             let file = path.display().to_string();
             match std::fs::read(&path)
-                .map_err(|e| format!("{file}: {e}"))
+                .map_err(Error::io(&path))
                 .and_then(|b| png_size(&b, &file).map(|s| (b, s)))
             {
                 Ok(c) => cells.push(Some(c)),
                 Err(e) => {
-                    problems.push(e);
+                    problems.push(e.to_string());
                     cells.push(None);
                 }
             }
@@ -191,10 +196,12 @@ mod tests {
 
     #[test]
     fn png_size_reads_the_header_and_refuses_other_files() {
-        assert_eq!(png_size(&tiny_png(600, 364), "a.png"), Ok((600, 364)));
-        let e = png_size(b"GIF89a......................", "b.png").unwrap_err();
+        assert_eq!(png_size(&tiny_png(600, 364), "a.png").unwrap(), (600, 364));
+        let e = png_size(b"GIF89a......................", "b.png")
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("b.png") && e.contains("not a PNG"), "{e}");
-        let e = png_size(&tiny_png(0, 5), "c.png").unwrap_err();
+        let e = png_size(&tiny_png(0, 5), "c.png").unwrap_err().to_string();
         assert!(e.contains("c.png: PNG of 0 x 5"), "{e}");
     }
 

@@ -2,6 +2,7 @@
 //! Each function returns the SVG text; the report writes it to a file and inlines it in
 //! `index.html`.
 
+use crate::error::{Error, Result};
 use plotters::prelude::*;
 
 /// One line of a line chart.
@@ -91,8 +92,8 @@ fn legend_corner(
     }
 }
 
-fn err<E: std::fmt::Display>(e: E) -> String {
-    format!("plot: {e}")
+fn err<E: std::fmt::Display>(e: E) -> Error {
+    Error::Plot(e.to_string())
 }
 
 /// Line chart with markers; `log_x`, `log_y` for logarithmic axes.
@@ -103,7 +104,7 @@ pub fn lines(
     series: &[Series],
     log_x: bool,
     log_y: bool,
-) -> Result<String, String> {
+) -> Result<String> {
     chart(title, x_label, y_label, series, &[], (log_x, log_y))
 }
 
@@ -117,7 +118,7 @@ pub fn scatter_and_lines(
     markers_only: &[bool],
     log_x: bool,
     log_y: bool,
-) -> Result<String, String> {
+) -> Result<String> {
     chart(
         title,
         x_label,
@@ -135,7 +136,7 @@ fn chart(
     series: &[Series],
     markers_only: &[bool],
     (log_x, log_y): (bool, bool),
-) -> Result<String, String> {
+) -> Result<String> {
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, (720, 440)).into_drawing_area();
@@ -230,7 +231,7 @@ pub fn bars(
     y_label: &str,
     categories: &[String],
     series: &[(String, Vec<f64>)],
-) -> Result<String, String> {
+) -> Result<String> {
     let styled: Vec<_> = series
         .iter()
         .enumerate()
@@ -254,7 +255,7 @@ pub fn bars_against(
     categories: &[String],
     series: &[(String, Vec<f64>, Vec<f64>)],
     reference: &str,
-) -> Result<String, String> {
+) -> Result<String> {
     let mut styled = vec![];
     for (s, (name, ours, theirs)) in series.iter().enumerate() {
         let c = COLORS[s % COLORS.len()];
@@ -275,7 +276,7 @@ fn bar_chart(
     y_label: &str,
     categories: &[String],
     series: &[(String, Vec<f64>, ShapeStyle)],
-) -> Result<String, String> {
+) -> Result<String> {
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, (860, 440)).into_drawing_area();

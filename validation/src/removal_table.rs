@@ -13,6 +13,7 @@
 //! chip discs (> 50 %) leave in chips of one grain; "gently" as chips no faster on average
 //! than twice the tool.
 
+use crate::error::{Error, Result};
 use crate::table2::{greater, METHODS};
 use dem_core::lab::cutting::{CuttingResult, RESULT_FILE};
 use serde::Serialize;
@@ -65,15 +66,16 @@ pub struct RemovalCell {
 
 /// The removal figures of the finished runs `(folder, name)` (names as
 /// [`crate::force_statistics::parse_name`] reads), one per cell in the order first seen.
-pub fn cells(runs: &[(&Path, &str)]) -> Result<Vec<RemovalCell>, String> {
+pub fn cells(runs: &[(&Path, &str)]) -> Result<Vec<RemovalCell>> {
     let mut groups: Vec<((String, f64, f64), Vec<CuttingResult>)> = vec![];
     for (dir, n) in runs {
-        let (m, d, v, _) = crate::force_statistics::parse_name(n)
-            .ok_or_else(|| format!("{n}: not <method>-d<a_p>-v<v>-s<seed>"))?;
+        let (m, d, v, _) =
+            crate::force_statistics::parse_name(n).ok_or_else(|| Error::RunName {
+                name: n.to_string(),
+            })?;
         let f = dir.join(RESULT_FILE);
-        let text = std::fs::read_to_string(&f).map_err(|e| format!("{}: {e}", f.display()))?;
-        let r: CuttingResult =
-            serde_json::from_str(&text).map_err(|e| format!("{}: {e}", f.display()))?;
+        let text = std::fs::read_to_string(&f).map_err(Error::io(&f))?;
+        let r: CuttingResult = serde_json::from_str(&text).map_err(Error::json(&f))?;
         let key = (m, d, v);
         match groups.iter_mut().find(|g| g.0 == key) {
             Some(g) => g.1.push(r),

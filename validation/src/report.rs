@@ -3,6 +3,7 @@
 
 use crate::cutting_runs::Reused;
 use crate::environment::Environment;
+use crate::error::{Error, Result};
 use crate::page::{json, write_report, Figure, Section};
 use crate::plot::{self, Series};
 use crate::{clump_sweep, table1};
@@ -59,12 +60,12 @@ pub struct Shared {
 }
 
 /// The specimens and one cut of each, as pictures (committed PNGs, see [`crate::pictures`]).
-fn pictures_section(o: &ReportOptions, _: &mut Shared) -> Result<Section, String> {
+fn pictures_section(o: &ReportOptions, _: &mut Shared) -> Result<Section> {
     Ok(crate::pictures::section(&o.pictures))
 }
 
 /// Table 1 of Ye & Xu (2010).
-fn table1_section(o: &ReportOptions, _: &mut Shared) -> Result<Section, String> {
+fn table1_section(o: &ReportOptions, _: &mut Shared) -> Result<Section> {
     let t1 = table1::table1(
         &o.data.join("outlines/table1-grain.csv"),
         &o.data.join("reference/ye_xu_2010_table1.json"),
@@ -79,7 +80,7 @@ fn table1_section(o: &ReportOptions, _: &mut Shared) -> Result<Section, String> 
 }
 
 /// The clump-generation sweep: cover, discs and time per grain against the cover target.
-fn sweep_section(o: &ReportOptions, _: &mut Shared) -> Result<Section, String> {
+fn sweep_section(o: &ReportOptions, _: &mut Shared) -> Result<Section> {
     let sw = clump_sweep::sweep(
         &o.data.join("outlines"),
         &o.covers,
@@ -137,9 +138,8 @@ fn sweep_section(o: &ReportOptions, _: &mut Shared) -> Result<Section, String> {
 
 /// The stability suite: stiff and extreme scenes at the automatic time step, and one forced
 /// above the critical step that the guard must stop.
-fn stability_section(o: &ReportOptions, _: &mut Shared) -> Result<Section, String> {
-    let st = crate::stability::run_suite(&o.out, o.quick, &mut |l| eprintln!("  {l}"))
-        .map_err(|e| e.to_string())?;
+fn stability_section(o: &ReportOptions, _: &mut Shared) -> Result<Section> {
+    let st = crate::stability::run_suite(&o.out, o.quick, &mut |l| eprintln!("  {l}"))?;
     Ok(Section {
         title: "Numerical stability on stiff and extreme cases".into(),
         markdown: strip_h1(&st.to_markdown())
@@ -151,7 +151,7 @@ fn stability_section(o: &ReportOptions, _: &mut Shared) -> Result<Section, Strin
 }
 
 /// Table 2: the cutting runs, the table, its plots.
-fn table2_section(o: &ReportOptions, sh: &mut Shared) -> Result<Section, String> {
+fn table2_section(o: &ReportOptions, sh: &mut Shared) -> Result<Section> {
     let source = match &o.sweep {
         Some(d) => crate::sweep_runs::Source::Sweep(d),
         None => crate::sweep_runs::Source::Here(o.missing),
@@ -164,12 +164,12 @@ fn table2_section(o: &ReportOptions, sh: &mut Shared) -> Result<Section, String>
 }
 
 /// Table 3: the granites' flexural strength ([`crate::table3`]).
-fn table3_section(o: &ReportOptions, _: &mut Shared) -> Result<Section, String> {
+fn table3_section(o: &ReportOptions, _: &mut Shared) -> Result<Section> {
     crate::table3::section(&o.data, &o.out, o.quick, o.missing)
 }
 
 /// Error against run time of the cutting run ([`crate::convergence`]).
-fn convergence_section(o: &ReportOptions, sh: &mut Shared) -> Result<Section, String> {
+fn convergence_section(o: &ReportOptions, sh: &mut Shared) -> Result<Section> {
     let p = crate::convergence::plan(&o.data, o.quick)?;
     let sw = crate::convergence::run(
         &p,
@@ -183,7 +183,7 @@ fn convergence_section(o: &ReportOptions, sh: &mut Shared) -> Result<Section, St
 }
 
 /// Crushable grains: single-grain crushing, Weibull fit, size effect ([`crate::crush`]).
-fn crush_section(o: &ReportOptions, _: &mut Shared) -> Result<Section, String> {
+fn crush_section(o: &ReportOptions, _: &mut Shared) -> Result<Section> {
     crate::crush::section(&o.data, &o.out, o.quick)
 }
 
@@ -200,12 +200,12 @@ fn strip_h1(md: &str) -> String {
 }
 
 /// Runs every section, printing progress on stderr; writes the report; returns the Markdown.
-pub fn run(o: &ReportOptions) -> Result<String, String> {
+pub fn run(o: &ReportOptions) -> Result<String> {
     let t0 = Instant::now();
     let mode = if o.quick { "quick" } else { "full" };
     let mut env = Environment::capture(mode);
     let mut sections = Vec::new();
-    type Builder = fn(&ReportOptions, &mut Shared) -> Result<Section, String>;
+    type Builder = fn(&ReportOptions, &mut Shared) -> Result<Section>;
     let all: [Builder; 8] = [
         table1_section,
         sweep_section,
@@ -217,10 +217,10 @@ pub fn run(o: &ReportOptions) -> Result<String, String> {
         crush_section,
     ];
     if let Some(bad) = o.only.iter().find(|n| !SECTIONS.contains(&n.as_str())) {
-        return Err(format!(
-            "unknown section `{bad}` (sections: {})",
-            SECTIONS.join(", ")
-        ));
+        return Err(Error::UnknownSection {
+            name: bad.clone(),
+            known: SECTIONS.iter().map(|s| s.to_string()).collect(),
+        });
     }
     let steps: Vec<(&str, Builder)> = SECTIONS
         .iter()
@@ -274,11 +274,9 @@ pub fn run(o: &ReportOptions) -> Result<String, String> {
     if failed.is_empty() {
         Ok(md)
     } else {
-        Err(format!(
-            "report written to {} without {} section(s): {}",
-            o.out.display(),
-            failed.len(),
-            failed.join("; ")
-        ))
+        Err(Error::SectionsFailed {
+            out: o.out.display().to_string(),
+            failed,
+        })
     }
 }

@@ -49,19 +49,7 @@ use std::time::Instant;
 pub use cases::CaseSpec;
 pub use run::{run_case, PROBE_STEPS};
 
-/// Errors of the stability suite.
-#[derive(Debug, thiserror::Error)]
-pub enum StabilityError {
-    #[error("{file}: {source}")]
-    Io {
-        file: String,
-        source: std::io::Error,
-    },
-    #[error(transparent)]
-    Scene(#[from] dem_core::scene::SceneError),
-    #[error("case {case}: {reason}")]
-    Setup { case: String, reason: String },
-}
+pub use crate::error::StabilityError;
 
 /// What a case must show.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]

@@ -14,6 +14,7 @@
 //! machined surface and residual cracks, chips, time step, steps and CPU time.
 
 use crate::cutting_runs::{Job, Plan};
+use crate::error::{Error, Result};
 use crate::sweep_runs::{outcome, Source};
 use dem_core::lab::analysis::moving_mean_peak;
 use dem_core::lab::cutting::{CuttingResult, CuttingTest};
@@ -54,11 +55,16 @@ pub struct Variant {
 pub use crate::study_row::Row;
 
 impl StudySpec {
-    pub fn read(path: &Path) -> Result<StudySpec, String> {
-        let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
-        let s: StudySpec =
-            serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
-        let f = |field: &str, why: &str| Err(format!("{}: {field}: {why}", path.display()));
+    pub fn read(path: &Path) -> Result<StudySpec> {
+        let text = std::fs::read_to_string(path).map_err(Error::io(path))?;
+        let s: StudySpec = serde_json::from_str(&text).map_err(Error::json(path))?;
+        let f = |field: &str, why: &str| {
+            Err(Error::Field {
+                file: path.display().to_string(),
+                field: field.to_string(),
+                reason: why.to_string(),
+            })
+        };
         if s.name.is_empty() || s.name.contains(['/', '\\']) {
             return f("name", "must be a plain folder name");
         }
@@ -95,13 +101,13 @@ impl StudySpec {
 
     /// The jobs: variants × methods × depths × speeds × seeds, on the full Table 2 plan's
     /// specimens and model.
-    pub fn jobs(&self, data: &Path) -> Result<Vec<Job>, String> {
+    pub fn jobs(&self, data: &Path) -> Result<Vec<Job>> {
         self.jobs_on(&crate::table2_section::plan(data, false)?)
     }
 
     /// The jobs on `plan`'s specimen and model (its methods, depths, speeds, seeds and test
     /// are not used: the study gives its own).
-    pub fn jobs_on(&self, plan: &Plan) -> Result<Vec<Job>, String> {
+    pub fn jobs_on(&self, plan: &Plan) -> Result<Vec<Job>> {
         let mut jobs = vec![];
         for v in &self.variants {
             for m in &self.methods {
@@ -114,14 +120,24 @@ impl StudySpec {
                             spec.seed = seed;
                             crate::cutting_runs::normalize_grains(&mut spec);
                             let spec: SpecimenParams =
-                                serde_json::from_value(overlay(&spec, &v.specimen)?)
-                                    .map_err(|e| format!("variant {}: specimen: {e}", v.name))?;
+                                serde_json::from_value(overlay(&spec, &v.specimen)?).map_err(
+                                    |e| {
+                                        Error::within(
+                                            format!("variant {}: specimen", v.name),
+                                            Error::Serialize(e),
+                                        )
+                                    },
+                                )?;
                             let base = CuttingTest::new(d * 1e-3, sp, self.length_mm * 1e-3);
                             let test: CuttingTest =
-                                serde_json::from_value(overlay(&base, &v.test)?)
-                                    .map_err(|e| format!("variant {}: test: {e}", v.name))?;
+                                serde_json::from_value(overlay(&base, &v.test)?).map_err(|e| {
+                                    Error::within(
+                                        format!("variant {}: test", v.name),
+                                        Error::Serialize(e),
+                                    )
+                                })?;
                             test.validate()
-                                .map_err(|e| format!("variant {}: {e}", v.name))?;
+                                .map_err(|e| Error::within(format!("variant {}", v.name), e))?;
                             jobs.push(Job {
                                 name: format!(
                                     "{}-{}-d{}-v{}-s{seed}",
@@ -145,8 +161,8 @@ impl StudySpec {
 
 /// `base` as JSON with the variant's fields `add` laid over it (unknown fields are refused
 /// when the result is read back: the types deny unknown fields).
-fn overlay<T: Serialize>(base: &T, add: &Map<String, Value>) -> Result<Value, String> {
-    let mut b = serde_json::to_value(base).map_err(|e| e.to_string())?;
+fn overlay<T: Serialize>(base: &T, add: &Map<String, Value>) -> Result<Value> {
+    let mut b = serde_json::to_value(base).map_err(Error::Serialize)?;
     if let Value::Object(o) = &mut b {
         o.extend(add.clone());
     }
@@ -235,7 +251,7 @@ pub fn run(
     out: &Path,
     source: Source,
     progress: &(dyn Fn(&str) + Sync),
-) -> Result<(Vec<Row>, Vec<String>), String> {
+) -> Result<(Vec<Row>, Vec<String>)> {
     let plan = crate::table2_section::plan(data, false)?;
     run_on(spec, &plan, out, source, progress)
 }
@@ -247,7 +263,7 @@ pub fn run_on(
     out: &Path,
     source: Source,
     progress: &(dyn Fn(&str) + Sync),
-) -> Result<(Vec<Row>, Vec<String>), String> {
+) -> Result<(Vec<Row>, Vec<String>)> {
     let jobs = spec.jobs_on(plan)?;
     let dir = out.join(&spec.name);
     let work = dir.join("runs");
@@ -278,7 +294,7 @@ pub fn run_on(
     }
     let json = serde_json::to_string_pretty(&serde_json::json!({
         "study": spec, "rows": rows, "errors": o.errors, "not_run": o.missing}))
-    .map_err(|e| e.to_string())?;
+    .map_err(Error::Serialize)?;
     crate::page::write(&dir, "study.json", &json)?;
     let mut md = markdown(spec, &rows, &o.errors);
     if !o.missing.is_empty() {
@@ -336,7 +352,7 @@ pub fn plots(
     spec: &StudySpec,
     rows: &[Row],
     dir_of: &dyn Fn(&str) -> Option<std::path::PathBuf>,
-) -> Result<Vec<(String, String)>, String> {
+) -> Result<Vec<(String, String)>> {
     use crate::plot::{lines, Series};
     let mut out = vec![];
     let seed = spec.seeds[0];

@@ -14,6 +14,7 @@
 //! [`outcome`] takes the runs from either source, run here or read from a sweep ([`Source`]).
 
 use crate::cutting_runs::{finished, key_of, key_text, run_jobs, Job, Missing, Outcome};
+use crate::error::{Error, Result};
 use dem_core::lab::cutting::{CuttingResult, CuttingTest, RESULT_FILE};
 use dem_core::lab::LabModel;
 use dem_core::specimen::SpecimenParams;
@@ -37,7 +38,7 @@ pub fn outcome(
     work: &Path,
     source: Source,
     progress: &(dyn Fn(&str) + Sync),
-) -> Result<Outcome, String> {
+) -> Result<Outcome> {
     match source {
         Source::Here(m) => Ok(run_jobs(jobs, work, m, progress)),
         Source::Sweep(dir) => read(jobs, dir, progress),
@@ -86,17 +87,11 @@ struct Found {
 /// The runs of `jobs` among the cases of the sweep folder `sweep` (see the module docs).
 /// Errors: `cases.jsonl` unreadable or malformed (naming the file and line). A case whose
 /// inputs or result cannot be read is an error of the outcome; the others go on.
-pub fn read(
-    jobs: &[Job],
-    sweep: &Path,
-    progress: &(dyn Fn(&str) + Sync),
-) -> Result<Outcome, String> {
+pub fn read(jobs: &[Job], sweep: &Path, progress: &(dyn Fn(&str) + Sync)) -> Result<Outcome> {
     let file = sweep.join(CASES_FILE);
-    let text = std::fs::read_to_string(&file).map_err(|e| {
-        format!(
-            "{}: {e} (--sweep takes a `dem sweep plan` folder)",
-            file.display()
-        )
+    let text = std::fs::read_to_string(&file).map_err(|source| Error::NotASweep {
+        file: file.display().to_string(),
+        source,
     })?;
     let mut out = Outcome::default();
     let mut by_key: HashMap<String, Found> = HashMap::new();
@@ -105,15 +100,17 @@ pub fn read(
         if line.trim().is_empty() {
             continue;
         }
-        let c: CaseLine = serde_json::from_str(line)
-            .map_err(|e| format!("{}: line {}: {e}", file.display(), i + 1))?;
+        let c: CaseLine = serde_json::from_str(line).map_err(|source| Error::JsonLine {
+            file: file.display().to_string(),
+            line: i + 1,
+            source,
+        })?;
         if c.key.is_empty() || !c.key.bytes().all(|b| b.is_ascii_hexdigit()) {
-            return Err(format!(
-                "{}: line {}: key {:?} is not a case key",
-                file.display(),
-                i + 1,
-                c.key
-            ));
+            return Err(Error::BadCaseKey {
+                file: file.display().to_string(),
+                line: i + 1,
+                key: c.key,
+            });
         }
         cases += 1;
         if c.test != "cutting" {

@@ -7,6 +7,7 @@
 //! real grain's inertia equals the paper's 7.57×10⁵ g·mm²; with ρ = 3200 kg/m³ (Si3N4) that fixes
 //! t. The ORC and improved columns are then computed, not fitted.
 
+use crate::error::{Error, Result};
 use clumpgen::{make_template, read_outline, ClumpParams, Method, ReadOptions, Template};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
@@ -58,12 +59,11 @@ struct PaperTable {
 }
 
 /// Computes Table 1 from the grain outline and the paper's reference JSON.
-pub fn table1(outline: &Path, reference: &Path, base: &ClumpParams) -> Result<Table1, String> {
-    let ol = read_outline(outline, &ReadOptions::default()).map_err(|e| e.to_string())?;
-    let paper: PaperTable = serde_json::from_str(
-        &std::fs::read_to_string(reference).map_err(|e| format!("{}: {e}", reference.display()))?,
-    )
-    .map_err(|e| format!("{}: {e}", reference.display()))?;
+pub fn table1(outline: &Path, reference: &Path, base: &ClumpParams) -> Result<Table1> {
+    let ol = read_outline(outline, &ReadOptions::default())?;
+    let paper: PaperTable =
+        serde_json::from_str(&std::fs::read_to_string(reference).map_err(Error::io(reference))?)
+            .map_err(Error::json(reference))?;
     let props = clumpgen::props::polygon_props(&ol.points);
     // ρ·t from the paper's real inertia: I = ρ t J  (J in m⁴, I in kg·m²; 1 g·mm² = 1e-9 kg·m²).
     let rho_t = PAPER_REAL_INERTIA_G_MM2 * 1e-9 / props.j;
@@ -73,7 +73,7 @@ pub fn table1(outline: &Path, reference: &Path, base: &ClumpParams) -> Result<Ta
         thickness,
         ..*base
     };
-    let make = |m: Method| -> Result<Template, String> {
+    let make = |m: Method| -> Result<Template> {
         make_template(
             &ol,
             &ClumpParams {
@@ -81,7 +81,7 @@ pub fn table1(outline: &Path, reference: &Path, base: &ClumpParams) -> Result<Ta
                 ..params
             },
         )
-        .map_err(|e| e.to_string())
+        .map_err(Error::from)
     };
     let orc = make(Method::Orc)?;
     let imp = make(Method::Improved)?;

@@ -11,6 +11,7 @@
 //! the traditional cells pooled (t/t₀ = Σ pᵢmᵢ / Σ mᵢ², mᵢ ours at t₀ and pᵢ the paper's).
 //! Every other number is a prediction.
 
+use crate::error::{Error, Result};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -35,9 +36,9 @@ pub struct PaperCell {
 }
 
 impl PaperTable2 {
-    pub fn read(path: &Path) -> Result<PaperTable2, String> {
-        let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
-        serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))
+    pub fn read(path: &Path) -> Result<PaperTable2> {
+        let text = std::fs::read_to_string(path).map_err(Error::io(path))?;
+        serde_json::from_str(&text).map_err(Error::json(path))
     }
 
     /// `[peak, mean]` (kN) of a method at a depth and speed.
@@ -312,7 +313,7 @@ fn mean_sd(v: &[f64]) -> (f64, f64) {
 }
 
 /// Builds the table from the runs, without seed-averaged peaks ([`assemble_with`]).
-pub fn assemble(runs: &[RunRecord], paper: &PaperTable2) -> Result<Table2, String> {
+pub fn assemble(runs: &[RunRecord], paper: &PaperTable2) -> Result<Table2> {
     assemble_with(runs, paper, &[])
 }
 
@@ -324,19 +325,21 @@ pub fn assemble_with(
     runs: &[RunRecord],
     paper: &PaperTable2,
     seed_avg: &[SeedAveraged],
-) -> Result<Table2, String> {
-    let t0 = runs.first().ok_or("no cutting runs")?.thickness_m;
+) -> Result<Table2> {
+    let t0 = runs.first().ok_or(Error::NoRuns)?.thickness_m;
     if runs.iter().any(|r| r.thickness_m != t0) {
-        return Err("runs with different thicknesses cannot share one fitted constant".into());
+        return Err(Error::MixedThickness);
     }
     if let Some(r) = runs
         .iter()
         .find(|r| !(r.peak_n.is_finite() && r.mean_n.is_finite()))
     {
-        return Err(format!(
-            "run {} a_p {} mm v {} m/s seed {}: non-finite force",
-            r.method, r.depth_mm, r.speed_m_s, r.seed
-        ));
+        return Err(Error::NonFinite {
+            method: r.method.clone(),
+            depth_mm: r.depth_mm,
+            speed_m_s: r.speed_m_s,
+            seed: r.seed,
+        });
     }
     let pick = |m: &str, d: f64, v: f64| -> Vec<&RunRecord> {
         runs.iter()
@@ -359,12 +362,10 @@ pub fn assemble_with(
         ));
     }
     if used.is_empty() {
-        return Err("no traditional run of the paper's cells to fit the constant on".into());
+        return Err(Error::NoFitRuns);
     }
     if !(mm > 0.0 && mp > 0.0) {
-        return Err(format!(
-            "traditional mean forces give Σ m·p = {mp}, Σ m² = {mm}: cannot fit the thickness"
-        ));
+        return Err(Error::CannotFit { mp, mm });
     }
     let t = t0 * mp / mm;
     let scale = t / t0 / 1e3; // N at t₀ → kN at t
@@ -965,6 +966,7 @@ mod tests {
         runs[0].mean_n = f64::NAN;
         assert!(assemble(&runs, &paper())
             .unwrap_err()
+            .to_string()
             .contains("non-finite"));
         let runs: Vec<RunRecord> = runs_like_paper(1)
             .into_iter()
@@ -972,6 +974,7 @@ mod tests {
             .collect();
         assert!(assemble(&runs, &paper())
             .unwrap_err()
+            .to_string()
             .contains("traditional"));
     }
 

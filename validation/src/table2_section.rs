@@ -4,6 +4,7 @@
 //! at a_p = 1 mm, v = 1 m/s.
 
 use crate::cutting_runs::{Plan, Reused};
+use crate::error::{Error, Result};
 use crate::page::{json, Figure, Section};
 use crate::plot::{self, Series};
 use crate::sweep_runs::{outcome, Source};
@@ -13,10 +14,10 @@ use dem_core::specimen::{FewGrains, GrainMode, Method, SpecimenParams};
 use std::path::Path;
 
 /// The calibrated Si3N4 model (`data/models/si3n4.model.json`, written by `dem calibrate`).
-pub fn si3n4_model(data: &Path) -> Result<LabModel, String> {
+pub fn si3n4_model(data: &Path) -> Result<LabModel> {
     let p = data.join("models/si3n4.model.json");
-    let text = std::fs::read_to_string(&p).map_err(|e| format!("{}: {e}", p.display()))?;
-    serde_json::from_str(&text).map_err(|e| format!("{}: {e}", p.display()))
+    let text = std::fs::read_to_string(&p).map_err(Error::io(&p))?;
+    serde_json::from_str(&text).map_err(Error::json(&p))
 }
 
 /// Full: 20 × 10 mm, radii 0.175–0.285 mm (989 discs in the paper, 993 ours), grains 0.86 mm,
@@ -27,7 +28,7 @@ pub fn si3n4_model(data: &Path) -> Result<LabModel, String> {
 /// 0.15 mm, seed 1, L = 1.5 mm, steady window from 0.5 a_p, tool 3× the disc k_n.
 /// Both use the calibrated micro-parameters
 /// with the bond stiffness of the plan's mean radius (k̄_n = Ē_c/(2r̄)).
-pub fn plan(data: &Path, quick: bool) -> Result<Plan, String> {
+pub fn plan(data: &Path, quick: bool) -> Result<Plan> {
     let mut model = si3n4_model(data)?;
     let (w, h, r0, r1, grain, tmin, seeds, length) = if quick {
         (
@@ -124,7 +125,7 @@ pub fn section(
     quick: bool,
     subset: &Subset,
     source: Source,
-) -> Result<(Section, f64, Reused), String> {
+) -> Result<(Section, f64, Reused)> {
     let mut plan = plan(data, quick)?;
     if !subset.methods.is_empty() {
         plan.methods.retain(|m| subset.methods.contains(m));
@@ -133,7 +134,7 @@ pub fn section(
         plan.seeds.retain(|s| subset.seeds.contains(s));
     }
     if plan.methods.is_empty() || plan.seeds.is_empty() {
-        return Err("the Table 2 subset selects no method or no seed of the plan".into());
+        return Err(Error::EmptySubset);
     }
     let paper = PaperTable2::read(&data.join("reference/ye_xu_2010_table2.json"))?;
     let work = out.join("table2-runs");

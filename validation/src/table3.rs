@@ -24,6 +24,7 @@
 //! and each column against the experiment (±20 %).
 
 use crate::cutting_runs::Missing;
+use crate::error::{Error, Result};
 use crate::page::{json, Figure, Section};
 use crate::plot;
 use dem_core::lab::bending::{self, BendingTest};
@@ -67,7 +68,7 @@ pub struct Plan {
 /// Full: both granites, ORC, improved and traditional, seeds 1–5 on the calibration beam.
 /// Quick (CI): G603, ORC and improved, seed 1, a 6 × 1.5 mm beam on a 5 mm span of discs
 /// 0.10–0.16 mm (structure only).
-pub fn plan(data: &Path, quick: bool) -> Result<Plan, String> {
+pub fn plan(data: &Path, quick: bool) -> Result<Plan> {
     let names: &[(&str, &str)] = if quick {
         &[("G603", "granite-g603")]
     } else {
@@ -76,14 +77,16 @@ pub fn plan(data: &Path, quick: bool) -> Result<Plan, String> {
     let mut granites = vec![];
     for &(name, stem) in names {
         let file = data.join("materials").join(format!("{stem}.json"));
-        let m = MaterialFile::read_unchecked(&file).map_err(|e| e.to_string())?;
-        let need =
-            |v: Option<f64>, what: &str| v.ok_or_else(|| format!("{}: no {what}", file.display()));
+        let m = MaterialFile::read_unchecked(&file)?;
+        let need = |v: Option<f64>, what: &str| {
+            v.ok_or_else(|| Error::Missing {
+                file: file.display().to_string(),
+                field: what.to_string(),
+            })
+        };
         let model_file = data.join("models").join(format!("{stem}.model.json"));
-        let text = std::fs::read_to_string(&model_file)
-            .map_err(|e| format!("{}: {e}", model_file.display()))?;
-        let model: LabModel =
-            serde_json::from_str(&text).map_err(|e| format!("{}: {e}", model_file.display()))?;
+        let text = std::fs::read_to_string(&model_file).map_err(Error::io(&model_file))?;
+        let model: LabModel = serde_json::from_str(&text).map_err(Error::json(&model_file))?;
         let paper = m.paper_model.clone().unwrap_or_default();
         granites.push(Granite {
             name: name.into(),
@@ -197,7 +200,7 @@ fn one(
     seed: u64,
     dir: &Path,
     missing: Missing,
-) -> Result<Option<Run>, String> {
+) -> Result<Option<Run>> {
     let p = plan.params(g, method, seed);
     let file = dir.join("bending.specimen.json");
     let result = dir.join("bending.result.json");
@@ -233,17 +236,18 @@ fn one(
         if let Ok(text) = std::fs::read_to_string(&failure) {
             if let Ok(v) = serde_json::from_str::<serde_json::Value>(&text) {
                 if v["inputs"] == inputs {
-                    return Err(v["error"].as_str().unwrap_or("failed").to_string());
+                    return Err(Error::EarlierFailure(
+                        v["error"].as_str().unwrap_or("failed").to_string(),
+                    ));
                 }
             }
         }
         return Ok(None);
     }
-    let go = || -> Result<bending::BendingOutcome, String> {
-        std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
-        let spec = specimens::prepare(&p, plan.test.shape(), &file, &mut |_| {})
-            .map_err(|e| e.to_string())?;
-        bending::run(&plan.test, &g.model, &spec, &mut |_, _| {}).map_err(|e| e.to_string())
+    let go = || -> Result<bending::BendingOutcome> {
+        std::fs::create_dir_all(dir).map_err(Error::io(dir))?;
+        let spec = specimens::prepare(&p, plan.test.shape(), &file, &mut |_| {})?;
+        Ok(bending::run(&plan.test, &g.model, &spec, &mut |_, _| {})?)
     };
     match go() {
         Ok(o) => {
@@ -251,7 +255,7 @@ fn one(
             Ok(Some(run(&o, false)))
         }
         Err(e) => {
-            let rec = serde_json::json!({"error": e, "inputs": inputs});
+            let rec = serde_json::json!({"error": e.to_string(), "inputs": inputs});
             crate::page::write(dir, "table3.failure.json", &json(&rec))?;
             Err(e)
         }
@@ -522,7 +526,7 @@ impl Table3 {
 }
 
 /// The report section: runs (or reads back) the plan, the table, a bar chart.
-pub fn section(data: &Path, out: &Path, quick: bool, missing: Missing) -> Result<Section, String> {
+pub fn section(data: &Path, out: &Path, quick: bool, missing: Missing) -> Result<Section> {
     let plan = plan(data, quick)?;
     let (runs, left, errors) = run(&plan, out, missing, &|l| eprintln!("  {l}"));
     let t = Table3::new(&plan, runs, left, errors);
