@@ -46,15 +46,7 @@ pub struct Plan {
 /// granite-like material (E 70 GPa, ν 0.2, ρ 2650 kg/m³, G_c 30 J/m²; K_IC = √(E G_c) =
 /// 1.45 MPa√m), energy criterion. `quick`: two grains at 2 and 4 mm, no half-speed runs.
 pub fn plan(data: &Path, quick: bool) -> Result<Plan> {
-    let dir = data.join("outlines");
-    let mut grains: Vec<String> = std::fs::read_dir(&dir)
-        .map_err(Error::io(&dir))?
-        .filter_map(|e| e.ok())
-        .map(|e| e.file_name().to_string_lossy().into_owned())
-        .filter(|n| n.ends_with(".csv"))
-        .map(|n| format!("outlines/{n}"))
-        .collect();
-    grains.sort();
+    let mut grains = csv_files(&data.join("outlines"), "outlines")?;
     if quick {
         grains.truncate(2);
     }
@@ -63,7 +55,42 @@ pub fn plan(data: &Path, quick: bool) -> Result<Plan> {
     } else {
         grains.iter().take(3).cloned().collect()
     };
-    Ok(Plan {
+    Ok(plan_of(grains, half_speed, quick))
+}
+
+/// The sorted `*.csv` files of `dir`, named `<prefix>/<file>`.
+fn csv_files(dir: &Path, prefix: &str) -> Result<Vec<String>> {
+    let mut grains: Vec<String> = std::fs::read_dir(dir)
+        .map_err(Error::io(dir))?
+        .filter_map(|e| e.ok())
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".csv"))
+        .map(|n| format!("{prefix}/{n}"))
+        .collect();
+    grains.sort();
+    Ok(grains)
+}
+
+/// The study of real outlines (issue 25 item 5, "the real gravel outlines"): `n` outlines
+/// evenly spaced in the sorted `*.csv` files of `dir` (every ⌊count/n⌋-th from the first),
+/// with the sizes, lattice and material of [`plan`] and no half-speed runs. The grains are
+/// named `<dir's name>/<file>`, relative to `dir`'s parent (the `data` of [`run`]). Made by
+/// hand (`validation/examples/crush_real.rs`); the report reads its committed results.
+pub fn plan_of_folder(dir: &Path, n: usize) -> Result<Plan> {
+    let name = dir
+        .file_name()
+        .map(|s| s.to_string_lossy().into_owned())
+        .ok_or_else(|| Error::NoFolderName {
+            dir: dir.display().to_string(),
+        })?;
+    let all = csv_files(dir, &name)?;
+    let step = (all.len() / n.max(1)).max(1);
+    let grains = all.into_iter().step_by(step).take(n).collect();
+    Ok(plan_of(grains, vec![], false))
+}
+
+fn plan_of(grains: Vec<String>, half_speed: Vec<String>, quick: bool) -> Plan {
+    Plan {
         grains,
         sizes: if quick {
             vec![2e-3, 4e-3]
@@ -82,7 +109,7 @@ pub fn plan(data: &Path, quick: bool) -> Result<Plan> {
             ..CrushTest::default()
         },
         half_speed,
-    })
+    }
 }
 
 /// One run.
@@ -347,6 +374,20 @@ fn mpa(v: f64) -> String {
     format!("{:.1}", v * 1e-6)
 }
 
+/// A size's first table cells: d_eq (mm), runs, mean σ, Weibull m, σ0 (MPa), R².
+fn size_cells(s: &SizeFit) -> String {
+    format!(
+        "| {:.0} | {} | {} | {} | {} | {} |",
+        s.d_eq * 1e3,
+        s.n,
+        mpa(s.mean),
+        s.weibull
+            .map_or("–".into(), |w| format!("{:.2}", w.modulus)),
+        s.weibull.map_or("–".into(), |w| mpa(w.sigma0)),
+        s.weibull.map_or("–".into(), |w| format!("{:.3}", w.r2)),
+    )
+}
+
 /// Cumulative mass fraction passing against d_frag/d_eq, over the grains of size `d`.
 fn grading(rows: &[&Row], stage: impl Fn(&Row) -> &Pieces) -> Vec<(f64, f64)> {
     // Pieces: (size over d_eq, mass fraction of its grain / number of grains).
@@ -375,6 +416,123 @@ fn grading(rows: &[&Row], stage: impl Fn(&Row) -> &Pieces) -> Vec<(f64, f64)> {
             (x, acc)
         })
         .collect()
+}
+
+/// Each run's strength against its size (the main runs) and the fitted σ0 ∝ d_eq^b.
+fn strength_size_svg(r: &Results, title: &str) -> Result<String> {
+    let mut series = vec![];
+    let mut only = vec![];
+    for &d in &r.plan.sizes {
+        series.push(Series {
+            name: format!("σ, d_eq {:.0} mm", d * 1e3),
+            points: r
+                .rows
+                .iter()
+                .filter(|x| x.d_eq == d && !x.half_speed)
+                .map(|x| (x.d, x.strength * 1e-6))
+                .collect(),
+        });
+        only.push(true);
+    }
+    if let Some(p) = r.size_effect {
+        series.push(Series {
+            name: format!("σ0 ∝ d_eq^{:.3}", p.exponent),
+            points: r
+                .sizes
+                .iter()
+                .map(|s| (s.d_eq, p.prefactor * s.d_eq.powf(p.exponent) * 1e-6))
+                .collect(),
+        });
+        only.push(false);
+    }
+    plot::scatter_and_lines(
+        title,
+        "d (m): platen gap at first contact; line: σ0 at d_eq",
+        "σ = F/(d t) (MPa)",
+        &series,
+        &only,
+        true,
+        true,
+    )
+}
+
+/// The study of real outlines ([`plan_of_folder`]) read from `<out>/crush/real/results.json`
+/// when committed there (never run here: its outlines are not the project's): per size the
+/// runs, mean, Weibull fit; the size exponent; the pooled modulus; a strength–size plot.
+fn real_part(out: &Path) -> Result<(String, Vec<Figure>)> {
+    let file = out.join("crush").join("real").join("results.json");
+    let Ok(text) = std::fs::read_to_string(&file) else {
+        return Ok((String::new(), vec![]));
+    };
+    let r: Results = serde_json::from_str(&text).map_err(Error::json(&file))?;
+    let folder = r
+        .plan
+        .grains
+        .first()
+        .and_then(|g| g.split('/').next())
+        .unwrap_or("?")
+        .to_string();
+    let mut md = format!(
+        "\n### Real gravel outlines\n\nThe same study on {} real gravel outlines (evenly spaced \
+         in the sorted files of the `{}` folder of the project's shared test outlines: grains segmented from field \
+         photographs by segmenteverygrain, Apache-2.0; not copied into the project, so the \
+         study is made by hand with `validation/examples/crush_real.rs` and its results \
+         committed in `crush/real/results.json`): d_eq = {} mm, the lattice, material and \
+         speed rule above. {} runs, {} errors, {:.0} s.\n\n\
+         | d_eq (mm) | runs | mean σ (MPa) | Weibull m | σ0 (MPa) | R² |\n|---|---|---|---|---|---|\n",
+        r.plan.grains.len(),
+        folder,
+        r.plan
+            .sizes
+            .iter()
+            .map(|d| format!("{:.0}", d * 1e3))
+            .collect::<Vec<_>>()
+            .join(", "),
+        r.rows.len(),
+        r.errors.len(),
+        r.total_wall_time_s
+    );
+    for s in &r.sizes {
+        md += &format!("{}\n", size_cells(s));
+    }
+    if let (Some(p), Some(q)) = (r.size_effect, r.size_effect_mean) {
+        md += &format!(
+            "\nSize effect: σ0 ∝ d^{:.3} (R² {:.4}), mean σ ∝ d^{:.3} (R² {:.4}).",
+            p.exponent, p.r2, q.exponent, q.r2
+        );
+    }
+    if let Some(w) = r.pooled_weibull {
+        md += &format!(
+            " All {} strengths scaled to 4 mm by that exponent: Weibull m = {:.2} (R² {:.3}).",
+            w.n, w.modulus, w.r2
+        );
+    }
+    md += "\n";
+    if !r.errors.is_empty() {
+        md += &format!(
+            "\nRuns that failed (the reasons in `crush/real/results.json`): {}.\n",
+            r.errors
+                .iter()
+                .map(|e| e.split(':').next().unwrap_or(e).to_string())
+                .collect::<Vec<_>>()
+                .join("; ")
+        );
+    }
+    let svg = strength_size_svg(
+        &r,
+        &format!(
+            "Crushing strength against grain size ({} real gravel outlines)",
+            r.plan.grains.len()
+        ),
+    )?;
+    Ok((
+        md,
+        vec![Figure {
+            file: "crush_real_strength_size.svg".into(),
+            caption: "Crushing strength of real gravel outlines against their size, and the fitted σ0 ∝ d^b".into(),
+            svg,
+        }],
+    ))
 }
 
 /// The section.
@@ -414,14 +572,8 @@ pub fn section(data: &Path, out: &Path, quick: bool) -> Result<Section> {
         let n = rs.len().max(1) as f64;
         let mean = |f: &dyn Fn(&Row) -> f64| rs.iter().map(|x| f(x)).sum::<f64>() / n;
         md += &format!(
-            "| {:.0} | {} | {} | {} | {} | {} | {:.0} | {:.0} | {:.2} | {:.2e} |\n",
-            s.d_eq * 1e3,
-            s.n,
-            mpa(s.mean),
-            s.weibull
-                .map_or("–".into(), |w| format!("{:.2}", w.modulus)),
-            s.weibull.map_or("–".into(), |w| mpa(w.sigma0)),
-            s.weibull.map_or("–".into(), |w| format!("{:.3}", w.r2)),
+            "{} {:.0} | {:.0} | {:.2} | {:.2e} |\n",
+            size_cells(s),
             mean(&|x| x.nodes as f64),
             mean(&|x| x.steps as f64),
             mean(&|x| x.wall_time_s),
@@ -499,38 +651,12 @@ pub fn section(data: &Path, out: &Path, quick: bool) -> Result<Section> {
         }
     }
     // Strength against size.
-    let mut series = vec![];
-    let mut only = vec![];
-    for &d in &plan.sizes {
-        series.push(Series {
-            name: format!("σ, d_eq {:.0} mm", d * 1e3),
-            points: main
-                .iter()
-                .filter(|x| x.d_eq == d)
-                .map(|x| (x.d, x.strength * 1e-6))
-                .collect(),
-        });
-        only.push(true);
-    }
-    if let Some(p) = r.size_effect {
-        series.push(Series {
-            name: format!("σ0 ∝ d_eq^{:.3}", p.exponent),
-            points: r
-                .sizes
-                .iter()
-                .map(|s| (s.d_eq, p.prefactor * s.d_eq.powf(p.exponent) * 1e-6))
-                .collect(),
-        });
-        only.push(false);
-    }
-    let size_svg = plot::scatter_and_lines(
-        "Crushing strength against grain size (29 shapes, three sizes)",
-        "d (m): platen gap at first contact; line: σ0 at d_eq",
-        "σ = F/(d t) (MPa)",
-        &series,
-        &only,
-        true,
-        true,
+    let size_svg = strength_size_svg(
+        &r,
+        &format!(
+            "Crushing strength against grain size ({} shapes, three sizes)",
+            plan.grains.len()
+        ),
     )?;
     // Weibull plot.
     let mut wseries = vec![];
@@ -583,6 +709,9 @@ pub fn section(data: &Path, out: &Path, quick: bool) -> Result<Section> {
         true,
         false,
     )?;
+    // Real outlines, from their committed results.
+    let (real_md, real_figures) = real_part(out)?;
+    md += &real_md;
     // The crushable column, from its committed run.
     let (column_md, column_figures) = crate::crush_column::part(out)?;
     md += &column_md;
@@ -603,6 +732,7 @@ pub fn section(data: &Path, out: &Path, quick: bool) -> Result<Section> {
                 svg: grading_svg,
             },
         ];
+    figures.extend(real_figures);
     figures.extend(column_figures);
     Ok(Section {
         title: "Crushable grains: single-grain crushing, Weibull modulus, size effect".into(),
@@ -610,4 +740,37 @@ pub fn section(data: &Path, out: &Path, quick: bool) -> Result<Section> {
         figures,
         data: vec![],
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Evenly spaced outlines of a folder, named relative to its parent; the report leaves
+    /// the real-outline part out when no results are committed.
+    #[test]
+    fn a_folder_plan_samples_evenly_and_names_by_folder() {
+        let dir = std::env::temp_dir().join(format!("crush-plan-{}", std::process::id()));
+        let grains = dir.join("gravel");
+        std::fs::create_dir_all(&grains).unwrap();
+        for i in 0..10 {
+            std::fs::write(grains.join(format!("g-{i:02}.csv")), "x,y\n").unwrap();
+        }
+        std::fs::write(grains.join("notes.txt"), "not an outline").unwrap();
+        let p = plan_of_folder(&grains, 3).unwrap();
+        assert_eq!(
+            p.grains,
+            vec!["gravel/g-00.csv", "gravel/g-03.csv", "gravel/g-06.csv"]
+        );
+        assert!(p.half_speed.is_empty());
+        assert_eq!(p.sizes, vec![2e-3, 4e-3, 8e-3]);
+        assert_eq!(plan_of_folder(&grains, 50).unwrap().grains.len(), 10);
+        assert!(plan_of_folder(&dir.join("none"), 3)
+            .unwrap_err()
+            .to_string()
+            .contains("none"));
+        let (md, figures) = real_part(&dir).unwrap();
+        assert!(md.is_empty() && figures.is_empty());
+        let _ = std::fs::remove_dir_all(&dir);
+    }
 }
