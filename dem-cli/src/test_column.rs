@@ -48,11 +48,14 @@ pub struct ColumnArgs {
     /// Density (kg/m³).
     #[arg(long, default_value_t = 2650.0)]
     pub density: f64,
-    /// Link breakage criterion: force, strain or energy (each needs its parameter flag).
+    /// Link breakage criterion: force, stress, strain or energy (each needs its parameter
+    /// flag).
     #[arg(long, default_value = "energy")]
     pub criterion: String,
     #[arg(long)]
     pub link_force: Option<f64>,
+    #[arg(long)]
+    pub link_stress: Option<String>,
     #[arg(long)]
     pub link_strain: Option<f64>,
     #[arg(long)]
@@ -127,6 +130,7 @@ pub fn run(a: ColumnArgs) -> Result<ExitCode, String> {
     let crit = criterion_of(&CriterionFlags {
         criterion: &a.criterion,
         link_force: a.link_force,
+        link_stress: a.link_stress.as_deref(),
         link_strain: a.link_strain,
         link_shear: a.link_shear,
         fracture_energy: if a.criterion == "energy" {

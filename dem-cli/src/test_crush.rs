@@ -41,7 +41,8 @@ pub struct CrushArgs {
     /// Density (kg/m³).
     #[arg(long, default_value_t = 2650.0)]
     pub density: f64,
-    /// Link breakage criterion: force, strain or energy (each needs its parameter flag).
+    /// Link breakage criterion: force, stress, strain or energy (each needs its parameter
+    /// flag).
     #[arg(long)]
     pub criterion: String,
     /// force: a link's tensile strength (N).
@@ -50,7 +51,12 @@ pub struct CrushArgs {
     /// strain: a link's tensile strain at failure.
     #[arg(long)]
     pub link_strain: Option<f64>,
-    /// force, strain: the shear strength (N) or shear strain; default the tensile one.
+    /// stress: a link's tensile strength as a stress, with unit (`50MPa`), on the area of the
+    /// cell edge it crosses, (S/√3)·t.
+    #[arg(long)]
+    pub link_stress: Option<String>,
+    /// force, stress, strain: the shear strength (N), shear stress (Pa) or shear strain;
+    /// default the tensile one.
     #[arg(long)]
     pub link_shear: Option<f64>,
     /// energy: the material's fracture energy G_c (J/m²).
@@ -99,6 +105,7 @@ pub fn criterion(a: &CrushArgs) -> Result<LinkCriterion, String> {
     criterion_of(&CriterionFlags {
         criterion: &a.criterion,
         link_force: a.link_force,
+        link_stress: a.link_stress.as_deref(),
         link_strain: a.link_strain,
         link_shear: a.link_shear,
         fracture_energy: a.fracture_energy,
@@ -109,6 +116,7 @@ pub fn criterion(a: &CrushArgs) -> Result<LinkCriterion, String> {
 pub struct CriterionFlags<'a> {
     pub criterion: &'a str,
     pub link_force: Option<f64>,
+    pub link_stress: Option<&'a str>,
     pub link_strain: Option<f64>,
     pub link_shear: Option<f64>,
     pub fracture_energy: Option<f64>,
@@ -135,7 +143,12 @@ pub fn criterion_of(a: &CriterionFlags) -> Result<LinkCriterion, String> {
     let c = a.criterion;
     given("--link-force", a.link_force, c == "force")?;
     given("--link-strain", a.link_strain, c == "strain")?;
-    given("--link-shear", a.link_shear, c == "force" || c == "strain")?;
+    given("--link-stress", a.link_stress.map(|_| 0.0), c == "stress")?;
+    given(
+        "--link-shear",
+        a.link_shear,
+        c == "force" || c == "stress" || c == "strain",
+    )?;
     given("--fracture-energy", a.fracture_energy, c == "energy")?;
     let shear = |t: f64| match a.link_shear {
         Some(s) if !(s.is_finite() && s > 0.0) => {
@@ -146,14 +159,22 @@ pub fn criterion_of(a: &CriterionFlags) -> Result<LinkCriterion, String> {
     };
     match c {
         "force" => {
-            let t = need("--link-force", a.link_force, "a link's tensile strength in N")?;
+            let t = need(
+                "--link-force",
+                a.link_force,
+                "a link's tensile strength in N",
+            )?;
             Ok(LinkCriterion::Force {
                 tensile: t,
                 shear: shear(t)?,
             })
         }
         "strain" => {
-            let t = need("--link-strain", a.link_strain, "a link's tensile failure strain")?;
+            let t = need(
+                "--link-strain",
+                a.link_strain,
+                "a link's tensile failure strain",
+            )?;
             Ok(LinkCriterion::Strain {
                 tensile: t,
                 shear: shear(t)?,
@@ -166,8 +187,24 @@ pub fn criterion_of(a: &CriterionFlags) -> Result<LinkCriterion, String> {
                 "the material's fracture energy G_c in J/m²",
             )?,
         }),
-        "stress" => Err("--criterion stress: a lattice link is a contact bond, which has no cross-section; use force, strain or energy".into()),
-        c => Err(format!("--criterion {c:?}: expected force, strain or energy")),
+        "stress" => {
+            let t = a.link_stress.ok_or_else(|| {
+                "--criterion stress needs --link-stress (a link's tensile strength as a stress, e.g. 50MPa)".to_string()
+            })?;
+            let t = crate::specimen::parse_stress(t, "--link-stress")?;
+            if !(t.is_finite() && t > 0.0) {
+                return Err(format!(
+                    "--link-stress {t:e} Pa: must be positive and finite"
+                ));
+            }
+            Ok(LinkCriterion::Stress {
+                tensile: t,
+                shear: shear(t)?,
+            })
+        }
+        c => Err(format!(
+            "--criterion {c:?}: expected force, stress, strain or energy"
+        )),
     }
 }
 

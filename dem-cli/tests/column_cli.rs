@@ -36,7 +36,11 @@ fn bad_inputs_name_the_flag_or_outline() {
         (vec!["--max-strain", "1.5"], "--max-strain"),
         (vec!["--width", "1"], "--width"),
         (vec!["--criterion", "force"], "--link-force"),
-        (vec!["--criterion", "stress"], "--criterion stress"),
+        (vec!["--criterion", "stress"], "--link-stress"),
+        (
+            vec!["--criterion", "stress", "--link-stress", "-5MPa"],
+            "--link-stress",
+        ),
         (vec!["--speed", "1m/s"], "--loading ramp"),
         (vec!["--loading", "steps"], "--loading"),
         (vec!["--inertial-number", "0"], "--inertial-number"),

@@ -154,7 +154,22 @@ fn bad_inputs_name_the_flag_or_grain() {
     );
     let all = fails(&d, &["--spacing", "0.2", "--criterion", "stress"]);
     assert!(
-        all.contains("--criterion stress: a lattice link is a contact bond"),
+        all.contains("--criterion stress needs --link-stress"),
+        "{all}"
+    );
+    let all = fails(
+        &d,
+        &[
+            "--spacing",
+            "0.2",
+            "--criterion",
+            "energy",
+            "--link-stress",
+            "5MPa",
+        ],
+    );
+    assert!(
+        all.contains("--link-stress is not a parameter of --criterion energy"),
         "{all}"
     );
     let all = fails(

@@ -35,7 +35,7 @@ fn pull_to_failure(c: LinkCriterion, f: f64) -> (f64, f64) {
             kn: k.k_n,
             ks: k.k_s,
         }),
-        criterion: c.bond_criterion(f),
+        criterion: c.bond_criterion(f, s, t),
     }])
     .unwrap();
     bonds.add(&st, 0, 1, 0).unwrap();
@@ -68,6 +68,14 @@ fn a_link_breaks_at_its_criterions_closed_form_force() {
             0.9,
         ),
         (
+            // 50 MPa on A = (S/√3)·t = 5.77e-5 m²: 2.89 kN.
+            LinkCriterion::Stress {
+                tensile: 50e6,
+                shear: 50e6,
+            },
+            0.9,
+        ),
+        (
             LinkCriterion::Strain {
                 tensile: 1.5e-3,
                 shear: 1.5e-3,
@@ -94,6 +102,18 @@ fn a_link_breaks_at_its_criterions_closed_form_force() {
             "{c:?}, f {f}: {got} N vs {expected} N"
         );
     }
+    // The stress criterion's force, by hand: σ_t times the cell edge S/√3 times t (S = 0.1 mm,
+    // t = 1 m): 2886.75 N.
+    let c = LinkCriterion::Stress {
+        tensile: 50e6,
+        shear: 50e6,
+    };
+    let (got, _) = pull_to_failure(c, 0.9);
+    let by_hand = 50e6 * 1e-4 / 3f64.sqrt();
+    assert!(
+        got <= by_hand && got >= by_hand * (1.0 - 2e-4),
+        "{got} N vs {by_hand} N"
+    );
 }
 
 fn disc_template(dir: &std::path::Path) -> (std::path::PathBuf, clumpgen::Template) {

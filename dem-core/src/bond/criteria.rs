@@ -65,7 +65,9 @@ pub enum Criterion {
     Force {
         tensile: f64,
         shear: f64,
-        #[serde(default = "infinity")]
+        /// Absent on disk when infinite (JSON has no infinity: it would be written `null`
+        /// and a checkpoint holding it could not be read back).
+        #[serde(default = "infinity", skip_serializing_if = "is_infinite")]
         moment: f64,
     },
     /// Maximum strain (S3's "maximum strain"): the elastic strains of the bond over its length L,
@@ -87,6 +89,10 @@ pub enum Criterion {
 
 fn infinity() -> f64 {
     f64::INFINITY
+}
+
+fn is_infinite(x: &f64) -> bool {
+    x.is_infinite() && *x > 0.0
 }
 
 /// The loads of one bond, in the form every criterion can use. Built by the bond model.
@@ -263,6 +269,27 @@ impl Compiled {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A force criterion without a moment strength round-trips through JSON: the infinite
+    /// moment is left out (not written as `null`, which would not read back).
+    #[test]
+    fn an_infinite_moment_strength_round_trips_through_json() {
+        let c = Criterion::Force {
+            tensile: 2e3,
+            shear: 1e3,
+            moment: f64::INFINITY,
+        };
+        let text = serde_json::to_string(&c).unwrap();
+        assert!(!text.contains("null") && !text.contains("moment"), "{text}");
+        assert_eq!(serde_json::from_str::<Criterion>(&text).unwrap(), c);
+        let finite = Criterion::Force {
+            tensile: 2e3,
+            shear: 1e3,
+            moment: 5.0,
+        };
+        let text = serde_json::to_string(&finite).unwrap();
+        assert_eq!(serde_json::from_str::<Criterion>(&text).unwrap(), finite);
+    }
 
     fn loads(fn_: f64, fs: f64, m: f64) -> Loads {
         // R̄ = 0.5, t = 2: Ā = 2, Ī = 2/3·0.125·2 = 1/6, ℓ = Ī/(R̄Ā) = 1/6.

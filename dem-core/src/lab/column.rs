@@ -628,7 +628,8 @@ fn scene(
     let mut group = json!({"name": "lattice", "model": "contact_bond", "kn": k.k_n, "ks": k.k_s});
     if let (Some(o), Value::Object(c)) = (
         group.as_object_mut(),
-        test.criterion.bond_fields(test.node_radius),
+        test.criterion
+            .bond_fields(test.node_radius, test.spacing, test.thickness),
     ) {
         o.extend(c);
     }

@@ -55,6 +55,12 @@ const TEST: &str = "crush";
 pub enum LinkCriterion {
     /// Maximum force (N): a link breaks in tension at `tensile`, in shear at `shear`.
     Force { tensile: f64, shear: f64 },
+    /// Maximum stress (Pa; S3's "maximum stress": the element's force over its area): a
+    /// link's area is that of the edge its two nodes' hexagonal cells share, A = (S/√3)·t
+    /// (the crack its break opens, as for [`LinkCriterion::Energy`]); it breaks in tension
+    /// when −F_n/A ≥ `tensile`, in shear when |F_s|/A ≥ `shear`: the force criterion with
+    /// F = σ·A.
+    Stress { tensile: f64, shear: f64 },
     /// Maximum strain: tension at `tensile` (opening over S), shear at `shear`.
     Strain { tensile: f64, shear: f64 },
     /// Energy release rate: the material's fracture energy G_c (J/m²). A broken link opens the
@@ -69,6 +75,7 @@ impl LinkCriterion {
     pub fn name(&self) -> &'static str {
         match self {
             LinkCriterion::Force { .. } => "force",
+            LinkCriterion::Stress { .. } => "stress",
             LinkCriterion::Strain { .. } => "strain",
             LinkCriterion::Energy { .. } => "energy",
         }
@@ -82,7 +89,9 @@ impl LinkCriterion {
     pub(crate) fn validate_for(&self, test: &str) -> Result<(), LabError> {
         let check = |f: &str, v: f64| common::positive(test, f, v).map(|_| ());
         match *self {
-            LinkCriterion::Force { tensile, shear } | LinkCriterion::Strain { tensile, shear } => {
+            LinkCriterion::Force { tensile, shear }
+            | LinkCriterion::Stress { tensile, shear }
+            | LinkCriterion::Strain { tensile, shear } => {
                 check("criterion.tensile", tensile)?;
                 check("criterion.shear", shear)
             }
@@ -92,11 +101,23 @@ impl LinkCriterion {
         }
     }
 
-    /// The bond criterion of a link between nodes of radius fraction `f` (see
-    /// [`LinkCriterion::Energy`]).
-    pub fn bond_criterion(&self, f: f64) -> crate::bond::Criterion {
+    /// A link's area A = (S/√3)·t (m²): the edge its two nodes' hexagonal cells share, for
+    /// lattice spacing `s` and thickness `t` (m).
+    pub fn link_area(s: f64, t: f64) -> f64 {
+        s / 3f64.sqrt() * t
+    }
+
+    /// The bond criterion of a link between nodes of radius fraction `f` of a lattice of
+    /// spacing `s` and thickness `t` (m; see [`LinkCriterion::Energy`] and
+    /// [`LinkCriterion::Stress`]).
+    pub fn bond_criterion(&self, f: f64, s: f64, t: f64) -> crate::bond::Criterion {
         use crate::bond::Criterion;
         match *self {
+            LinkCriterion::Stress { tensile, shear } => Criterion::Force {
+                tensile: tensile * Self::link_area(s, t),
+                shear: shear * Self::link_area(s, t),
+                moment: f64::INFINITY,
+            },
             LinkCriterion::Force { tensile, shear } => Criterion::Force {
                 tensile,
                 shear,
@@ -110,9 +131,9 @@ impl LinkCriterion {
     }
 
     /// The scene's bond group fields of [`LinkCriterion::bond_criterion`].
-    pub(crate) fn bond_fields(&self, f: f64) -> Value {
+    pub(crate) fn bond_fields(&self, f: f64, s: f64, t: f64) -> Value {
         use crate::bond::Criterion;
-        match self.bond_criterion(f) {
+        match self.bond_criterion(f, s, t) {
             Criterion::Force { tensile, shear, .. } => json!({"criterion": "force",
                 "normal_strength": tensile, "shear_strength": shear}),
             Criterion::Strain { tensile, shear } => json!({"criterion": "strain",
@@ -125,10 +146,11 @@ impl LinkCriterion {
     }
 
     /// A link's failure opening strain (opening over S) in pure tension: F_t/(k_n S),
-    /// ε_t, or √(2 G_c (S/√3) t / k_n)/S.
+    /// σ_t A/(k_n S), ε_t, or √(2 G_c (S/√3) t / k_n)/S.
     pub fn failure_strain(&self, k_n: f64, s: f64, t: f64) -> f64 {
         match *self {
             LinkCriterion::Force { tensile, .. } => tensile / (k_n * s),
+            LinkCriterion::Stress { tensile, .. } => tensile * Self::link_area(s, t) / (k_n * s),
             LinkCriterion::Strain { tensile, .. } => tensile,
             LinkCriterion::Energy { fracture_energy } => {
                 (2.0 * fracture_energy * s / 3f64.sqrt() * t / k_n).sqrt() / s
@@ -420,7 +442,8 @@ pub fn scene(test: &CrushTest, g: &GrainFacts, ext: [f64; 4], tpl_name: &str) ->
     let mut group = json!({"name": "lattice", "model": "contact_bond", "kn": g.k_n, "ks": g.k_s});
     if let (Some(o), Value::Object(c)) = (
         group.as_object_mut(),
-        test.criterion.bond_fields(g.node_radius_fraction),
+        test.criterion
+            .bond_fields(g.node_radius_fraction, g.spacing, g.thickness),
     ) {
         o.extend(c);
     }
