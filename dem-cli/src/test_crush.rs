@@ -124,8 +124,8 @@ pub struct CriterionFlags<'a> {
 
 /// The criterion from its flags; errors name the flag.
 pub fn criterion_of(a: &CriterionFlags) -> Result<LinkCriterion, String> {
-    let given = |name: &str, v: Option<f64>, allowed: bool| -> Result<(), String> {
-        if v.is_some() && !allowed {
+    let given = |name: &str, present: bool, allowed: bool| -> Result<(), String> {
+        if present && !allowed {
             return Err(format!(
                 "{name} is not a parameter of --criterion {}",
                 a.criterion
@@ -141,15 +141,19 @@ pub fn criterion_of(a: &CriterionFlags) -> Result<LinkCriterion, String> {
         Ok(v)
     };
     let c = a.criterion;
-    given("--link-force", a.link_force, c == "force")?;
-    given("--link-strain", a.link_strain, c == "strain")?;
-    given("--link-stress", a.link_stress.map(|_| 0.0), c == "stress")?;
+    given("--link-force", a.link_force.is_some(), c == "force")?;
+    given("--link-strain", a.link_strain.is_some(), c == "strain")?;
+    given("--link-stress", a.link_stress.is_some(), c == "stress")?;
     given(
         "--link-shear",
-        a.link_shear,
+        a.link_shear.is_some(),
         c == "force" || c == "stress" || c == "strain",
     )?;
-    given("--fracture-energy", a.fracture_energy, c == "energy")?;
+    given(
+        "--fracture-energy",
+        a.fracture_energy.is_some(),
+        c == "energy",
+    )?;
     let shear = |t: f64| match a.link_shear {
         Some(s) if !(s.is_finite() && s > 0.0) => {
             Err(format!("--link-shear {s}: must be positive and finite"))
@@ -188,15 +192,15 @@ pub fn criterion_of(a: &CriterionFlags) -> Result<LinkCriterion, String> {
             )?,
         }),
         "stress" => {
-            let t = a.link_stress.ok_or_else(|| {
-                "--criterion stress needs --link-stress (a link's tensile strength as a stress, e.g. 50MPa)".to_string()
-            })?;
-            let t = crate::specimen::parse_stress(t, "--link-stress")?;
-            if !(t.is_finite() && t > 0.0) {
-                return Err(format!(
-                    "--link-stress {t:e} Pa: must be positive and finite"
-                ));
-            }
+            let parsed = a
+                .link_stress
+                .map(|v| crate::specimen::parse_stress(v, "--link-stress"))
+                .transpose()?;
+            let t = need(
+                "--link-stress",
+                parsed,
+                "a link's tensile strength as a stress, e.g. 50MPa",
+            )?;
             Ok(LinkCriterion::Stress {
                 tensile: t,
                 shear: shear(t)?,

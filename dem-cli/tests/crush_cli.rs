@@ -120,73 +120,46 @@ fn bad_inputs_name_the_flag_or_grain() {
         "{all}"
     );
     // A criterion without its parameter, a parameter of another criterion, stress.
-    let all = fails(&d, &["--spacing", "0.2", "--criterion", "energy"]);
-    assert!(
-        all.contains("--criterion energy needs --fracture-energy"),
-        "{all}"
-    );
-    let all = fails(&d, &["--spacing", "0.2", "--criterion", "force"]);
-    assert!(
-        all.contains("--criterion force needs --link-force"),
-        "{all}"
-    );
-    let all = fails(&d, &["--spacing", "0.2", "--criterion", "strain"]);
-    assert!(
-        all.contains("--criterion strain needs --link-strain"),
-        "{all}"
-    );
-    let all = fails(
-        &d,
-        &[
-            "--spacing",
-            "0.2",
-            "--criterion",
-            "force",
-            "--link-force",
-            "10",
-            "--fracture-energy",
-            "3",
-        ],
-    );
-    assert!(
-        all.contains("--fracture-energy is not a parameter of --criterion force"),
-        "{all}"
-    );
-    let all = fails(&d, &["--spacing", "0.2", "--criterion", "stress"]);
-    assert!(
-        all.contains("--criterion stress needs --link-stress"),
-        "{all}"
-    );
-    let all = fails(
-        &d,
-        &[
-            "--spacing",
-            "0.2",
-            "--criterion",
-            "energy",
-            "--link-stress",
-            "5MPa",
-        ],
-    );
-    assert!(
-        all.contains("--link-stress is not a parameter of --criterion energy"),
-        "{all}"
-    );
-    let all = fails(
-        &d,
-        &[
-            "--spacing",
-            "0.2",
-            "--criterion",
-            "energy",
-            "--fracture-energy",
-            "-1",
-        ],
-    );
-    assert!(
-        all.contains("--fracture-energy -1: must be positive"),
-        "{all}"
-    );
+    for (flags, expect) in [
+        (
+            &["--criterion", "energy"][..],
+            "--criterion energy needs --fracture-energy",
+        ),
+        (
+            &["--criterion", "force"],
+            "--criterion force needs --link-force",
+        ),
+        (
+            &["--criterion", "strain"],
+            "--criterion strain needs --link-strain",
+        ),
+        (
+            &[
+                "--criterion",
+                "force",
+                "--link-force",
+                "10",
+                "--fracture-energy",
+                "3",
+            ],
+            "--fracture-energy is not a parameter of --criterion force",
+        ),
+        (
+            &["--criterion", "stress"],
+            "--criterion stress needs --link-stress",
+        ),
+        (
+            &["--criterion", "energy", "--link-stress", "5MPa"],
+            "--link-stress is not a parameter of --criterion energy",
+        ),
+        (
+            &["--criterion", "energy", "--fracture-energy", "-1"],
+            "--fracture-energy -1: must be positive",
+        ),
+    ] {
+        let all = fails(&d, &[&["--spacing", "0.2"], flags].concat());
+        assert!(all.contains(expect), "{flags:?}: {all}");
+    }
     // Material and test parameters.
     let all = fails(
         &d,

@@ -256,35 +256,25 @@ fn irregular_few_flags_build_few_rigid_grains() {
     assert_eq!(summary["irregular"]["grains"], 2);
     assert!(text(&o).contains("irregular grains"), "{}", text(&o));
     // Bad values are messages naming the flag.
-    let mut bad = args.clone();
-    bad.extend(["--irregular", "some"]);
-    let o = dem(&bad);
-    assert_eq!(o.status.code(), Some(2));
-    assert!(text(&o).contains("--irregular"), "{}", text(&o));
-    let mut bad = args.clone();
-    bad.extend(["--irregular-count", "3"]);
-    let o = dem(&bad);
-    assert_eq!(o.status.code(), Some(2));
-    assert!(text(&o).contains("need --irregular few"), "{}", text(&o));
-    let mut bad = args.clone();
-    bad.extend(["--insertion", "servo"]);
-    let o = dem(&bad);
-    assert_eq!(o.status.code(), Some(2));
-    assert!(text(&o).contains("need --irregular few"), "{}", text(&o));
-    let mut bad = args.clone();
-    bad.extend(["--irregular", "few", "--insertion", "slow"]);
-    let o = dem(&bad);
-    assert_eq!(o.status.code(), Some(2));
-    assert!(
-        text(&o).contains("--insertion \"slow\": use affine or servo"),
-        "{}",
-        text(&o)
-    );
-    let mut bad = args;
-    bad.extend(["--irregular", "few", "--irregular-size", "5mm"]);
-    let o = dem(&bad);
-    assert_eq!(o.status.code(), Some(2));
-    assert!(text(&o).contains("grains.few.diameter"), "{}", text(&o));
+    for (extra, expect) in [
+        (&["--irregular", "some"][..], "--irregular"),
+        (&["--irregular-count", "3"], "need --irregular few"),
+        (&["--insertion", "servo"], "need --irregular few"),
+        (
+            &["--irregular", "few", "--insertion", "slow"],
+            "--insertion \"slow\": use affine or servo",
+        ),
+        (
+            &["--irregular", "few", "--irregular-size", "5mm"],
+            "grains.few.diameter",
+        ),
+    ] {
+        let mut bad = args.clone();
+        bad.extend_from_slice(extra);
+        let o = dem(&bad);
+        assert_eq!(o.status.code(), Some(2), "{extra:?}");
+        assert!(text(&o).contains(expect), "{extra:?}: {}", text(&o));
+    }
 }
 
 #[test]

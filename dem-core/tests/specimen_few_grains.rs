@@ -347,21 +347,17 @@ fn bad_few_values_are_errors_naming_the_field() {
     }
 }
 
+/// A small specimen (4 × 2 mm, radii 0.10-0.16 mm, grains of 0.5 mm, seed 5).
+fn small(method: Method) -> SpecimenParams {
+    let mut p = SpecimenParams::new(method, 4e-3, 2e-3, 0.10e-3, 0.16e-3, RHO, 310e9, 800e6, 5);
+    p.grain_size = 0.5e-3;
+    p
+}
+
 #[test]
 fn a_fixed_count_gives_that_many_grains() {
-    // A small specimen (4 × 2 mm, radii 0.10-0.16 mm, grains of 0.5 mm) with 3 grains.
-    let mut p = SpecimenParams::new(
-        Method::Orc,
-        4e-3,
-        2e-3,
-        0.10e-3,
-        0.16e-3,
-        RHO,
-        310e9,
-        800e6,
-        5,
-    );
-    p.grain_size = 0.5e-3;
+    // With 3 grains.
+    let mut p = small(Method::Orc);
     let mut f = FewGrains::s0(&p);
     f.count = IrregularCount::Count(3);
     p.grains = GrainMode::Few(f);
@@ -378,18 +374,7 @@ fn a_fixed_count_gives_that_many_grains() {
 /// not converge in 991400 steps: wall stress 2.377e6 Pa, target 8.000e6 Pa").
 #[test]
 fn servo_insertion_bonds_at_the_isotropic_stress() {
-    let mut p = SpecimenParams::new(
-        Method::Improved,
-        4e-3,
-        2e-3,
-        0.10e-3,
-        0.16e-3,
-        RHO,
-        310e9,
-        800e6,
-        5,
-    );
-    p.grain_size = 0.5e-3;
+    let mut p = small(Method::Improved);
     p.template_r_min = 0.05e-3;
     let mut f = FewGrains::s0(&p);
     f.count = IrregularCount::Count(3);

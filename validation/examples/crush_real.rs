@@ -23,9 +23,7 @@ fn main() -> Result<(), validation::error::Error> {
     })?;
     let plan = crush::plan_of_folder(&dir, n)?;
     let data = dir.parent().map(PathBuf::from).unwrap_or_default();
-    let runs = std::env::temp_dir().join(format!("dem-crush-real-{}", std::process::id()));
-    let r = crush::run(&plan, &data, &runs, &|l| eprintln!("  {l}"));
-    let _ = std::fs::remove_dir_all(&runs);
+    let r = crush::run_in_temp(&plan, &data);
     let out = PathBuf::from(out);
     std::fs::create_dir_all(&out).map_err(validation::error::Error::io(&out))?;
     validation::page::write(&out, "results.json", &validation::page::json(&r))?;

@@ -285,6 +285,14 @@ pub fn run(plan: &Plan, data: &Path, runs: &Path, progress: &dyn Fn(&str)) -> Re
     fit(plan.clone(), rows, errors, t0.elapsed().as_secs_f64())
 }
 
+/// [`run`] with its run folders in a temporary folder, removed after; progress on stderr.
+pub fn run_in_temp(plan: &Plan, data: &Path) -> Results {
+    let runs: PathBuf = std::env::temp_dir().join(format!("dem-crush-runs-{}", std::process::id()));
+    let r = run(plan, data, &runs, &|l| eprintln!("  {l}"));
+    let _ = std::fs::remove_dir_all(&runs);
+    r
+}
+
 /// The fits of the rows (see [`Results`]).
 pub fn fit(plan: Plan, rows: Vec<Row>, errors: Vec<String>, total_wall_time_s: f64) -> Results {
     let main: Vec<&Row> = rows.iter().filter(|r| !r.half_speed).collect();
@@ -362,9 +370,7 @@ pub fn results(plan: &Plan, data: &Path, out: &Path) -> Result<Results> {
             }
         }
     }
-    let runs: PathBuf = std::env::temp_dir().join(format!("dem-crush-runs-{}", std::process::id()));
-    let r = run(plan, data, &runs, &|l| eprintln!("  {l}"));
-    let _ = std::fs::remove_dir_all(&runs);
+    let r = run_in_temp(plan, data);
     std::fs::create_dir_all(out.join("crush")).map_err(Error::BareIo)?;
     crate::page::write(&out.join("crush"), "results.json", &json(&r))?;
     Ok(r)

@@ -926,11 +926,14 @@ pub fn run(
     let h = r0.world.state.walls[3].a[1];
     let solid_deposit = area_of(m_tot) / (w * h_dep);
     let solid = area_of(m_tot) / (w * h);
-    let v = test.speed.unwrap_or_else(|| {
-        test.inertial_number * h * (test.stress_levels[0] / test.density).sqrt() / mean_size
-    });
     let (duration, v0) = match test.loading {
-        Loading::Ramp => (test.max_strain * h / v, v),
+        // The given speed, or I at the first level (above the seating stress, by validate).
+        Loading::Ramp => {
+            let v = test
+                .speed
+                .unwrap_or_else(|| inertial_speed(test, h, test.stress_levels[0], mean_size));
+            (test.max_strain * h / v, v)
+        }
         // A cap the hook ends first: the whole travel at the slowest speed.
         Loading::Inertial => {
             let v0 = inertial_speed(test, h, 0.0, mean_size);
