@@ -7,7 +7,7 @@ seed-averaged peak (w = a_p, with jackknife SEs), step and CPU ratios, what the 
 
 Both folders hold run folders named <method>-d<a_p mm>-v<v>-s<seed> with cutting.result.json and
 cutting.forces.csv (validation's table2-runs; a sweep's cases linked under those names). The
-seed-averaged peak is dem_core::lab::force_stats::seed_averaged_peak written again (area-
+seed-averaged peak is dem_lab::force_stats::seed_averaged_peak written again (area-
 preserving resampling on a 1 µm grid, seed average, moving mean over w): on the committed
 10-seed improved a_p 1 mm, 1 m/s cell it gives peak/mean 1.4810, as the report's table2.json.
 Standard library only; prints markdown.

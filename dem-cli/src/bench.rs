@@ -278,12 +278,12 @@ impl Drop for TempDir {
 }
 
 /// `dem bench cutting`: builds the scene as `dem test cutting` does
-/// ([`dem_core::lab::cutting::CuttingScene::build`]), runs it through the same driver
+/// ([`dem_lab::cutting::CuttingScene::build`]), runs it through the same driver
 /// ([`dem_core::output::driver::Simulation`]) up to the engaged tool (untimed), then times
 /// `--steps` more steps of the run.
 fn cutting(b: CuttingBench) -> Result<ExitCode, String> {
-    use dem_core::lab::cutting::{CuttingScene, CuttingTest};
     use dem_core::output::driver::{RunOptions, Simulation};
+    use dem_lab::cutting::{CuttingScene, CuttingTest};
     if b.steps == 0 {
         return Err("--steps: must be at least 1".into());
     }
@@ -304,7 +304,7 @@ fn cutting(b: CuttingBench) -> Result<ExitCode, String> {
     }
     let text = std::fs::read_to_string(&b.model)
         .map_err(|e| format!("--model {}: {e}", b.model.display()))?;
-    let model: dem_core::lab::LabModel =
+    let model: dem_lab::LabModel =
         serde_json::from_str(&text).map_err(|e| format!("--model {}: {e}", b.model.display()))?;
     let dir =
         TempDir(std::env::temp_dir().join(format!("dem-bench-cutting-{}", std::process::id())));
@@ -360,26 +360,26 @@ fn cutting(b: CuttingBench) -> Result<ExitCode, String> {
                 .map_err(|e| format!("--material {}: {e}", b.material.display()))?
                 .0;
             let s = pool
-                .install(|| dem_core::specimen::generate(&p, &mut |_| {}))
+                .install(|| dem_lab::specimen::generate(&p, &mut |_| {}))
                 .map_err(|e| format!("specimen generation: {e}"))?;
             let path = dir.0.join("specimen.json");
-            dem_core::specimen::io::save(&s, &name, &path).map_err(|e| e.to_string())?;
+            dem_lab::specimen::io::save(&s, &name, &path).map_err(|e| e.to_string())?;
             path
         }
     };
     // Table 2's test (a_p 1 mm, L 10 mm, rigid tool, local damping 0.7) at --speed; the cut
     // length is the specimen's width when that is shorter.
     // Errors about a given specimen name the flag.
-    let named = |e: dem_core::lab::LabError| match &b.specimen {
+    let named = |e: dem_lab::LabError| match &b.specimen {
         Some(p) => format!("--specimen {}: {e}", p.display()),
         None => e.to_string(),
     };
-    let info = dem_core::lab::cutting::SpecimenInfo::read(&specimen).map_err(named)?;
+    let info = dem_lab::cutting::SpecimenInfo::read(&specimen).map_err(named)?;
     let width = info.extent[1] - info.extent[0];
     let test = CuttingTest::new(1e-3, b.speed, width.min(10e-3));
     let scene_file = dir.0.join("cutting.scene.json");
     let cs = CuttingScene::build(&test, &model, &specimen, &scene_file, 0).map_err(named)?;
-    dem_core::lab::run::write_scene(&cs.scene, &scene_file).map_err(|e| e.to_string())?;
+    dem_lab::run::write_scene(&cs.scene, &scene_file).map_err(|e| e.to_string())?;
     let loaded = dem_core::scene::load(&scene_file).map_err(|e| e.to_string())?;
     let guard = loaded.outputs.guard_every.max(1);
     // The approach: to the specimen's edge and a_p into it, rounded up to the guard's cadence.

@@ -1,19 +1,19 @@
 //! `dem calibrate`: micro-parameters from a material's measured properties (the procedure of
 //! Potyondy & Cundall 2004 used by S4): UCS, three-point bending and Brazilian tests on
 //! specimens generated once with the specimen flags, run until E, ν and the strengths match
-//! (`dem_core::lab::calibrate`). Writes the calibrated model (`model.json`, usable with
+//! (`dem_lab::calibrate`). Writes the calibrated model (`model.json`, usable with
 //! `dem test ... --model`), the calibration record and the table (target vs achieved).
 
 use crate::lab_args::{progress_bar, LabArgs};
 use clap::Args;
-use dem_core::lab;
-use dem_core::lab::bending::BendingTest;
-use dem_core::lab::biaxial::BiaxialTest;
-use dem_core::lab::brazilian::BrazilianTest;
-use dem_core::lab::calibrate::{self, MaterialFile, Options};
-use dem_core::lab::senb::SenbTest;
-use dem_core::lab::ucs::UcsTest;
-use dem_core::lab::virtual_lab::{self, VirtualLab};
+use dem_lab as lab;
+use dem_lab::bending::BendingTest;
+use dem_lab::biaxial::BiaxialTest;
+use dem_lab::brazilian::BrazilianTest;
+use dem_lab::calibrate::{self, MaterialFile, Options};
+use dem_lab::senb::SenbTest;
+use dem_lab::ucs::UcsTest;
+use dem_lab::virtual_lab::{self, VirtualLab};
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
@@ -324,7 +324,7 @@ pub fn run(a: CalibrateArgs) -> Result<ExitCode, String> {
     }
     if a.seeds > 1 {
         let [s_ucs, s_bend, s_braz] = &seeds;
-        let ucs_of = |f: fn(&dem_core::lab::analysis::UcsResult) -> f64| -> Vec<f64> {
+        let ucs_of = |f: fn(&dem_lab::analysis::UcsResult) -> f64| -> Vec<f64> {
             last.ucs.iter().map(f).collect()
         };
         let mut notes = vec![

@@ -4,10 +4,10 @@
 
 use crate::specimen::{cover_lines, material_values, method_and_dist, parse_length, parse_stress};
 use clap::Args;
-use dem_core::lab::model::FlatJointOption;
-use dem_core::lab::specimens::TestSpecimen;
-use dem_core::lab::{LabError, LabModel};
-use dem_core::specimen::{GrainMode, Method, SpecimenParams};
+use dem_lab::model::FlatJointOption;
+use dem_lab::specimen::{GrainMode, Method, SpecimenParams};
+use dem_lab::specimens::TestSpecimen;
+use dem_lab::{LabError, LabModel};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};

@@ -69,7 +69,7 @@ enum VtkFormat {
 /// Above this many steps `dem run` states the count and refuses unless `--yes`: 10⁹ steps of
 /// a 1,500-disc cutting specimen take ~21 h on one core of the development machine (~20 M
 /// particle-steps/s); a mistyped stiffness or duration easily asks for 10¹⁴.
-pub const MAX_STEPS_UNASKED: u64 = dem_core::lab::run::STEP_LIMIT;
+pub const MAX_STEPS_UNASKED: u64 = dem_lab::run::STEP_LIMIT;
 
 pub fn run(a: RunArgs) -> Result<ExitCode, String> {
     let mut scene = dem_core::scene::load(&a.scene).map_err(|e| e.to_string())?;

@@ -91,7 +91,7 @@ pub fn schema(kind: Kind) -> Schema {
         Kind::Template => of::<clumpgen::Template>(),
         Kind::Specimen => of::<dem_core::scene::schema::SpecimenFile>(),
         Kind::Study => of::<crate::sweep::study::Study>(),
-        Kind::CuttingParams => of::<dem_core::lab::cutting::CuttingTest>(),
+        Kind::CuttingParams => of::<dem_lab::cutting::CuttingTest>(),
     };
     s.insert("title".into(), kind.title().into());
     s.insert(

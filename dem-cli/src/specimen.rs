@@ -2,7 +2,7 @@
 //! write it as a `dem.specimen/1` file with a summary JSON beside it (`docs/specimen.md`).
 
 use clap::Args;
-use dem_core::specimen::{
+use dem_lab::specimen::{
     self, io, FewGrains, GrainMode, IrregularCount, Method, Progress, RadiusDist, SpecimenParams,
 };
 use indicatif::{ProgressBar, ProgressStyle};
@@ -161,8 +161,7 @@ pub type MaterialInfo = (String, Option<f64>, Option<f64>, Option<f64>);
 
 pub fn read_material(path: &std::path::Path) -> Result<MaterialInfo, String> {
     // Typed, so a misspelled or mistyped key is an error naming the file and the key.
-    let m =
-        dem_core::lab::calibrate::MaterialFile::read_unchecked(path).map_err(|e| e.to_string())?;
+    let m = dem_lab::calibrate::MaterialFile::read_unchecked(path).map_err(|e| e.to_string())?;
     let e = m.measured.e_gpa.or(m.assumed.e_gpa).map(|g| g * 1e9);
     let tensile = m
         .measured
@@ -385,7 +384,7 @@ pub fn run(a: SpecimenArgs) -> Result<ExitCode, String> {
 
 /// The improved-ORC grains of a specimen (its summary) whose templates stopped below their
 /// cover target (none for other methods).
-pub fn below_cover(s: &dem_core::specimen::Summary) -> &[dem_core::specimen::improved::GrainCover] {
+pub fn below_cover(s: &dem_lab::specimen::Summary) -> &[dem_lab::specimen::improved::GrainCover] {
     s.templates
         .as_ref()
         .map(|t| t.below_cover.as_slice())
@@ -394,7 +393,7 @@ pub fn below_cover(s: &dem_core::specimen::Summary) -> &[dem_core::specimen::imp
 
 /// The warnings (one line per grain, naming `file`) and the count of the grains below their
 /// cover target, as the lab tests print them (none: nothing printed).
-pub fn print_cover(file: &std::path::Path, below: &[dem_core::specimen::improved::GrainCover]) {
+pub fn print_cover(file: &std::path::Path, below: &[dem_lab::specimen::improved::GrainCover]) {
     if below.is_empty() {
         return;
     }
@@ -414,7 +413,7 @@ const COVER_LIST: usize = 10;
 /// each naming the specimen file.
 pub fn cover_lines(
     file: &std::path::Path,
-    below: &[dem_core::specimen::improved::GrainCover],
+    below: &[dem_lab::specimen::improved::GrainCover],
 ) -> Vec<String> {
     let mut v: Vec<String> = below
         .iter()

@@ -9,14 +9,14 @@
 use crate::lab_args::{progress_bar, strict_cover, LabArgs};
 use crate::specimen::{parse_length, parse_speed, print_cover};
 use clap::{Args, Subcommand};
-use dem_core::lab::bending::BendingTest;
-use dem_core::lab::biaxial::BiaxialTest;
-use dem_core::lab::brazilian::BrazilianTest;
-use dem_core::lab::senb::SenbTest;
-use dem_core::lab::specimens::{self, Shape, TestSpecimen};
-use dem_core::lab::ucs::UcsTest;
-use dem_core::lab::{self, LabError, LabModel};
-use dem_core::specimen::{Progress, SpecimenParams};
+use dem_lab::bending::BendingTest;
+use dem_lab::biaxial::BiaxialTest;
+use dem_lab::brazilian::BrazilianTest;
+use dem_lab::senb::SenbTest;
+use dem_lab::specimen::{Progress, SpecimenParams};
+use dem_lab::specimens::{self, Shape, TestSpecimen};
+use dem_lab::ucs::UcsTest;
+use dem_lab::{self as lab, LabError, LabModel};
 use std::process::ExitCode;
 
 /// The lab tests.

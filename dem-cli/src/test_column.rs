@@ -1,5 +1,5 @@
 //! `dem test column`: a crushable granular column under one-dimensional compression
-//! (docs/lattice.md §7, `dem_core::lab::column`): 200+ lattice grains from outline files in a
+//! (docs/lattice.md §7, `dem_lab::column`): 200+ lattice grains from outline files in a
 //! box of rigid walls, a top platen moving down; stress–strain, gradings at stress levels,
 //! Hardin's relative breakage.
 
@@ -7,8 +7,8 @@ use crate::lab_args::progress_bar;
 use crate::specimen::{parse_length, parse_speed, parse_stress};
 use crate::test_crush::{criterion_of, CriterionFlags};
 use clap::Args;
-use dem_core::lab::column::{self, ColumnTest};
-use dem_core::lab::LabError;
+use dem_lab::column::{self, ColumnTest};
+use dem_lab::LabError;
 use std::path::PathBuf;
 use std::process::ExitCode;
 

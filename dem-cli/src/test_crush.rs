@@ -1,5 +1,5 @@
 //! `dem test crush`: one lattice grain crushed between two platens (docs/lattice.md §4,
-//! `dem_core::lab::crush`). The grain is a lattice template (`--template`) or an outline made
+//! `dem_lab::crush`). The grain is a lattice template (`--template`) or an outline made
 //! into one here (`--outline` with `--spacing`, as `dem clump --method lattice`).
 
 use crate::lab_args::progress_bar;
@@ -7,8 +7,8 @@ use crate::specimen::{parse_length, parse_stress};
 use clap::Args;
 use clumpgen::clump::LatticeParams;
 use clumpgen::{make_template, ClumpParams, Method, ReadOptions};
-use dem_core::lab::crush::{self, CrushTest, LinkCriterion};
-use dem_core::lab::LabError;
+use dem_lab::crush::{self, CrushTest, LinkCriterion};
+use dem_lab::LabError;
 use std::path::PathBuf;
 use std::process::ExitCode;
 

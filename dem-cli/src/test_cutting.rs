@@ -7,11 +7,11 @@
 use crate::lab_args::{progress_bar, read_model, FlatJointArgs, LabArgs};
 use crate::specimen::{parse_length, read_material};
 use clap::Args;
-use dem_core::lab::cutting::{self, CuttingResult, CuttingTest};
-use dem_core::lab::model::FlatJointOption;
-use dem_core::lab::tool::ToolModel;
-use dem_core::lab::LabModel;
-use dem_core::specimen::{io, SpecimenParams};
+use dem_lab::cutting::{self, CuttingResult, CuttingTest};
+use dem_lab::model::FlatJointOption;
+use dem_lab::specimen::{io, SpecimenParams};
+use dem_lab::tool::ToolModel;
+use dem_lab::LabModel;
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::{Deserialize, Serialize};
 use std::io::IsTerminal;
@@ -298,7 +298,7 @@ impl CuttingArgs {
         what: &str,
     ) -> Result<(), String> {
         cutting::check_geometry(test, extent).map_err(|e| match e {
-            dem_core::lab::LabError::Param { field, reason } => {
+            dem_lab::LabError::Param { field, reason } => {
                 let (given, value) = match field.as_str() {
                     "length" => (&self.length, test.length),
                     "depth" => (&self.depth, test.depth),
@@ -413,7 +413,7 @@ impl CuttingArgs {
     fn generate(&self, p: &SpecimenParams) -> Result<PathBuf, String> {
         let name = match (&self.material, self.specimen_from_model) {
             (Some(m), false) => read_material(m)?.0,
-            _ => dem_core::specimen::DEFAULT_MATERIAL.to_string(),
+            _ => dem_lab::specimen::DEFAULT_MATERIAL.to_string(),
         };
         std::fs::create_dir_all(&self.out).map_err(|e| format!("{}: {e}", self.out.display()))?;
         let path = self.out.join("specimen.json");
@@ -440,7 +440,7 @@ impl CuttingArgs {
             .build()
             .map_err(|e| e.to_string())?;
         let s = pool.install(|| {
-            dem_core::specimen::generate(p, &mut |pr| {
+            dem_lab::specimen::generate(p, &mut |pr| {
                 bar.set_prefix(pr.stage);
                 bar.set_position((pr.fraction.clamp(0.0, 1.0) * 1000.0) as u64);
             })
@@ -479,7 +479,7 @@ impl CuttingArgs {
                 std::fs::read_to_string(&src).map_err(|e| format!("{}: {e}", src.display()))?;
             io::write_atomic(&self.out.join(f), &text).map_err(|e| e.to_string())?;
             if f == SPECIMEN_FILES[1] {
-                let s: dem_core::specimen::Summary =
+                let s: dem_lab::specimen::Summary =
                     serde_json::from_str(&text).map_err(|e| format!("{}: {e}", src.display()))?;
                 summary = Some(s);
             }
@@ -496,7 +496,7 @@ impl CuttingArgs {
     fn check_cover(
         &self,
         path: &std::path::Path,
-        below: &[dem_core::specimen::improved::GrainCover],
+        below: &[dem_lab::specimen::improved::GrainCover],
         not_done: &str,
     ) -> Result<(), String> {
         if self.strict && !below.is_empty() {
@@ -759,7 +759,7 @@ pub fn report(r: &CuttingResult) -> String {
             "  removal mode       {:.0} % of chip discs in single-grain chips, {:.0} % in chips of ≤ {} grains (largest {}); chip speed mean {:.3} m/s, max {:.3} m/s (tool {} m/s)",
             100.0 * m.single_grain_share,
             100.0 * m.small_chip_share,
-            dem_core::lab::removal::SMALL_CHIP_GRAINS,
+            dem_lab::removal::SMALL_CHIP_GRAINS,
             m.largest_chip_grains,
             m.chip_speed_mean,
             m.chip_speed_max,
@@ -865,7 +865,7 @@ mod tests {
 
     fn model_file(dir: &std::path::Path, fj: Option<FlatJointOption>) -> String {
         let p = SpecimenParams::new(
-            dem_core::specimen::Method::Traditional,
+            dem_lab::specimen::Method::Traditional,
             20e-3,
             10e-3,
             0.175e-3,

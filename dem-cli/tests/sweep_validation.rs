@@ -12,9 +12,9 @@
 //!   numbers of validation running the same jobs itself: run records, seed-averaged peaks,
 //!   Table 2 cells, removal figures and study rows; cases not done are listed as not run.
 
-use dem_core::lab::cutting::CuttingTest;
-use dem_core::lab::LabModel;
-use dem_core::specimen::{Method, SpecimenParams};
+use dem_lab::cutting::CuttingTest;
+use dem_lab::specimen::{Method, SpecimenParams};
+use dem_lab::LabModel;
 use serde_json::{json, Value};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};

@@ -1,5 +1,6 @@
 //! dem-core: a 2D bonded-particle DEM solver (discs, parallel bonds, rigid clumps, walls) and
-//! the virtual lab tests built on it. See `docs/dem-core-design.md` for how the parts fit.
+//! its scene files and outputs. Specimens and the virtual lab tests built on it are the
+//! `dem-lab` crate. See `docs/dem-core-design.md` for how the parts fit.
 //!
 //! One step of [`World::step`]:
 //!
@@ -43,18 +44,14 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
-pub mod bench;
+// The solver's public modules: the state, the laws, the step and its files.
 pub mod bond;
 pub mod bonded_clump;
 pub mod checkpoint;
 pub mod clump;
 pub mod contact;
-pub mod counters;
 pub mod energy;
 pub mod fragments;
-pub mod guard;
-pub mod integrate;
-pub mod lab;
 pub mod lanes;
 pub mod mass_scaling;
 pub mod neighbors;
@@ -62,16 +59,28 @@ pub mod output;
 pub mod params;
 pub mod pipeline;
 pub mod scene;
-pub mod specimen;
 pub mod state;
-pub mod team;
 pub mod timestep;
-pub mod validate;
 pub mod wall_servo;
+
+// The step's machinery, private: the workers of the parallel stages, the integrator, input
+// checks, blow-up guard and stage counters are reached through `World`.
+mod counters;
+mod guard;
+mod integrate;
+mod team;
+mod validate;
+
+// In-memory benchmark scenes (`dem bench`) and the lattice fixtures the tests share; built
+// only for tests and with the `bench` feature, which `dem` turns on.
+#[cfg(any(test, feature = "bench"))]
+pub mod bench;
 
 pub use contact::{ContactLaws, ContactModel, ContactView, HertzMindlin, LinearSpringDashpot};
 pub use energy::EnergyReport;
 pub use guard::GuardError;
+pub use output::driver::{RunOptions, Simulation};
 pub use params::Params;
 pub use pipeline::{ExternalLoad, World, WorldError};
+pub use scene::Scene;
 pub use state::{Clumps, Discs, Periodic, State, Wall, FREE};

@@ -168,7 +168,7 @@ pub fn specimen(data: &[u8]) {
     {
         return;
     }
-    let _ = dem_core::lab::cutting::SpecimenInfo::read(&file);
+    let _ = dem_lab::cutting::SpecimenInfo::read(&file);
     let Ok(scene) = dem_core::scene::load(&scene_file) else {
         return;
     };
@@ -211,7 +211,7 @@ pub fn checkpoint(data: &[u8]) {
 /// history.csv text → table, or an error with its line.
 pub fn history(data: &[u8]) {
     if let Ok(text) = std::str::from_utf8(data) {
-        let _ = dem_core::lab::history::Table::parse(text);
+        let _ = dem_lab::history::Table::parse(text);
     }
 }
 

@@ -12,9 +12,9 @@ use crate::cutting_runs::{run_jobs, Job, Missing, Reused};
 use crate::error::{Error, Result};
 use crate::page::{json, Figure, Section};
 use crate::plot::{self, Series};
-use dem_core::lab::cutting::CuttingTest;
-use dem_core::lab::LabModel;
-use dem_core::specimen::{Method, SpecimenParams};
+use dem_lab::cutting::CuttingTest;
+use dem_lab::specimen::{Method, SpecimenParams};
+use dem_lab::LabModel;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 

@@ -1,7 +1,7 @@
 //! The report's "Crushable grains" section (issue 25 item 5): single-grain crushing
-//! (`dem_core::lab::crush`) of the synthetic outlines of `data/outlines` scaled to three sizes,
+//! (`dem_lab::crush`) of the synthetic outlines of `data/outlines` scaled to three sizes,
 //! with a Weibull fit of the strengths per size (Weibull 1951) and the size-effect exponent of
-//! the characteristic strength (`dem_core::lab::weibull`).
+//! the characteristic strength (`dem_lab::weibull`).
 //!
 //! The lattice spacing is a constant fraction of the grain's equivalent radius (S = 0.18 R_eq,
 //! R_eq/S = 5.6, about 90–100 nodes a grain), so each grain's lattice is the same at every size,
@@ -22,8 +22,8 @@ use crate::page::{json, Figure, Section};
 use crate::plot::{self, Series};
 use clumpgen::clump::LatticeParams;
 use clumpgen::{make_template, ClumpParams, Length, Method, ReadOptions};
-use dem_core::lab::crush::{self, CrushTest, LinkCriterion};
-use dem_core::lab::weibull::{power_law_fit, ranks, weibull_fit, PowerLaw, WeibullFit};
+use dem_lab::crush::{self, CrushTest, LinkCriterion};
+use dem_lab::weibull::{power_law_fit, ranks, weibull_fit, PowerLaw, WeibullFit};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 

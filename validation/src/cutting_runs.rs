@@ -1,5 +1,5 @@
 //! The cutting runs behind Table 2 and the convergence study: specimens (generated once and
-//! cached by their parameters), then one cutting test ([`dem_core::lab::cutting::run`]) per
+//! cached by their parameters), then one cutting test ([`dem_lab::cutting::run`]) per
 //! [`Job`], one job per worker thread at a time, each on a one-thread pool (small systems run
 //! best on one core; results do not depend on the thread count).
 //!
@@ -11,9 +11,9 @@
 use crate::error::{Error, Result};
 use crate::force_statistics::main_force;
 use crate::table2::RunRecord;
-use dem_core::lab::cutting::{self, CuttingResult, CuttingTest};
-use dem_core::lab::LabModel;
-use dem_core::specimen::{self, Method, SpecimenParams};
+use dem_lab::cutting::{self, CuttingResult, CuttingTest};
+use dem_lab::specimen::{self, Method, SpecimenParams};
+use dem_lab::LabModel;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -88,7 +88,7 @@ impl Plan {
 /// improved ORC.
 pub fn normalize_grains(sp: &mut SpecimenParams) {
     if sp.method == Method::Traditional {
-        sp.grains = dem_core::specimen::GrainMode::All;
+        sp.grains = dem_lab::specimen::GrainMode::All;
     }
 }
 
@@ -481,7 +481,7 @@ struct HistoryStats {
     peak_avg_n: Option<f64>,
     /// Travel-weighted mean, median, raw and moving-mean peak, top-5 % work share on the
     /// [`crate::force_statistics`] grid and width.
-    run: Option<dem_core::lab::force_stats::RunStats>,
+    run: Option<dem_lab::force_stats::RunStats>,
 }
 
 impl HistoryStats {
@@ -492,8 +492,8 @@ impl HistoryStats {
         };
         let [from, to] = res.window;
         HistoryStats {
-            peak_avg_n: dem_core::lab::analysis::moving_mean_peak(&x, &f, from, to, grain),
-            run: dem_core::lab::force_stats::run_stats(
+            peak_avg_n: dem_lab::analysis::moving_mean_peak(&x, &f, from, to, grain),
+            run: dem_lab::force_stats::run_stats(
                 (&x, &f),
                 res.window,
                 crate::force_statistics::GRID_STEP_M,

@@ -95,10 +95,10 @@ pub enum Error {
     Plot(String),
     /// A lab test (cutting, bending, crushing) or its inputs failed.
     #[error(transparent)]
-    Lab(#[from] dem_core::lab::LabError),
+    Lab(#[from] dem_lab::LabError),
     /// A specimen could not be generated or saved.
     #[error(transparent)]
-    Specimen(#[from] dem_core::specimen::SpecimenError),
+    Specimen(#[from] dem_lab::specimen::SpecimenError),
     /// A grain outline could not be read.
     #[error(transparent)]
     Outline(#[from] clumpgen::OutlineError),
@@ -115,7 +115,7 @@ pub enum Error {
     #[error("{what}: {source}")]
     ForceStats {
         what: String,
-        source: dem_core::lab::force_stats::ForceStatsError,
+        source: dem_lab::force_stats::ForceStatsError,
     },
     /// A cell of force statistics given no runs.
     #[error("a cell without runs")]

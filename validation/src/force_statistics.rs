@@ -2,7 +2,7 @@
 //! 3). S0 reports a peak and a mean main cutting force per case, "the mean of 5 runs", and
 //! never defines its peak. Beside the raw peak (the largest sample of each run, averaged over
 //! the seeds: 14–26× the mean in our runs, 1.5–1.9× in the paper) we give the **seed-averaged
-//! moving-mean peak** of [`dem_core::lab::force_stats::seed_averaged_peak`]:
+//! moving-mean peak** of [`dem_lab::force_stats::seed_averaged_peak`]:
 //!
 //! - main force = the horizontal force on the tool opposing its motion (as before);
 //! - window = the run's steady window [2 a_p, L] (the tool's entry, the first impact on the
@@ -18,7 +18,7 @@
 
 use crate::error::Error;
 use crate::table2::PaperTable2;
-use dem_core::lab::force_stats::{self, ForceStatsError, History};
+use dem_lab::force_stats::{self, ForceStatsError, History};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -48,7 +48,7 @@ pub use crate::table2::PEAK_STATISTIC;
 
 /// Tool travel (m) and main force (N) of a run's `cutting.forces.csv`.
 pub fn main_force(file: &Path) -> Option<(Vec<f64>, Vec<f64>)> {
-    let t = dem_core::lab::history::Table::read(file).ok()?;
+    let t = dem_lab::history::Table::read(file).ok()?;
     Some((t.column("travel_m", "").ok()?, t.column("main_N", "").ok()?))
 }
 
@@ -102,7 +102,7 @@ pub fn load_run_named(dir: &Path, name: &str) -> crate::error::Result<LoadedRun>
     let (method, depth_mm, speed_m_s, seed) = parse_name(name).ok_or_else(|| Error::RunName {
         name: name.to_string(),
     })?;
-    let rf = dir.join(dem_core::lab::cutting::RESULT_FILE);
+    let rf = dir.join(dem_lab::cutting::RESULT_FILE);
     let text = std::fs::read_to_string(&rf).map_err(Error::io(&rf))?;
     let v: serde_json::Value = serde_json::from_str(&text).map_err(Error::json(&rf))?;
     let window = [
@@ -115,7 +115,7 @@ pub fn load_run_named(dir: &Path, name: &str) -> crate::error::Result<LoadedRun>
             file: rf.display().to_string(),
             field: "main_force.mean".to_string(),
         })?;
-    let ff = dir.join(dem_core::lab::cutting::FORCES_FILE);
+    let ff = dir.join(dem_lab::cutting::FORCES_FILE);
     let (travel, force) = main_force(&ff).ok_or_else(|| Error::Unreadable {
         file: ff.display().to_string(),
     })?;
@@ -138,7 +138,7 @@ pub fn load_runs(dir: &Path) -> crate::error::Result<Vec<LoadedRun>> {
     let mut names: Vec<_> = std::fs::read_dir(dir)
         .map_err(Error::io(dir))?
         .filter_map(|e| e.ok())
-        .filter(|e| e.path().join(dem_core::lab::cutting::RESULT_FILE).exists())
+        .filter(|e| e.path().join(dem_lab::cutting::RESULT_FILE).exists())
         .map(|e| e.path())
         .collect();
     names.sort();

@@ -96,7 +96,7 @@ fn main() -> ExitCode {
     }
     let mut methods = vec![];
     for m in &a.methods {
-        match dem_core::specimen::Method::parse(m) {
+        match dem_lab::specimen::Method::parse(m) {
             Some(m) => methods.push(m),
             None => {
                 eprintln!("error: --methods: unknown method `{m}` (traditional, orc, improved)");

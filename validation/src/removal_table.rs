@@ -15,7 +15,7 @@
 
 use crate::error::{Error, Result};
 use crate::table2::{greater, METHODS};
-use dem_core::lab::cutting::{CuttingResult, RESULT_FILE};
+use dem_lab::cutting::{CuttingResult, RESULT_FILE};
 use serde::Serialize;
 use std::path::Path;
 

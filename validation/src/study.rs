@@ -16,9 +16,9 @@
 use crate::cutting_runs::{Job, Plan};
 use crate::error::{Error, Result};
 use crate::sweep_runs::{outcome, Source};
-use dem_core::lab::analysis::moving_mean_peak;
-use dem_core::lab::cutting::{CuttingResult, CuttingTest};
-use dem_core::specimen::{Method, SpecimenParams};
+use dem_lab::analysis::moving_mean_peak;
+use dem_lab::cutting::{CuttingResult, CuttingTest};
+use dem_lab::specimen::{Method, SpecimenParams};
 use serde::{Deserialize, Serialize};
 use serde_json::{Map, Value};
 use std::fmt::Write as _;
@@ -187,9 +187,8 @@ fn window_mean(x: &[f64], f: &[f64], a: f64, b: f64) -> f64 {
 
 /// The row of one finished run in `dir`.
 pub fn row(variant: &str, job: &Job, res: &CuttingResult, dir: &Path, cpu: Option<f64>) -> Row {
-    let (x, f) =
-        crate::force_statistics::main_force(&dir.join(dem_core::lab::cutting::FORCES_FILE))
-            .unwrap_or_default();
+    let (x, f) = crate::force_statistics::main_force(&dir.join(dem_lab::cutting::FORCES_FILE))
+        .unwrap_or_default();
     let [a, b] = res.window;
     let mid = 0.5 * (a + b);
     let energy = std::fs::read_to_string(dir.join("summary.json"))
@@ -365,7 +364,7 @@ pub fn plots(
                 let mut series = vec![];
                 for var in &spec.variants {
                     let run = format!("{}-{}-d{}-v{}-s{seed}", var.name, method.name(), d, v);
-                    let file = dir_of(&run).map(|d| d.join(dem_core::lab::cutting::FORCES_FILE));
+                    let file = dir_of(&run).map(|d| d.join(dem_lab::cutting::FORCES_FILE));
                     if let Some((x, f)) = file.and_then(|f| crate::force_statistics::main_force(&f))
                     {
                         let pts = smooth(&x, &f, d * 1e-3)

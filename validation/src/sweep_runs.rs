@@ -15,9 +15,9 @@
 
 use crate::cutting_runs::{finished, key_of, key_text, run_jobs, Job, Missing, Outcome};
 use crate::error::{Error, Result};
-use dem_core::lab::cutting::{CuttingResult, CuttingTest, RESULT_FILE};
-use dem_core::lab::LabModel;
-use dem_core::specimen::SpecimenParams;
+use dem_lab::cutting::{CuttingResult, CuttingTest, RESULT_FILE};
+use dem_lab::specimen::SpecimenParams;
+use dem_lab::LabModel;
 use serde::Deserialize;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};

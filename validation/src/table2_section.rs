@@ -9,8 +9,8 @@ use crate::page::{json, Figure, Section};
 use crate::plot::{self, Series};
 use crate::sweep_runs::{outcome, Source};
 use crate::table2::{self, PaperTable2, METHODS};
-use dem_core::lab::LabModel;
-use dem_core::specimen::{FewGrains, GrainMode, Method, SpecimenParams};
+use dem_lab::specimen::{FewGrains, GrainMode, Method, SpecimenParams};
+use dem_lab::LabModel;
 use std::path::Path;
 
 /// The calibrated Si3N4 model (`data/models/si3n4.model.json`, written by `dem calibrate`).
@@ -223,7 +223,7 @@ pub fn section(
         let f = runs
             .iter()
             .find(|r| r.name == name)
-            .map(|r| r.dir.join(dem_core::lab::cutting::FORCES_FILE));
+            .map(|r| r.dir.join(dem_lab::cutting::FORCES_FILE));
         if let Some(points) = f.and_then(|f| force_series(&f, scale)) {
             series.push(Series {
                 name: m.into(),

@@ -3,7 +3,7 @@
 //! paper's models, the experiment and the handbook.
 //!
 //! Set-up (chosen where S0 is silent; the paper gives only its real beams, 170 × 15 × 10 mm and
-//! 350 × 30 × 20 mm, not its model's): the calibration's beam (`lab::bending`, 20 × 5 mm on a
+//! 350 × 30 × 20 mm, not its model's): the calibration's beam (`dem_lab::bending`, 20 × 5 mm on a
 //! 16 mm span, radii 0.175–0.285 mm, the cutting resolution) and each granite's calibrated
 //! model (`data/models/granite-*.model.json`, fitted to the measured σ_f on a traditional beam of
 //! seed 1: the table's one calibration, made before and outside this table). The ORC and
@@ -12,7 +12,7 @@
 //! reference (seed 1 is the calibration's). Nothing is fitted here.
 //!
 //! Decision log. 2026-11-28: improved-ORC beams are generated with
-//! `Insertion::Servo` (`dem_core::specimen::few`, "Insertion"). With the default affine stress
+//! `Insertion::Servo` (`dem_lab::specimen::few`, "Insertion"). With the default affine stress
 //! stage 7 of the 10 improved beams failed: 3 generations did not converge and 4 beams bore
 //! their load on so few contacts that the test's load fell with no bond broken (G603 seed 2:
 //! 238 grain-boundary bonds for 366 grains, ORC 778). Chosen on G603 seeds 2 and 4 (both
@@ -27,11 +27,11 @@ use crate::cutting_runs::Missing;
 use crate::error::{Error, Result};
 use crate::page::{json, Figure, Section};
 use crate::plot;
-use dem_core::lab::bending::{self, BendingTest};
-use dem_core::lab::calibrate::MaterialFile;
-use dem_core::lab::specimens;
-use dem_core::lab::LabModel;
-use dem_core::specimen::{FewGrains, GrainMode, Insertion, Method, SpecimenParams};
+use dem_lab::bending::{self, BendingTest};
+use dem_lab::calibrate::MaterialFile;
+use dem_lab::specimen::{FewGrains, GrainMode, Insertion, Method, SpecimenParams};
+use dem_lab::specimens;
+use dem_lab::LabModel;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 

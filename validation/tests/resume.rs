@@ -10,7 +10,7 @@ use validation::table2_section::plan;
 fn finished_runs_are_read_back_and_changed_ones_rerun() {
     let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("../data");
     let mut p = plan(&data, true).unwrap();
-    p.methods = vec![dem_core::specimen::Method::Traditional];
+    p.methods = vec![dem_lab::specimen::Method::Traditional];
     p.depths_mm = vec![1.0];
     p.speeds_m_s = vec![2.0];
     p.length = 1.0e-3;

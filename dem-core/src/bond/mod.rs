@@ -15,6 +15,7 @@
 //! same arithmetic in the same order. Results are bit-identical for any thread count.
 
 pub mod attach;
+#[cfg(any(test, feature = "bench"))]
 pub mod bench;
 pub mod breaks;
 pub mod contact_bond;

@@ -51,7 +51,7 @@ pub struct StepHook {
     pub run: Box<dyn FnMut(&mut World) -> Result<(), String>>,
     /// Asked after `run`, at the same steps: `true` ends the run there as at failure
     /// ([`Ending::Failure`], summary status `failure`, a history row and the final checkpoint
-    /// written), e.g. a crushed grain's first major breakage (`lab::crush`). A function of
+    /// written), e.g. a crushed grain's first major breakage (`dem_lab::crush`). A function of
     /// the world alone, as `run`.
     #[allow(clippy::type_complexity)]
     pub stop: Option<Box<dyn FnMut(&World) -> bool>>,

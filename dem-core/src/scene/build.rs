@@ -54,7 +54,7 @@ pub fn build(scene: &Scene) -> Result<World, SceneError> {
     }
     // Rigid clumps of specimen-file discs (the scene's discs come first: index = id).
     for (k, m) in scene.rigid_clumps.iter().enumerate() {
-        crate::specimen::orc::make_rigid_clump(&mut st, m, "specimen").ok_or_else(|| {
+        crate::clump::orc::make_rigid_clump(&mut st, m, "specimen").ok_or_else(|| {
             fail(
                 &format!("rigid clump {k}"),
                 "a member is missing or in another clump".into(),

@@ -15,6 +15,23 @@ pub use build::build;
 pub use model::Scene;
 pub use resolve::{load, parse};
 
+/// One bond group of a scene file, `bond_groups[index]` of `file`, checked and resolved as the
+/// loader does (defaults, ranges; errors name the file and field): for tools that read a
+/// scene's bond models without loading the whole scene.
+pub fn bond_group(
+    file: &str,
+    index: usize,
+    spec: &schema::BondGroupSpec,
+) -> Result<crate::bond::BondGroup, SceneError> {
+    bondspec::bond_group(
+        &check::Ck {
+            file: file.to_string(),
+        },
+        index,
+        spec,
+    )
+}
+
 /// Errors loading a scene; each names the file and the field (JSON path) at fault.
 #[derive(Debug, thiserror::Error)]
 pub enum SceneError {

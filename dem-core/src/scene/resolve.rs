@@ -140,9 +140,7 @@ impl Resolver {
                 self.disc_set(&sck, &format!("discs[{k}]"), set, su, off)?;
             }
             let n = self.discs.len() - base;
-            let links = crate::specimen::io::resolve_links(&sfile, &spec, base, n, su, |f, g| {
-                self.group(&sck, f, g)
-            })?;
+            let links = resolve_links(&sfile, &spec, base, n, su, |f, g| self.group(&sck, f, g))?;
             self.rigid_clumps.extend(links.0);
             self.bonds.extend(links.1);
             for (k, set) in spec.clumps.iter().enumerate() {
@@ -610,4 +608,92 @@ impl Resolver {
             })
             .collect()
     }
+}
+
+/// The rigid clumps and explicit bonds of specimen file `spec` (read from `file`), whose `n`
+/// discs were loaded as scene discs `base..base + n`: indices checked and shifted, bond groups
+/// resolved by `group(field, name)`, contact offsets converted with `u` (m per file unit).
+/// Used by the scene loader.
+#[allow(clippy::type_complexity)]
+pub fn resolve_links(
+    file: &str,
+    spec: &SpecimenFile,
+    base: usize,
+    n: usize,
+    u: f64,
+    group: impl Fn(&str, &str) -> Result<usize, SceneError>,
+) -> Result<(Vec<Vec<usize>>, Vec<ExplicitBond>), SceneError> {
+    let err = |field: String, reason: String| SceneError::Field {
+        file: file.to_string(),
+        field,
+        reason,
+    };
+    let index = |field: String, i: u32| -> Result<usize, SceneError> {
+        if (i as usize) < n {
+            Ok(base + i as usize)
+        } else {
+            Err(err(
+                field,
+                format!("disc {i} does not exist (the specimen has {n})"),
+            ))
+        }
+    };
+    let mut in_clump = vec![false; n];
+    let mut clumps = Vec::with_capacity(spec.rigid_clumps.len());
+    for (k, members) in spec.rigid_clumps.iter().enumerate() {
+        if members.is_empty() {
+            return Err(err(format!("rigid_clumps[{k}]"), "has no members".into()));
+        }
+        let mut m = Vec::with_capacity(members.len());
+        for (q, &i) in members.iter().enumerate() {
+            let d = index(format!("rigid_clumps[{k}][{q}]"), i)?;
+            if std::mem::replace(&mut in_clump[d - base], true) {
+                return Err(err(
+                    format!("rigid_clumps[{k}][{q}]"),
+                    format!("disc {i} is already in a rigid clump"),
+                ));
+            }
+            m.push(d);
+        }
+        clumps.push(m);
+    }
+    let mut bonds = Vec::new();
+    for (k, list) in spec.bonds.iter().enumerate() {
+        let g = group(&format!("bonds[{k}].bond_group"), &list.bond_group)?;
+        if let Some(o) = &list.contact_offsets {
+            if o.len() != list.pairs.len() {
+                return Err(err(
+                    format!("bonds[{k}].contact_offsets"),
+                    format!("needs {} entries, one per pair", list.pairs.len()),
+                ));
+            }
+        }
+        for (q, &[a, b]) in list.pairs.iter().enumerate() {
+            let a = index(format!("bonds[{k}].pairs[{q}][0]"), a)?;
+            let b = index(format!("bonds[{k}].pairs[{q}][1]"), b)?;
+            if a == b {
+                return Err(err(
+                    format!("bonds[{k}].pairs[{q}]"),
+                    "a disc cannot be bonded to itself".into(),
+                ));
+            }
+            let g0 = match &list.contact_offsets {
+                Some(o) if o[q].is_finite() => o[q] * u,
+                Some(_) => {
+                    return Err(err(
+                        format!("bonds[{k}].contact_offsets[{q}]"),
+                        "must be a finite number".into(),
+                    ))
+                }
+                None => 0.0,
+            };
+            bonds.push(ExplicitBond {
+                a,
+                b,
+                group: g,
+                contact_offset: g0.min(0.0),
+            });
+        }
+    }
+    Ok((clumps, bonds))
 }

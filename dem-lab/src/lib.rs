@@ -1,0 +1,109 @@
+//! dem-lab: bonded-particle specimens and the virtual lab tests (uniaxial compression,
+//! Brazilian, three-point bending, SE(B) fracture, biaxial, cutting, grain crushing) run on the
+//! dem-core solver, with the analyses that turn their histories into material properties.
+//! dem-core knows nothing of this crate; dem-cli (`dem specimen`, `dem test`, `dem calibrate`)
+//! and validation use it.
+//!
+//! ```text
+//! specimen  the three specimens (traditional, ORC, improved ORC) and the dem.specimen/1 file
+//! model     LabModel: density, thickness, micro-parameters → scene materials and bond groups
+//! run       write the test's scene file (plain, editable, `dem run` runs it), run it, read history
+//! history   history.csv back as named columns
+//! analysis  the standard formulas: E, ν, UCS; σ_t = 2F/(πDt); σ_f = 3FL/(2bh²); K_IC (S4, E399);
+//!           force stats
+//! force_stats cutting-force statistics: resampled histories, seed-averaged moving-mean peak
+//! specimens test specimens (the user's parameters, the test's shape; Brazilian disc carved),
+//!           saved beside the scene and reused when their key file matches
+//! common    quasi-static loading rule and run settings shared by the tests, result files
+//! ucs       uniaxial compression: E, ν (10–50 % pre-peak band), UCS
+//! brazilian Brazilian disc: σ_t
+//! bending   three-point bending: σ_f, elastic stiffness (vs Timoshenko)
+//! senb      single-edge-notched beam (ASTM E399 SE(B)): K_IC, measured β of β σ̄_c √(πR̄)
+//! cutting   the cutting test (tool.rs geometry, chips.rs fragments, surface.rs roughness)
+//! calibrate micro-parameters from target properties (Potyondy & Cundall 2004 procedure)
+//! crush     crushable grains (a lattice inside each outline) between platens; column: many of
+//!           them in a column, weibull: the strength statistics
+//! ```
+//!
+//! Docs: `docs/lab-tests.md`. A UCS test, as `dem test ucs` runs it: a small bonded specimen
+//! (about 200 discs) generated, written and reused from a folder, compressed between two
+//! platens until it fails (a fraction of a second):
+//!
+//! ```
+//! use dem_lab::{specimens, ucs::{self, UcsTest}, LabModel};
+//! use dem_lab::specimen::{Method, SpecimenParams};
+//!
+//! let dir = std::env::temp_dir().join(format!("dem-doc-ucs-{}", std::process::id()));
+//! // 2.5 x 5 mm, radii 0.10-0.15 mm, Si3N4-like: 3200 kg/m³, E = 300 GPa, σ_t = 500 MPa, seed 1.
+//! let p = SpecimenParams::new(Method::Traditional, 2.5e-3, 5e-3, 0.1e-3, 0.15e-3,
+//!                             3200.0, 300e9, 500e6, 1);
+//! let test = UcsTest { width: 2.5e-3, height: 5e-3, ..UcsTest::default() };
+//! let spec = specimens::prepare(&p, test.shape(), &dir.join("ucs.specimen.json"), &mut |_| {})?;
+//! let model = LabModel::from_params(&p);
+//! let o = ucs::run(&test, &model, &spec, &mut |_done, _total| {})?;
+//! let r = &o.result;
+//! assert!(r.young > 0.0 && r.ucs > 0.0 && r.poisson.is_finite());
+//! assert!(dir.join("ucs.json").is_file()); // the scene, which `dem run` runs again
+//! # std::fs::remove_dir_all(&dir)?;
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+pub mod analysis;
+pub mod bending;
+pub mod biaxial;
+pub mod brazilian;
+pub mod calibrate;
+pub mod chips;
+pub mod column;
+pub mod common;
+pub mod crush;
+pub mod cutting;
+pub mod debris;
+pub mod force_stats;
+pub mod history;
+pub mod model;
+pub mod removal;
+pub mod run;
+pub mod senb;
+pub mod specimen;
+pub mod specimens;
+pub mod surface;
+pub mod tool;
+pub mod ucs;
+pub mod virtual_lab;
+pub mod weibull;
+
+pub use model::LabModel;
+
+/// Errors of the lab tests; each names the file or field at fault.
+#[derive(Debug, thiserror::Error)]
+pub enum LabError {
+    #[error("{file}: {source}")]
+    Io {
+        file: String,
+        source: std::io::Error,
+    },
+    #[error(transparent)]
+    Scene(#[from] dem_core::scene::SceneError),
+    #[error(transparent)]
+    Run(#[from] dem_core::output::driver::RunError),
+    #[error(transparent)]
+    Output(#[from] dem_core::output::OutputError),
+    #[error(transparent)]
+    History(#[from] history::HistoryError),
+    #[error(transparent)]
+    Specimen(#[from] crate::specimen::SpecimenError),
+    #[error("{test}: {reason}")]
+    Analysis { test: String, reason: String },
+    #[error("{field}: {reason}")]
+    Param { field: String, reason: String },
+    #[error("{dir}: stopped at step {step} before the end (max_steps); run it again to continue from its last checkpoint")]
+    Stopped { dir: String, step: u64 },
+    #[error("{scene}: the test needs {steps} steps of dt = {dt:.3e} s, more than the {limit} a lab test runs; check the stiffness and density (dt scales with sqrt(mass/stiffness)), the loading speed and the specimen size, or run the written scene with `dem run --yes`")]
+    TooManySteps {
+        scene: String,
+        steps: u64,
+        dt: f64,
+        limit: u64,
+    },
+}
