@@ -12,13 +12,11 @@
 //!   `pair_columns`: the loads and transposes that turn records into the SoA columns of
 //!   four pairs (or bonds).
 //!
-//! Not here (yet): the minimum image. The contact pass uses `neighbors::MinImage` (compare
-//! and select: d − L when d > L/2, d + L when d < −L/2; skipped when the box is not
-//! periodic) and the bond kernels `bond::kernel::min_image` (d − L·round(d/L) with the
-//! 1.5·2⁵² rounding trick, branch-free on every axis, periodic or not). The two give the same
-//! bits except for |d| within rounding of L/2 and |d| ≥ 1.5 L (no bond or listed pair is
-//! that long), so merging them is a behaviour change for those cases and an instruction
-//! count change for the bond kernels: to be made on purpose and measured.
+//! The minimum image is `neighbors::MinImage` (beside the cell grid, whose periodic box it
+//! wraps): compare and select, d − L when d > L/2, d + L when d < −L/2 (L = +∞ on an axis that
+//! is not periodic, so neither holds). The contact pass, the disc–wall pass, the bond kernels
+//! (scalar and four-lane) and the fused bonds all use it; the bond kernels' earlier
+//! d − L·round(d/L) gave the same bits for every bond shorter than L/2.
 
 /// Pairs per block of the disc–disc pass (`contact::kernel`): a block's pairs are gathered
 /// into a scratch of columns, evaluated branch-free over the whole block (a fixed trip count

@@ -104,8 +104,8 @@ pub fn pairs_within_gap(st: &State, tol: f64) -> Vec<(u32, u32)> {
 /// Gap between discs `i` and `j` (minimum image on periodic axes).
 pub fn gap(st: &State, i: usize, j: usize) -> f64 {
     let d = &st.discs;
-    let dx = st.periodic.delta(0, d.x[i], d.x[j]);
-    let dy = st.periodic.delta(1, d.y[i], d.y[j]);
+    let (dx, dy) =
+        crate::state::MinImage::new(&st.periodic).delta(d.x[j] - d.x[i], d.y[j] - d.y[i]);
     (dx * dx + dy * dy).sqrt() - d.r[i] - d.r[j]
 }
 

@@ -17,7 +17,7 @@ use super::{contact_bond, potyondy2004, BondGroup, BondModel};
 #[cfg(target_arch = "x86_64")]
 use crate::lanes::transpose4;
 use crate::lanes::{Packed, BOND_BLOCK};
-use crate::state::Periodic;
+use crate::neighbors::MinImage;
 
 /// `status` codes: intact, broken (tension/shear), and broken in the current step (not yet
 /// logged).
@@ -28,25 +28,6 @@ pub(super) const NEW: u8 = 3; // + mode index
 /// Use the parallel path (ranges of bonds, [`super::split`]) from this many bonds on (and with
 /// more than one thread).
 pub(super) const PAR_MIN_BONDS: usize = 8192;
-
-/// Per axis (box length, 1/length), (0, 0) when not periodic.
-pub(super) fn per_axes(p: &Periodic) -> [(f64, f64); 2] {
-    let ax = |a: usize| match p.length[a] {
-        Some(l) if l > 0.0 && l.is_finite() => (l, 1.0 / l),
-        _ => (0.0, 0.0),
-    };
-    [ax(0), ax(1)]
-}
-
-/// The 1.5·2⁵² rounding constant: (x + M) − M rounds x to the nearest integer (ties to even)
-/// for |x| < 2⁵¹, without `f64::round` (a library call on baseline x86-64).
-pub(super) const MAGIC: f64 = 6_755_399_441_055_744.0;
-
-/// Minimum-image form of a difference `d` on an axis with `(l, 1/l)` (`(0, 0)`: not periodic).
-#[inline(always)]
-pub(super) fn min_image(d: f64, (l, inv): (f64, f64)) -> f64 {
-    d - l * ((d * inv + MAGIC) - MAGIC)
-}
 
 /// Unit normal n̂ from i to j ((1, 0) for coincident centres), gap, and the arms
 /// a_i = R_i + g/2, a_j = R_j + g/2 from the centres to the contact point.
@@ -69,7 +50,8 @@ pub(super) struct DiscView<'a> {
     pub vy: &'a [f64],
     pub omega: &'a [f64],
     pub r: &'a [f64],
-    pub per: [(f64, f64); 2],
+    /// The minimum image of the periodic axes (the contact pass's, [`MinImage`]).
+    pub img: MinImage,
 }
 
 impl DiscView<'_> {
@@ -89,8 +71,9 @@ impl DiscView<'_> {
 
     /// (n̂, gap, a_i, a_j) of the pair (i, j), as the kernel computes them.
     pub fn geometry(&self, i: usize, j: usize) -> (f64, f64, f64, f64, f64) {
-        let dx = min_image(self.x[j] - self.x[i], self.per[0]);
-        let dy = min_image(self.y[j] - self.y[i], self.per[1]);
+        let (dx, dy) = self
+            .img
+            .delta_select(self.x[j] - self.x[i], self.y[j] - self.y[i]);
         normal_gap(dx, dy, self.r[i], self.r[j])
     }
 }
@@ -651,8 +634,7 @@ fn block<const VALID: bool>(
     {
         let [gnx, gny, ggap, gai, gaj, gvt, gdw] = geo;
         for k in 0..BOND_BLOCK {
-            let dx = min_image(dxs[k], v.per[0]);
-            let dy = min_image(dys[k], v.per[1]);
+            let (dx, dy) = v.img.delta_select(dxs[k], dys[k]);
             let (nx, ny, gap, ai, aj) = normal_gap(dx, dy, ris[k], rjs[k]);
             gnx[k] = nx;
             gny[k] = ny;

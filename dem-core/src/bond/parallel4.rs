@@ -11,13 +11,13 @@
 //! Taken by the block kernel (`kernel::block`) for a full block of intact parallel bonds with
 //! the stress criterion (one group or several: the parameters are read per bond from
 //! `StressParams`), when the packed records are there (AVX2). Every operation is the one the
-//! general path performs (the same IEEE operations in the same order: `kernel::min_image`,
+//! general path performs (the same IEEE operations in the same order: `MinImage::delta_select`,
 //! `normal_gap`, the tangential velocity of pass 1b, `potyondy2004::update`,
 //! `criteria::stress_flags` and `finish`), so the results are the same bits; the tests
 //! compare it with the general path.
 
 use super::criteria::BreakMode;
-use super::kernel::{BlockOut, BondsIn, BondsMut, Ctx, MAGIC, NEW};
+use super::kernel::{BlockOut, BondsIn, BondsMut, Ctx, NEW};
 use crate::lanes::pair_columns;
 use crate::lanes::BOND_BLOCK;
 
@@ -100,8 +100,9 @@ unsafe fn block_with(
     let status: &mut [u8; BOND_BLOCK] = (&mut *m.status).try_into().expect("a full block");
     let base_pk = c.packed.as_ptr();
     let set = _mm256_set1_pd;
-    let [(lx, ix), (ly, iy)] = c.v.per;
-    let (lx, ix, ly, iy, magic) = (set(lx), set(ix), set(ly), set(iy), set(MAGIC));
+    let [lx, hx, ly, hy] = c.v.img.parts();
+    let (lx, hx, nhx) = (set(lx), set(hx), set(-hx));
+    let (ly, hy, nhy) = (set(ly), set(hy), set(-hy));
     let (zero, one, half, sign) = (_mm256_setzero_pd(), set(1.0), set(0.5), set(-0.0));
     let (two, two_thirds, third) = (set(2.0), set(2.0 / 3.0), set(1.0 / 3.0));
     let (t, dt) = (set(c.t), set(c.dt));
@@ -110,8 +111,13 @@ unsafe fn block_with(
     // SAFETY (loads and stores at k): k + 4 <= BOND_BLOCK, the arrays' length.
     let ld = |a: &[f64; BOND_BLOCK], k: usize| _mm256_loadu_pd(a.as_ptr().add(k));
     let st = |a: &mut [f64; BOND_BLOCK], k: usize, v| _mm256_storeu_pd(a.as_mut_ptr().add(k), v);
-    // `kernel::min_image`: d − l·((d/l + M) − M), (l, 1/l) = (0, 0) when not periodic.
-    let image = |d, l, inv| sub(d, mul(l, sub(add(mul(d, inv), magic), magic)));
+    // `MinImage::delta_select`: d − L when d > L/2, d + L when d < −L/2, else d (L = +∞ on
+    // an axis that is not periodic: neither holds).
+    let image = |d, l, h, nh| {
+        let above = _mm256_cmp_pd::<_CMP_GT_OQ>(d, h);
+        let below = _mm256_cmp_pd::<_CMP_LT_OQ>(d, nh);
+        _mm256_blendv_pd(_mm256_blendv_pd(d, add(d, l), below), sub(d, l), above)
+    };
     let [ox, oy, oti, otj] = out;
     // Bits k of the block: tension and shear conditions.
     let (mut tension, mut shear) = (0u32, 0u32);
@@ -120,7 +126,7 @@ unsafe fn block_with(
         let jj = std::array::from_fn(|l| j_[k + l] as usize);
         // SAFETY: every index below c.packed.len() (the contract).
         let ([dx, dy, dvx, dvy], [wi, ri, _], [wj, rj, _]) = pair_columns(base_pk, ii, jj);
-        let (dx, dy) = (image(dx, lx, ix), image(dy, ly, iy));
+        let (dx, dy) = (image(dx, lx, hx, nhx), image(dy, ly, hy, nhy));
         // `normal_gap`.
         let dist = _mm256_sqrt_pd(add(mul(dx, dx), mul(dy, dy)));
         let ok = _mm256_cmp_pd::<_CMP_GT_OQ>(dist, zero);

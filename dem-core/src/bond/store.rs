@@ -276,7 +276,7 @@ impl Bonds {
             vy: &d.vy,
             omega: &d.omega,
             r: &d.r,
-            per: kernel::per_axes(&st.periodic),
+            img: crate::neighbors::MinImage::new(&st.periodic),
         };
         let (i, j) = (self.i[b] as usize, self.j[b] as usize);
         let (nx, ny, _, ai, _) = v.geometry(i, j);
@@ -311,8 +311,8 @@ impl Bonds {
         if !(ok(i) && ok(j) && st.thickness > 0.0 && st.thickness.is_finite()) {
             return Err(BondError::BadDisc { i, j });
         }
-        let dx = st.periodic.delta(0, d.x[i], d.x[j]);
-        let dy = st.periodic.delta(1, d.y[i], d.y[j]);
+        let (dx, dy) =
+            crate::state::MinImage::new(&st.periodic).delta(d.x[j] - d.x[i], d.y[j] - d.y[i]);
         if dx == 0.0 && dy == 0.0 {
             return Err(BondError::Coincident(i, j));
         }
@@ -511,7 +511,7 @@ impl Bonds {
                 vy: &d.vy,
                 omega: &d.omega,
                 r: &d.r,
-                per: kernel::per_axes(&st.periodic),
+                img: crate::neighbors::MinImage::new(&st.periodic),
             },
             // The records are read with AVX2 loads: only with AVX2 (the kernel checks that
             // there is one per disc).

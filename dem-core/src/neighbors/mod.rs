@@ -13,87 +13,10 @@
 pub mod grid;
 pub mod reorder;
 
-use crate::state::{Periodic, State, Wall};
+pub use crate::state::MinImage;
+use crate::state::{State, Wall};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
-
-/// Minimum-image convention for positions that are at most one box length apart.
-#[derive(Clone, Copy, Debug)]
-pub struct MinImage {
-    lx: f64,
-    hx: f64,
-    ly: f64,
-    hy: f64,
-}
-
-impl MinImage {
-    pub fn new(p: &Periodic) -> MinImage {
-        let (lx, ly) = (
-            p.length[0].unwrap_or(f64::INFINITY),
-            p.length[1].unwrap_or(f64::INFINITY),
-        );
-        MinImage {
-            lx,
-            hx: 0.5 * lx,
-            ly,
-            hy: 0.5 * ly,
-        }
-    }
-
-    /// Whether either axis is periodic. When neither is, [`MinImage::delta`] is the identity
-    /// for every input (the half lengths are +∞: no comparison holds, not even for NaN or ±∞),
-    /// so hot loops may skip it.
-    #[inline(always)]
-    pub fn is_periodic(&self) -> bool {
-        self.hx != f64::INFINITY || self.hy != f64::INFINITY
-    }
-
-    /// [L_x, L_x/2, L_y, L_y/2] (+∞ on an axis that is not periodic), for vectorised copies
-    /// of [`MinImage::delta_select`].
-    pub fn parts(&self) -> [f64; 4] {
-        [self.lx, self.hx, self.ly, self.hy]
-    }
-
-    /// Minimum image of the difference (dx, dy) (valid for |d| < 1.5 L).
-    #[inline(always)]
-    pub fn delta(&self, mut dx: f64, mut dy: f64) -> (f64, f64) {
-        if dx > self.hx {
-            dx -= self.lx;
-        } else if dx < -self.hx {
-            dx += self.lx;
-        }
-        if dy > self.hy {
-            dy -= self.ly;
-        } else if dy < -self.hy {
-            dy += self.ly;
-        }
-        (dx, dy)
-    }
-
-    /// [`MinImage::delta`] written with selects instead of branches (the same values, bit for
-    /// bit: each axis picks d − L, d + L or d by the same comparisons), so that the blocked
-    /// force pass can apply it to a whole block in vector registers.
-    #[inline(always)]
-    pub fn delta_select(&self, dx: f64, dy: f64) -> (f64, f64) {
-        let (ax, bx) = (dx - self.lx, dx + self.lx);
-        let (ay, by) = (dy - self.ly, dy + self.ly);
-        let dx = if dx > self.hx {
-            ax
-        } else if dx < -self.hx {
-            bx
-        } else {
-            dx
-        };
-        let dy = if dy > self.hy {
-            ay
-        } else if dy < -self.hy {
-            by
-        } else {
-            dy
-        };
-        (dx, dy)
-    }
-}
 
 /// Key of an unordered pair of disc ids (or indices), smaller first.
 #[inline]
