@@ -3,7 +3,7 @@
 
 use crate::bond::Bonds;
 use crate::clump;
-use crate::contact::disc_disc::{self, PassEnergy, Slots};
+use crate::contact::disc_disc::{self, PassEnergy};
 use crate::contact::{disc_segment, ContactLaws, ContactView};
 use crate::counters::Counters;
 use crate::energy::{EnergyAcc, EnergyReport};
@@ -19,7 +19,9 @@ use std::collections::BTreeMap;
 use std::time::Instant;
 
 mod removal;
+mod workspace;
 pub use removal::{RemovalTotals, Removed};
+use workspace::StepWorkspace;
 
 /// The automatic step is raised only when the new estimate exceeds the current step by this
 /// factor (it is lowered at once).
@@ -58,13 +60,9 @@ pub struct World {
     pub(crate) energy: EnergyAcc,
     pub(crate) moved_too_far: bool,
     pub(crate) rebuild_requested: bool,
+    /// The step's scratch ([`StepWorkspace`]): not state, left out of checkpoints.
     #[serde(skip)]
-    pub(crate) slots: Slots,
-    #[serde(skip)]
-    pub(crate) parts: Vec<Moved>,
-    /// The clumps' last `sin_cos` (derived data, rebuilt on demand).
-    #[serde(skip)]
-    pub(crate) clump_trig: clump::TrigCache,
+    pub(crate) ws: StepWorkspace,
     #[serde(skip)]
     pub(crate) last_good: Option<Box<State>>,
     /// Discs deleted so far ([`World::remove_discs`]); left out of checkpoints while none.
@@ -107,9 +105,7 @@ impl World {
             energy: EnergyAcc::default(),
             moved_too_far: false,
             rebuild_requested: true,
-            slots: Slots::default(),
-            parts: Vec::new(),
-            clump_trig: Vec::new(),
+            ws: StepWorkspace::default(),
             last_good: None,
             removed: RemovalTotals::default(),
             mass_scaling: None,
@@ -263,7 +259,7 @@ impl World {
         if self.needs_rebuild() {
             self.rebuild();
             // Discs may have been reordered: pack afresh.
-            self.slots.packed_fresh = false;
+            self.ws.slots.packed_fresh = false;
         }
         let t1 = Counters::lap(&mut self.counters.neighbours, t0);
         let track = self.params.track_energy;
@@ -272,7 +268,7 @@ impl World {
         let dash = track && self.laws.has_dashpots();
         let dt = self.dt;
         let img = MinImage::new(&self.state.periodic);
-        self.counters.packed_by_integrator += u64::from(self.slots.packed_fresh);
+        self.counters.packed_by_integrator += u64::from(self.ws.slots.packed_fresh);
         // Parallel bonds evaluated with their pairs when they all can be and the pass takes
         // the uniform linear law without dashpot sums (`bond::fused`).
         let fv = match self.bonds.as_mut() {
@@ -297,11 +293,11 @@ impl World {
             dt,
             track,
             dash,
-            &mut self.slots,
+            &mut self.ws.slots,
             fv.as_ref(),
         );
         // The records are good for one pass only (whichever path the pass took).
-        self.slots.packed_fresh = false;
+        self.ws.slots.packed_fresh = false;
         self.apply_loads();
         let t2 = Counters::lap(&mut self.counters.contacts, t1);
         if !self.state.walls.is_empty() {
@@ -315,7 +311,7 @@ impl World {
                 dt,
                 track,
                 dash,
-                &mut self.slots.dashpot,
+                &mut self.ws.slots.dashpot,
             );
             e.add(&ew);
         }
@@ -324,16 +320,16 @@ impl World {
             b.after_fused(&self.state);
         } else if let Some(b) = self.bonds.as_mut() {
             // The contact pass's packed records still describe the discs (AVX2 only).
-            let pk: &[_] = if self.slots.packed_current {
-                &self.slots.packed
+            let pk: &[_] = if self.ws.slots.packed_current {
+                &self.ws.slots.packed
             } else {
                 &[]
             };
             b.compute_packed(&mut self.state, dt, pk);
         }
         // Whether the records hold this step's discs (radii, masses) for the integrator.
-        let records_current = self.slots.packed_current;
-        self.slots.packed_current = false;
+        let records_current = self.ws.slots.packed_current;
+        self.ws.slots.packed_current = false;
         let t4 = Counters::lap(&mut self.counters.bonds, t3);
         let kick = Kick {
             kick: 0.5 * (self.dt_prev + dt),
@@ -352,29 +348,30 @@ impl World {
         // Rigid clumps move their members after the integrator: no packing then.
         let pack = batch
             && self.state.clumps.is_empty()
-            && !self.slots.portable
+            && !self.ws.slots.portable
             && crate::lanes::has_avx2();
         if pack {
-            self.slots
+            self.ws
+                .slots
                 .packed
                 .resize(self.state.discs.len(), Default::default());
         }
         let po = pack.then_some(integrate::PackOut {
-            pk: self.slots.packed.as_mut_ptr(),
-            len: self.slots.packed.len(),
+            pk: self.ws.slots.packed.as_mut_ptr(),
+            len: self.ws.slots.packed.len(),
             reuse: records_current,
         });
         let mut moved = integrate::integrate_discs(
             &mut self.state.discs,
-            &self.slots.dashpot,
+            &self.ws.slots.dashpot,
             &self.cache,
             &self.nb.x0,
             &self.nb.y0,
             &kick,
-            &mut self.parts,
+            &mut self.ws.parts,
             po,
         );
-        self.slots.packed_fresh = pack;
+        self.ws.slots.packed_fresh = pack;
         if !self.state.clumps.is_empty() {
             let visc = if self.params.viscous_damping > 0.0 {
                 self.clump_viscosity()
@@ -384,12 +381,12 @@ impl World {
             let mc = clump::step_clumps(
                 &mut self.state,
                 &self.index_of_id,
-                &self.slots.dashpot,
+                &self.ws.slots.dashpot,
                 &visc,
                 &self.nb.x0,
                 &self.nb.y0,
                 &kick,
-                &mut self.clump_trig,
+                &mut self.ws.clump_trig,
             );
             moved.add(&mc);
         }
@@ -431,7 +428,7 @@ impl World {
             }
         }
         // After the batch anyone may change the discs: the next pass packs them.
-        self.slots.packed_fresh = false;
+        self.ws.slots.packed_fresh = false;
         done
     }
 

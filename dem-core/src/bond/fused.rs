@@ -839,7 +839,7 @@ mod tests {
     fn fused_bits_do_not_depend_on_threads_path_or_energy_tracking() {
         let go = |threads: usize, portable: bool, track: bool, gamma: f64| {
             let mut w = world(true, track, true, true, gamma);
-            w.slots.portable = portable;
+            w.ws.slots.portable = portable;
             run(&mut w, 200, threads);
             let b = w.bonds.clone().unwrap();
             let e = format!("{:?}", track.then(|| w.energy()));

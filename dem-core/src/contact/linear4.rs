@@ -341,7 +341,7 @@ mod tests {
                         w.refresh();
                         assert!(!w.nb.g0.is_empty());
                     }
-                    w.slots.portable = portable;
+                    w.ws.slots.portable = portable;
                     let before = super::BLOCKS.load(Ordering::Relaxed);
                     // Energies at every step (strain is that of the step's contacts).
                     let mut energies = Vec::new();

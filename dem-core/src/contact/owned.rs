@@ -833,7 +833,7 @@ mod tests {
                         ..Params::default()
                     };
                     let mut w = World::new(st, params, laws.clone());
-                    w.slots.portable = portable;
+                    w.ws.slots.portable = portable;
                     if offsets {
                         for k in 0..40 {
                             w.set_contact_offset(k, k + 1, -1e-5);
@@ -886,14 +886,14 @@ mod tests {
                     let laws = ContactLaws::uniform(ContactModel::Linear(law));
                     let mut w = World::new(st.clone(), params.clone(), laws);
                     w.run(20);
-                    let shared = w.slots.plan.shared_list.len();
+                    let shared = w.ws.slots.plan.shared_list.len();
                     if threads > 1 {
-                        let (plain, other) = w.slots.plan.block_kinds();
+                        let (plain, other) = w.ws.slots.plan.block_kinds();
                         assert!(plain > 0 && other > 0, "{threads}: {plain} {other}");
                     }
                     let d = &w.state.discs;
                     let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
-                    let dp = &w.slots.dashpot;
+                    let dp = &w.ws.slots.dashpot;
                     (
                         [&d.fx, &d.fy, &d.torque, &d.x, &dp.fx, &dp.t].map(|v| bits(v)),
                         format!("{:?}", w.energy()),

@@ -173,9 +173,9 @@ impl World {
         t.kinetic += out.kinetic;
         t.energy += out.energy;
         // Derived data: the next pass packs afresh; the clump angles are recomputed.
-        self.slots.packed_fresh = false;
-        self.slots.packed_current = false;
-        self.clump_trig.clear();
+        self.ws.slots.packed_fresh = false;
+        self.ws.slots.packed_current = false;
+        self.ws.clump_trig.clear();
         self.rebuild_index();
         self.rebuild_requested = true;
         self.rebuild();
