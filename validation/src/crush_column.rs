@@ -67,22 +67,24 @@ fn loading_words(o: &ColumnOutcome) -> String {
 /// The loading-rate check: the committed runs of a smaller column in `dir` (`*.result.json`),
 /// B_r at each level against the loading, and each run's largest relative difference of B_r
 /// from the slowest inertial run's (at the levels where that one's B_r is at least 0.02).
-/// Empty when there are none.
-fn rate_check(dir: &Path) -> String {
+/// Empty when there are none; a result file that does not read or parse is an error naming it
+/// (a committed run is never left out silently).
+fn rate_check(dir: &Path) -> Result<String> {
     let Ok(entries) = std::fs::read_dir(dir) else {
-        return String::new();
+        return Ok(String::new());
     };
-    let mut runs: Vec<ColumnOutcome> = entries
-        .filter_map(|e| {
-            let p = e.ok()?.path();
-            if !p.to_string_lossy().ends_with(".result.json") {
-                return None;
-            }
-            let mut o = serde_json::from_str(&std::fs::read_to_string(p).ok()?).ok()?;
-            tidy(&mut o);
-            Some(o)
-        })
-        .collect();
+    let mut files: Vec<std::path::PathBuf> = entries
+        .map(|e| e.map(|e| e.path()).map_err(Error::io(dir)))
+        .collect::<Result<_>>()?;
+    files.retain(|p| p.to_string_lossy().ends_with(".result.json"));
+    files.sort();
+    let mut runs = Vec::with_capacity(files.len());
+    for p in &files {
+        let text = std::fs::read_to_string(p).map_err(Error::io(p))?;
+        let mut o: ColumnOutcome = serde_json::from_str(&text).map_err(Error::json(p))?;
+        tidy(&mut o);
+        runs.push(o);
+    }
     // Ramps first, then by falling I; the reference is the last (the slowest inertial run).
     runs.sort_by(|a, b| {
         (a.test.loading == Loading::Inertial)
@@ -90,7 +92,7 @@ fn rate_check(dir: &Path) -> String {
             .then(b.test.inertial_number.total_cmp(&a.test.inertial_number))
     });
     let Some(reference) = runs.last() else {
-        return String::new();
+        return Ok(String::new());
     };
     let levels = |o: &ColumnOutcome| {
         o.result.gradings[1..]
@@ -154,7 +156,7 @@ fn rate_check(dir: &Path) -> String {
             100.0 * (near.test.inertial_number / i_ref - 1.0).abs()
         );
     }
-    md
+    Ok(md)
 }
 
 /// The column's markdown and figures.
@@ -281,7 +283,7 @@ pub fn part(out: &Path) -> Result<(String, Vec<Figure>)> {
         first * 1e-6,
         ratio
     );
-    md += &rate_check(&dir.join("rate-check"));
+    md += &rate_check(&dir.join("rate-check"))?;
     // Gradings.
     let gseries: Vec<Series> = r
         .gradings
@@ -389,5 +391,20 @@ mod tests {
             .unwrap_err()
             .to_string()
             .contains("strain"));
+    }
+
+    /// The rate check reads every committed result: none is nothing to report, a result that
+    /// does not parse is an error naming its file (it used to be left out silently).
+    #[test]
+    fn rate_check_names_a_bad_result_file() {
+        let dir = std::env::temp_dir().join(format!("rate-check-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        assert_eq!(rate_check(&dir.join("absent")).unwrap(), "");
+        std::fs::write(dir.join("notes.txt"), "not a result").unwrap();
+        assert_eq!(rate_check(&dir).unwrap(), "");
+        std::fs::write(dir.join("i0.001.result.json"), "{\"test\": 1}").unwrap();
+        let e = rate_check(&dir).unwrap_err().to_string();
+        assert!(e.contains("i0.001.result.json"), "{e}");
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 }
