@@ -380,7 +380,8 @@ fn cutting(b: CuttingBench) -> Result<ExitCode, String> {
     let scene_file = dir.0.join("cutting.scene.json");
     let cs = CuttingScene::build(&test, &model, &specimen, &scene_file, 0).map_err(named)?;
     dem_lab::run::write_scene(&cs.scene, &scene_file).map_err(|e| e.to_string())?;
-    let loaded = dem_core::scene::load(&scene_file).map_err(|e| e.to_string())?;
+    let loaded =
+        dem_core::scene::resolve(cs.scene.clone(), &scene_file).map_err(|e| e.to_string())?;
     let guard = loaded.outputs.guard_every.max(1);
     // The approach: to the specimen's edge and a_p into it, rounded up to the guard's cadence.
     let g = &cs.geometry;

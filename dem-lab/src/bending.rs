@@ -23,8 +23,8 @@ use super::common::{self, positive, Loading};
 use super::history::Table;
 use super::specimens::{Shape, TestSpecimen};
 use super::{analysis, LabError, LabModel};
+use dem_core::scene::schema::{AxisName, MaterialSpec, PairSpec, SceneFile, WallSpec};
 use serde::{Deserialize, Serialize};
-use serde_json::{json, Value};
 use std::f64::consts::PI;
 
 const TEST: &str = "bending";
@@ -302,13 +302,10 @@ fn roller(
     up: f64,
     test: &BendingTest,
     velocity: [f64; 2],
-) -> Vec<Value> {
+) -> Vec<WallSpec> {
     let p = roller_points(centre, r, up, test);
     (0..test.roller_segments)
-        .map(|k| {
-            json!({"name": format!("{name}_{k}"), "a": p[k], "b": p[k + 1],
-                   "material": super::model::WALL_MATERIAL, "velocity": velocity})
-        })
+        .map(|k| common::wall(&format!("{name}_{k}"), p[k], p[k + 1], velocity))
         .collect()
 }
 
@@ -317,30 +314,29 @@ pub const LOAD_MATERIAL: &str = "load_roller";
 
 /// Gives the loading roller (`walls` named `load_*`) its own material [`LOAD_MATERIAL`]: the
 /// wall material of scene `s` with friction `mu`, and its disc pair likewise.
-fn load_roller_material(s: &mut Value, walls: &mut [Value], mu: f64) -> Result<(), LabError> {
+fn load_roller_material(
+    s: &mut SceneFile,
+    walls: &mut [WallSpec],
+    mu: f64,
+) -> Result<(), LabError> {
     let wall = super::model::WALL_MATERIAL;
     let layout = || common::analysis_error(TEST, "the lab scene's materials changed layout");
-    let mut roller = (s["materials"].as_array())
-        .and_then(|m| m.iter().find(|m| m["name"] == wall))
-        .cloned()
-        .ok_or_else(layout)?;
-    roller["name"] = json!(LOAD_MATERIAL);
-    roller["friction"] = json!(mu);
-    let mut pair = s["contact"]["pairs"][0].clone();
-    pair["materials"] = json!([super::model::DISC_MATERIAL, LOAD_MATERIAL]);
-    pair["friction"] = json!(mu);
-    s["materials"]
-        .as_array_mut()
-        .ok_or_else(layout)?
-        .push(roller);
-    s["contact"]["pairs"]
-        .as_array_mut()
-        .ok_or_else(layout)?
-        .push(pair);
-    for w in walls.iter_mut() {
-        if w["name"].as_str().is_some_and(|n| n.starts_with("load_")) {
-            w["material"] = json!(LOAD_MATERIAL);
-        }
+    let roller = MaterialSpec {
+        name: LOAD_MATERIAL.into(),
+        friction: mu,
+        ..(s.materials.iter().find(|m| m.name == wall))
+            .cloned()
+            .ok_or_else(layout)?
+    };
+    let pair = PairSpec {
+        materials: [super::model::DISC_MATERIAL.into(), LOAD_MATERIAL.into()],
+        friction: Some(mu),
+        ..s.contact.pairs.first().cloned().ok_or_else(layout)?
+    };
+    s.materials.push(roller);
+    s.contact.pairs.push(pair);
+    for w in walls.iter_mut().filter(|w| w.name.starts_with("load_")) {
+        w.material = LOAD_MATERIAL.into();
     }
     Ok(())
 }
@@ -387,7 +383,11 @@ pub fn fracture_peak(t: &Table, load: &[f64], test: &str) -> Result<(usize, f64)
 
 /// The test's scene: the beam, two supports and the loading roller (polylines), gauges
 /// `mid` (bottom, mid-span), `sup_left`, `sup_right` (bottom, above the supports).
-pub fn scene(test: &BendingTest, model: &LabModel, spec: &TestSpecimen) -> Result<Value, LabError> {
+pub fn scene(
+    test: &BendingTest,
+    model: &LabModel,
+    spec: &TestSpecimen,
+) -> Result<SceneFile, LabError> {
     test.validate()?;
     let [x0, y0, x1, y1] = spec.extent;
     let (l, h) = (x1 - x0, y1 - y0);
@@ -452,27 +452,27 @@ pub fn scene(test: &BendingTest, model: &LabModel, spec: &TestSpecimen) -> Resul
     let load_walls: Vec<String> = (0..test.roller_segments)
         .map(|k| format!("load_{k}"))
         .collect();
-    let mut s = model.scene_base(&test.name, &spec.file_name(), [0.0, 0.0]);
+    let mut s = model.scene_file(&test.name, &spec.file_name(), [0.0, 0.0]);
     load_roller_material(
         &mut s,
         &mut walls,
         test.load_friction.unwrap_or(model.micro.friction),
     )?;
-    s["description"] = json!(format!(
+    s.description = format!(
         "Three-point bending (dem test bending): beam {:.3} x {:.3} mm, span {:.3} mm, roller R {:.3} mm at {v:.4e} m/s",
         l * 1e3,
         h * 1e3,
         test.span * 1e3,
         r * 1e3
-    ));
-    s["walls"] = Value::Array(walls);
+    );
+    s.walls = walls;
     let g = test.gauge_width * spec.r_mean;
-    let band = |x: f64| json!([x - g, y0 - g, x + g, y0 + g]);
-    let gauges = json!([
-        {"name": "mid", "region": band(xc)},
-        {"name": "sup_left", "region": band(xl)},
-        {"name": "sup_right", "region": band(xr)},
-    ]);
+    let band = |x: f64| [x - g, y0 - g, x + g, y0 + g];
+    let gauges = vec![
+        common::gauge("mid", band(xc)),
+        common::gauge("sup_left", band(xl)),
+        common::gauge("sup_right", band(xr)),
+    ];
     let m = &model.micro;
     // F at σ_f = σ̄_c would be 2σ̄_c t h²/(3L); arm the stop at 15 % of it (the start-up
     // transient of the free beam hit by the roller is ~6 % of the peak).
@@ -484,7 +484,7 @@ pub fn scene(test: &BendingTest, model: &LabModel, spec: &TestSpecimen) -> Resul
         v,
         test.failure_deflection(model, h),
         &load_walls,
-        "y",
+        AxisName::Y,
         min_load,
         gauges,
     );

@@ -26,8 +26,8 @@ use super::history::Table;
 use super::specimens::{Shape, TestSpecimen};
 use super::ucs::UcsTest;
 use super::{analysis, LabError, LabModel};
+use dem_core::scene::schema::{SceneFile, ServoSpec, WallSpec};
 use serde::{Deserialize, Serialize};
-use serde_json::{json, Value};
 
 const TEST: &str = "biaxial";
 
@@ -190,7 +190,11 @@ impl BiaxialTest {
 
 /// The test's scene: the UCS scene's platens, gauges and run control, and the two servo side
 /// walls `side_left`, `side_right`.
-pub fn scene(test: &BiaxialTest, model: &LabModel, spec: &TestSpecimen) -> Result<Value, LabError> {
+pub fn scene(
+    test: &BiaxialTest,
+    model: &LabModel,
+    spec: &TestSpecimen,
+) -> Result<SceneFile, LabError> {
     test.validate()?;
     test.check_geometry(spec.size(), spec.r_mean)?;
     let mut s = super::ucs::scene(&test.ucs(), model, spec)?;
@@ -198,23 +202,24 @@ pub fn scene(test: &BiaxialTest, model: &LabModel, spec: &TestSpecimen) -> Resul
     let h = y1 - y0;
     let v = test.platen_speed(model, spec);
     let oh = test.side_overhang * h;
-    let side = |name: &str, x: f64, dir: f64| {
-        json!({"name": name, "a": [x, y0 - oh], "b": [x, y1 + oh],
-               "material": super::model::WALL_MATERIAL,
-               "servo": {"stress": test.confining, "length": h, "direction": [dir, 0.0],
-                         "alpha": test.servo_alpha,
-                         "max_speed": test.servo_speed_factor * v}})
+    let side = |name: &str, x: f64, dir: f64| WallSpec {
+        servo: Some(ServoSpec {
+            stress: test.confining,
+            length: h,
+            direction: [dir, 0.0],
+            alpha: test.servo_alpha,
+            max_speed: test.servo_speed_factor * v,
+        }),
+        ..common::wall(name, [x, y0 - oh], [x, y1 + oh], [0.0, 0.0])
     };
-    if let Some(walls) = s["walls"].as_array_mut() {
-        walls.push(side("side_left", x0, 1.0));
-        walls.push(side("side_right", x1, -1.0));
-    }
-    s["description"] = json!(format!(
+    s.walls.push(side("side_left", x0, 1.0));
+    s.walls.push(side("side_right", x1, -1.0));
+    s.description = format!(
         "Biaxial compression (dem test biaxial): confinement {:.4} MPa held by servo side walls; platens at {v:.4e} m/s each; specimen {:.3} x {:.3} mm",
         test.confining * 1e-6,
         (x1 - x0) * 1e3,
         h * 1e3
-    ));
+    );
     Ok(s)
 }
 

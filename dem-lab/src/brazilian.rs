@@ -10,8 +10,8 @@ use super::common::{self, positive, Loading};
 use super::history::Table;
 use super::specimens::{Shape, TestSpecimen};
 use super::{analysis, LabError, LabModel};
+use dem_core::scene::schema::{AxisName, SceneFile};
 use serde::{Deserialize, Serialize};
-use serde_json::{json, Value};
 
 const TEST: &str = "brazilian";
 
@@ -108,7 +108,7 @@ pub fn scene(
     test: &BrazilianTest,
     model: &LabModel,
     spec: &TestSpecimen,
-) -> Result<Value, LabError> {
+) -> Result<SceneFile, LabError> {
     test.validate()?;
     test.check_geometry(spec.size()[1], spec.r_mean)?;
     let [x0, y0, x1, y1] = spec.extent;
@@ -116,17 +116,15 @@ pub fn scene(
     let xc = 0.5 * (x0 + x1);
     let half = 0.5 * test.platen_length * (x1 - x0);
     let v = test.platen_speed(model, spec);
-    let mut s = model.scene_base(&test.name, &spec.file_name(), [0.0, 0.0]);
-    s["description"] = json!(format!(
+    let mut s = model.scene_file(&test.name, &spec.file_name(), [0.0, 0.0]);
+    s.description = format!(
         "Brazilian disc (dem test brazilian): D = {:.3} mm, platens at {v:.4e} m/s each",
         d * 1e3
-    ));
-    s["walls"] = json!([
-        {"name": "bottom", "a": [xc - half, y0], "b": [xc + half, y0],
-         "material": super::model::WALL_MATERIAL, "velocity": [0.0, v]},
-        {"name": "top", "a": [xc - half, y1], "b": [xc + half, y1],
-         "material": super::model::WALL_MATERIAL, "velocity": [0.0, -v]},
-    ]);
+    );
+    s.walls = vec![
+        common::wall("bottom", [xc - half, y0], [xc + half, y0], [0.0, v]),
+        common::wall("top", [xc - half, y1], [xc + half, y1], [0.0, -v]),
+    ];
     let m = &model.micro;
     // F at σ_t = σ̄_c would be πDtσ̄_c/2; arm the stop at 10 % of it (the
     // start-up transient, stress ρcv = E ε_f/N, is ~2.5 % of σ̄_c).
@@ -136,8 +134,15 @@ pub fn scene(
         * model.thickness
         * m.boundary_tensile.min(m.boundary_cohesion);
     let u_fail = 0.5 * d * common::failure_strain_estimate(model);
-    test.loading
-        .scene_fields(&mut s, v, u_fail, &["top".into()], "y", min_load, json!([]));
+    test.loading.scene_fields(
+        &mut s,
+        v,
+        u_fail,
+        &["top".into()],
+        AxisName::Y,
+        min_load,
+        vec![],
+    );
     Ok(s)
 }
 

@@ -36,7 +36,7 @@
 //! `v = I·H0·√(σ_1/ρ)/d̄` (d̄ the mean grain size).
 
 use super::common::{self, RunFacts};
-use super::run::run_scene_with;
+use super::run::run_scene;
 use super::LabError;
 use crate::specimen::relax;
 use clumpgen::clump::LatticeParams;
@@ -44,8 +44,11 @@ use clumpgen::synth::SplitMix64;
 use clumpgen::{make_template, ClumpParams, Length, Method, ReadOptions, Template};
 use dem_core::fragments::{self, LatticeGrain};
 use dem_core::output::driver::{RunOptions, StepHook};
+use dem_core::scene::schema::{
+    BodiesSpec, ClumpMode, ClumpSetSpec, ContactSpec, DampingSpec, OutputSpec, PlacementSpec,
+    RunSpec, SceneFile, WallSpec,
+};
 use serde::{Deserialize, Serialize};
-use serde_json::{json, Value};
 use std::cell::RefCell;
 use std::path::{Path, PathBuf};
 use std::rc::Rc;
@@ -623,38 +626,34 @@ fn scene(
     h: f64,
     wall_top: f64,
     phase: &Phase,
-) -> Value {
+) -> SceneFile {
     let seat = matches!(phase, Phase::Seat { .. });
-    let mut group = json!({"name": "lattice", "model": "contact_bond", "kn": k.k_n, "ks": k.k_s});
-    if let (Some(o), Value::Object(c)) = (
-        group.as_object_mut(),
-        test.criterion
-            .bond_fields(test.node_radius, test.spacing, test.thickness),
-    ) {
-        o.extend(c);
-    }
     let mut sets = vec![];
     for t in 0..n_tpl {
-        let ps: Vec<Value> = placed
+        let ps: Vec<PlacementSpec> = placed
             .iter()
             .filter(|p| p.template == t)
-            .map(|p| json!({"x": p.x, "y": p.y, "angle": p.angle}))
+            .map(|p| common::placement(p.x, p.y, p.angle))
             .collect();
         if !ps.is_empty() {
-            let file = format!("{}.grains/{t}.json", test.name);
-            sets.push(if seat {
-                json!({"template": file, "material": "grain", "mode": "rigid", "placements": ps})
-            } else {
-                json!({"template": file, "material": "grain", "mode": "bonded",
-                       "bond_group": "lattice", "placements": ps})
+            sets.push(ClumpSetSpec {
+                template: format!("{}.grains/{t}.json", test.name),
+                material: "grain".into(),
+                mode: if seat {
+                    ClumpMode::Rigid
+                } else {
+                    ClumpMode::Bonded
+                },
+                bond_group: (!seat).then(|| "lattice".into()),
+                bond_tolerance: 0.0,
+                placements: ps,
             });
         }
     }
     let top = wall_top;
-    let (top_wall, duration, what) = match *phase {
+    let (speed, duration, what) = match *phase {
         Phase::Seat { speed, duration } => (
-            json!({"name": "top", "a": [0.0, h], "b": [w, h], "material": "platen",
-                   "velocity": [0.0, -speed]}),
+            speed,
             duration,
             format!(
                 "seating of rigid grains to {:.3} MPa at {speed:.4e} m/s",
@@ -662,8 +661,7 @@ fn scene(
             ),
         ),
         Phase::Load { speed, duration } => (
-            json!({"name": "top", "a": [0.0, h], "b": [w, h], "material": "platen",
-                   "velocity": [0.0, -speed]}),
+            speed,
             duration,
             match test.loading {
                 Loading::Ramp => format!("top platen down at {speed:.4e} m/s"),
@@ -674,40 +672,67 @@ fn scene(
             },
         ),
     };
-    let mat = |name: &str, mu: f64| json!({"name": name, "kn": k.k_n, "ks": k.k_s, "friction": mu, "damping_ratio": 0.0});
-    let pair = |other: &str, mu: f64| {
-        json!({"materials": ["grain", other], "law": "linear_spring_dashpot",
-               "kn": k.k_n, "ks": k.k_s, "friction": mu, "damping_ratio": 0.0})
+    let wall = |name: &str, a: [f64; 2], b: [f64; 2], material: &str, vy: f64| WallSpec {
+        material: material.into(),
+        ..common::wall(name, a, b, [0.0, vy])
     };
-    json!({
-        "schema": dem_core::scene::schema::SCHEMA,
-        "name": test.name,
-        "description": format!("Crushable column (dem test column): {} lattice grains, box {:.3} mm wide, H0 {:.3} mm, {what}", test.grains, w * 1e3, h * 1e3),
-        "units": "m",
-        "thickness": test.thickness,
-        "materials": [
-            {"name": "grain", "density": test.density, "kn": k.k_n, "ks": k.k_s,
-             "friction": test.friction, "damping_ratio": 0.0},
-            mat("platen", test.platen_friction),
-            mat("side", test.wall_friction)
+    let (kn, ks) = (k.k_n, k.k_s);
+    SceneFile {
+        description: format!(
+            "Crushable column (dem test column): {} lattice grains, box {:.3} mm wide, H0 {:.3} mm, {what}",
+            test.grains,
+            w * 1e3,
+            h * 1e3
+        ),
+        thickness: Some(test.thickness),
+        materials: vec![
+            common::material("grain", Some(test.density), kn, ks, test.friction),
+            common::material("platen", None, kn, ks, test.platen_friction),
+            common::material("side", None, kn, ks, test.wall_friction),
         ],
-        "contact": {"law": "linear_spring_dashpot",
-            "pairs": [pair("platen", test.platen_friction), pair("side", test.wall_friction)]},
-        "bond_groups": if seat { json!([]) } else { json!([group]) },
-        "bodies": {"clumps": sets},
-        "walls": [
-            {"name": "bottom", "a": [0.0, 0.0], "b": [w, 0.0], "material": "platen"},
-            {"name": "left", "a": [0.0, 0.0], "b": [0.0, top], "material": "side"},
-            {"name": "right", "a": [w, 0.0], "b": [w, top], "material": "side"},
-            top_wall
-        ],
-        "damping": {"local": test.local_damping},
-        "run": {
-            "duration": duration,
-            "dt_factor": test.dt_factor
+        contact: ContactSpec {
+            pairs: vec![
+                common::pair("grain", "platen", kn, ks, test.platen_friction),
+                common::pair("grain", "side", kn, ks, test.wall_friction),
+            ],
+            ..ContactSpec::default()
         },
-        "outputs": {"history_every": test.history_every}
-    })
+        bond_groups: if seat {
+            vec![]
+        } else {
+            vec![test.criterion.bond_group(
+                kn,
+                ks,
+                test.node_radius,
+                test.spacing,
+                test.thickness,
+            )]
+        },
+        bodies: BodiesSpec {
+            clumps: sets,
+            ..BodiesSpec::default()
+        },
+        walls: vec![
+            wall("bottom", [0.0, 0.0], [w, 0.0], "platen", 0.0),
+            wall("left", [0.0, 0.0], [0.0, top], "side", 0.0),
+            wall("right", [w, 0.0], [w, top], "side", 0.0),
+            wall("top", [0.0, h], [w, h], "platen", -speed),
+        ],
+        damping: DampingSpec {
+            local: test.local_damping,
+            viscous: 0.0,
+        },
+        run: RunSpec {
+            duration: Some(duration),
+            dt_factor: Some(test.dt_factor),
+            ..RunSpec::default()
+        },
+        outputs: OutputSpec {
+            history_every: test.history_every,
+            ..OutputSpec::default()
+        },
+        ..SceneFile::new(&test.name)
+    }
 }
 
 /// Pieces `(d_eq, mass)` of every grain's fragments.
@@ -890,7 +915,7 @@ pub fn run(
             walls[3].force[1].min(-walls[0].force[1]) / (w * t) >= sigma_seat
         })),
     };
-    let r0 = run_scene_with(
+    let r0 = run_scene(
         &s0,
         &out.join(format!("{}-seat.json", test.name)),
         &RunOptions::default(),
@@ -977,7 +1002,7 @@ pub fn run(
             }))
         },
     };
-    let r = run_scene_with(
+    let r = run_scene(
         &s,
         &out.join(format!("{}.json", test.name)),
         &RunOptions::default(),

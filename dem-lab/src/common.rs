@@ -8,8 +8,11 @@ use super::specimens::TestSpecimen;
 use super::{LabError, LabModel};
 use dem_core::output::driver::RunOptions;
 use dem_core::output::write_atomic;
+use dem_core::scene::schema::{
+    AxisName, GaugeSpec, LawName, MaterialSpec, OutputSpec, PairSpec, PlacementSpec, RunSpec,
+    SceneFile, StopAfterPeakSpec, WallSpec,
+};
 use serde::{Deserialize, Serialize};
-use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
 
 /// Local damping of the quasi-static lab tests: PFC practice (Potyondy & Cundall 2004 §2.2,
@@ -109,22 +112,93 @@ impl Loading {
     #[allow(clippy::too_many_arguments)]
     pub fn scene_fields(
         &self,
-        scene: &mut Value,
+        scene: &mut SceneFile,
         speed: f64,
         u_fail: f64,
         walls: &[String],
-        axis: &str,
+        axis: AxisName,
         min_load: f64,
-        gauges: Value,
+        gauges: Vec<GaugeSpec>,
     ) {
-        scene["damping"] = json!({"local": self.local_damping});
-        scene["run"] = json!({
-            "duration": self.max_travel_factor * u_fail / speed,
-            "dt_factor": self.dt_factor,
-            "stop_after_peak": {"walls": walls, "axis": axis, "below": self.stop_below,
-                                "min_load": min_load},
-        });
-        scene["outputs"] = json!({"history_every": self.history_every, "gauges": gauges});
+        scene.damping.local = self.local_damping;
+        scene.run = RunSpec {
+            duration: Some(self.max_travel_factor * u_fail / speed),
+            dt_factor: Some(self.dt_factor),
+            stop_after_peak: Some(StopAfterPeakSpec {
+                walls: walls.to_vec(),
+                axis,
+                below: self.stop_below,
+                min_load,
+            }),
+            ..RunSpec::default()
+        };
+        scene.outputs = OutputSpec {
+            history_every: self.history_every,
+            gauges,
+            ..OutputSpec::default()
+        };
+    }
+}
+
+/// A wall of the lab's wall material from `a` to `b` (m) moving at `velocity` (m/s).
+pub fn wall(name: &str, a: [f64; 2], b: [f64; 2], velocity: [f64; 2]) -> WallSpec {
+    WallSpec {
+        name: name.into(),
+        a,
+        b,
+        via: Vec::new(),
+        material: super::model::WALL_MATERIAL.into(),
+        velocity,
+        angular_velocity: 0.0,
+        center: None,
+        servo: None,
+    }
+}
+
+/// A material of linear contact stiffnesses (`kn`, `ks`), friction `mu`, no dashpot, and
+/// `density` (kg/m³; `None` for a wall material).
+pub fn material(name: &str, density: Option<f64>, kn: f64, ks: f64, mu: f64) -> MaterialSpec {
+    MaterialSpec {
+        name: name.into(),
+        density,
+        kn: Some(kn),
+        ks: Some(ks),
+        friction: mu,
+        damping_ratio: Some(0.0),
+        ..MaterialSpec::default()
+    }
+}
+
+/// The linear contact of materials `a` and `b`: stiffnesses (`kn`, `ks`), friction `mu`, no
+/// dashpot.
+pub fn pair(a: &str, b: &str, kn: f64, ks: f64, mu: f64) -> PairSpec {
+    PairSpec {
+        materials: [a.into(), b.into()],
+        law: LawName::LinearSpringDashpot,
+        kn: Some(kn),
+        ks: Some(ks),
+        friction: Some(mu),
+        damping_ratio: Some(0.0),
+        ..PairSpec::default()
+    }
+}
+
+/// A clump placement at (`x`, `y`) (m), turned by `angle` (rad), at rest.
+pub fn placement(x: f64, y: f64, angle: f64) -> PlacementSpec {
+    PlacementSpec {
+        x,
+        y,
+        angle,
+        velocity: [0.0, 0.0],
+        omega: 0.0,
+    }
+}
+
+/// A gauge `name` over the discs whose centres are in `region` = [x0, y0, x1, y1] (m).
+pub fn gauge(name: &str, region: [f64; 4]) -> GaugeSpec {
+    GaugeSpec {
+        name: name.into(),
+        region,
     }
 }
 
@@ -191,7 +265,7 @@ pub struct Outcome<T, R> {
 pub fn run_test<T: Clone + Serialize, R: Serialize>(
     name: &str,
     test: &T,
-    scene: Value,
+    scene: SceneFile,
     model: &LabModel,
     spec: &TestSpecimen,
     progress: &mut dyn FnMut(u64, u64),
@@ -203,6 +277,7 @@ pub fn run_test<T: Clone + Serialize, R: Serialize>(
         &dir.join(format!("{name}.json")),
         &RunOptions::default(),
         progress,
+        None,
     )?;
     let out = Outcome {
         test: test.clone(),

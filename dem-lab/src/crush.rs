@@ -38,13 +38,16 @@
 //! failure strain under the criterion, in tension) in `quasi_static_factor` transit times.
 
 use super::common::{self, RunFacts};
-use super::run::{run_scene, run_scene_with};
+use super::run::run_scene;
 use super::LabError;
 use clumpgen::Template;
 use dem_core::fragments::{self, FragmentSummary, LatticeGrain};
 use dem_core::output::driver::{RunOptions, StepHook};
+use dem_core::scene::schema::{
+    BodiesSpec, BondGroupSpec, BondModelName, ClumpMode, ClumpSetSpec, ContactSpec, CriterionName,
+    DampingSpec, OutputSpec, RunSpec, SceneFile, WallSpec,
+};
 use serde::{Deserialize, Serialize};
-use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
 
 const TEST: &str = "crush";
@@ -130,19 +133,32 @@ impl LinkCriterion {
         }
     }
 
-    /// The scene's bond group fields of [`LinkCriterion::bond_criterion`].
-    pub(crate) fn bond_fields(&self, f: f64, s: f64, t: f64) -> Value {
+    /// The lattice's bond group `lattice`: contact bonds of stiffness (`k_n`, `k_s`) with the
+    /// criterion of [`LinkCriterion::bond_criterion`].
+    pub(crate) fn bond_group(&self, k_n: f64, k_s: f64, f: f64, s: f64, t: f64) -> BondGroupSpec {
         use dem_core::bond::Criterion;
+        let mut g = BondGroupSpec {
+            kn: Some(k_n),
+            ks: Some(k_s),
+            ..BondGroupSpec::new("lattice", BondModelName::ContactBond, CriterionName::Stress)
+        };
         match self.bond_criterion(f, s, t) {
-            Criterion::Force { tensile, shear, .. } => json!({"criterion": "force",
-                "normal_strength": tensile, "shear_strength": shear}),
-            Criterion::Strain { tensile, shear } => json!({"criterion": "strain",
-                "normal_strain": tensile, "shear_strain": shear}),
-            Criterion::Energy { fracture_energy } => json!({"criterion": "energy",
-                "fracture_energy": fracture_energy}),
+            Criterion::Force { tensile, shear, .. } => {
+                g.criterion = CriterionName::Force;
+                (g.normal_strength, g.shear_strength) = (Some(tensile), Some(shear));
+            }
+            Criterion::Strain { tensile, shear } => {
+                g.criterion = CriterionName::Strain;
+                (g.normal_strain, g.shear_strain) = (Some(tensile), Some(shear));
+            }
+            Criterion::Energy { fracture_energy } => {
+                g.criterion = CriterionName::Energy;
+                g.fracture_energy = Some(fracture_energy);
+            }
             // Never made by bond_criterion (a link is a contact bond).
-            Criterion::Stress { .. } => json!({"criterion": "stress"}),
+            Criterion::Stress { .. } => {}
         }
+        g
     }
 
     /// A link's failure opening strain (opening over S) in pure tension: F_t/(k_n S),
@@ -435,50 +451,63 @@ fn platen_speed(test: &CrushTest, g: &GrainFacts) -> (f64, f64) {
 /// The test's stage-1 scene (`dem.scene/1`): the grain (template file `tpl_name`, relative to
 /// the scene), two platens, the lattice bond group, local damping, a closure of `max_closure`
 /// × d at most (the run stops earlier, at the first major breakage, by [`run`]'s hook).
-pub fn scene(test: &CrushTest, g: &GrainFacts, ext: [f64; 4], tpl_name: &str) -> Value {
+pub fn scene(test: &CrushTest, g: &GrainFacts, ext: [f64; 4], tpl_name: &str) -> SceneFile {
     let (v, _) = platen_speed(test, g);
     let [x0, y0, x1, y1] = ext;
     let ov = g.d;
-    let mut group = json!({"name": "lattice", "model": "contact_bond", "kn": g.k_n, "ks": g.k_s});
-    if let (Some(o), Value::Object(c)) = (
-        group.as_object_mut(),
-        test.criterion
-            .bond_fields(g.node_radius_fraction, g.spacing, g.thickness),
-    ) {
-        o.extend(c);
-    }
-    json!({
-        "schema": dem_core::scene::schema::SCHEMA,
-        "name": test.name,
-        "description": format!("Single-grain crushing (dem test crush): {} between platens at {v:.4e} m/s each; d = {:.4} mm", g.id, g.d * 1e3),
-        "units": "m",
-        "thickness": g.thickness,
-        "materials": [
-            {"name": "grain", "density": test.density, "kn": g.k_n, "ks": g.k_s,
-             "friction": test.friction, "damping_ratio": 0.0},
-            {"name": "platen", "kn": g.k_n, "ks": g.k_s, "friction": test.platen_friction,
-             "damping_ratio": 0.0}
+    let platen = |name: &str, y: f64, vy: f64| WallSpec {
+        material: "platen".into(),
+        ..common::wall(name, [x0 - ov, y], [x1 + ov, y], [0.0, vy])
+    };
+    SceneFile {
+        description: format!(
+            "Single-grain crushing (dem test crush): {} between platens at {v:.4e} m/s each; d = {:.4} mm",
+            g.id,
+            g.d * 1e3
+        ),
+        thickness: Some(g.thickness),
+        materials: vec![
+            common::material("grain", Some(test.density), g.k_n, g.k_s, test.friction),
+            common::material("platen", None, g.k_n, g.k_s, test.platen_friction),
         ],
-        "contact": {"law": "linear_spring_dashpot",
-            "pairs": [{"materials": ["grain", "platen"], "law": "linear_spring_dashpot",
-                       "kn": g.k_n, "ks": g.k_s, "friction": test.platen_friction,
-                       "damping_ratio": 0.0}]},
-        "bond_groups": [group],
-        "bodies": {"clumps": [{"template": tpl_name, "material": "grain", "mode": "bonded",
-            "bond_group": "lattice", "placements": [{"x": 0.0, "y": 0.0, "angle": test.angle}]}]},
-        "walls": [
-            {"name": "bottom", "a": [x0 - ov, y0], "b": [x1 + ov, y0], "material": "platen",
-             "velocity": [0.0, v]},
-            {"name": "top", "a": [x0 - ov, y1], "b": [x1 + ov, y1], "material": "platen",
-             "velocity": [0.0, -v]}
-        ],
-        "damping": {"local": test.local_damping},
-        "run": {
-            "duration": test.max_closure * g.d / (2.0 * v),
-            "dt_factor": test.dt_factor
+        contact: ContactSpec {
+            pairs: vec![common::pair("grain", "platen", g.k_n, g.k_s, test.platen_friction)],
+            ..ContactSpec::default()
         },
-        "outputs": {"history_every": test.history_every}
-    })
+        bond_groups: vec![test.criterion.bond_group(
+            g.k_n,
+            g.k_s,
+            g.node_radius_fraction,
+            g.spacing,
+            g.thickness,
+        )],
+        bodies: BodiesSpec {
+            clumps: vec![ClumpSetSpec {
+                template: tpl_name.into(),
+                material: "grain".into(),
+                mode: ClumpMode::Bonded,
+                bond_group: Some("lattice".into()),
+                bond_tolerance: 0.0,
+                placements: vec![common::placement(0.0, 0.0, test.angle)],
+            }],
+            ..BodiesSpec::default()
+        },
+        walls: vec![platen("bottom", y0, v), platen("top", y1, -v)],
+        damping: DampingSpec {
+            local: test.local_damping,
+            viscous: 0.0,
+        },
+        run: RunSpec {
+            duration: Some(test.max_closure * g.d / (2.0 * v)),
+            dt_factor: Some(test.dt_factor),
+            ..RunSpec::default()
+        },
+        outputs: OutputSpec {
+            history_every: test.history_every,
+            ..OutputSpec::default()
+        },
+        ..SceneFile::new(&test.name)
+    }
 }
 
 /// The history's platen force F (N) and closure δ (m) per row, with time and the energies.
@@ -546,7 +575,7 @@ pub fn run(
             FragmentSummary::of(&f).largest_mass_fraction < major
         })),
     };
-    let r1 = run_scene_with(
+    let r1 = run_scene(
         &s1,
         &out.join(format!("{}.json", test.name)),
         &RunOptions::default(),
@@ -586,8 +615,11 @@ pub fn run(
     let stage1 = stage(&r1.world);
     // Stage 2: the same physics, no stop, to stage2_travel × stage 1's closure.
     let mut s2 = s1.clone();
-    s2["run"] = json!({"duration": test.stage2_travel * r1.world.state.time,
-                       "dt_factor": test.dt_factor});
+    s2.run = RunSpec {
+        duration: Some(test.stage2_travel * r1.world.state.time),
+        dt_factor: Some(test.dt_factor),
+        ..RunSpec::default()
+    };
     let restart = r1.out_dir.join("ckpt-final.json");
     let r2 = run_scene(
         &s2,
@@ -597,6 +629,7 @@ pub fn run(
             ..RunOptions::default()
         },
         progress,
+        None,
     )?;
     let stage2 = stage(&r2.world);
     let h = rows(&r2.history)?;

@@ -18,16 +18,18 @@ use super::history::Table;
 use super::model::series_wall_stiffness;
 use super::model::{DISC_MATERIAL, WALL_MATERIAL};
 use super::removal::{removal_mode, RemovalMode};
-use super::run::{run_scene_with, write_scene};
+use super::run::run_scene;
 use super::surface::{self, Surface};
 use super::tool::{edge_arc, CutGeometry, Segment, ToolModel, CLEARANCE, RAKE, TOOL};
 use super::{analysis, LabError, LabModel};
 use dem_core::output::driver::RunOptions;
 use dem_core::output::write_atomic;
-use dem_core::scene::schema::SpecimenFile;
+use dem_core::scene::schema::{
+    LawName, MaterialSpec, OutputSpec, PairSpec, RunSpec, SceneFile, SpecimenFile, WallSpec,
+};
 use dem_core::World;
 use serde::{Deserialize, Serialize};
-use serde_json::{json, Value};
+use serde_json::Value;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -561,15 +563,15 @@ pub fn scene(
     model: &LabModel,
     spec: &SpecimenInfo,
     history_every: u64,
-) -> Result<Value, LabError> {
+) -> Result<SceneFile, LabError> {
     let g = CutGeometry::new(test, spec.extent)?;
     let file = spec.file.display().to_string();
-    let mut s = model.scene_base("cutting", &file, [0.0, 0.0]);
+    let mut s = model.scene_file("cutting", &file, [0.0, 0.0]);
     let walls_named = match test.tool {
         ToolModel::Rigid => "one rigid tool wall `tool`",
         ToolModel::Segments => "tool walls `rake` and `clearance`",
     };
-    s["description"] = json!(format!(
+    s.description = format!(
         "Orthogonal cutting (dem test cutting): a_p = {} mm, v = {} m/s, L = {} mm, rake {}°, \
          clearance {}°; {walls_named}, slot walls `slot_*`.",
         test.depth * 1e3,
@@ -577,7 +579,7 @@ pub fn scene(
         test.length * 1e3,
         test.rake_angle.to_degrees(),
         test.clearance_angle.to_degrees()
-    ));
+    );
     let kn = model.contact_kn();
     let ks = kn / model.micro.stiffness_ratio;
     let (ft, fw) = (test.tool_stiffness, model.micro.wall_stiffness_factor);
@@ -589,61 +591,75 @@ pub fn scene(
         ToolModel::Segments => ((ft * kn, ft * ks), None),
     };
     let mat = spec.material.as_str();
-    if let Some(ms) = s["materials"].as_array_mut() {
-        for m in ms.iter_mut() {
-            if m["name"] == DISC_MATERIAL {
-                m["name"] = json!(mat);
-                if test.contact_damping > 0.0 {
-                    m["damping_ratio"] = json!(test.contact_damping);
-                }
-            }
+    for m in s.materials.iter_mut().filter(|m| m.name == DISC_MATERIAL) {
+        m.name = mat.into();
+        if test.contact_damping > 0.0 {
+            m.damping_ratio = Some(test.contact_damping);
         }
-        ms.push(json!({"name": TOOL_MATERIAL, "kn": ktool, "ks": kstool,
-                       "friction": test.tool_friction, "damping_ratio": 0.0}));
     }
-    if let Some(ps) = s["contact"]["pairs"].as_array_mut() {
-        for p in ps.iter_mut() {
-            p["materials"] = json!([mat, WALL_MATERIAL]);
-            if let Some((kw, ksw)) = slot {
-                p["kn"] = json!(kw);
-                p["ks"] = json!(ksw);
-            }
+    s.materials.push(MaterialSpec {
+        name: TOOL_MATERIAL.into(),
+        kn: Some(ktool),
+        ks: Some(kstool),
+        friction: test.tool_friction,
+        damping_ratio: Some(0.0),
+        ..MaterialSpec::default()
+    });
+    for p in s.contact.pairs.iter_mut() {
+        p.materials = [mat.into(), WALL_MATERIAL.into()];
+        if let Some((kw, ksw)) = slot {
+            p.kn = Some(kw);
+            p.ks = Some(ksw);
         }
-        ps.push(
-            json!({"materials": [mat, TOOL_MATERIAL], "law": "linear_spring_dashpot",
-                       "kn": ktool, "ks": kstool, "friction": test.tool_friction,
-                       "damping_ratio": 0.0}),
-        );
     }
-    let mut walls: Vec<Value> = g
-        .slot
-        .iter()
-        .map(|w| json!({"name": w.name, "a": w.a, "b": w.b, "material": WALL_MATERIAL}))
-        .collect();
+    s.contact.pairs.push(PairSpec {
+        materials: [mat.into(), TOOL_MATERIAL.into()],
+        law: LawName::LinearSpringDashpot,
+        kn: Some(ktool),
+        ks: Some(kstool),
+        friction: Some(test.tool_friction),
+        damping_ratio: Some(0.0),
+        ..PairSpec::default()
+    });
+    let wall = |w: &Segment, material: &str| WallSpec {
+        name: w.name.clone(),
+        a: w.a,
+        b: w.b,
+        via: w.via.clone(),
+        material: material.into(),
+        velocity: [0.0, 0.0],
+        angular_velocity: 0.0,
+        center: None,
+        servo: None,
+    };
+    s.walls = g.slot.iter().map(|w| wall(w, WALL_MATERIAL)).collect();
     for w in &g.tool {
-        let mut j = json!({"name": w.name, "a": w.a, "b": w.b, "material": TOOL_MATERIAL,
-                          "velocity": g.velocity, "center": g.edge_start});
-        if !w.via.is_empty() {
-            j["via"] = json!(w.via);
-        }
-        walls.push(j);
+        s.walls.push(WallSpec {
+            velocity: g.velocity,
+            center: Some(g.edge_start),
+            ..wall(w, TOOL_MATERIAL)
+        });
     }
-    s["walls"] = json!(walls);
-    if test.local_damping > 0.0 {
-        s["damping"] = json!({"local": test.local_damping});
-    }
-    s["run"] = json!({"duration": g.duration, "dt_factor": test.dt_factor,
-                      "max_energy_growth": test.max_energy_growth,
-                      "max_overlap_fraction": test.max_overlap_fraction});
-    if test.mass_scaling > 0.0 {
-        s["run"]["mass_scaling"] = json!(test.mass_scaling);
-    }
+    s.damping.local = test.local_damping;
+    s.run = RunSpec {
+        duration: Some(g.duration),
+        dt_factor: Some(test.dt_factor),
+        max_energy_growth: Some(test.max_energy_growth),
+        max_overlap_fraction: Some(test.max_overlap_fraction),
+        mass_scaling: (test.mass_scaling > 0.0).then_some(test.mass_scaling),
+        ..RunSpec::default()
+    };
     let every = history_every.max(1);
     // Roughly `snapshots` over the run: history rows × every = total steps; 0 = none.
     let vtk = (test.history_rows * every)
         .checked_div(test.snapshots)
         .map_or(0, |n| n.max(1));
-    s["outputs"] = json!({"dir": ".", "history_every": every, "vtk_every": vtk});
+    s.outputs = OutputSpec {
+        dir: Some(".".into()),
+        history_every: every,
+        vtk_every: vtk,
+        ..OutputSpec::default()
+    };
     Ok(s)
 }
 
@@ -991,8 +1007,8 @@ pub fn analyze(
 pub struct CuttingScene {
     pub spec: SpecimenInfo,
     pub geometry: CutGeometry,
-    /// The plain `dem.scene/1` JSON to run (what `cutting.scene.json` holds).
-    pub scene: Value,
+    /// The `dem.scene/1` scene to run (what `cutting.scene.json` holds).
+    pub scene: SceneFile,
     /// Time step of the built world (s) and the steps of the whole cut.
     pub dt: f64,
     pub steps: u64,
@@ -1002,8 +1018,9 @@ pub struct CuttingScene {
 }
 
 impl CuttingScene {
-    /// Checks `test` and the specimen, writes the probe scene to `scene_file` (the scene is
-    /// loaded from a file, so paths resolve as `dem run` resolves them) and builds the scene.
+    /// Checks `test` and the specimen and builds the scene, whose file will be `scene_file`
+    /// (relative paths resolve from there, as `dem run` resolves them). The time step is
+    /// probed by building the world once from the scene checked in memory.
     pub fn build(
         test: &CuttingTest,
         model: &LabModel,
@@ -1017,8 +1034,7 @@ impl CuttingScene {
         // Probe the time step: build the world once, so the history cadence gives about
         // `history_rows` rows.
         let probe = scene(test, model, &spec, 1)?;
-        write_scene(&probe, scene_file)?;
-        let dt = dem_core::scene::build(&dem_core::scene::load(scene_file)?)?.dt();
+        let dt = dem_core::scene::build(&dem_core::scene::resolve(probe, scene_file)?)?.dt();
         let g = CutGeometry::new(test, spec.extent)?;
         let steps = (g.duration / dt).ceil().max(1.0) as u64;
         let every = steps.div_ceil(test.history_rows).max(1);
@@ -1029,17 +1045,14 @@ impl CuttingScene {
         });
         if debris.is_some() {
             // (So a run with deletion never resumes one without, nor the other way round.)
-            let text = s["description"].as_str().unwrap_or_default().to_string();
-            s["description"] = json!(format!(
-                "{text} Detached fragments deleted on every history row (dem test cutting \
-                 --delete-fragments; dem run does not delete them)."
-            ));
+            s.description += " Detached fragments deleted on every history row (dem test \
+                 cutting --delete-fragments; dem run does not delete them).";
         }
         if checkpoints > 0 {
             // On history rows, about `checkpoints` over the run.
             let n = steps.div_ceil(every).div_ceil(checkpoints).max(1) * every;
-            s["outputs"]["checkpoint_every"] = json!(n);
-            s["outputs"]["checkpoint_keep"] = json!(1);
+            s.outputs.checkpoint_every = n;
+            s.outputs.checkpoint_keep = 1;
         }
         Ok(CuttingScene {
             spec,
@@ -1128,7 +1141,11 @@ pub fn run_with(
     let (spec, s) = (&cs.spec, &cs.scene);
     let every = cs.every;
     let hook = || cs.hook();
-    let restart = if ro.resume && earlier.as_ref() == Some(s) {
+    let now = serde_json::to_value(s).map_err(|e| LabError::Io {
+        file: scene_file.display().to_string(),
+        source: std::io::Error::other(e),
+    })?;
+    let restart = if ro.resume && earlier.as_ref() == Some(&now) {
         dem_core::output::driver::numbered_checkpoints(out_dir)
             .ok()
             .and_then(|mut c| c.pop())
@@ -1141,12 +1158,12 @@ pub fn run_with(
         restart,
         max_steps: ro.max_steps,
     };
-    let lab = match run_scene_with(s, &scene_file, &opts, progress, hook()) {
+    let lab = match run_scene(s, &scene_file, &opts, progress, hook()) {
         Err(LabError::Run(dem_core::output::driver::RunError::Checkpoint(_)))
             if opts.restart.is_some() =>
         {
             opts.restart = None;
-            run_scene_with(s, &scene_file, &opts, progress, hook())?
+            run_scene(s, &scene_file, &opts, progress, hook())?
         }
         r => r?,
     };
@@ -1389,7 +1406,8 @@ mod tests {
         let s = specimen::generate(&p, &mut |_| {}).unwrap();
         let path = dir.join("s.json");
         specimen::io::save(&s, "si3n4", &path).unwrap();
-        let mut scene = specimen::io::example_scene(&s, "si3n4", "s.json", 10);
+        let mut scene =
+            serde_json::to_value(specimen::io::example_scene(&s, "si3n4", "s.json", 10)).unwrap();
         let write = |v: &serde_json::Value| {
             std::fs::write(dir.join("s.scene.json"), v.to_string()).unwrap();
         };
@@ -1406,13 +1424,13 @@ mod tests {
             flat_joint: Some(fj),
             ..pb.clone()
         };
-        scene["bond_groups"] = with.bond_groups();
+        scene["bond_groups"] = serde_json::to_value(with.bond_groups()).unwrap();
         write(&scene);
         let back = model_from_specimen(&path).unwrap();
         assert_eq!(back.flat_joint, Some(fj));
         assert_eq!(back, with);
         // One group a flat joint, the other a parallel bond: refused, naming the groups.
-        scene["bond_groups"][1] = pb.bond_groups()[1].clone();
+        scene["bond_groups"][1] = serde_json::to_value(&pb.bond_groups()[1]).unwrap();
         write(&scene);
         match model_from_specimen(&path) {
             Err(LabError::Param { field, reason }) => {
@@ -1422,7 +1440,7 @@ mod tests {
             other => panic!("{other:?}"),
         }
         // A flat-joint group the scene loader refuses is refused here too (by its field).
-        scene["bond_groups"] = with.bond_groups();
+        scene["bond_groups"] = serde_json::to_value(with.bond_groups()).unwrap();
         scene["bond_groups"][0]["elements"] = serde_json::json!(9);
         write(&scene);
         let e = model_from_specimen(&path).unwrap_err().to_string();

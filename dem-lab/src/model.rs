@@ -4,8 +4,11 @@
 //! specimen geometry stays.
 
 use crate::specimen::{MicroParams, SpecimenParams, GRAIN_BOUNDARY, INTRA_GRAIN};
+use dem_core::scene::schema::{
+    BodiesSpec, BondGroupSpec, BondModelName, ContactSpec, CriterionName, LawName, MaterialSpec,
+    PairSpec, SceneFile, SpecimenRef,
+};
 use serde::{Deserialize, Serialize};
-use serde_json::{json, Value};
 
 /// Name of the specimen's disc material in lab scenes (the specimen files use it).
 pub const DISC_MATERIAL: &str = crate::specimen::DEFAULT_MATERIAL;
@@ -107,68 +110,99 @@ impl LabModel {
     /// friction μ, no dashpot: bonded-particle tests dissipate by local damping and friction)
     /// and the frictionless wall material (its disc-wall stiffness is set by the pair entry of
     /// [`LabModel::contact`], not by mixing).
-    pub fn materials(&self) -> Value {
+    pub fn materials(&self) -> Vec<MaterialSpec> {
         let kn = self.contact_kn();
         let ks = kn / self.micro.stiffness_ratio;
         let f = self.micro.wall_stiffness_factor;
-        json!([
-            {"name": DISC_MATERIAL, "density": self.density, "kn": kn, "ks": ks,
-             "friction": self.micro.friction, "damping_ratio": 0.0},
-            {"name": WALL_MATERIAL, "kn": f * kn, "ks": f * ks, "friction": 0.0,
-             "damping_ratio": 0.0}
-        ])
+        vec![
+            MaterialSpec {
+                name: DISC_MATERIAL.into(),
+                density: Some(self.density),
+                kn: Some(kn),
+                ks: Some(ks),
+                friction: self.micro.friction,
+                damping_ratio: Some(0.0),
+                ..MaterialSpec::default()
+            },
+            MaterialSpec {
+                name: WALL_MATERIAL.into(),
+                kn: Some(f * kn),
+                ks: Some(f * ks),
+                friction: 0.0,
+                damping_ratio: Some(0.0),
+                ..MaterialSpec::default()
+            },
+        ]
     }
 
     /// The scene's `contact`: linear law; the disc-wall pair set explicitly to
     /// k_n,wall = `wall_stiffness_factor` × k_n, frictionless.
-    pub fn contact(&self) -> Value {
+    pub fn contact(&self) -> ContactSpec {
         let kn = self.contact_kn();
         let f = self.micro.wall_stiffness_factor;
-        json!({
-            "law": "linear_spring_dashpot",
-            "pairs": [{"materials": [DISC_MATERIAL, WALL_MATERIAL], "law": "linear_spring_dashpot",
-                       "kn": f * kn, "ks": f * kn / self.micro.stiffness_ratio,
-                       "friction": 0.0, "damping_ratio": 0.0}]
-        })
+        ContactSpec {
+            law: LawName::LinearSpringDashpot,
+            rolling: false,
+            pairs: vec![PairSpec {
+                materials: [DISC_MATERIAL.into(), WALL_MATERIAL.into()],
+                law: LawName::LinearSpringDashpot,
+                kn: Some(f * kn),
+                ks: Some(f * kn / self.micro.stiffness_ratio),
+                friction: Some(0.0),
+                damping_ratio: Some(0.0),
+                ..PairSpec::default()
+            }],
+        }
     }
 
     /// The scene's `bond_groups`: grain-boundary and intra-grain parallel bonds (Potyondy &
     /// Cundall 2004), maximum-stress criterion, k̄_s = k̄_n/κ̄, λ̄, β̄ = 1, φ̄ = 0; or, with
     /// [`LabModel::flat_joint`], flat joints of the same stiffness and strengths.
-    pub fn bond_groups(&self) -> Value {
+    pub fn bond_groups(&self) -> Vec<BondGroupSpec> {
         let m = &self.micro;
         let kn = self.bond_kn();
         let fj = self.flat_joint;
-        let group = |name: &str, tensile: f64, cohesion: f64| match fj {
-            None => json!({"name": name, "model": "parallel_potyondy2004", "criterion": "stress",
-                   "kn": kn, "ks": kn / m.bond_stiffness_ratio,
-                   "radius_multiplier": m.bond_radius_multiplier, "moment_factor": 1.0,
-                   "tensile_strength": tensile, "cohesion": cohesion, "friction_angle": 0.0}),
-            Some(f) => json!({"name": name, "model": "flat_joint_potyondy2012",
-                   "criterion": "stress", "kn": kn, "ks": kn / m.bond_stiffness_ratio,
-                   "radius_multiplier": m.bond_radius_multiplier, "elements": f.elements,
-                   "friction": f.friction, "bonded_fraction": f.bonded_fraction,
-                   "tensile_strength": tensile, "cohesion": cohesion, "friction_angle": 0.0}),
+        let model = match fj {
+            None => BondModelName::ParallelPotyondy2004,
+            Some(_) => BondModelName::FlatJointPotyondy2012,
         };
-        json!([
+        let group = |name: &str, tensile: f64, cohesion: f64| BondGroupSpec {
+            kn: Some(kn),
+            ks: Some(kn / m.bond_stiffness_ratio),
+            radius_multiplier: Some(m.bond_radius_multiplier),
+            moment_factor: fj.is_none().then_some(1.0),
+            elements: fj.map(|f| u32::from(f.elements)),
+            friction: fj.map(|f| f.friction),
+            bonded_fraction: fj.map(|f| f.bonded_fraction),
+            tensile_strength: Some(tensile),
+            cohesion: Some(cohesion),
+            friction_angle: Some(0.0),
+            ..BondGroupSpec::new(name, model, CriterionName::Stress)
+        };
+        vec![
             group(GRAIN_BOUNDARY, m.boundary_tensile, m.boundary_cohesion),
-            group(INTRA_GRAIN, m.intra_tensile, m.intra_cohesion)
-        ])
+            group(INTRA_GRAIN, m.intra_tensile, m.intra_cohesion),
+        ]
     }
 
-    /// A scene skeleton with this model: schema, units m, thickness, materials, contact, bond
-    /// groups, one specimen file (path relative to the scene). Tests add walls, run and outputs.
-    pub fn scene_base(&self, name: &str, specimen_file: &str, offset: [f64; 2]) -> Value {
-        json!({
-            "schema": dem_core::scene::schema::SCHEMA,
-            "name": name,
-            "units": "m",
-            "thickness": self.thickness,
-            "materials": self.materials(),
-            "contact": self.contact(),
-            "bond_groups": self.bond_groups(),
-            "bodies": {"specimens": [{"file": specimen_file, "offset": offset}]},
-        })
+    /// A scene with this model: schema, units m, thickness, materials, contact, bond groups,
+    /// one specimen file (path relative to the scene), no walls, the engine's run and output
+    /// defaults. Tests add walls, run and outputs.
+    pub fn scene_file(&self, name: &str, specimen_file: &str, offset: [f64; 2]) -> SceneFile {
+        SceneFile {
+            thickness: Some(self.thickness),
+            materials: self.materials(),
+            contact: self.contact(),
+            bond_groups: self.bond_groups(),
+            bodies: BodiesSpec {
+                specimens: vec![SpecimenRef {
+                    file: specimen_file.into(),
+                    offset,
+                }],
+                ..BodiesSpec::default()
+            },
+            ..SceneFile::new(name)
+        }
     }
 }
 
@@ -215,10 +249,10 @@ mod tests {
         assert_eq!(m.contact_kn(), 2.0 * 1.0 * 300e9);
         assert!((m.bond_kn() - 300e9 / (2.0 * 1.25e-4)).abs() < 1e-3);
         let g = m.bond_groups();
-        assert_eq!(g[0]["name"], GRAIN_BOUNDARY);
-        assert_eq!(g[1]["tensile_strength"], 1000e6);
+        assert_eq!(g[0].name, GRAIN_BOUNDARY);
+        assert_eq!(g[1].tensile_strength, Some(1000e6));
         let c = m.contact();
-        assert_eq!(c["pairs"][0]["kn"], 2.0 * 2.0 * 300e9);
+        assert_eq!(c.pairs[0].kn, Some(2.0 * 2.0 * 300e9));
     }
 
     /// The flat-joint groups are valid scene bond groups with the parallel bonds' stiffness
@@ -235,20 +269,18 @@ mod tests {
         });
         let fj = m.bond_groups();
         for k in 0..2 {
-            let spec: dem_core::scene::schema::BondGroupSpec =
-                serde_json::from_value(fj[k].clone()).unwrap();
-            let g = dem_core::scene::bond_group("model", k, &spec).unwrap();
+            let g = dem_core::scene::bond_group("model", k, &fj[k]).unwrap();
             match g.model {
                 dem_core::bond::BondModel::FlatJoint(p) => {
                     assert_eq!((p.elements, p.friction, p.bonded_fraction), (3, 0.6, 0.8));
-                    assert_eq!(Some(p.kn), pb[k]["kn"].as_f64());
-                    assert_eq!(Some(p.ks), pb[k]["ks"].as_f64());
+                    assert_eq!(Some(p.kn), pb[k].kn);
+                    assert_eq!(Some(p.ks), pb[k].ks);
                 }
                 other => panic!("{other:?}"),
             }
-            for f in ["tensile_strength", "cohesion", "name"] {
-                assert_eq!(fj[k][f], pb[k][f]);
-            }
+            assert_eq!(fj[k].tensile_strength, pb[k].tensile_strength);
+            assert_eq!(fj[k].cohesion, pb[k].cohesion);
+            assert_eq!(fj[k].name, pb[k].name);
         }
         let back: LabModel = serde_json::from_str(&serde_json::to_string(&m).unwrap()).unwrap();
         assert_eq!(back, m);

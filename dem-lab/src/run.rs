@@ -1,14 +1,15 @@
-//! Running a lab-test scene: the scene is written as a plain file first (so the user can edit
-//! and re-run it with `dem run`), then loaded and run exactly as `dem run` would, and its
-//! history read back.
+//! Running a lab-test scene: the test builds the scene as a typed value (the `dem.scene/1`
+//! file types), writes it as a plain file (so the user can edit and re-run it with
+//! `dem run`), runs the same value exactly as `dem run` would run the file, checked in memory
+//! rather than read back, and reads its history back.
 
 use super::history::Table;
 use super::LabError;
 use dem_core::output::driver::{RunOptions, Simulation, StepHook};
 use dem_core::output::summary::RunSummary;
 use dem_core::output::write_atomic;
+use dem_core::scene::schema::SceneFile;
 use dem_core::World;
-use serde_json::Value;
 use std::path::{Path, PathBuf};
 
 /// A finished lab run.
@@ -29,28 +30,20 @@ pub struct LabRun {
 /// (27 M steps), about 14 core-hours for 1,000 discs at 2e7 particle-steps/s.
 pub const STEP_LIMIT: u64 = 1_000_000_000;
 
-/// Writes `scene` to `scene_file` (atomically, pretty JSON), runs it with `opts` (output folder:
-/// `opts.out_dir`, else the scene's), calling `progress(done, total)` now and then.
+/// Writes `scene` to `scene_file` (atomically, pretty JSON) for `dem run` to replay, and runs
+/// the same value, checked in memory (not read back from the file), with `opts` (output
+/// folder: `opts.out_dir`, else the scene's) and `hook` between steps (see [`StepHook`]),
+/// calling `progress(done, total)` now and then.
 pub fn run_scene(
-    scene: &Value,
-    scene_file: &Path,
-    opts: &RunOptions,
-    progress: &mut dyn FnMut(u64, u64),
-) -> Result<LabRun, LabError> {
-    run_scene_with(scene, scene_file, opts, progress, None)
-}
-
-/// [`run_scene`] with a function run between steps (see [`StepHook`]).
-pub fn run_scene_with(
-    scene: &Value,
+    scene: &SceneFile,
     scene_file: &Path,
     opts: &RunOptions,
     progress: &mut dyn FnMut(u64, u64),
     hook: Option<StepHook>,
 ) -> Result<LabRun, LabError> {
     write_scene(scene, scene_file)?;
-    let loaded = dem_core::scene::load(scene_file)?;
-    let mut sim = Simulation::new(loaded, opts)?;
+    let resolved = dem_core::scene::resolve(scene.clone(), scene_file)?;
+    let mut sim = Simulation::new(resolved, opts)?;
     let steps = sim.total_steps();
     if steps > STEP_LIMIT {
         return Err(LabError::TooManySteps {
@@ -76,8 +69,8 @@ pub fn run_scene_with(
     })
 }
 
-/// Writes a scene JSON atomically, creating the folder.
-pub fn write_scene(scene: &Value, scene_file: &Path) -> Result<(), LabError> {
+/// Writes a scene atomically as pretty JSON, creating the folder.
+pub fn write_scene(scene: &SceneFile, scene_file: &Path) -> Result<(), LabError> {
     if let Some(dir) = scene_file.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).map_err(|source| LabError::Io {
             file: dir.display().to_string(),

@@ -25,8 +25,8 @@ use super::common::{self, positive, Loading};
 use super::history::Table;
 use super::specimens::{Shape, TestSpecimen};
 use super::{analysis, LabError, LabModel};
+use dem_core::scene::schema::SceneFile;
 use serde::{Deserialize, Serialize};
-use serde_json::json;
 
 const TEST: &str = "senb";
 
@@ -222,7 +222,7 @@ pub fn scene(
     test: &SenbTest,
     model: &LabModel,
     spec: &TestSpecimen,
-) -> Result<serde_json::Value, LabError> {
+) -> Result<SceneFile, LabError> {
     test.validate()?;
     let [x0, y0, x1, _] = spec.extent;
     let w = spec.size()[1];
@@ -254,17 +254,19 @@ pub fn scene(
         ));
     }
     let e = 0.25 * spec.r_mean;
-    s["outputs"]["gauges"] = json!([
-        {"name": "mouth_left", "region": [left - 2.0 * g, y0 - g, left + e, y0 + g]},
-        {"name": "mouth_right", "region": [right - e, y0 - g, right + 2.0 * g, y0 + g]},
-    ]);
+    s.outputs.gauges = vec![
+        common::gauge("mouth_left", [left - 2.0 * g, y0 - g, left + e, y0 + g]),
+        common::gauge("mouth_right", [right - e, y0 - g, right + 2.0 * g, y0 + g]),
+    ];
     // The plain beam's stop is armed at 15 % of its estimated peak; the notched beam's peak
     // scales with the ligament squared, (1 − a/W)².
     let lig = 1.0 - test.notch_ratio;
-    let arm = &mut s["run"]["stop_after_peak"]["min_load"];
-    *arm = json!(arm.as_f64().unwrap_or(0.0) * lig * lig);
+    if let Some(stop) = s.run.stop_after_peak.as_mut() {
+        // (Written (arm × lig) × lig, the order of the earlier JSON edit: the same bits.)
+        stop.min_load = stop.min_load * lig * lig;
+    }
     let (slot, a) = (test.notch_width, test.notch_depth());
-    s["description"] = json!(format!(
+    s.description = format!(
         "Single-edge-notched beam (dem test senb): {:.3} x {:.3} mm, span {:.3} mm, notch {:.3} mm deep (a/W = {:.2}), slot {:.3} mm",
         (x1 - x0) * 1e3,
         w * 1e3,
@@ -272,7 +274,7 @@ pub fn scene(
         a * 1e3,
         a / w,
         slot * 1e3
-    ));
+    );
     Ok(s)
 }
 

@@ -19,8 +19,8 @@ use super::common::{self, positive, Loading};
 use super::history::Table;
 use super::specimens::{Shape, TestSpecimen};
 use super::{analysis, LabError, LabModel};
+use dem_core::scene::schema::{AxisName, SceneFile};
 use serde::{Deserialize, Serialize};
-use serde_json::{json, Value};
 
 const TEST: &str = "ucs";
 
@@ -165,37 +165,42 @@ impl UcsTest {
 
 /// The test's scene (`dem.scene/1`): the specimen file (by its file name: the scene is written
 /// beside it), two platens, left/right gauges, local damping, stop after the peak.
-pub fn scene(test: &UcsTest, model: &LabModel, spec: &TestSpecimen) -> Result<Value, LabError> {
+pub fn scene(test: &UcsTest, model: &LabModel, spec: &TestSpecimen) -> Result<SceneFile, LabError> {
     test.validate()?;
     test.check_geometry(spec.size(), spec.r_mean)?;
     let [x0, y0, x1, y1] = spec.extent;
     let (w, h) = (x1 - x0, y1 - y0);
     let v = test.platen_speed(model, spec);
     let ov = test.platen_overhang * w;
-    let mut s = model.scene_base(&test.name, &spec.file_name(), [0.0, 0.0]);
-    s["description"] = json!(format!(
+    let mut s = model.scene_file(&test.name, &spec.file_name(), [0.0, 0.0]);
+    s.description = format!(
         "Uniaxial compression (dem test ucs): platens at {v:.4e} m/s each; specimen {:.3} x {:.3} mm",
         w * 1e3,
         h * 1e3
-    ));
-    s["walls"] = json!([
-        {"name": "bottom", "a": [x0 - ov, y0], "b": [x1 + ov, y0],
-         "material": super::model::WALL_MATERIAL, "velocity": [0.0, v]},
-        {"name": "top", "a": [x0 - ov, y1], "b": [x1 + ov, y1],
-         "material": super::model::WALL_MATERIAL, "velocity": [0.0, -v]},
-    ]);
+    );
+    s.walls = vec![
+        common::wall("bottom", [x0 - ov, y0], [x1 + ov, y0], [0.0, v]),
+        common::wall("top", [x0 - ov, y1], [x1 + ov, y1], [0.0, -v]),
+    ];
     let g = test.gauge_width * spec.r_mean;
-    let gauges = json!([
-        {"name": "left", "region": [x0 - g, y0 - g, x0 + g, y1 + g]},
-        {"name": "right", "region": [x1 - g, y0 - g, x1 + g, y1 + g]},
-    ]);
+    let gauges = vec![
+        common::gauge("left", [x0 - g, y0 - g, x0 + g, y1 + g]),
+        common::gauge("right", [x1 - g, y0 - g, x1 + g, y1 + g]),
+    ];
     let m = &model.micro;
     // Arm the stop at 10 % of σ̄_c w t (the start-up transient, stress ρcv = E ε_f/N, is
     // ~2.5 % of σ̄_c).
     let min_load = 0.1 * m.boundary_tensile.min(m.boundary_cohesion) * w * model.thickness;
     let u_fail = 0.5 * h * common::failure_strain_estimate(model);
-    test.loading
-        .scene_fields(&mut s, v, u_fail, &["top".into()], "y", min_load, gauges);
+    test.loading.scene_fields(
+        &mut s,
+        v,
+        u_fail,
+        &["top".into()],
+        AxisName::Y,
+        min_load,
+        gauges,
+    );
     Ok(s)
 }
 

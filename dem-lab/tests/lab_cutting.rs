@@ -185,16 +185,9 @@ fn tool_force_on_a_single_disc() {
     let info = SpecimenInfo::read(&spec_path).unwrap();
     assert_eq!(info.extent, [0.0, 2.0 * r, 0.0, 2.0 * r]);
     let mut scene = cutting::scene(&test, &model, &info, 1).unwrap();
-    let walls: Vec<serde_json::Value> = scene["walls"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .filter(|w| !w["name"].as_str().unwrap().starts_with("slot"))
-        .cloned()
-        .collect();
-    scene["walls"] = serde_json::Value::Array(walls);
+    scene.walls.retain(|w| !w.name.starts_with("slot"));
     let file = dir.join("one.scene.json");
-    std::fs::write(&file, scene.to_string()).unwrap();
+    std::fs::write(&file, serde_json::to_string(&scene).unwrap()).unwrap();
     let mut w = dem_core::scene::build(&dem_core::scene::load(&file).unwrap()).unwrap();
     let k = test.tool_stiffness * model.contact_kn();
     let g = CutGeometry::new(&test, info.extent).unwrap();
@@ -277,20 +270,12 @@ fn a_disc_on_the_tool_edge_gets_one_contact() {
         };
         let mut scene = cutting::scene(&test, &model, &info, 1).unwrap();
         // Keep the tool alone, at rest.
-        let walls: Vec<serde_json::Value> = scene["walls"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .filter(|w| !w["name"].as_str().unwrap().starts_with("slot"))
-            .map(|w| {
-                let mut w = w.clone();
-                w["velocity"] = serde_json::json!([0.0, 0.0]);
-                w
-            })
-            .collect();
-        scene["walls"] = serde_json::Value::Array(walls);
+        scene.walls.retain(|w| !w.name.starts_with("slot"));
+        for w in &mut scene.walls {
+            w.velocity = [0.0, 0.0];
+        }
         let file = dir.join(format!("{tool:?}.scene.json"));
-        std::fs::write(&file, scene.to_string()).unwrap();
+        std::fs::write(&file, serde_json::to_string(&scene).unwrap()).unwrap();
         let mut w = dem_core::scene::build(&dem_core::scene::load(&file).unwrap()).unwrap();
         let g = CutGeometry::new(&test, info.extent).unwrap();
         let e = g.edge_start;

@@ -264,7 +264,7 @@ fn round_trip(s: &Specimen, name: &str) {
     assert!(summary.ends_with("spec.summary.json") && summary.exists());
     let scene = io::example_scene(s, "Si3N4", "spec.json", 10);
     let scene_file = dir.join("spec.scene.json");
-    std::fs::write(&scene_file, scene.to_string()).unwrap();
+    std::fs::write(&scene_file, serde_json::to_string(&scene).unwrap()).unwrap();
     let sc = dem_core::scene::load(&scene_file).unwrap_or_else(|e| panic!("{e}"));
     let w = dem_core::scene::build(&sc).unwrap_or_else(|e| panic!("{e}"));
     let f = io::to_file(s, "Si3N4");

@@ -13,7 +13,7 @@ pub mod schema;
 
 pub use build::build;
 pub use model::Scene;
-pub use resolve::{load, parse};
+pub use resolve::{load, parse, resolve};
 
 /// One bond group of a scene file, `bond_groups[index]` of `file`, checked and resolved as the
 /// loader does (defaults, ranges; errors name the file and field): for tools that read a

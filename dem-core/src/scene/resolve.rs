@@ -30,6 +30,14 @@ pub fn parse(text: &str, path: &Path) -> Result<Scene, SceneError> {
     Resolver::new(path).scene(raw)
 }
 
+/// Checks a scene held in memory as the file types, as [`parse`] checks its text: for
+/// programs that build scenes as typed values (the lab tests) and write them for `dem run`
+/// beside their results. `path` is where the scene is (or would be) written: it names the
+/// scene in errors and anchors relative paths (specimen files, templates).
+pub fn resolve(raw: SceneFile, path: &Path) -> Result<Scene, SceneError> {
+    Resolver::new(path).scene(raw)
+}
+
 /// State of one scene load: material and group names, template cache, id counters.
 struct Resolver {
     scene_path: PathBuf,

@@ -48,7 +48,7 @@ pub struct SceneFile {
     #[serde(default)]
     pub units: LengthUnit,
     /// Disc thickness t (length unit); default 1 m.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub thickness: Option<f64>,
     #[serde(default)]
     pub seed: u64,
@@ -66,10 +66,10 @@ pub struct SceneFile {
     /// Constant external forces and torques on single discs.
     #[serde(default)]
     pub loads: Vec<LoadSpec>,
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub periodic: Option<PeriodicSpec>,
     /// Gravitational acceleration (length unit / s²); absent = no gravity stage.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub gravity: Option<[f64; 2]>,
     #[serde(default)]
     pub damping: DampingSpec,
@@ -78,33 +78,60 @@ pub struct SceneFile {
     pub outputs: OutputSpec,
 }
 
+impl SceneFile {
+    /// An empty scene `name` (`dem.scene/1`, units m, no materials, bodies or walls, the
+    /// engine's run and output defaults), for programs that build scenes as values.
+    pub fn new(name: &str) -> SceneFile {
+        SceneFile {
+            schema: SCHEMA.into(),
+            name: name.into(),
+            description: String::new(),
+            units: LengthUnit::M,
+            thickness: None,
+            seed: 0,
+            materials: Vec::new(),
+            contact: ContactSpec::default(),
+            bond_groups: Vec::new(),
+            bodies: BodiesSpec::default(),
+            auto_bonds: Vec::new(),
+            walls: Vec::new(),
+            loads: Vec::new(),
+            periodic: None,
+            gravity: None,
+            damping: DampingSpec::default(),
+            run: RunSpec::default(),
+            outputs: OutputSpec::default(),
+        }
+    }
+}
+
 /// A material: density for discs, contact properties for the laws that use them.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
 #[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(deny_unknown_fields)]
 pub struct MaterialSpec {
     pub name: String,
     /// kg/m³; required for materials that discs use.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub density: Option<f64>,
     /// Linear law: normal and tangential contact stiffness (N/m).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub kn: Option<f64>,
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub ks: Option<f64>,
     /// Hertz-Mindlin: Young's modulus (Pa) and Poisson's ratio.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub youngs_modulus: Option<f64>,
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub poisson: Option<f64>,
     /// Coulomb friction coefficient μ.
     #[serde(default)]
     pub friction: f64,
     /// Normal coefficient of restitution e in (0, 1]; or give `damping_ratio`.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub restitution: Option<f64>,
     /// Normal dashpot as a fraction of critical damping, in [0, 1).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub damping_ratio: Option<f64>,
     /// Rolling-resistance coefficient μ_r (used by pairs with `"rolling": true`).
     #[serde(default)]
@@ -144,7 +171,7 @@ pub enum LawName {
 }
 
 /// The law of one material pair (order of the two names does not matter).
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
 #[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(deny_unknown_fields)]
 pub struct PairSpec {
@@ -153,17 +180,17 @@ pub struct PairSpec {
     #[serde(default)]
     pub rolling: bool,
     /// Overrides of the mixed values, same meaning and units as in a material.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub kn: Option<f64>,
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub ks: Option<f64>,
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub friction: Option<f64>,
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub restitution: Option<f64>,
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub damping_ratio: Option<f64>,
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub rolling_friction: Option<f64>,
 }
 
@@ -198,50 +225,78 @@ pub struct BondGroupSpec {
     pub model: BondModelName,
     pub criterion: CriterionName,
     /// Parallel bond: normal and shear stiffness per area (Pa/m); contact bond: N/m.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub kn: Option<f64>,
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub ks: Option<f64>,
     /// Parallel bond radius multiplier λ̄ (R̄ = λ̄·min(R1, R2)); default 1.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub radius_multiplier: Option<f64>,
     /// Moment contribution factor β̄ in σ̄ = −F̄n/Ā + β̄|M̄|R̄/Ī; default 1.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub moment_factor: Option<f64>,
     /// Flat joint: number of elements along the interface, 1–8; default 2.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub elements: Option<u32>,
     /// Flat joint: friction coefficient μ of unbonded elements; default 0.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub friction: Option<f64>,
     /// Flat joint: fraction of the elements bonded at installation (the others are slit:
     /// unbonded from the start), in [0, 1]; default 1.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub bonded_fraction: Option<f64>,
     /// Stress criterion: tensile strength σ̄c (Pa), cohesion c̄ (Pa), friction angle φ̄ (degrees).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub tensile_strength: Option<f64>,
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub cohesion: Option<f64>,
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub friction_angle: Option<f64>,
     /// Force criterion: normal (tensile) and shear strength (N), and optionally the bending
     /// moment (N·m) at which a parallel bond breaks in tension.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub normal_strength: Option<f64>,
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub shear_strength: Option<f64>,
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub moment_strength: Option<f64>,
     /// Strain criterion: limits of normal (opening) and shear strain (dimensionless).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub normal_strain: Option<f64>,
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub shear_strain: Option<f64>,
     /// Energy criterion: fracture energy per unit bond area G_c (J/m²); the bond breaks when its
     /// opening plus shear strain energy reaches G_c·Ā.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub fracture_energy: Option<f64>,
+}
+
+impl BondGroupSpec {
+    /// A group `name` of `model` with `criterion` and every optional field absent (the
+    /// loader's defaults); set the stiffnesses and strengths the model needs.
+    pub fn new(name: &str, model: BondModelName, criterion: CriterionName) -> BondGroupSpec {
+        BondGroupSpec {
+            name: name.into(),
+            model,
+            criterion,
+            kn: None,
+            ks: None,
+            radius_multiplier: None,
+            moment_factor: None,
+            elements: None,
+            friction: None,
+            bonded_fraction: None,
+            tensile_strength: None,
+            cohesion: None,
+            friction_angle: None,
+            normal_strength: None,
+            shear_strength: None,
+            moment_strength: None,
+            normal_strain: None,
+            shear_strain: None,
+            fracture_energy: None,
+        }
+    }
 }
 
 /// All bodies of the scene. Discs are created in this order: disc sets, clump sets, specimens.
@@ -309,7 +364,7 @@ pub struct ClumpSetSpec {
     pub material: String,
     pub mode: ClumpMode,
     /// Bond group of the intra-clump bonds (bonded mode only).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub bond_group: Option<String>,
     /// Members of a bonded clump are bonded when their gap is at most this (length unit);
     /// overlapping members always are. Default 0.
@@ -441,7 +496,7 @@ pub struct WallSpec {
     #[serde(default)]
     pub angular_velocity: f64,
     /// Centre of rotation and of the recorded moment; default the segment's midpoint.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub center: Option<[f64; 2]>,
     /// Stress control instead of a prescribed velocity (`velocity` and `angular_velocity`
     /// must then be zero).
@@ -491,9 +546,9 @@ pub struct LoadSpec {
 #[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(deny_unknown_fields)]
 pub struct PeriodicSpec {
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub x: Option<[f64; 2]>,
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub y: Option<[f64; 2]>,
 }
 
@@ -512,32 +567,32 @@ pub struct DampingSpec {
 }
 
 /// How long to run and with which time step.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
 #[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(deny_unknown_fields)]
 pub struct RunSpec {
     /// Simulated time (s); or give `steps`.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub duration: Option<f64>,
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub steps: Option<u64>,
     /// Safety factor f of the automatic time step; default the engine's.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub dt_factor: Option<f64>,
     /// Fixed time step (s) instead of the automatic one.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub dt: Option<f64>,
     /// Cap on the world's step count: the run stops there (and can be continued by a restart).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub max_steps: Option<u64>,
     /// Verlet skin (length unit); default 0.2 × the smallest radius.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub skin: Option<f64>,
     /// Guard: largest overlap allowed, as a fraction of the smaller radius (default 0.3).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub max_overlap_fraction: Option<f64>,
     /// Guard: kinetic energy may not exceed this multiple of the energy supplied (default 2).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub max_energy_growth: Option<f64>,
     /// Selective mass scaling before the run (`dem_core::mass_scaling`): the lightest discs
     /// are made heavier until their time-step bound reaches the largest step whose added mass
@@ -590,7 +645,7 @@ pub struct GaugeSpec {
 #[serde(deny_unknown_fields)]
 pub struct OutputSpec {
     /// Output folder, relative to the scene file; default `<scene stem>.out`.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub dir: Option<String>,
     #[serde(default = "default_history")]
     pub history_every: u64,

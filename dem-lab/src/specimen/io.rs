@@ -23,7 +23,7 @@
 use super::{Specimen, SpecimenError};
 use dem_core::bond::BondStatus;
 use dem_core::scene::schema::{
-    BondListSpec, DiscSetSpec, LengthUnit, SpecimenFile, SPECIMEN_SCHEMA,
+    BondListSpec, DiscSetSpec, LengthUnit, SceneFile, SpecimenFile, SPECIMEN_SCHEMA,
 };
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -170,17 +170,16 @@ pub fn save(s: &Specimen, material: &str, path: &Path) -> Result<PathBuf, Specim
 /// scene) with the micro-parameters it was generated with: material `material` (density,
 /// linear contact k_n = 2tE_c, k_s, friction), the two bond groups (parallel bonds, stress
 /// criterion), local damping 0.7, `steps` steps. A starting point for lab-test scenes.
-pub fn example_scene(
-    s: &Specimen,
-    material: &str,
-    specimen_file: &str,
-    steps: u64,
-) -> serde_json::Value {
+pub fn example_scene(s: &Specimen, material: &str, specimen_file: &str, steps: u64) -> SceneFile {
+    use dem_core::scene::schema::{
+        BodiesSpec, BondGroupSpec, BondModelName, CriterionName, MaterialSpec, OutputSpec, RunSpec,
+        SpecimenRef,
+    };
     let p = &s.params;
     let m = &p.micro;
     let kn = 2.0 * p.thickness * m.contact_modulus;
     // The specimen's groups are parallel bonds with the stress criterion (groups::bond_groups).
-    let groups: Vec<serde_json::Value> = super::groups::bond_groups(p)
+    let bond_groups = super::groups::bond_groups(p)
         .iter()
         .filter_map(|g| match (&g.model, &g.criterion) {
             (
@@ -190,39 +189,66 @@ pub fn example_scene(
                     cohesion,
                     friction_angle,
                 },
-            ) => Some(serde_json::json!({
-                "name": g.name,
-                "model": "parallel_potyondy2004",
-                "criterion": "stress",
-                "kn": pb.kn,
-                "ks": pb.ks,
-                "radius_multiplier": pb.lambda,
-                "moment_factor": pb.beta,
-                "tensile_strength": tensile,
-                "cohesion": cohesion,
-                "friction_angle": friction_angle.to_degrees(),
-            })),
+            ) => Some(BondGroupSpec {
+                kn: Some(pb.kn),
+                ks: Some(pb.ks),
+                radius_multiplier: Some(pb.lambda),
+                moment_factor: Some(pb.beta),
+                tensile_strength: Some(*tensile),
+                cohesion: Some(*cohesion),
+                friction_angle: Some(friction_angle.to_degrees()),
+                ..BondGroupSpec::new(
+                    &g.name,
+                    BondModelName::ParallelPotyondy2004,
+                    CriterionName::Stress,
+                )
+            }),
             _ => None,
         })
         .collect();
-    serde_json::json!({
-        "schema": dem_core::scene::schema::SCHEMA,
-        "name": format!("{} specimen, seed {}", p.method.name(), p.seed),
-        "description": "Loads the specimen with the micro-parameters it was generated with (dem specimen).",
-        "units": "m",
-        "thickness": p.thickness,
-        "materials": [{
-            "name": material,
-            "density": p.density,
-            "kn": kn,
-            "ks": kn / m.stiffness_ratio,
-            "friction": m.friction,
-            "damping_ratio": 0.0
+    SceneFile {
+        schema: dem_core::scene::schema::SCHEMA.into(),
+        name: format!("{} specimen, seed {}", p.method.name(), p.seed),
+        description: "Loads the specimen with the micro-parameters it was generated with \
+                      (dem specimen)."
+            .into(),
+        units: LengthUnit::M,
+        thickness: Some(p.thickness),
+        seed: 0,
+        materials: vec![MaterialSpec {
+            name: material.into(),
+            density: Some(p.density),
+            kn: Some(kn),
+            ks: Some(kn / m.stiffness_ratio),
+            friction: m.friction,
+            damping_ratio: Some(0.0),
+            ..MaterialSpec::default()
         }],
-        "bond_groups": groups,
-        "bodies": {"specimens": [{"file": specimen_file}]},
-        "damping": {"local": super::relax::LOCAL_DAMPING},
-        "run": {"steps": steps},
-        "outputs": {"history_every": 100}
-    })
+        contact: Default::default(),
+        bond_groups,
+        bodies: BodiesSpec {
+            specimens: vec![SpecimenRef {
+                file: specimen_file.into(),
+                offset: [0.0, 0.0],
+            }],
+            ..BodiesSpec::default()
+        },
+        auto_bonds: vec![],
+        walls: vec![],
+        loads: vec![],
+        periodic: None,
+        gravity: None,
+        damping: dem_core::scene::schema::DampingSpec {
+            local: super::relax::LOCAL_DAMPING,
+            viscous: 0.0,
+        },
+        run: RunSpec {
+            steps: Some(steps),
+            ..RunSpec::default()
+        },
+        outputs: OutputSpec {
+            history_every: 100,
+            ..OutputSpec::default()
+        },
+    }
 }
