@@ -1,5 +1,5 @@
 //! Scene files (`dem.scene/1`, documented field by field in `docs/scene-schema.md`): parsing
-//! with exact error locations ([`resolve`]), the checked SI model ([`model`]), and the
+//! with exact error locations ([`mod@resolve`]), the checked SI model ([`model`]), and the
 //! construction of a `World` from it.
 
 pub(crate) mod bondspec;

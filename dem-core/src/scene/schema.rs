@@ -1,7 +1,7 @@
 //! The scene file as written: `dem.scene/1` JSON, field by field as in `docs/scene-schema.md`.
 //!
 //! Every struct rejects unknown fields. Lengths (and velocities, accelerations) are in the file's
-//! `units`; [`super::resolve`] converts them to SI once and checks the values. Enums are plain
+//! `units`; [`mod@super::resolve`] converts them to SI once and checks the values. Enums are plain
 //! strings and bodies are arrays of plain objects (no tagged or untagged unions), so a parse error
 //! always carries the exact JSON path of the offending value.
 
