@@ -117,9 +117,9 @@ impl MaterialFile {
     /// Reads a material file; errors name the file and the field.
     pub fn read(path: &Path) -> Result<MaterialFile, LabError> {
         let m = Self::read_unchecked(path)?;
-        m.targets().map_err(|reason| LabError::Param {
+        m.targets().map_err(|e| LabError::Param {
             field: format!("{}: measured", path.display()),
-            reason,
+            reason: e.to_string(),
         })?;
         Ok(m)
     }
@@ -143,10 +143,10 @@ impl MaterialFile {
 
     /// The calibration targets: measured values, else the file's assumed ones (E must be one of
     /// them).
-    pub fn targets(&self) -> Result<Targets, String> {
+    pub fn targets(&self) -> Result<Targets, TargetError> {
         let pick = |a: Option<f64>, b: Option<f64>| a.or(b);
         let (m, a) = (&self.measured, &self.assumed);
-        let young = pick(m.e_gpa, a.e_gpa).ok_or("no E_GPa (measured or assumed)")? * 1e9;
+        let young = pick(m.e_gpa, a.e_gpa).ok_or(TargetError::Missing("E_GPa"))? * 1e9;
         let t = Targets {
             young,
             poisson: pick(m.poisson, a.poisson),
@@ -160,11 +160,30 @@ impl MaterialFile {
     }
 }
 
+/// A calibration target that is missing or out of range.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum TargetError {
+    /// The material file gives the value neither as measured nor as assumed.
+    #[error("no {0} (measured or assumed)")]
+    Missing(&'static str),
+    /// A value outside its range (`rule`, e.g. "> 0").
+    #[error("{name} must be {rule}, got {value}")]
+    OutOfRange {
+        name: &'static str,
+        rule: &'static str,
+        value: f64,
+    },
+}
+
 impl Targets {
     /// Every value positive and finite, ν in (0, 0.5).
-    pub fn check(&self) -> Result<(), String> {
-        let pos = |name: &str, v: Option<f64>| match v {
-            Some(x) if !(x > 0.0 && x.is_finite()) => Err(format!("{name} must be > 0, got {x}")),
+    pub fn check(&self) -> Result<(), TargetError> {
+        let pos = |name: &'static str, v: Option<f64>| match v {
+            Some(x) if !(x > 0.0 && x.is_finite()) => Err(TargetError::OutOfRange {
+                name,
+                rule: "> 0",
+                value: x,
+            }),
             _ => Ok(()),
         };
         pos("E", Some(self.young))?;
@@ -174,7 +193,11 @@ impl Targets {
         pos("K_IC", self.kic)?;
         if let Some(nu) = self.poisson {
             if !(nu > 0.0 && nu < 0.5) {
-                return Err(format!("Poisson's ratio must be in (0, 0.5), got {nu}"));
+                return Err(TargetError::OutOfRange {
+                    name: "Poisson's ratio",
+                    rule: "in (0, 0.5)",
+                    value: nu,
+                });
             }
         }
         Ok(())
@@ -455,9 +478,9 @@ fn calibrate_pass(
     opts: &Options,
     progress: &mut dyn FnMut(&str),
 ) -> Result<Calibration, LabError> {
-    targets.check().map_err(|reason| LabError::Param {
+    targets.check().map_err(|e| LabError::Param {
         field: "targets".into(),
-        reason,
+        reason: e.to_string(),
     })?;
     let mut m = start.clone();
     let mut steps = Vec::new();
@@ -1283,6 +1306,15 @@ mod tests {
         assert!(t.check().is_err());
         t.poisson = Some(0.2);
         t.ucs = Some(-1.0);
-        assert!(t.check().unwrap_err().contains("UCS"));
+        assert_eq!(
+            t.check().unwrap_err().to_string(),
+            "UCS must be > 0, got -1"
+        );
+        t.ucs = None;
+        t.poisson = Some(0.5);
+        assert_eq!(
+            t.check().unwrap_err().to_string(),
+            "Poisson's ratio must be in (0, 0.5), got 0.5"
+        );
     }
 }

@@ -32,7 +32,7 @@ use dem_core::neighbors::{closest_on_wall, MinImage};
 use dem_core::output::driver::StepHook;
 use dem_core::pipeline::RemovalTotals;
 use dem_core::state::{State, Wall};
-use dem_core::World;
+use dem_core::{World, WorldError};
 use serde::{Deserialize, Serialize};
 
 /// The levels of the rules (m).
@@ -101,7 +101,7 @@ pub fn deletable(
 /// Delete the [`deletable`] fragments of `world` (the tool: the walls named `tool`, `rake` and
 /// `clearance`), one [`World::remove_discs`] call per fragment, so the world's count of
 /// removals is the count of fragments deleted. Returns the number deleted.
-pub fn delete_fragments(world: &mut World, rule: &DebrisRule) -> Result<usize, String> {
+pub fn delete_fragments(world: &mut World, rule: &DebrisRule) -> Result<usize, WorldError> {
     let st = &world.state;
     let tool: Vec<&Wall> = st
         .walls
@@ -113,7 +113,7 @@ pub fn delete_fragments(world: &mut World, rule: &DebrisRule) -> Result<usize, S
         .map(|f| f.discs.iter().map(|&k| st.discs.id[k]).collect())
         .collect();
     for f in &ids {
-        world.remove_discs(f).map_err(|e| e.to_string())?;
+        world.remove_discs(f)?;
     }
     Ok(ids.len())
 }
@@ -122,7 +122,11 @@ pub fn delete_fragments(world: &mut World, rule: &DebrisRule) -> Result<usize, S
 pub fn hook(every: u64, rule: DebrisRule) -> StepHook {
     StepHook {
         every: every.max(1),
-        run: Box::new(move |w: &mut World| delete_fragments(w, &rule).map(|_| ())),
+        run: Box::new(move |w: &mut World| {
+            delete_fragments(w, &rule)
+                .map(|_| ())
+                .map_err(|e| e.to_string())
+        }),
         stop: None,
     }
 }
