@@ -9,7 +9,7 @@
 //! (the one before `State::time`): strain from the forces at t, kinetic from the mean of the
 //! half-step velocities around t. Work and dissipation of forces at t use that same mean
 //! velocity v̄ (for central differences ½m(v₊² − v₋²) = F · v̄ Δt exactly): contact dashpots
-//! −F_d · v̄ Δt (per disc, [`crate::contact::disc_disc::Dashpot`]), local and viscous damping
+//! −F_d · v̄ Δt (per disc, `contact::disc_disc::Dashpot`), local and viscous damping
 //! likewise, so the balance error is O(Δt²). Friction: the slip work of the tangential spring
 //! (trapezoid of its force times the slip), plus the spring energy of contacts that open.
 //! `removed` is the energy carried out by discs deleted from a running world

@@ -40,7 +40,7 @@ pub struct Moved {
     /// Energy dissipated by local and viscous damping in this step (J).
     pub damp: f64,
     /// Energy dissipated by the contact dashpots in this step, −(F_d · v̄ + T_d ω̄) Δt with the
-    /// mean half-step velocities (see [`crate::contact::disc_disc::Dashpot`]) (J).
+    /// mean half-step velocities (see `contact::disc_disc::Dashpot`) (J).
     pub damp_contact: f64,
     /// Work done by fixed (prescribed-velocity) discs on the others in this step (J).
     pub boundary_work: f64,

@@ -52,7 +52,6 @@ pub mod clump;
 pub mod contact;
 pub mod energy;
 pub mod fragments;
-pub mod lanes;
 pub mod mass_scaling;
 pub mod neighbors;
 pub mod output;
@@ -63,11 +62,14 @@ pub mod state;
 pub mod timestep;
 pub mod wall_servo;
 
-// The step's machinery, private: the workers of the parallel stages, the integrator, input
-// checks, blow-up guard and stage counters are reached through `World`.
+// The step's machinery, private: the hot path's lanes (AVX2 check, block sizes, packed
+// records), the workers of the parallel stages, the integrator, input checks, blow-up guard
+// and stage counters are reached through `World`. (So are the contact pass's kernels and the
+// cell grid: `contact` and `neighbors` keep them crate-private.)
 mod counters;
 mod guard;
 mod integrate;
+mod lanes;
 mod team;
 mod validate;
 

@@ -21,13 +21,13 @@
 //! (Cundall & Strack 1979). It lives in the neighbour list (one slot per listed pair) and is
 //! carried over at rebuilds and reorderings, keyed by the pair.
 
-pub mod disc_disc;
-pub mod disc_segment;
+pub(crate) mod disc_disc;
+pub(crate) mod disc_segment;
 pub mod hertz_mindlin;
-pub mod kernel;
-pub mod linear4;
+pub(crate) mod kernel;
+pub(crate) mod linear4;
 pub mod linear_spring_dashpot;
-pub mod owned;
+pub(crate) mod owned;
 pub mod rolling;
 
 pub use hertz_mindlin::HertzMindlin;
@@ -97,7 +97,7 @@ impl ContactModel {
 
     /// Elastic energy held by the tangential spring with history `us` at overlap `delta`
     /// (½ k_s u_s², with the Hertz–Mindlin k_t(δ) for that law): the energy that is released
-    /// when the contact opens and the history is reset (see [`kernel`]).
+    /// when the contact opens and the history is reset (see `contact::kernel`).
     #[inline(always)]
     pub fn shear_energy(&self, r_eff: f64, delta: f64, us: f64) -> f64 {
         0.5 * self.ks(r_eff, delta.max(0.0)) * us * us
@@ -227,7 +227,7 @@ impl ContactLaws {
     /// Whether some pair's law may have a nonzero dashpot force. `false` only when every law
     /// is linear with a zero dashpot coefficient (`Ratio(0)` or `Gamma(0)`), a finite k_n ≥ 0
     /// and a finite shear-damping factor, so that c_n = 0 and c_t = 0 · c_n = 0 exactly and
-    /// every dashpot force is ±0 (see [`disc_disc::Dashpot`]).
+    /// every dashpot force is ±0 (see `disc_disc::Dashpot`).
     pub fn has_dashpots(&self) -> bool {
         !self.models.iter().all(|m| match m {
             ContactModel::Linear(l) => {

@@ -1,17 +1,17 @@
-//! Neighbour list: a Verlet list built from a multi-level cell grid ([`grid`]), rebuilt only
+//! Neighbour list: a Verlet list built from a multi-level cell grid (`grid.rs`), rebuilt only
 //! when some disc or wall moved more than half the skin since the last build (then no pair
 //! outside the list can have come into contact: each side moved < skin/2).
 //!
 //! The list is a half list in CSR form sorted by (i, j) with i < j: the partners of disc i are
 //! `nbr[start[i]..start[i+1]]`. Per-pair contact history (`us`, `mr`) and reference gaps
 //! (`g0`) sit in slots parallel to `nbr`; a rebuild carries the history of touching pairs over
-//! by merging the old and new sorted lists. [`reorder`] renumbers discs in cell order for
+//! by merging the old and new sorted lists. `reorder` renumbers discs in cell order for
 //! cache locality. `rstart/rpair` list, for each disc k, the pairs where k is the partner j in
 //! increasing pair order: the parallel force pass gathers per disc in exactly the order the
 //! serial pass scatters, so results are bit-identical for any thread count.
 
-pub mod grid;
-pub mod reorder;
+pub(crate) mod grid;
+pub(crate) mod reorder;
 
 pub use crate::state::MinImage;
 use crate::state::{State, Wall};
