@@ -686,14 +686,14 @@ fn scene(
         ),
         thickness: Some(test.thickness),
         materials: vec![
-            common::material("grain", Some(test.density), kn, ks, test.friction),
-            common::material("platen", None, kn, ks, test.platen_friction),
-            common::material("side", None, kn, ks, test.wall_friction),
+            super::model::material("grain", Some(test.density), kn, ks, test.friction),
+            super::model::material("platen", None, kn, ks, test.platen_friction),
+            super::model::material("side", None, kn, ks, test.wall_friction),
         ],
         contact: ContactSpec {
             pairs: vec![
-                common::pair("grain", "platen", kn, ks, test.platen_friction),
-                common::pair("grain", "side", kn, ks, test.wall_friction),
+                super::model::pair("grain", "platen", kn, ks, test.platen_friction),
+                super::model::pair("grain", "side", kn, ks, test.wall_friction),
             ],
             ..ContactSpec::default()
         },
@@ -912,7 +912,7 @@ pub fn run(
         run: Box::new(|_| Ok(())),
         stop: Some(Box::new(move |world: &dem_core::World| {
             let walls = &world.state.walls;
-            walls[3].force[1].min(-walls[0].force[1]) / (w * t) >= sigma_seat
+            walls[TOP].force[1].min(-walls[0].force[1]) / (w * t) >= sigma_seat
         })),
     };
     let r0 = run_scene(
@@ -955,7 +955,7 @@ pub fn run(
             p.angle = cl.theta[c];
         }
     }
-    let h = r0.world.state.walls[3].a[1];
+    let h = r0.world.state.walls[TOP].a[1];
     let solid_deposit = area_of(m_tot) / (w * h_dep);
     let solid = area_of(m_tot) / (w * h);
     let (duration, v0) = match test.loading {

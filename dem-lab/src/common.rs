@@ -9,8 +9,7 @@ use super::{LabError, LabModel};
 use dem_core::output::driver::RunOptions;
 use dem_core::output::write_atomic;
 use dem_core::scene::schema::{
-    AxisName, GaugeSpec, LawName, MaterialSpec, OutputSpec, PairSpec, PlacementSpec, RunSpec,
-    SceneFile, StopAfterPeakSpec, WallSpec,
+    AxisName, GaugeSpec, OutputSpec, PlacementSpec, RunSpec, SceneFile, StopAfterPeakSpec, WallSpec,
 };
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
@@ -152,34 +151,6 @@ pub fn wall(name: &str, a: [f64; 2], b: [f64; 2], velocity: [f64; 2]) -> WallSpe
         angular_velocity: 0.0,
         center: None,
         servo: None,
-    }
-}
-
-/// A material of linear contact stiffnesses (`kn`, `ks`), friction `mu`, no dashpot, and
-/// `density` (kg/m³; `None` for a wall material).
-pub fn material(name: &str, density: Option<f64>, kn: f64, ks: f64, mu: f64) -> MaterialSpec {
-    MaterialSpec {
-        name: name.into(),
-        density,
-        kn: Some(kn),
-        ks: Some(ks),
-        friction: mu,
-        damping_ratio: Some(0.0),
-        ..MaterialSpec::default()
-    }
-}
-
-/// The linear contact of materials `a` and `b`: stiffnesses (`kn`, `ks`), friction `mu`, no
-/// dashpot.
-pub fn pair(a: &str, b: &str, kn: f64, ks: f64, mu: f64) -> PairSpec {
-    PairSpec {
-        materials: [a.into(), b.into()],
-        law: LawName::LinearSpringDashpot,
-        kn: Some(kn),
-        ks: Some(ks),
-        friction: Some(mu),
-        damping_ratio: Some(0.0),
-        ..PairSpec::default()
     }
 }
 

@@ -137,28 +137,29 @@ impl LinkCriterion {
     /// criterion of [`LinkCriterion::bond_criterion`].
     pub(crate) fn bond_group(&self, k_n: f64, k_s: f64, f: f64, s: f64, t: f64) -> BondGroupSpec {
         use dem_core::bond::Criterion;
-        let mut g = BondGroupSpec {
+        let group = |criterion| BondGroupSpec {
             kn: Some(k_n),
             ks: Some(k_s),
-            ..BondGroupSpec::new("lattice", BondModelName::ContactBond, CriterionName::Stress)
+            ..BondGroupSpec::new("lattice", BondModelName::ContactBond, criterion)
         };
         match self.bond_criterion(f, s, t) {
-            Criterion::Force { tensile, shear, .. } => {
-                g.criterion = CriterionName::Force;
-                (g.normal_strength, g.shear_strength) = (Some(tensile), Some(shear));
-            }
-            Criterion::Strain { tensile, shear } => {
-                g.criterion = CriterionName::Strain;
-                (g.normal_strain, g.shear_strain) = (Some(tensile), Some(shear));
-            }
-            Criterion::Energy { fracture_energy } => {
-                g.criterion = CriterionName::Energy;
-                g.fracture_energy = Some(fracture_energy);
-            }
+            Criterion::Force { tensile, shear, .. } => BondGroupSpec {
+                normal_strength: Some(tensile),
+                shear_strength: Some(shear),
+                ..group(CriterionName::Force)
+            },
+            Criterion::Strain { tensile, shear } => BondGroupSpec {
+                normal_strain: Some(tensile),
+                shear_strain: Some(shear),
+                ..group(CriterionName::Strain)
+            },
+            Criterion::Energy { fracture_energy } => BondGroupSpec {
+                fracture_energy: Some(fracture_energy),
+                ..group(CriterionName::Energy)
+            },
             // Never made by bond_criterion (a link is a contact bond).
-            Criterion::Stress { .. } => {}
+            Criterion::Stress { .. } => group(CriterionName::Stress),
         }
-        g
     }
 
     /// A link's failure opening strain (opening over S) in pure tension: F_t/(k_n S),
@@ -467,11 +468,11 @@ pub fn scene(test: &CrushTest, g: &GrainFacts, ext: [f64; 4], tpl_name: &str) ->
         ),
         thickness: Some(g.thickness),
         materials: vec![
-            common::material("grain", Some(test.density), g.k_n, g.k_s, test.friction),
-            common::material("platen", None, g.k_n, g.k_s, test.platen_friction),
+            super::model::material("grain", Some(test.density), g.k_n, g.k_s, test.friction),
+            super::model::material("platen", None, g.k_n, g.k_s, test.platen_friction),
         ],
         contact: ContactSpec {
-            pairs: vec![common::pair("grain", "platen", g.k_n, g.k_s, test.platen_friction)],
+            pairs: vec![super::model::pair("grain", "platen", g.k_n, g.k_s, test.platen_friction)],
             ..ContactSpec::default()
         },
         bond_groups: vec![test.criterion.bond_group(

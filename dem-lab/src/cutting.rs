@@ -24,9 +24,7 @@ use super::tool::{edge_arc, CutGeometry, Segment, ToolModel, CLEARANCE, RAKE, TO
 use super::{analysis, LabError, LabModel};
 use dem_core::output::driver::RunOptions;
 use dem_core::output::write_atomic;
-use dem_core::scene::schema::{
-    LawName, MaterialSpec, OutputSpec, PairSpec, RunSpec, SceneFile, SpecimenFile, WallSpec,
-};
+use dem_core::scene::schema::{OutputSpec, RunSpec, SceneFile, SpecimenFile, WallSpec};
 use dem_core::World;
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
@@ -597,14 +595,13 @@ pub fn scene(
             m.damping_ratio = Some(test.contact_damping);
         }
     }
-    s.materials.push(MaterialSpec {
-        name: TOOL_MATERIAL.into(),
-        kn: Some(ktool),
-        ks: Some(kstool),
-        friction: test.tool_friction,
-        damping_ratio: Some(0.0),
-        ..MaterialSpec::default()
-    });
+    s.materials.push(super::model::material(
+        TOOL_MATERIAL,
+        None,
+        ktool,
+        kstool,
+        test.tool_friction,
+    ));
     for p in s.contact.pairs.iter_mut() {
         p.materials = [mat.into(), WALL_MATERIAL.into()];
         if let Some((kw, ksw)) = slot {
@@ -612,32 +609,25 @@ pub fn scene(
             p.ks = Some(ksw);
         }
     }
-    s.contact.pairs.push(PairSpec {
-        materials: [mat.into(), TOOL_MATERIAL.into()],
-        law: LawName::LinearSpringDashpot,
-        kn: Some(ktool),
-        ks: Some(kstool),
-        friction: Some(test.tool_friction),
-        damping_ratio: Some(0.0),
-        ..PairSpec::default()
-    });
-    let wall = |w: &Segment, material: &str| WallSpec {
-        name: w.name.clone(),
-        a: w.a,
-        b: w.b,
+    s.contact.pairs.push(super::model::pair(
+        mat,
+        TOOL_MATERIAL,
+        ktool,
+        kstool,
+        test.tool_friction,
+    ));
+    // The slot walls at rest; the tool's at (v, 0) about its edge.
+    let wall = |w: &Segment| WallSpec {
         via: w.via.clone(),
-        material: material.into(),
-        velocity: [0.0, 0.0],
-        angular_velocity: 0.0,
-        center: None,
-        servo: None,
+        ..super::common::wall(&w.name, w.a, w.b, [0.0, 0.0])
     };
-    s.walls = g.slot.iter().map(|w| wall(w, WALL_MATERIAL)).collect();
+    s.walls = g.slot.iter().map(wall).collect();
     for w in &g.tool {
         s.walls.push(WallSpec {
+            material: TOOL_MATERIAL.into(),
             velocity: g.velocity,
             center: Some(g.edge_start),
-            ..wall(w, TOOL_MATERIAL)
+            ..wall(w)
         });
     }
     s.damping.local = test.local_damping;

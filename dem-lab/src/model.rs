@@ -115,23 +115,14 @@ impl LabModel {
         let ks = kn / self.micro.stiffness_ratio;
         let f = self.micro.wall_stiffness_factor;
         vec![
-            MaterialSpec {
-                name: DISC_MATERIAL.into(),
-                density: Some(self.density),
-                kn: Some(kn),
-                ks: Some(ks),
-                friction: self.micro.friction,
-                damping_ratio: Some(0.0),
-                ..MaterialSpec::default()
-            },
-            MaterialSpec {
-                name: WALL_MATERIAL.into(),
-                kn: Some(f * kn),
-                ks: Some(f * ks),
-                friction: 0.0,
-                damping_ratio: Some(0.0),
-                ..MaterialSpec::default()
-            },
+            material(
+                DISC_MATERIAL,
+                Some(self.density),
+                kn,
+                ks,
+                self.micro.friction,
+            ),
+            material(WALL_MATERIAL, None, f * kn, f * ks, 0.0),
         ]
     }
 
@@ -143,15 +134,13 @@ impl LabModel {
         ContactSpec {
             law: LawName::LinearSpringDashpot,
             rolling: false,
-            pairs: vec![PairSpec {
-                materials: [DISC_MATERIAL.into(), WALL_MATERIAL.into()],
-                law: LawName::LinearSpringDashpot,
-                kn: Some(f * kn),
-                ks: Some(f * kn / self.micro.stiffness_ratio),
-                friction: Some(0.0),
-                damping_ratio: Some(0.0),
-                ..PairSpec::default()
-            }],
+            pairs: vec![pair(
+                DISC_MATERIAL,
+                WALL_MATERIAL,
+                f * kn,
+                f * kn / self.micro.stiffness_ratio,
+                0.0,
+            )],
         }
     }
 
@@ -203,6 +192,34 @@ impl LabModel {
             },
             ..SceneFile::new(name)
         }
+    }
+}
+
+/// A material of linear contact stiffnesses (`kn`, `ks`), friction `mu`, no dashpot, and
+/// `density` (kg/m³; `None` for a wall material).
+pub fn material(name: &str, density: Option<f64>, kn: f64, ks: f64, mu: f64) -> MaterialSpec {
+    MaterialSpec {
+        name: name.into(),
+        density,
+        kn: Some(kn),
+        ks: Some(ks),
+        friction: mu,
+        damping_ratio: Some(0.0),
+        ..MaterialSpec::default()
+    }
+}
+
+/// The linear contact of materials `a` and `b`: stiffnesses (`kn`, `ks`), friction `mu`, no
+/// dashpot.
+pub fn pair(a: &str, b: &str, kn: f64, ks: f64, mu: f64) -> PairSpec {
+    PairSpec {
+        materials: [a.into(), b.into()],
+        law: LawName::LinearSpringDashpot,
+        kn: Some(kn),
+        ks: Some(ks),
+        friction: Some(mu),
+        damping_ratio: Some(0.0),
+        ..PairSpec::default()
     }
 }
 

@@ -27,7 +27,7 @@ pub fn load(path: &Path) -> Result<Scene, SceneError> {
 pub fn parse(text: &str, path: &Path) -> Result<Scene, SceneError> {
     let file = path.display().to_string();
     let raw: SceneFile = parse_json(text, &file)?;
-    Resolver::new(path).scene(raw)
+    resolve(raw, path)
 }
 
 /// Checks a scene held in memory as the file types, as [`parse`] checks its text: for
@@ -623,7 +623,7 @@ impl Resolver {
 /// resolved by `group(field, name)`, contact offsets converted with `u` (m per file unit).
 /// Used by the scene loader.
 #[allow(clippy::type_complexity)]
-pub fn resolve_links(
+fn resolve_links(
     file: &str,
     spec: &SpecimenFile,
     base: usize,
