@@ -378,7 +378,8 @@ fn cutting(b: CuttingBench) -> Result<ExitCode, String> {
     let width = info.extent[1] - info.extent[0];
     let test = CuttingTest::new(1e-3, b.speed, width.min(10e-3));
     let scene_file = dir.0.join("cutting.scene.json");
-    let cs = CuttingScene::build(&test, &model, &specimen, &scene_file, 0).map_err(named)?;
+    let mut cs = CuttingScene::build(&test, &model, &specimen, &scene_file, 0).map_err(named)?;
+    let world = cs.take_world().ok_or("cutting scene: no world built")?;
     dem_lab::run::write_scene(&cs.scene, &scene_file).map_err(|e| e.to_string())?;
     let loaded =
         dem_core::scene::resolve(cs.scene.clone(), &scene_file).map_err(|e| e.to_string())?;
@@ -402,7 +403,7 @@ fn cutting(b: CuttingBench) -> Result<ExitCode, String> {
     // (Built and run inside the pool, as `dem test cutting` does: a run's step hook is not
     // `Send`.)
     let timed = pool.install(|| -> Result<_, String> {
-        let mut sim = Simulation::new(loaded, &opts).map_err(|e| e.to_string())?;
+        let mut sim = Simulation::with_world(loaded, world, &opts).map_err(|e| e.to_string())?;
         if let Some(hk) = cs.hook() {
             sim.set_hook(hk);
         }

@@ -393,7 +393,8 @@ unsafe fn chunk_best<const E: bool, const D: bool, const DAMP: bool, const VISC:
 
 /// Integrate all free and fixed discs; chunked like the force pass so that the reported sums
 /// do not depend on the thread count. `pack`: where to pack the moved discs for the next
-/// disc–disc pass (see [`PackOut`]), if anywhere.
+/// disc–disc pass (see [`PackOut`]), if anywhere. `workers`: the step's team size
+/// (`crate::team::Threads`; one: no split).
 #[allow(clippy::too_many_arguments)]
 pub fn integrate_discs(
     d: &mut Discs,
@@ -404,6 +405,7 @@ pub fn integrate_discs(
     k: &Kick,
     parts: &mut Vec<Moved>,
     pack: Option<PackOut>,
+    workers: usize,
 ) -> Moved {
     let n = d.len();
     assert!(pack.is_none_or(|po| po.len >= n && d.r.len() >= n && c.minv_contact.len() >= n));
@@ -491,7 +493,7 @@ pub fn integrate_discs(
         })
     };
     let mut total = Moved::default();
-    let threads = crate::team::workers();
+    let threads = workers;
     if threads > 1 && n > 2 * CHUNK {
         // Worker w of the step's team (`crate::team`) integrates the w-th of `threads`
         // contiguous runs of chunks, at every step: about the discs of its range in the

@@ -20,7 +20,7 @@
 //! e² = 49 % of their kinetic energy.
 //!
 //! ```
-//! use dem_core::output::driver::{RunOptions, Simulation};
+//! use dem_core::{RunOptions, Simulation};
 //!
 //! let dir = std::env::temp_dir().join(format!("dem-doc-{}", std::process::id()));
 //! let scene = r#"{
@@ -78,11 +78,15 @@ mod validate;
 #[cfg(any(test, feature = "bench"))]
 pub mod bench;
 
+// What most users need, at the root: scene files in, the driver, its outputs and errors,
+// the world and its state, the laws and bonds. (Everything else stays at its module path.)
+pub use bond::{BondGroup, BondModel, Bonds, Criterion};
 pub use contact::{ContactLaws, ContactModel, ContactView, HertzMindlin, LinearSpringDashpot};
 pub use energy::EnergyReport;
 pub use guard::GuardError;
-pub use output::driver::{RunOptions, Simulation};
+pub use output::driver::{Ending, HookError, RunError, RunOptions, Simulation, StepHook};
 pub use params::Params;
 pub use pipeline::{ExternalLoad, World, WorldError};
-pub use scene::Scene;
+pub use scene::schema::{SceneFile, SpecimenFile};
+pub use scene::{Scene, SceneError};
 pub use state::{Clumps, Discs, Periodic, State, Wall, FREE};

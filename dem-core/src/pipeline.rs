@@ -256,6 +256,7 @@ impl World {
     /// disc–disc pass (see `Slots::packed_fresh`).
     fn step_inner(&mut self, batch: bool) {
         let t0 = Instant::now();
+        self.ws.threads = crate::team::Threads::current();
         if self.needs_rebuild() {
             self.rebuild();
             // Discs may have been reordered: pack afresh.
@@ -294,6 +295,7 @@ impl World {
             track,
             dash,
             &mut self.ws.slots,
+            self.ws.threads.ranges,
             fv.as_ref(),
         );
         // The records are good for one pass only (whichever path the pass took).
@@ -325,7 +327,7 @@ impl World {
             } else {
                 &[]
             };
-            b.compute_packed(&mut self.state, dt, pk);
+            b.compute_packed(&mut self.state, dt, pk, self.ws.threads.ranges);
         }
         // Whether the records hold this step's discs (radii, masses) for the integrator.
         let records_current = self.ws.slots.packed_current;
@@ -370,6 +372,7 @@ impl World {
             &kick,
             &mut self.ws.parts,
             po,
+            self.ws.threads.workers,
         );
         self.ws.slots.packed_fresh = pack;
         if !self.state.clumps.is_empty() {

@@ -52,6 +52,34 @@ pub fn run(parts: usize, f: &(dyn Fn(usize) + Sync)) {
     })
 }
 
+/// The thread counts a step works with, read once at its start (the world's step workspace
+/// holds them): `ranges`, the rayon pool's size, into which the parallel passes cut their
+/// work; `workers`, the team's size ([`workers`]). Results do not depend on either.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Threads {
+    pub ranges: usize,
+    pub workers: usize,
+}
+
+impl Threads {
+    /// The counts of the calling thread's rayon pool.
+    pub fn current() -> Threads {
+        Threads {
+            ranges: rayon::current_num_threads(),
+            workers: workers(),
+        }
+    }
+}
+
+impl Default for Threads {
+    fn default() -> Threads {
+        Threads {
+            ranges: 1,
+            workers: 1,
+        }
+    }
+}
+
 /// The team size for the current rayon thread count: that count, but at most the cores
 /// the process may use (more spinning threads than cores would take the cores from the
 /// workers that have work; the parts are then shared among fewer workers, which changes

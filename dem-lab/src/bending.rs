@@ -20,9 +20,9 @@
 //! T₁ = 2π/ω₁ with ω₁ = (π/L)² √(EI/(ρA)) = (π/L)² h √(E/(12ρ)) (Euler-Bernoulli), E = E_c.
 
 use super::common::{self, positive, Loading};
-use super::history::Table;
 use super::specimens::{Shape, TestSpecimen};
 use super::{analysis, LabError, LabModel};
+use dem_core::output::history::Record;
 use dem_core::scene::schema::{AxisName, MaterialSpec, PairSpec, SceneFile, WallSpec};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
@@ -344,18 +344,15 @@ fn load_roller_material(
 /// Bonds and flat-joint elements broken by the end of a history (the sum of its `broken_*`
 /// columns' last row: whole bonds by mode, and `broken_<group>_elements` for flat-joint
 /// groups, whose beams can lose their load while every interface keeps some cement).
-fn bonds_broken(t: &Table) -> f64 {
-    (t.names.iter().enumerate())
-        .filter(|(_, n)| n.starts_with("broken_"))
-        .filter_map(|(i, _)| t.rows.last().map(|r| r[i]))
-        .sum()
+fn bonds_broken(t: &Record) -> f64 {
+    t.broken_at_end() as f64
 }
 
 /// The row and value of the peak of the roller `load` of history `t`, if the beam fractured:
 /// the load fell below 95 % of its peak by the end, and with at least one bond (or flat-joint
 /// element) broken (a drop with none is a sliding or ringing beam, or a roller pressing a loose
 /// grain). Errors name `test`.
-pub fn fracture_peak(t: &Table, load: &[f64], test: &str) -> Result<(usize, f64), LabError> {
+pub fn fracture_peak(t: &Record, load: &[f64], test: &str) -> Result<(usize, f64), LabError> {
     let (ip, f) = analysis::peak(load).ok_or_else(|| common::analysis_error(test, "no load"))?;
     let last = *load.last().unwrap_or(&0.0);
     if f <= 0.0 || last > 0.95 * f {
@@ -493,12 +490,12 @@ pub fn scene(
 
 /// The loading roller's vertical force per history row: the sum of its `segments` segments'
 /// `load_<k>_fy` columns (errors name `test`).
-pub fn roller_load(t: &Table, segments: usize, test: &str) -> Result<Vec<f64>, LabError> {
-    let mut load = vec![0.0; t.rows.len()];
+pub fn roller_load(t: &Record, segments: usize, test: &str) -> Result<Vec<f64>, LabError> {
+    let mut load = vec![0.0; t.len()];
     for k in 0..segments {
         for (f, v) in load
             .iter_mut()
-            .zip(common::column(t, &format!("load_{k}_fy"), test)?)
+            .zip(&common::wall_series(t, &format!("load_{k}"), test)?.fy)
         {
             *f += v;
         }
@@ -508,16 +505,16 @@ pub fn roller_load(t: &Table, segments: usize, test: &str) -> Result<Vec<f64>, L
 
 /// σ_f and the elastic stiffness from the history of [`scene`].
 pub fn analyze(
-    t: &Table,
+    t: &Record,
     test: &BendingTest,
     model: &LabModel,
     spec: &TestSpecimen,
 ) -> Result<BendingReport, LabError> {
-    let time = common::column(t, "time", TEST)?;
+    let time = t.time.clone();
     let load = roller_load(t, test.roller_segments, TEST)?;
-    let mid = common::column(t, "mid_y", TEST)?;
-    let sl = common::column(t, "sup_left_y", TEST)?;
-    let sr = common::column(t, "sup_right_y", TEST)?;
+    let mid = common::gauge_series(t, "mid", TEST)?.y.clone();
+    let sl = common::gauge_series(t, "sup_left", TEST)?.y.clone();
+    let sr = common::gauge_series(t, "sup_right", TEST)?.y.clone();
     let defl: Vec<f64> = (0..time.len())
         .map(|i| {
             let d = |k: usize| 0.5 * (sl[k] + sr[k]) - mid[k];
@@ -572,40 +569,41 @@ pub fn run(
 mod tests {
     use super::*;
     use crate::specimen::{Method, SpecimenParams};
+    use dem_core::output::history::{GaugeSeries, GroupSeries, WallSeries};
 
     #[test]
     fn a_load_drop_without_a_broken_bond_is_refused() {
         // The load rises to 1 kN and falls to half (a "peak"), the beam deflects, no bond
         // breaks: a sliding beam, not a fracture.
-        let mut names = vec!["time".to_string()];
-        names.extend((0..8).map(|k| format!("load_{k}_fy")));
-        names.extend(
-            [
-                "mid_y",
-                "sup_left_y",
-                "sup_right_y",
-                "broken_grain_boundary_tension",
-                "broken_grain_boundary_elements",
-            ]
-            .map(String::from),
-        );
         let loads = [0.0, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.8, 1.0, 0.5];
-        let table = |broken: f64, elements: f64| Table {
-            names: names.clone(),
-            rows: (loads.iter().enumerate())
-                .map(|(i, &f)| {
-                    let mut r = vec![i as f64 * 1e-5];
-                    r.extend([f * 1e3 / 8.0; 8]);
-                    r.extend([
-                        -1e-6 * i as f64,
-                        0.0,
-                        0.0,
-                        if i == 9 { broken } else { 0.0 },
-                        if i == 9 { elements } else { 0.0 },
-                    ]);
-                    r
+        let n = loads.len();
+        let at_end = |v: u64| (0..n).map(|i| if i == 9 { v } else { 0 }).collect();
+        let gauge = |name: &str, y: Vec<f64>| GaugeSeries {
+            name: name.into(),
+            x: vec![0.0; n],
+            y,
+        };
+        let table = |broken: u64, elements: u64| Record {
+            time: (0..n).map(|i| i as f64 * 1e-5).collect(),
+            walls: (0..8)
+                .map(|k| WallSeries {
+                    name: format!("load_{k}"),
+                    fy: loads.iter().map(|f| f * 1e3 / 8.0).collect(),
+                    ..WallSeries::default()
                 })
                 .collect(),
+            gauges: vec![
+                gauge("mid", (0..n).map(|i| -1e-6 * i as f64).collect()),
+                gauge("sup_left", vec![0.0; n]),
+                gauge("sup_right", vec![0.0; n]),
+            ],
+            groups: vec![GroupSeries {
+                name: "grain_boundary".into(),
+                tension: at_end(broken),
+                shear: vec![0; n],
+                elements: Some(at_end(elements)),
+            }],
+            ..Record::default()
         };
         let p = SpecimenParams::new(
             Method::Traditional,
@@ -628,14 +626,14 @@ mod tests {
             below_cover: vec![],
         };
         let (t, m) = (BendingTest::default(), LabModel::from_params(&p));
-        match analyze(&table(0.0, 0.0), &t, &m, &spec) {
+        match analyze(&table(0, 0), &t, &m, &spec) {
             Err(LabError::Analysis { reason, .. }) => assert!(reason.contains("no bond broken")),
             other => panic!("{other:?}"),
         }
-        let r = analyze(&table(2.0, 0.0), &t, &m, &spec).unwrap();
+        let r = analyze(&table(2, 0), &t, &m, &spec).unwrap();
         assert!((r.peak_load - 1e3).abs() < 1e-9);
         // Flat joints: elements broken, every interface still partly cemented — a fracture.
-        let r = analyze(&table(0.0, 3.0), &t, &m, &spec).unwrap();
+        let r = analyze(&table(0, 3), &t, &m, &spec).unwrap();
         assert!((r.peak_load - 1e3).abs() < 1e-9);
         // The JSON of the default test is unchanged by the new field (run keys, locks).
         let v = serde_json::to_value(&t).unwrap();

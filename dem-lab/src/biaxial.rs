@@ -22,10 +22,10 @@
 //! ([`super::analysis::mohr_coulomb`]).
 
 use super::common::{self, positive, Loading};
-use super::history::Table;
 use super::specimens::{Shape, TestSpecimen};
 use super::ucs::UcsTest;
 use super::{analysis, LabError, LabModel};
+use dem_core::output::history::Record;
 use dem_core::scene::schema::{SceneFile, ServoSpec, WallSpec};
 use serde::{Deserialize, Serialize};
 
@@ -225,15 +225,24 @@ pub fn scene(
 
 /// σ1, σ3, E and ν from the history of [`scene`].
 pub fn analyze(
-    t: &Table,
+    t: &Record,
     test: &BiaxialTest,
     model: &LabModel,
     spec: &TestSpecimen,
 ) -> Result<BiaxialReport, LabError> {
-    let col = |name: &str| common::column(t, name, TEST);
-    let (time, top, bottom) = (col("time")?, col("top_fy")?, col("bottom_fy")?);
-    let (sl, sr) = (col("side_left_fx")?, col("side_right_fx")?);
-    let (left, right) = (col("left_x")?, col("right_x")?);
+    let (time, top, bottom) = (
+        t.time.clone(),
+        common::wall_series(t, "top", TEST)?.fy.clone(),
+        common::wall_series(t, "bottom", TEST)?.fy.clone(),
+    );
+    let (sl, sr) = (
+        common::wall_series(t, "side_left", TEST)?.fx.clone(),
+        common::wall_series(t, "side_right", TEST)?.fx.clone(),
+    );
+    let (left, right) = (
+        common::gauge_series(t, "left", TEST)?.x.clone(),
+        common::gauge_series(t, "right", TEST)?.x.clone(),
+    );
     if time.len() < 10 {
         return Err(common::analysis_error(
             TEST,

@@ -7,9 +7,9 @@
 //! estimated failure displacement ε_f D/2 in 20 P-wave transit times D √(ρ/E_c).
 
 use super::common::{self, positive, Loading};
-use super::history::Table;
 use super::specimens::{Shape, TestSpecimen};
 use super::{analysis, LabError, LabModel};
+use dem_core::output::history::Record;
 use dem_core::scene::schema::{AxisName, SceneFile};
 use serde::{Deserialize, Serialize};
 
@@ -148,14 +148,14 @@ pub fn scene(
 
 /// σ_t from the history of [`scene`].
 pub fn analyze(
-    t: &Table,
+    t: &Record,
     test: &BrazilianTest,
     model: &LabModel,
     spec: &TestSpecimen,
 ) -> Result<BrazilianReport, LabError> {
-    let time = common::column(t, "time", TEST)?;
-    let top = common::column(t, "top_fy", TEST)?;
-    let bottom = common::column(t, "bottom_fy", TEST)?;
+    let time = t.time.clone();
+    let top = common::wall_series(t, "top", TEST)?.fy.clone();
+    let bottom = common::wall_series(t, "bottom", TEST)?.fy.clone();
     let load: Vec<f64> = top
         .iter()
         .zip(&bottom)

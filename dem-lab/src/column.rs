@@ -1012,15 +1012,21 @@ pub fn run(
     let state = state.borrow();
     let snaps = &state.snaps;
     let hist = &r.history;
-    let col = |n: &str| common::column(hist, n, TEST);
-    let (time, top_fy, bottom_fy) = (col("time")?, col("top_fy")?, col("bottom_fy")?);
-    let (ekt, ekr, eb, ec) = (
-        col("ek_trans")?,
-        col("ek_rot")?,
-        col("e_bond")?,
-        col("e_contact")?,
+    let (time, top_fy, bottom_fy) = (
+        hist.time.clone(),
+        common::wall_series(hist, "top", TEST)?.fy.clone(),
+        common::wall_series(hist, "bottom", TEST)?.fy.clone(),
     );
-    let (bt, bs) = (col("broken_lattice_tension")?, col("broken_lattice_shear")?);
+    let (ekt, ekr, eb, ec) = (
+        hist.energy.kinetic_translation.clone(),
+        hist.energy.kinetic_rotation.clone(),
+        hist.energy.strain_bond.clone(),
+        hist.energy.strain_contact.clone(),
+    );
+    let (bt, bs) = (
+        common::counts(&common::group_series(hist, "lattice", TEST)?.tension),
+        common::counts(&common::group_series(hist, "lattice", TEST)?.shear),
+    );
     let mut csv = String::from(
         "time,platen_travel,strain,stress_top,stress_bottom,kinetic,strain_energy,broken_links\n",
     );
@@ -1155,7 +1161,8 @@ pub fn run(
         .iter()
         .map(|&tk| tpls[tk].lattice.as_ref().map_or(0, |l| l.links.len()))
         .sum();
-    let last = |n: &str| -> Result<f64, LabError> { Ok(*col(n)?.last().unwrap_or(&f64::NAN)) };
+    let en = &hist.energy;
+    let last = |v: &[f64]| *v.last().unwrap_or(&f64::NAN);
     let e = r.world.energy();
     let wall = r.summary.wall_time_s;
     let n_levels = snaps.len();
@@ -1178,13 +1185,13 @@ pub fn run(
         levels_not_reached: test.stress_levels[n_levels..].to_vec(),
         peak_stress: peak,
         strain_at_peak,
-        work: last("w_boundary")?,
-        strain_energy: last("e_bond")? + last("e_contact")?,
+        work: last(&en.boundary_work),
+        strain_energy: last(&en.strain_bond) + last(&en.strain_contact),
         kinetic_energy: e.kinetic(),
-        damping: last("e_damping")?,
-        friction: last("e_friction")?,
-        released: last("e_released")?,
-        balance_error: last("balance_error")?,
+        damping: last(&en.damping),
+        friction: last(&en.friction),
+        released: last(&en.bond_break),
+        balance_error: last(&en.balance_error),
         particle_steps_per_s: if wall > 0.0 {
             nodes as f64 * r.summary.steps as f64 / wall
         } else {

@@ -2,11 +2,11 @@
 //! run settings of a damped quasi-static scene, the facts of a finished run, and the atomic
 //! result file.
 
-use super::history::Table;
 use super::run::{run_scene, LabRun};
 use super::specimens::TestSpecimen;
 use super::{LabError, LabModel};
 use dem_core::output::driver::RunOptions;
+use dem_core::output::history::{GaugeSeries, GroupSeries, Record, WallSeries};
 use dem_core::output::write_atomic;
 use dem_core::scene::schema::{
     AxisName, GaugeSpec, OutputSpec, PlacementSpec, RunSpec, SceneFile, StopAfterPeakSpec, WallSpec,
@@ -240,7 +240,7 @@ pub fn run_test<T: Clone + Serialize, R: Serialize>(
     model: &LabModel,
     spec: &TestSpecimen,
     progress: &mut dyn FnMut(u64, u64),
-    analyze: impl FnOnce(&Table) -> Result<R, LabError>,
+    analyze: impl FnOnce(&Record) -> Result<R, LabError>,
 ) -> Result<Outcome<T, R>, LabError> {
     let dir = spec.file.parent().unwrap_or(Path::new("."));
     let r = run_scene(
@@ -341,7 +341,39 @@ pub fn analysis_error(test: &str, reason: impl Into<String>) -> LabError {
     }
 }
 
-/// A history column, or an analysis error naming it.
-pub fn column(t: &super::history::Table, name: &str, test: &str) -> Result<Vec<f64>, LabError> {
-    t.column(name, test).map_err(LabError::from)
+/// The history's series of wall `name`, or an analysis error of `test` naming it.
+pub fn wall_series<'a>(r: &'a Record, name: &str, test: &str) -> Result<&'a WallSeries, LabError> {
+    found(r.wall(name), "wall", name, test)
+}
+
+/// The history's series of gauge `name`, or an analysis error of `test` naming it.
+pub fn gauge_series<'a>(
+    r: &'a Record,
+    name: &str,
+    test: &str,
+) -> Result<&'a GaugeSeries, LabError> {
+    found(r.gauge(name), "gauge", name, test)
+}
+
+/// The history's series of bond group `name`, or an analysis error of `test` naming it.
+pub fn group_series<'a>(
+    r: &'a Record,
+    name: &str,
+    test: &str,
+) -> Result<&'a GroupSeries, LabError> {
+    found(r.group(name), "bond group", name, test)
+}
+
+fn found<'a, T>(s: Option<&'a T>, kind: &str, name: &str, test: &str) -> Result<&'a T, LabError> {
+    s.ok_or_else(|| analysis_error(test, format!("the history has no {kind} `{name}`")))
+}
+
+/// Element-wise sum of two series (kinetic = translation + rotation, and the like).
+pub fn sum2(a: &[f64], b: &[f64]) -> Vec<f64> {
+    a.iter().zip(b).map(|(p, q)| p + q).collect()
+}
+
+/// A count series (broken bonds) as numbers.
+pub fn counts(v: &[u64]) -> Vec<f64> {
+    v.iter().map(|&c| c as f64).collect()
 }

@@ -520,14 +520,25 @@ struct Rows {
     broken: Vec<f64>,
 }
 
-fn rows(t: &super::history::Table) -> Result<Rows, LabError> {
-    let col = |n: &str| common::column(t, n, TEST);
-    let (top, bottom) = (col("top_fy")?, col("bottom_fy")?);
-    let (ekt, ekr) = (col("ek_trans")?, col("ek_rot")?);
-    let (eb, ec) = (col("e_bond")?, col("e_contact")?);
-    let (bt, bs) = (col("broken_lattice_tension")?, col("broken_lattice_shear")?);
+fn rows(t: &dem_core::output::history::Record) -> Result<Rows, LabError> {
+    let (top, bottom) = (
+        common::wall_series(t, "top", TEST)?.fy.clone(),
+        common::wall_series(t, "bottom", TEST)?.fy.clone(),
+    );
+    let (ekt, ekr) = (
+        t.energy.kinetic_translation.clone(),
+        t.energy.kinetic_rotation.clone(),
+    );
+    let (eb, ec) = (
+        t.energy.strain_bond.clone(),
+        t.energy.strain_contact.clone(),
+    );
+    let (bt, bs) = (
+        common::counts(&common::group_series(t, "lattice", TEST)?.tension),
+        common::counts(&common::group_series(t, "lattice", TEST)?.shear),
+    );
     Ok(Rows {
-        time: col("time")?,
+        time: t.time.clone(),
         // Discs push the top platen up (+y) and the bottom one down.
         force: top
             .iter()
@@ -669,11 +680,8 @@ pub fn run(
         &fragments::breaks_csv(&breaks),
     )?;
     let e = r2.world.energy();
-    let tcol = |n: &str| -> Result<f64, LabError> {
-        Ok(*common::column(&r2.history, n, TEST)?
-            .last()
-            .unwrap_or(&f64::NAN))
-    };
+    let en = &r2.history.energy;
+    let tcol = |v: &[f64]| *v.last().unwrap_or(&f64::NAN);
     let transit = g.d * (test.density / test.young).sqrt();
     let steps = r1.summary.steps + r2.summary.steps;
     let wall = r1.summary.wall_time_s + r2.summary.wall_time_s;
@@ -689,13 +697,13 @@ pub fn run(
         },
         time_to_peak: h1.time[ip],
         transit_time: transit,
-        work: tcol("w_boundary")?,
-        strain_energy: tcol("e_bond")? + tcol("e_contact")?,
+        work: tcol(&en.boundary_work),
+        strain_energy: tcol(&en.strain_bond) + tcol(&en.strain_contact),
         kinetic_energy: e.kinetic(),
-        damping: tcol("e_damping")?,
-        friction: tcol("e_friction")?,
-        released: tcol("e_released")?,
-        balance_error: tcol("balance_error")?,
+        damping: tcol(&en.damping),
+        friction: tcol(&en.friction),
+        released: tcol(&en.bond_break),
+        balance_error: tcol(&en.balance_error),
         stage1,
         stage2,
         particle_steps_per_s: if wall > 0.0 {

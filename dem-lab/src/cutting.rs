@@ -7,22 +7,22 @@
 //!
 //! ```text
 //! scene    CuttingTest + LabModel + specimen file → plain dem.scene/1 JSON (dem run runs it)
-//! run      scene → run_scene → analyze; writes cutting.result.json and cutting.forces.csv
+//! run      scene → run_built → analyze; writes cutting.result.json and cutting.forces.csv
 //! analyze  history → main and vertical force against tool travel, peak/mean over the steady
 //!          window; final world → chips (chips.rs), machined surface (surface.rs), residual
 //!          cracks; broken bonds by group and mode
 //! ```
 
 use super::chips::{self, ChipReport, ResidualCracks};
-use super::history::Table;
 use super::model::series_wall_stiffness;
 use super::model::{DISC_MATERIAL, WALL_MATERIAL};
 use super::removal::{removal_mode, RemovalMode};
-use super::run::run_scene;
+use super::run::run_built;
 use super::surface::{self, Surface};
 use super::tool::{edge_arc, CutGeometry, Segment, ToolModel, CLEARANCE, RAKE, TOOL};
 use super::{analysis, LabError, LabModel};
 use dem_core::output::driver::RunOptions;
+use dem_core::output::history::Record;
 use dem_core::output::write_atomic;
 use dem_core::scene::schema::{OutputSpec, RunSpec, SceneFile, SpecimenFile, WallSpec};
 use dem_core::World;
@@ -668,18 +668,19 @@ pub struct ForceHistory {
 }
 
 impl ForceHistory {
-    /// From a history table with the tool walls' columns.
-    pub fn from_table(h: &Table, g: &CutGeometry, file: &str) -> Result<ForceHistory, LabError> {
-        let time = h.column("time", file)?;
-        let col = |w: &str, c: &str| h.column(&format!("{w}_{c}"), file);
+    /// From a run's history: the tool walls' reactions.
+    pub fn from_record(h: &Record, g: &CutGeometry) -> Result<ForceHistory, LabError> {
+        let time = h.time.clone();
+        let wall = |w: &str| super::common::wall_series(h, w, "cutting");
         // The tool's force: the one rigid tool wall, or the two faces of the earlier model.
         let (fx, fy) = if g.tool.len() == 1 {
-            (col(TOOL, "fx")?, col(TOOL, "fy")?)
+            let t = wall(TOOL)?;
+            (t.fx.clone(), t.fy.clone())
         } else {
-            let sum = |a: Vec<f64>, b: Vec<f64>| a.iter().zip(&b).map(|(p, q)| p + q).collect();
+            let (r, c) = (wall(RAKE)?, wall(CLEARANCE)?);
             (
-                sum(col(RAKE, "fx")?, col(CLEARANCE, "fx")?),
-                sum(col(RAKE, "fy")?, col(CLEARANCE, "fy")?),
+                super::common::sum2(&r.fx, &c.fx),
+                super::common::sum2(&r.fy, &c.fy),
             )
         };
         let v = g.velocity;
@@ -886,16 +887,15 @@ fn stats_or_err(
 }
 
 /// Analyses a finished cut: tool forces from `history`, chips, broken bonds, surface and
-/// residual cracks from the final `world`. `history_file` names the history in errors.
+/// residual cracks from the final `world`.
 pub fn analyze(
     test: &CuttingTest,
     spec: &SpecimenInfo,
-    history: &Table,
-    history_file: &str,
+    history: &Record,
     world: &World,
 ) -> Result<(CuttingResult, ForceHistory), LabError> {
     let g = CutGeometry::new(test, spec.extent)?;
-    let f = ForceHistory::from_table(history, &g, history_file)?;
+    let f = ForceHistory::from_record(history, &g)?;
     let window = [test.window_start * test.depth, test.length];
     let main_force = stats_or_err(&f, &f.main, window)?;
     let vertical_force = stats_or_err(&f, &f.vertical, window)?;
@@ -938,16 +938,14 @@ pub fn analyze(
     });
     let broken_bonds = bonds.map(broken_bonds).unwrap_or_default();
     let broken_total = broken_bonds.iter().map(|b| b.tension + b.shear).sum();
-    let bal = history
-        .column("balance_error", history_file)
-        .unwrap_or_default();
-    let dts = history.column("dt", history_file).unwrap_or_default();
+    let bal = &history.energy.balance_error;
+    let dts = &history.dt;
     let run = RunFigures {
         steps: st.step,
         dt: world.dt(),
         dt_min: dts.iter().copied().fold(f64::INFINITY, f64::min),
         dt_max: dts.iter().copied().fold(0.0, f64::max),
-        history_rows: history.rows.len(),
+        history_rows: history.len(),
         history_every: 0,
         balance_error_final: bal.last().copied().unwrap_or(0.0),
         balance_error_max_abs: bal
@@ -991,8 +989,9 @@ pub fn analyze(
 }
 
 /// A cutting run's scene as [`run_with`] builds and runs it (and `dem bench cutting` times it):
-/// the test checked against the specimen, the time step probed by building the world once, the
-/// history cadence set for about `history_rows` rows, the fragment-deletion note, and numbered
+/// the test checked against the specimen, the world built (its time step sets the history
+/// cadence; the run then starts from this world rather than building it again), the history
+/// cadence set for about `history_rows` rows, the fragment-deletion note, and numbered
 /// checkpoints (about `checkpoints` over the run, 0 = none) on history rows.
 pub struct CuttingScene {
     pub spec: SpecimenInfo,
@@ -1005,12 +1004,14 @@ pub struct CuttingScene {
     /// A history row every `every` steps.
     pub every: u64,
     debris: Option<super::debris::DebrisRule>,
+    /// The world built from `scene` (until [`CuttingScene::take_world`] takes it).
+    world: Option<World>,
 }
 
 impl CuttingScene {
     /// Checks `test` and the specimen and builds the scene, whose file will be `scene_file`
-    /// (relative paths resolve from there, as `dem run` resolves them). The time step is
-    /// probed by building the world once from the scene checked in memory.
+    /// (relative paths resolve from there, as `dem run` resolves them), and its world, from
+    /// the scene checked in memory.
     pub fn build(
         test: &CuttingTest,
         model: &LabModel,
@@ -1021,10 +1022,12 @@ impl CuttingScene {
         test.validate()?;
         let spec = SpecimenInfo::read(specimen)?;
         check_geometry(test, spec.extent)?;
-        // Probe the time step: build the world once, so the history cadence gives about
-        // `history_rows` rows.
+        // Build the world, whose time step sets the history cadence (about `history_rows`
+        // rows). The cadence and the other outputs do not enter the build: the run starts from
+        // this world.
         let probe = scene(test, model, &spec, 1)?;
-        let dt = dem_core::scene::build(&dem_core::scene::resolve(probe, scene_file)?)?.dt();
+        let world = dem_core::scene::build(&dem_core::scene::resolve(probe, scene_file)?)?;
+        let dt = world.dt();
         let g = CutGeometry::new(test, spec.extent)?;
         let steps = (g.duration / dt).ceil().max(1.0) as u64;
         let every = steps.div_ceil(test.history_rows).max(1);
@@ -1052,7 +1055,13 @@ impl CuttingScene {
             steps,
             every,
             debris,
+            world: Some(world),
         })
+    }
+
+    /// The world built from the scene (once; `None` after).
+    pub fn take_world(&mut self) -> Option<World> {
+        self.world.take()
     }
 
     /// The step hook the run sets: fragment deletion on every history row when the test asks
@@ -1127,7 +1136,8 @@ pub fn run_with(
     let earlier: Option<Value> = std::fs::read_to_string(&scene_file)
         .ok()
         .and_then(|t| serde_json::from_str(&t).ok());
-    let cs = CuttingScene::build(test, model, specimen, &scene_file, ro.checkpoints)?;
+    let mut cs = CuttingScene::build(test, model, specimen, &scene_file, ro.checkpoints)?;
+    let mut built = cs.take_world();
     let (spec, s) = (&cs.spec, &cs.scene);
     let every = cs.every;
     let hook = || cs.hook();
@@ -1148,12 +1158,19 @@ pub fn run_with(
         restart,
         max_steps: ro.max_steps,
     };
-    let lab = match run_scene(s, &scene_file, &opts, progress, hook()) {
+    // (A resumed run starts from its checkpoint's world: the built one waits for a checkpoint
+    // that does not load.)
+    let fresh = if opts.restart.is_none() {
+        built.take()
+    } else {
+        None
+    };
+    let lab = match run_built(s, &scene_file, fresh, &opts, progress, hook()) {
         Err(LabError::Run(dem_core::output::driver::RunError::Checkpoint(_)))
             if opts.restart.is_some() =>
         {
             opts.restart = None;
-            run_scene(s, &scene_file, &opts, progress, hook())?
+            run_built(s, &scene_file, built, &opts, progress, hook())?
         }
         r => r?,
     };
@@ -1166,14 +1183,7 @@ pub fn run_with(
     if ro.checkpoints > 0 {
         dem_core::output::driver::prune_checkpoints(out_dir, 0)?;
     }
-    let hist = lab.out_dir.join("history.csv");
-    let (mut result, forces) = analyze(
-        test,
-        spec,
-        &lab.history,
-        &hist.display().to_string(),
-        &lab.world,
-    )?;
+    let (mut result, forces) = analyze(test, spec, &lab.history, &lab.world)?;
     result.run.history_every = every;
     if let Some(d) = result.deleted.as_mut() {
         d.check_every = every;
@@ -1201,7 +1211,7 @@ pub fn run_with(
     let result_file = out_dir.join(RESULT_FILE);
     result.files = vec![
         lab.scene_file.display().to_string(),
-        hist.display().to_string(),
+        lab.out_dir.join("history.csv").display().to_string(),
     ];
     for f in lab.summary.files.iter() {
         let p = out_dir.join(f);

@@ -123,9 +123,7 @@ pub fn hook(every: u64, rule: DebrisRule) -> StepHook {
     StepHook {
         every: every.max(1),
         run: Box::new(move |w: &mut World| {
-            delete_fragments(w, &rule)
-                .map(|_| ())
-                .map_err(|e| e.to_string())
+            delete_fragments(w, &rule).map(|_| ()).map_err(Into::into)
         }),
         stop: None,
     }

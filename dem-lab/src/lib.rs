@@ -7,8 +7,9 @@
 //! ```text
 //! specimen  the three specimens (traditional, ORC, improved ORC) and the dem.specimen/1 file
 //! model     LabModel: density, thickness, micro-parameters → scene materials and bond groups
-//! run       write the test's scene file (plain, editable, `dem run` runs it), run it, read history
-//! history   history.csv back as named columns
+//! run       write the test's scene file (plain, editable, `dem run` runs it), run the same
+//!           value in memory; analyses read the run's history as numbers (`history::Record`)
+//! history   a finished run's history.csv read back as named columns (files of earlier runs)
 //! analysis  the standard formulas: E, ν, UCS; σ_t = 2F/(πDt); σ_f = 3FL/(2bh²); K_IC (S4, E399);
 //!           force stats
 //! force_stats cutting-force statistics: resampled histories, seed-averaged moving-mean peak

@@ -1,11 +1,12 @@
 //! Running a lab-test scene: the test builds the scene as a typed value (the `dem.scene/1`
 //! file types), writes it as a plain file (so the user can edit and re-run it with
 //! `dem run`), runs the same value exactly as `dem run` would run the file, checked in memory
-//! rather than read back, and reads its history back.
+//! rather than read back, and keeps its history's numbers (the driver's in-memory
+//! [`Record`], series by wall, gauge and bond group).
 
-use super::history::Table;
 use super::LabError;
 use dem_core::output::driver::{RunOptions, Simulation, StepHook};
+use dem_core::output::history::Record;
 use dem_core::output::summary::RunSummary;
 use dem_core::output::write_atomic;
 use dem_core::scene::schema::SceneFile;
@@ -19,8 +20,8 @@ pub struct LabRun {
     /// Its output folder.
     pub out_dir: PathBuf,
     pub summary: RunSummary,
-    /// `history.csv` read back.
-    pub history: Table,
+    /// The history's rows as numbers (what `history.csv` holds), of the whole run.
+    pub history: Record,
     /// The world at the end of the run (for analyses of the final state: chips, surfaces).
     pub world: World,
 }
@@ -41,9 +42,25 @@ pub fn run_scene(
     progress: &mut dyn FnMut(u64, u64),
     hook: Option<StepHook>,
 ) -> Result<LabRun, LabError> {
+    run_built(scene, scene_file, None, opts, progress, hook)
+}
+
+/// As [`run_scene`], with the world already built from `scene` when the caller has it
+/// (`Some`: see [`Simulation::with_world`]; used for a fresh run only).
+pub fn run_built(
+    scene: &SceneFile,
+    scene_file: &Path,
+    built: Option<World>,
+    opts: &RunOptions,
+    progress: &mut dyn FnMut(u64, u64),
+    hook: Option<StepHook>,
+) -> Result<LabRun, LabError> {
     write_scene(scene, scene_file)?;
     let resolved = dem_core::scene::resolve(scene.clone(), scene_file)?;
-    let mut sim = Simulation::new(resolved, opts)?;
+    let mut sim = match built {
+        Some(world) => Simulation::with_world(resolved, world, opts)?,
+        None => Simulation::new(resolved, opts)?,
+    };
     let steps = sim.total_steps();
     if steps > STEP_LIMIT {
         return Err(LabError::TooManySteps {
@@ -58,8 +75,10 @@ pub fn run_scene(
     }
     let out_dir = sim.out_dir().to_path_buf();
     let (summary, _) = sim.run(progress)?;
-    let hist = out_dir.join("history.csv");
-    let history = Table::read(&hist)?;
+    let history = sim.history().cloned().ok_or_else(|| LabError::Param {
+        field: format!("{}: outputs.history_every", scene_file.display()),
+        reason: "0: a lab test analyses the history; set a positive cadence".into(),
+    })?;
     Ok(LabRun {
         scene_file: scene_file.to_path_buf(),
         out_dir,

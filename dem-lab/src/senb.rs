@@ -22,9 +22,9 @@
 
 use super::bending::BendingTest;
 use super::common::{self, positive, Loading};
-use super::history::Table;
 use super::specimens::{Shape, TestSpecimen};
 use super::{analysis, LabError, LabModel};
+use dem_core::output::history::Record;
 use dem_core::scene::schema::SceneFile;
 use serde::{Deserialize, Serialize};
 
@@ -280,18 +280,18 @@ pub fn scene(
 
 /// K_IC and the CMOD from the history of [`scene`].
 pub fn analyze(
-    t: &Table,
+    t: &Record,
     test: &SenbTest,
     model: &LabModel,
     spec: &TestSpecimen,
 ) -> Result<SenbReport, LabError> {
     let w = spec.size()[1];
     let beam = test.beam(w);
-    let time = common::column(t, "time", TEST)?;
+    let time = t.time.clone();
     let load = super::bending::roller_load(t, beam.roller_segments, TEST)?;
     let (ip, p) = super::bending::fracture_peak(t, &load, TEST)?;
-    let xl = common::column(t, "mouth_left_x", TEST)?;
-    let xr = common::column(t, "mouth_right_x", TEST)?;
+    let xl = common::gauge_series(t, "mouth_left", TEST)?.x.clone();
+    let xr = common::gauge_series(t, "mouth_right", TEST)?.x.clone();
     let cmod = (xr[ip] - xl[ip]) - (xr[0] - xl[0]);
     let (slot, a) = (test.notch_width, test.notch_depth());
     let span = beam.span;
@@ -333,33 +333,40 @@ pub fn run(
 mod tests {
     use super::*;
     use crate::specimen::{Method, SpecimenParams};
+    use dem_core::output::history::{GaugeSeries, GroupSeries, WallSeries};
 
     /// A synthetic history: the load rises to `peak` and falls to half, the mouth opens by
     /// 1 µm at the peak, `broken` bonds at the end.
-    fn table(peak: f64, broken: f64) -> Table {
-        let mut names = vec!["time".to_string()];
-        names.extend((0..8).map(|k| format!("load_{k}_fy")));
-        names.extend(
-            [
-                "mouth_left_x",
-                "mouth_right_x",
-                "broken_grain_boundary_tension",
-            ]
-            .map(String::from),
-        );
+    fn table(peak: f64, broken: u64) -> Record {
         let loads = [0.0, 0.5, 1.0, 0.5];
-        let rows = loads
-            .iter()
-            .enumerate()
-            .map(|(i, &f)| {
-                let mut r = vec![i as f64 * 1e-4];
-                r.extend([f * peak / 8.0; 8]);
-                let open = if i >= 2 { 1e-6 } else { 0.0 };
-                r.extend([1e-3, 2e-3 + open, if i == 3 { broken } else { 0.0 }]);
-                r
-            })
-            .collect();
-        Table { names, rows }
+        let n = loads.len();
+        let gauge = |name: &str, x: Vec<f64>| GaugeSeries {
+            name: name.into(),
+            y: vec![0.0; n],
+            x,
+        };
+        let open = |i: usize| if i >= 2 { 1e-6 } else { 0.0 };
+        Record {
+            time: (0..n).map(|i| i as f64 * 1e-4).collect(),
+            walls: (0..8)
+                .map(|k| WallSeries {
+                    name: format!("load_{k}"),
+                    fy: loads.iter().map(|f| f * peak / 8.0).collect(),
+                    ..WallSeries::default()
+                })
+                .collect(),
+            gauges: vec![
+                gauge("mouth_left", vec![1e-3; n]),
+                gauge("mouth_right", (0..n).map(|i| 2e-3 + open(i)).collect()),
+            ],
+            groups: vec![GroupSeries {
+                name: "grain_boundary".into(),
+                tension: (0..n).map(|i| if i == 3 { broken } else { 0 }).collect(),
+                shear: vec![0; n],
+                elements: None,
+            }],
+            ..Record::default()
+        }
     }
 
     fn setup() -> (SenbTest, LabModel, TestSpecimen) {
@@ -389,7 +396,7 @@ mod tests {
     #[test]
     fn toughness_from_the_peak_and_cmod_from_the_gauges() {
         let (t, m, spec) = setup();
-        let r = analyze(&table(1e5, 3.0), &t, &m, &spec).unwrap();
+        let r = analyze(&table(1e5, 3), &t, &m, &spec).unwrap();
         // S = 4W = 20 mm, W = 5 mm, a = 2.5 mm, B = t = 1 m: K = P S f(0.5) / (B W^1.5).
         let want = 1e5 * 20e-3 / (5e-3f64).powf(1.5) * analysis::senb_geometry_factor(0.5);
         assert!((r.fracture_toughness - want).abs() < 1e-9 * want);
@@ -403,7 +410,7 @@ mod tests {
     #[test]
     fn a_drop_without_a_broken_bond_is_refused() {
         let (t, m, spec) = setup();
-        match analyze(&table(1e5, 0.0), &t, &m, &spec) {
+        match analyze(&table(1e5, 0), &t, &m, &spec) {
             Err(LabError::Analysis { reason, .. }) => assert!(reason.contains("no bond broken")),
             other => panic!("{other:?}"),
         }

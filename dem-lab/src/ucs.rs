@@ -16,9 +16,9 @@
 //! measured E.
 
 use super::common::{self, positive, Loading};
-use super::history::Table;
 use super::specimens::{Shape, TestSpecimen};
 use super::{analysis, LabError, LabModel};
+use dem_core::output::history::Record;
 use dem_core::scene::schema::{AxisName, SceneFile};
 use serde::{Deserialize, Serialize};
 
@@ -206,16 +206,16 @@ pub fn scene(test: &UcsTest, model: &LabModel, spec: &TestSpecimen) -> Result<Sc
 
 /// E, ν and UCS from the history of [`scene`].
 pub fn analyze(
-    t: &Table,
+    t: &Record,
     test: &UcsTest,
     model: &LabModel,
     spec: &TestSpecimen,
 ) -> Result<UcsReport, LabError> {
-    let time = common::column(t, "time", TEST)?;
-    let top = common::column(t, "top_fy", TEST)?;
-    let bottom = common::column(t, "bottom_fy", TEST)?;
-    let left = common::column(t, "left_x", TEST)?;
-    let right = common::column(t, "right_x", TEST)?;
+    let time = t.time.clone();
+    let top = common::wall_series(t, "top", TEST)?.fy.clone();
+    let bottom = common::wall_series(t, "bottom", TEST)?.fy.clone();
+    let left = common::gauge_series(t, "left", TEST)?.x.clone();
+    let right = common::gauge_series(t, "right", TEST)?.x.clone();
     if time.len() < 10 {
         return Err(common::analysis_error(
             TEST,

@@ -3,8 +3,8 @@
 //! linear contact law's closed form (on a face, and on the edge of the rigid tool: one
 //! contact, PFC's series stiffness).
 
+use dem_core::output::history::{Record, WallSeries};
 use dem_lab::cutting::{self, CuttingTest, ForceHistory, SpecimenInfo};
-use dem_lab::history::Table;
 use dem_lab::model::series_wall_stiffness;
 use dem_lab::specimen::{Method, SpecimenParams};
 use dem_lab::tool::{segment_polygon_distance, CutGeometry, ToolModel};
@@ -233,13 +233,19 @@ fn tool_force_on_a_single_disc() {
         "the disc leaves faster than the tool"
     );
     // The force history the analysis reads: main = −(F_rake + F_clearance)·x̂ = +k·δ.
-    let table = Table {
-        names: ["time", "rake_fx", "rake_fy", "clearance_fx", "clearance_fy"]
-            .map(String::from)
-            .to_vec(),
-        rows,
+    let col = |k: usize| rows.iter().map(|r| r[k]).collect::<Vec<f64>>();
+    let wall = |name: &str, k: usize| WallSeries {
+        name: name.into(),
+        fx: col(k),
+        fy: col(k + 1),
+        moment: vec![0.0; rows.len()],
     };
-    let fh = ForceHistory::from_table(&table, &g, "test").unwrap();
+    let record = Record {
+        time: col(0),
+        walls: vec![wall("rake", 1), wall("clearance", 3)],
+        ..Record::default()
+    };
+    let fh = ForceHistory::from_record(&record, &g).unwrap();
     let peak = fh.main.iter().copied().fold(0.0, f64::max);
     assert!(peak > 0.0);
     assert!(fh.main.iter().all(|&m| m >= 0.0));

@@ -126,7 +126,8 @@ pub(super) struct DiscOut<'a> {
 /// The parallel path ([`super::split`]) uses `scratch` (per-bond slots, resized as needed),
 /// `split` (the cut into ranges) and `incidence` (the bonds by disc, for the shared discs),
 /// building the last two when missing or made for another size (the store resets them when
-/// bonds change).
+/// bonds change). `ranges`: the thread count (one: the one-thread path; more: that many
+/// ranges; same results).
 #[allow(clippy::too_many_arguments)]
 pub(super) fn run(
     c: &Ctx,
@@ -139,6 +140,7 @@ pub(super) fn run(
     split: &mut Option<Split>,
     avx2: bool,
     index_bound: usize,
+    ranges: usize,
 ) -> usize {
     let nb = b.i.len();
     let nd = out.fx.len();
@@ -146,7 +148,7 @@ pub(super) fn run(
     // Whether every disc index is in range (then the gather and scatter skip the checks).
     let valid = c.v.x.len() == nd && c.v.lengths_agree() && index_bound <= nd;
     // (An index out of range, which cannot happen, takes the one-thread path's checks.)
-    let parallel = valid && nb >= PAR_MIN_BONDS && rayon::current_num_threads() > 1;
+    let parallel = valid && nb >= PAR_MIN_BONDS && ranges > 1;
     if !parallel {
         let SerialWork { w, o } = serial;
         let mut broke = 0;
@@ -171,7 +173,6 @@ pub(super) fn run(
     }
     // Several threads: ranges of bonds, each adding directly to the discs only it touches
     // (same bits, see `split`).
-    let ranges = rayon::current_num_threads();
     if !split.as_ref().is_some_and(|s| s.fits(nb, nd, ranges)) {
         *split = Some(Split::new(b.i, b.j, nd, ranges));
     }

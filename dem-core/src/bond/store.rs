@@ -490,13 +490,19 @@ impl Bonds {
     /// [`Bonds::compute`] reading the discs from `pk`, the contact pass's packed records of
     /// the current state (AVX2; see [`crate::lanes::Packed`]), when not empty:
     /// one cache line per disc instead of six arrays, same results.
-    pub(crate) fn compute_packed(&mut self, st: &mut State, dt: f64, pk: &[Packed]) {
-        self.compute_with(st, dt, crate::lanes::has_avx2(), pk);
+    /// `ranges`: the step's thread count (see `kernel::run`).
+    pub(crate) fn compute_packed(&mut self, st: &mut State, dt: f64, pk: &[Packed], ranges: usize) {
+        self.compute_in(st, dt, crate::lanes::has_avx2(), pk, ranges);
     }
 
     /// [`Bonds::compute`] with the AVX2 build of the kernel on or off and the packed records
     /// `pk` or none (same results).
+    /// The thread count is the calling rayon pool's.
     pub(crate) fn compute_with(&mut self, st: &mut State, dt: f64, avx2: bool, pk: &[Packed]) {
+        self.compute_in(st, dt, avx2, pk, crate::team::Threads::current().ranges);
+    }
+
+    fn compute_in(&mut self, st: &mut State, dt: f64, avx2: bool, pk: &[Packed], ranges: usize) {
         if self.is_empty() {
             return;
         }
@@ -556,6 +562,7 @@ impl Bonds {
             &mut self.cache.split,
             avx2,
             bound,
+            ranges,
         );
         if new_breaks > 0 {
             self.log_breaks(st);

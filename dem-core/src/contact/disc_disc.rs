@@ -147,7 +147,8 @@ fn valid(d: &Discs, nb: &Neighbors, minv: &[f64]) -> bool {
 /// pass; the caller passes `false` when no law has a dashpot
 /// ([`ContactLaws::has_dashpots`]), and the sums are then neither reset nor filled. `hook`:
 /// evaluated with the pairs ([`super::kernel::PairHook`]; the pipeline passes the fused
-/// parallel bonds, `bond::fused`), or none.
+/// parallel bonds, `bond::fused`), or none. `ranges`: the step's thread count (the pass cuts
+/// the discs into that many ranges when it has enough pairs; same results for any).
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn compute<H: PairHook>(
     d: &mut Discs,
@@ -159,6 +160,7 @@ pub(crate) fn compute<H: PairHook>(
     track_energy: bool,
     dashpots: bool,
     slots: &mut Slots,
+    ranges: usize,
     hook: Option<&H>,
 ) -> PassEnergy {
     assert!(valid(d, nb, minv), "neighbour list out of date");
@@ -171,7 +173,16 @@ pub(crate) fn compute<H: PairHook>(
         slots.dashpot.reset(d.len());
     }
     let model = uniform_model(d, laws);
-    let a = (d, nb, minv, img, dt, (track_energy, dashpots), slots, hook);
+    let a = (
+        d,
+        nb,
+        minv,
+        img,
+        dt,
+        (track_energy, dashpots),
+        (slots, ranges),
+        hook,
+    );
     match model {
         Some(ContactModel::Linear(l)) => match l.damping {
             NormalDamping::Gamma(g) => run(a, &LinearGamma(l, g)),
@@ -207,13 +218,12 @@ type Args<'a, H> = (
     MinImage,
     f64,
     (bool, bool),
-    &'a mut Slots,
+    (&'a mut Slots, usize),
     Option<&'a H>,
 );
 
 fn run<L: PairLaw, H: PairHook>(a: Args<H>, law: &L) -> PassEnergy {
-    let (d, nb, minv, img, dt, track, slots, hook) = a;
-    let threads = rayon::current_num_threads();
+    let (d, nb, minv, img, dt, track, (slots, threads), hook) = a;
     let ranges = if threads > 1 && nb.nbr.len() >= PAR_MIN_PAIRS {
         threads
     } else {

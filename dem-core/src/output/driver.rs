@@ -14,8 +14,8 @@
 //! `last-good-state.json`, the history (all rows passed the guard) and the summary are written,
 //! and the error names the step, the disc and the likely cause. No output ever holds a NaN.
 
-use super::history::History;
-use super::run_controls::{gauge_members, gauge_positions, peak_of_rows, wall_load};
+use super::history::{History, Record, Row};
+use super::run_controls::{gauge_members, gauge_positions, peak_of_record, wall_load};
 use super::summary::{thread_cpu_s, RunSummary, RunTotals, SCHEMA as SUMMARY_SCHEMA};
 use super::vtk::{self, BondLine, Collection, Entry};
 use super::{write_atomic, OutputError};
@@ -47,8 +47,7 @@ pub struct RunOptions {
 /// restarted run to continue bit-identically. An error stops the run ([`RunError::Hook`]).
 pub struct StepHook {
     pub every: u64,
-    #[allow(clippy::type_complexity)]
-    pub run: Box<dyn FnMut(&mut World) -> Result<(), String>>,
+    pub run: HookFn,
     /// Asked after `run`, at the same steps: `true` ends the run there as at failure
     /// ([`Ending::Failure`], summary status `failure`, a history row and the final checkpoint
     /// written), e.g. a crushed grain's first major breakage (`dem_lab::crush`). A function of
@@ -56,6 +55,13 @@ pub struct StepHook {
     #[allow(clippy::type_complexity)]
     pub stop: Option<Box<dyn FnMut(&World) -> bool>>,
 }
+
+/// A step hook's error: the caller's own error type (dem-core does not know it), kept as the
+/// source of [`RunError::Hook`].
+pub type HookError = Box<dyn std::error::Error + Send + Sync>;
+
+/// The function of a [`StepHook`].
+pub type HookFn = Box<dyn FnMut(&mut World) -> Result<(), HookError>>;
 
 /// Why a run did not complete.
 #[derive(Debug, thiserror::Error)]
@@ -66,8 +72,12 @@ pub enum RunError {
     Output(#[from] OutputError),
     #[error(transparent)]
     Checkpoint(#[from] CheckpointError),
-    #[error("step hook at step {step}: {reason}")]
-    Hook { step: u64, reason: String },
+    #[error("step hook at step {step}: {source}")]
+    Hook {
+        step: u64,
+        #[source]
+        source: HookError,
+    },
     #[error("run stopped by the blow-up guard: {error}; the last good state (step {good_step}) is in {saved}")]
     Guard {
         error: GuardError,
@@ -187,6 +197,27 @@ const FLUSH_EVERY: Duration = Duration::from_secs(5);
 impl Simulation {
     /// Builds the scene's world (or loads the checkpoint) and prepares the outputs.
     pub fn new(scene: Scene, opts: &RunOptions) -> Result<Simulation, RunError> {
+        Simulation::start(scene, opts, None)
+    }
+
+    /// As [`Simulation::new`], with the world the caller already built from `scene` by
+    /// [`crate::scene::build()`] (to read it first: the cutting test sets its history cadence
+    /// from the world's time step), so it is built once. The world must come from this scene
+    /// (outputs aside: they do not enter the build). With `opts.restart` set, the checkpoint's
+    /// world is used and `world` dropped.
+    pub fn with_world(
+        scene: Scene,
+        world: World,
+        opts: &RunOptions,
+    ) -> Result<Simulation, RunError> {
+        Simulation::start(scene, opts, Some(world))
+    }
+
+    fn start(
+        scene: Scene,
+        opts: &RunOptions,
+        built: Option<World>,
+    ) -> Result<Simulation, RunError> {
         let out = opts
             .out_dir
             .clone()
@@ -204,7 +235,10 @@ impl Simulation {
                 )
             }
             None => (
-                crate::scene::build(&scene)?,
+                match built {
+                    Some(w) => w,
+                    None => crate::scene::build(&scene)?,
+                },
                 String::new(),
                 Vec::new(),
                 None,
@@ -222,18 +256,13 @@ impl Simulation {
                 gauge_members(&scene, &crate::scene::build(&scene)?)?
             }
         };
-        let peak_load = scene
-            .run
-            .stop_after_peak
-            .as_ref()
-            .map_or(0.0, |s| peak_of_rows(&rows, s));
         let group_names = world
             .bonds
             .as_ref()
             .map(|b| b.group_names())
             .unwrap_or_default();
         let o = &scene.outputs;
-        let history = (o.history_every > 0).then(|| {
+        let history = if o.history_every > 0 {
             let walls: Vec<&str> = world.state.walls.iter().map(|w| w.name.as_str()).collect();
             let groups: Vec<&str> = group_names.iter().map(String::as_str).collect();
             let gauges: Vec<&str> = o.gauges.iter().map(|g| g.name.as_str()).collect();
@@ -247,9 +276,18 @@ impl Simulation {
                 .unwrap_or_default();
             let mut h = History::with_gauges(&out.join("history.csv"), &walls, &gauges, &groups)
                 .with_element_columns(&fj);
-            h.set_rows(rows);
-            h
-        });
+            h.set_rows(rows)
+                .map_err(|(row, reason)| CheckpointError::Format {
+                    file: restarted_from.clone().unwrap_or_default(),
+                    reason: format!("history row {row}: {reason}"),
+                })?;
+            Some(h)
+        } else {
+            None
+        };
+        let peak_load = (scene.run.stop_after_peak.as_ref())
+            .zip(history.as_ref())
+            .map_or(0.0, |(s, h)| peak_of_record(h.record(), s));
         let pvd = (o.vtk_every > 0).then(|| {
             let mut c = Collection::new(&out.join("snapshots.pvd"));
             c.entries = snaps;
@@ -296,6 +334,13 @@ impl Simulation {
     /// The output folder.
     pub fn out_dir(&self) -> &Path {
         &self.out
+    }
+
+    /// The history's rows as numbers (of the whole run: a restart brings the earlier
+    /// invocations' rows from the checkpoint), or `None` without a history
+    /// (`outputs.history_every` = 0).
+    pub fn history(&self) -> Option<&Record> {
+        self.history.as_ref().map(History::record)
     }
 
     /// The stages the world runs.
@@ -390,7 +435,7 @@ impl Simulation {
             let s = self.world.state.step;
             let mut hook_stop = false;
             if let Some(h) = self.hook.as_mut().filter(|_| every(hook_every, s)) {
-                (h.run)(&mut self.world).map_err(|reason| RunError::Hook { step: s, reason })?;
+                (h.run)(&mut self.world).map_err(|source| RunError::Hook { step: s, source })?;
                 if let Some(f) = h.stop.as_mut() {
                     hook_stop = f(&self.world);
                 }
@@ -506,16 +551,16 @@ impl Simulation {
             .unwrap_or_default();
         let st = &self.world.state;
         let gauges = gauge_positions(st, &self.gauges);
-        h.push(
-            st.time,
-            st.step,
-            self.world.dt(),
-            &st.walls,
-            &gauges,
-            &self.world.energy(),
-            &broken,
-            &elements,
-        )
+        h.push(&Row {
+            time: st.time,
+            step: st.step,
+            dt: self.world.dt(),
+            walls: &st.walls,
+            gauges: &gauges,
+            energy: &self.world.energy(),
+            broken: &broken,
+            elements: &elements,
+        })
     }
 
     /// `run.stop_after_peak`: updates the peak load and tells whether the load has fallen below
@@ -671,7 +716,7 @@ impl Simulation {
             error,
             restarted_from: self.restarted_from.clone(),
             active_stages: w.active_stages().iter().map(|s| s.to_string()).collect(),
-            threads: rayon::current_num_threads(),
+            threads: crate::team::Threads::current().ranges,
             discs: st.discs.len(),
             clumps: st.clumps.len(),
             bonds,

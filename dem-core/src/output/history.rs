@@ -6,6 +6,10 @@
 //! Rows are kept as text and the file is rewritten atomically at each flush (checkpoints, the end
 //! of the run, and at most every few seconds), so it is always complete and a restart continues
 //! it exactly (the rows travel in the checkpoint).
+//!
+//! Beside the text, the same numbers are kept as a typed [`Record`], series by wall, gauge,
+//! energy term and bond group: what the lab tests analyse, in memory, instead of reading the
+//! file back by column name. A restart rebuilds it from the checkpoint's rows.
 
 use super::{finite, push_num, write_atomic, OutputError};
 use crate::energy::EnergyReport;
@@ -64,6 +68,256 @@ pub fn column_name(s: &str) -> String {
     }
 }
 
+/// A history's numbers in memory, column by column, named by what they measure: the walls',
+/// gauges' and bond groups' series under the scene's names, the energy terms by field. The
+/// values are those the file reads back (shortest round-trip text; a zero is written `0`, so a
+/// −0 is kept as +0).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Record {
+    pub time: Vec<f64>,
+    pub step: Vec<u64>,
+    pub dt: Vec<f64>,
+    /// One per wall, in scene order.
+    pub walls: Vec<WallSeries>,
+    /// One per position gauge, in scene order.
+    pub gauges: Vec<GaugeSeries>,
+    pub energy: EnergySeries,
+    /// One per bond group, in scene order.
+    pub groups: Vec<GroupSeries>,
+}
+
+/// A wall's reaction: the force of the discs on it (N) and its moment about its pivot (N·m).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct WallSeries {
+    pub name: String,
+    pub fx: Vec<f64>,
+    pub fy: Vec<f64>,
+    pub moment: Vec<f64>,
+}
+
+/// A position gauge: the mean position of its discs (m).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct GaugeSeries {
+    pub name: String,
+    pub x: Vec<f64>,
+    pub y: Vec<f64>,
+}
+
+/// The energy terms of [`EnergyReport`] (J), one series each, in the file's column order.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct EnergySeries {
+    pub kinetic_translation: Vec<f64>,
+    pub kinetic_rotation: Vec<f64>,
+    pub strain_contact: Vec<f64>,
+    pub strain_bond: Vec<f64>,
+    pub gravity_potential: Vec<f64>,
+    pub boundary_work: Vec<f64>,
+    pub damping: Vec<f64>,
+    pub friction: Vec<f64>,
+    pub bond_break: Vec<f64>,
+    pub total: Vec<f64>,
+    pub initial: Vec<f64>,
+    pub balance_error: Vec<f64>,
+}
+
+impl EnergySeries {
+    /// The series in [`ENERGY_COLUMNS`] order.
+    fn columns_mut(&mut self) -> [&mut Vec<f64>; 12] {
+        [
+            &mut self.kinetic_translation,
+            &mut self.kinetic_rotation,
+            &mut self.strain_contact,
+            &mut self.strain_bond,
+            &mut self.gravity_potential,
+            &mut self.boundary_work,
+            &mut self.damping,
+            &mut self.friction,
+            &mut self.bond_break,
+            &mut self.total,
+            &mut self.initial,
+            &mut self.balance_error,
+        ]
+    }
+}
+
+/// A bond group's broken bonds so far by mode, and for a flat-joint group its broken elements.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct GroupSeries {
+    pub name: String,
+    pub tension: Vec<u64>,
+    pub shear: Vec<u64>,
+    /// Flat-joint groups only.
+    pub elements: Option<Vec<u64>>,
+}
+
+impl Record {
+    /// Rows recorded.
+    pub fn len(&self) -> usize {
+        self.time.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.time.is_empty()
+    }
+
+    /// The wall named `name`.
+    pub fn wall(&self, name: &str) -> Option<&WallSeries> {
+        self.walls.iter().find(|w| w.name == name)
+    }
+
+    /// The gauge named `name`.
+    pub fn gauge(&self, name: &str) -> Option<&GaugeSeries> {
+        self.gauges.iter().find(|g| g.name == name)
+    }
+
+    /// The bond group named `name`.
+    pub fn group(&self, name: &str) -> Option<&GroupSeries> {
+        self.groups.iter().find(|g| g.name == name)
+    }
+
+    /// Bonds (both modes) and flat-joint elements broken by the last row, summed over the
+    /// groups; 0 without rows.
+    pub fn broken_at_end(&self) -> u64 {
+        let last = |v: &Vec<u64>| v.last().copied().unwrap_or(0);
+        (self.groups.iter())
+            .map(|g| last(&g.tension) + last(&g.shear) + g.elements.as_ref().map_or(0, last))
+            .sum()
+    }
+
+    /// The same series, with no rows.
+    fn names_only(&self) -> Record {
+        let name = |name: &String| name.clone();
+        Record {
+            walls: (self.walls.iter())
+                .map(|w| WallSeries {
+                    name: name(&w.name),
+                    ..WallSeries::default()
+                })
+                .collect(),
+            gauges: (self.gauges.iter())
+                .map(|g| GaugeSeries {
+                    name: name(&g.name),
+                    ..GaugeSeries::default()
+                })
+                .collect(),
+            groups: (self.groups.iter())
+                .map(|g| GroupSeries {
+                    name: name(&g.name),
+                    elements: g.elements.as_ref().map(|_| Vec::new()),
+                    ..GroupSeries::default()
+                })
+                .collect(),
+            ..Record::default()
+        }
+    }
+
+    /// Appends one row's values; zeros as the file writes them.
+    fn push(&mut self, r: &Row) {
+        let z = |v: f64| if v == 0.0 { 0.0 } else { v };
+        self.time.push(z(r.time));
+        self.step.push(r.step);
+        self.dt.push(z(r.dt));
+        for (s, w) in self.walls.iter_mut().zip(r.walls) {
+            s.fx.push(z(w.force[0]));
+            s.fy.push(z(w.force[1]));
+            s.moment.push(z(w.moment));
+        }
+        for (s, g) in self.gauges.iter_mut().zip(r.gauges) {
+            s.x.push(z(g[0]));
+            s.y.push(z(g[1]));
+        }
+        for (s, v) in self
+            .energy
+            .columns_mut()
+            .into_iter()
+            .zip(energy_values(r.energy))
+        {
+            s.push(z(v));
+        }
+        for (s, b) in self.groups.iter_mut().zip(r.broken) {
+            s.tension.push(b[0]);
+            s.shear.push(b[1]);
+        }
+        let mut el = r.elements.iter();
+        for s in self.groups.iter_mut() {
+            if let Some(v) = s.elements.as_mut() {
+                v.push(el.next().copied().unwrap_or(0));
+            }
+        }
+    }
+
+    /// Appends the rows of history text (as [`History::rows`] holds them); errors give the
+    /// 1-based row and the reason.
+    fn parse_rows(&mut self, text: &str) -> Result<(), (usize, String)> {
+        let n_el = self.groups.iter().filter(|g| g.elements.is_some()).count();
+        let width = 3 + 3 * self.walls.len() + 2 * self.gauges.len() + 12;
+        let width = width + 2 * self.groups.len() + n_el;
+        for (i, line) in text.lines().enumerate() {
+            let v: Vec<&str> = line.split(',').collect();
+            if v.len() != width {
+                return Err((i + 1, format!("{} values for {width} columns", v.len())));
+            }
+            let f = |k: usize| -> Result<f64, (usize, String)> {
+                v[k].parse::<f64>()
+                    .map_err(|e| (i + 1, format!("column {}: `{}`: {e}", k + 1, v[k])))
+            };
+            let u = |k: usize| -> Result<u64, (usize, String)> {
+                v[k].parse::<u64>()
+                    .map_err(|e| (i + 1, format!("column {}: `{}`: {e}", k + 1, v[k])))
+            };
+            self.time.push(f(0)?);
+            self.step.push(u(1)?);
+            self.dt.push(f(2)?);
+            let mut k = 3;
+            for w in self.walls.iter_mut() {
+                w.fx.push(f(k)?);
+                w.fy.push(f(k + 1)?);
+                w.moment.push(f(k + 2)?);
+                k += 3;
+            }
+            for g in self.gauges.iter_mut() {
+                g.x.push(f(k)?);
+                g.y.push(f(k + 1)?);
+                k += 2;
+            }
+            for s in self.energy.columns_mut() {
+                s.push(f(k)?);
+                k += 1;
+            }
+            for g in self.groups.iter_mut() {
+                g.tension.push(u(k)?);
+                g.shear.push(u(k + 1)?);
+                k += 2;
+            }
+            for g in self.groups.iter_mut() {
+                if let Some(e) = g.elements.as_mut() {
+                    e.push(u(k)?);
+                    k += 1;
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+/// One history row's values, as the driver reads them off the world.
+#[derive(Debug, Clone, Copy)]
+pub struct Row<'a> {
+    pub time: f64,
+    pub step: u64,
+    pub dt: f64,
+    /// Every wall, in scene order.
+    pub walls: &'a [Wall],
+    /// The mean position of each gauge's discs, in the order given to
+    /// [`History::with_gauges`].
+    pub gauges: &'a [[f64; 2]],
+    pub energy: &'a EnergyReport,
+    /// Broken bonds so far per group, `[tension, shear]`.
+    pub broken: &'a [[u64; 2]],
+    /// Broken flat-joint elements so far per flat-joint group.
+    pub elements: &'a [u64],
+}
+
 /// The history file of a run.
 #[derive(Debug, Clone)]
 pub struct History {
@@ -75,6 +329,8 @@ pub struct History {
     groups: usize,
     /// Flat-joint groups with a `broken_<group>_elements` column (none: the column is absent).
     element_groups: usize,
+    /// The same rows as numbers.
+    record: Record,
 }
 
 impl History {
@@ -109,6 +365,28 @@ impl History {
             h.push_str(&format!(",broken_{g}_tension,broken_{g}_shear"));
         }
         h.push('\n');
+        let named = |n: &&str| n.to_string();
+        let record = Record {
+            walls: (walls.iter().map(named))
+                .map(|name| WallSeries {
+                    name,
+                    ..WallSeries::default()
+                })
+                .collect(),
+            gauges: (gauges.iter().map(named))
+                .map(|name| GaugeSeries {
+                    name,
+                    ..GaugeSeries::default()
+                })
+                .collect(),
+            groups: (bond_groups.iter().map(named))
+                .map(|name| GroupSeries {
+                    name,
+                    ..GroupSeries::default()
+                })
+                .collect(),
+            ..Record::default()
+        };
         History {
             path: path.to_path_buf(),
             header: h,
@@ -117,6 +395,7 @@ impl History {
             gauges: gauges.len(),
             groups: bond_groups.len(),
             element_groups: 0,
+            record,
         }
     }
 
@@ -131,6 +410,11 @@ impl History {
         }
         self.header.push('\n');
         self.element_groups = flat_joint_groups.len();
+        for g in self.record.groups.iter_mut() {
+            if flat_joint_groups.contains(&g.name.as_str()) {
+                g.elements = Some(Vec::new());
+            }
+        }
         self
     }
 
@@ -138,20 +422,18 @@ impl History {
         &self.path
     }
 
-    /// Appends a row (not yet written); refuses non-finite values. `gauges`: the mean position
-    /// of each gauge's discs, in the order given to [`History::with_gauges`].
-    #[allow(clippy::too_many_arguments)]
-    pub fn push(
-        &mut self,
-        time: f64,
-        step: u64,
-        dt: f64,
-        walls: &[Wall],
-        gauges: &[[f64; 2]],
-        e: &EnergyReport,
-        broken: &[[u64; 2]],
-        elements: &[u64],
-    ) -> Result<(), OutputError> {
+    /// Appends a row (not yet written); refuses non-finite values.
+    pub fn push(&mut self, r: &Row) -> Result<(), OutputError> {
+        let Row {
+            time,
+            step,
+            dt,
+            walls,
+            gauges,
+            energy: e,
+            broken,
+            elements,
+        } = *r;
         debug_assert_eq!(walls.len(), self.walls);
         debug_assert_eq!(gauges.len(), self.gauges);
         debug_assert_eq!(broken.len(), self.groups);
@@ -194,6 +476,7 @@ impl History {
         }
         row.push('\n');
         self.rows.push_str(&row);
+        self.record.push(r);
         Ok(())
     }
 
@@ -210,9 +493,19 @@ impl History {
         &self.rows
     }
 
-    /// Continues from rows saved in a checkpoint.
-    pub fn set_rows(&mut self, rows: String) {
+    /// Continues from rows saved in a checkpoint; the rows are also read into the
+    /// [`Record`]. Errors give the 1-based row and the reason (rows of another layout).
+    pub fn set_rows(&mut self, rows: String) -> Result<(), (usize, String)> {
+        let mut record = self.record.names_only();
+        record.parse_rows(&rows)?;
+        self.record = record;
         self.rows = rows;
+        Ok(())
+    }
+
+    /// The rows so far as numbers.
+    pub fn record(&self) -> &Record {
+        &self.record
     }
 
     pub fn header(&self) -> &str {
@@ -238,11 +531,29 @@ mod tests {
             kinetic_translation: 1.5,
             ..EnergyReport::default()
         };
-        h.push(0.001, 10, 1e-4, &w, &[], &e, &[[3, 1]], &[])
-            .unwrap();
+        h.push(&Row {
+            time: 0.001,
+            step: 10,
+            dt: 1e-4,
+            walls: &w,
+            gauges: &[],
+            energy: &e,
+            broken: &[[3, 1]],
+            elements: &[],
+        })
+        .unwrap();
         w[1].moment = f64::NAN;
         let err = h
-            .push(0.002, 20, 1e-4, &w, &[], &e, &[[3, 1]], &[])
+            .push(&Row {
+                time: 0.002,
+                step: 20,
+                dt: 1e-4,
+                walls: &w,
+                gauges: &[],
+                energy: &e,
+                broken: &[[3, 1]],
+                elements: &[],
+            })
             .unwrap_err();
         assert!(
             err.to_string().contains("left wall moment at step 20"),
@@ -262,13 +573,92 @@ mod tests {
         let mut h = History::new(&path, &["floor", "left wall"], &["gb", "fj"])
             .with_element_columns(&["fj"]);
         w[1].moment = 0.0;
-        h.push(0.001, 10, 1e-4, &w, &[], &e, &[[3, 1], [0, 0]], &[7])
-            .unwrap_or_else(|e| panic!("{e}"));
+        h.push(&Row {
+            time: 0.001,
+            step: 10,
+            dt: 1e-4,
+            walls: &w,
+            gauges: &[],
+            energy: &e,
+            broken: &[[3, 1], [0, 0]],
+            elements: &[7],
+        })
+        .unwrap_or_else(|e| panic!("{e}"));
         let row = h.rows().to_string();
         assert!(h
             .header()
             .ends_with("broken_fj_tension,broken_fj_shear,broken_fj_elements\n"));
         assert!(row.ends_with(",3,1,0,0,7\n"), "{row}");
         std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// The in-memory record holds what the file reads back (−0 written `0` is +0), and a
+    /// restart rebuilds the same record from the checkpoint's rows; rows of another layout are
+    /// refused with their row number.
+    #[test]
+    fn the_record_is_what_the_file_reads_back() {
+        let path = std::env::temp_dir().join("dem-history-record-unused.csv");
+        let new = || {
+            History::with_gauges(&path, &["top", "tool"], &["mid"], &["gb", "fj"])
+                .with_element_columns(&["fj"])
+        };
+        let mut h = new();
+        let mut w = vec![
+            Wall::new("top", [0.0, 0.0], [1.0, 0.0], 0),
+            Wall::new("tool", [0.0, 0.0], [0.0, 1.0], 0),
+        ];
+        let mut e = EnergyReport::default();
+        for k in 0..3u32 {
+            let k = f64::from(k);
+            w[0].force = [-0.0, 0.1 * k + 1e-17];
+            w[1].force = [3.0e20 * k, -k / 3.0];
+            w[1].moment = -0.0;
+            e.balance_error = 1e-7 * k;
+            e.kinetic_translation = std::f64::consts::PI * k;
+            let gauges = [[1.0 / 3.0, -2.5e-5 * k]];
+            let broken = [[k as u64, 1], [0, 2]];
+            h.push(&Row {
+                time: 1e-6 * k,
+                step: 10 * k as u64,
+                dt: 1e-9,
+                walls: &w,
+                gauges: &gauges,
+                energy: &e,
+                broken: &broken,
+                elements: &[5 + k as u64],
+            })
+            .unwrap();
+        }
+        let r = h.record();
+        assert_eq!(r.len(), 3);
+        assert_eq!(r.wall("tool").unwrap().fx[2], 6.0e20);
+        assert_eq!(r.wall("tool").unwrap().fy[1], -1.0 / 3.0);
+        assert!(r.wall("top").unwrap().fx[0].is_sign_positive());
+        assert_eq!(r.gauge("mid").unwrap().y[2], -5e-5);
+        assert_eq!(r.energy.balance_error[2], 2e-7);
+        assert_eq!(r.group("gb").unwrap().tension, vec![0, 1, 2]);
+        assert_eq!(r.group("fj").unwrap().elements, Some(vec![5, 6, 7]));
+        assert_eq!(r.group("gb").unwrap().elements, None);
+        assert_eq!(r.broken_at_end(), 2 + 1 + 2 + 7);
+        assert!(r.wall("nope").is_none() && r.gauge("top").is_none());
+
+        // Every number of the text parses to the record's value, bit for bit.
+        let text = h.rows().to_string();
+        let values: Vec<f64> = text
+            .lines()
+            .flat_map(|l| l.split(',').map(|v| v.parse::<f64>().unwrap()))
+            .collect();
+        assert_eq!(values.len(), 3 * (3 + 6 + 2 + 12 + 4 + 1));
+        assert_eq!(values[4], r.walls[0].fy[0]);
+        assert_eq!(values[10].to_bits(), r.gauges[0].y[0].to_bits());
+
+        let mut again = new();
+        again.set_rows(text.clone()).unwrap();
+        assert_eq!(again.record(), r);
+        assert_eq!(again.rows(), text);
+        let mut other = History::new(&path, &["top"], &[]);
+        let err = other.set_rows(text).unwrap_err();
+        assert_eq!(err.0, 1);
+        assert!(err.1.contains("columns"), "{}", err.1);
     }
 }

@@ -15,18 +15,14 @@ pub(crate) fn wall_load(walls: &[crate::state::Wall], s: &StopAfterPeak) -> f64 
         .abs()
 }
 
-/// Largest load of the history rows a restart continues (wall `i`'s force components are
-/// columns 3 + 3i and 4 + 3i, see [`super::history::History::new`]).
-pub(crate) fn peak_of_rows(rows: &str, s: &StopAfterPeak) -> f64 {
-    rows.lines()
-        .map(|l| {
-            let v: Vec<&str> = l.split(',').collect();
-            s.walls
-                .iter()
+/// Largest load of the history rows a restart continues, as [`wall_load`] sums it.
+pub(crate) fn peak_of_record(r: &super::history::Record, s: &StopAfterPeak) -> f64 {
+    (0..r.len())
+        .map(|k| {
+            (s.walls.iter())
                 .map(|&i| {
-                    v.get(3 + 3 * i + s.axis)
-                        .and_then(|x| x.parse::<f64>().ok())
-                        .unwrap_or(0.0)
+                    let w = &r.walls[i];
+                    [&w.fx, &w.fy][s.axis][k]
                 })
                 .sum::<f64>()
                 .abs()

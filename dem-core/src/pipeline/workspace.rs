@@ -8,6 +8,7 @@
 use crate::clump;
 use crate::contact::disc_disc::Slots;
 use crate::integrate::Moved;
+use crate::team::Threads;
 
 /// What [`crate::World::step`] works in.
 #[derive(Clone, Debug, Default)]
@@ -20,4 +21,7 @@ pub(crate) struct StepWorkspace {
     pub parts: Vec<Moved>,
     /// The clumps' last `sin_cos` (derived data, rebuilt on demand).
     pub clump_trig: clump::TrigCache,
+    /// The thread counts of this step, read from the rayon pool at its start (the one read
+    /// of the step; the team reads its own size where it dispatches).
+    pub threads: Threads,
 }
