@@ -1165,7 +1165,7 @@ pub fn run_with(
     } else {
         None
     };
-    let lab = match run_built(s, &scene_file, fresh, &opts, progress, hook()) {
+    let mut lab = match run_built(s, &scene_file, fresh, &opts, progress, hook()) {
         Err(LabError::Run(dem_core::output::driver::RunError::Checkpoint(_)))
             if opts.restart.is_some() =>
         {
@@ -1181,7 +1181,16 @@ pub fn run_with(
         });
     }
     if ro.checkpoints > 0 {
-        dem_core::output::driver::prune_checkpoints(out_dir, 0)?;
+        let gone = dem_core::output::driver::prune_checkpoints(&lab.out_dir, 0)?;
+        // The summary, written before, listed them: it lists what is left.
+        let names: Vec<String> = (gone.iter())
+            .filter_map(|p| p.strip_prefix(&lab.out_dir).ok())
+            .map(|p| p.display().to_string())
+            .collect();
+        if !names.is_empty() {
+            lab.summary.files.retain(|f| !names.contains(f));
+            lab.summary.save(&lab.out_dir.join("summary.json"))?;
+        }
     }
     let (mut result, forces) = analyze(test, spec, &lab.history, &lab.world)?;
     result.run.history_every = every;

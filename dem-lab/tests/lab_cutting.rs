@@ -377,6 +377,18 @@ fn an_interrupted_cut_resumes_bit_identically() {
     // No numbered checkpoint is left after a completed run.
     let left = |d: &std::path::Path| dem_core::output::driver::numbered_checkpoints(d).unwrap();
     assert!(left(&a).is_empty());
+    // ... nor listed: every file the result and the summary name is there.
+    for f in &ra.files {
+        assert!(
+            std::path::Path::new(f).is_file(),
+            "result lists {f}, not on disk"
+        );
+    }
+    let summary: dem_core::output::summary::RunSummary =
+        serde_json::from_str(&std::fs::read_to_string(a.join("summary.json")).unwrap()).unwrap();
+    for f in &summary.files {
+        assert!(a.join(f).is_file(), "summary lists {f}, not on disk");
+    }
 
     let stop = CuttingRunOptions {
         max_steps: Some(ra.run.steps / 2),
