@@ -8,6 +8,8 @@
 //!   (no FMA contraction), so results do not depend on the answer.
 //! - [`PAIR_BLOCK`] and [`BOND_BLOCK`]: the block sizes of the contact pass and of the bond
 //!   kernel, with their reasons.
+//! - `F64x4` (x86-64): four `f64` lanes with the kernels' IEEE operations as operators, so the
+//!   four-lane kernels read like their scalar twins (`lanes/f64x4.rs`).
 //! - [`Packed`]: one disc's 64-byte record of the AVX2 gathers, `transpose4` and
 //!   `pair_columns`: the loads and transposes that turn records into the SoA columns of
 //!   four pairs (or bonds).
@@ -17,6 +19,11 @@
 //! is not periodic, so neither holds). The contact pass, the disc–wall pass, the bond kernels
 //! (scalar and four-lane) and the fused bonds all use it; the bond kernels' earlier
 //! d − L·round(d/L) gave the same bits for every bond shorter than L/2.
+
+#[cfg(target_arch = "x86_64")]
+mod f64x4;
+#[cfg(target_arch = "x86_64")]
+pub(crate) use f64x4::F64x4;
 
 /// Pairs per block of the disc–disc pass (`contact::kernel`): a block's pairs are gathered
 /// into a scratch of columns, evaluated branch-free over the whole block (a fixed trip count

@@ -38,6 +38,8 @@ use super::criteria::{BreakMode, Criterion};
 use super::kernel::{INTACT, NEW};
 use super::BondModel;
 use crate::contact::kernel::{Cols, PairHook};
+#[cfg(target_arch = "x86_64")]
+use crate::lanes::F64x4;
 use crate::lanes::PAIR_BLOCK;
 use crate::neighbors::MinImage;
 use crate::team::SyncPtr;
@@ -328,14 +330,7 @@ impl PairHook for View<'_> {
 
     #[cfg(target_arch = "x86_64")]
     #[inline(always)]
-    unsafe fn four(
-        &self,
-        p: usize,
-        m: usize,
-        g: [std::arch::x86_64::__m256d; 9],
-        dt: f64,
-        f: &mut [std::arch::x86_64::__m256d; 4],
-    ) {
+    unsafe fn four(&self, p: usize, m: usize, g: [F64x4; 9], dt: f64, f: &mut [F64x4; 4]) {
         // SAFETY: the caller's contract is `four`'s (AVX2, p + m <= the pair count).
         four(self, p, m, g, dt, f)
     }
@@ -473,11 +468,10 @@ pub(crate) unsafe fn four(
     v: &View,
     p: usize,
     m: usize,
-    g: [std::arch::x86_64::__m256d; 9],
+    g: [F64x4; 9],
     dt: f64,
-    f: &mut [std::arch::x86_64::__m256d; 4],
+    f: &mut [F64x4; 4],
 ) {
-    use std::arch::x86_64::*;
     if m == 4 {
         let e = v.bond.as_ptr().add(p);
         let (e0, e1, e2, e3) = (*e, *e.add(1), *e.add(2), *e.add(3));
@@ -493,7 +487,7 @@ pub(crate) unsafe fn four(
             #[cfg(test)]
             FAST.fetch_add(1, Ordering::Relaxed);
             // SAFETY (loads and stores at b0..b0 + 4): b0 + 4 <= the bonds' count.
-            let ld = |a: *const f64| _mm256_loadu_pd(a.add(b0));
+            let ld = |a: *const f64| F64x4::load(a.add(b0));
             let cols = [
                 ld(v.rbar.as_ptr()),
                 ld(v.g0.as_ptr()),
@@ -501,15 +495,15 @@ pub(crate) unsafe fn four(
                 ld(v.m.ptr()),
             ];
             let par = match &v.uniform {
-                Some(u) => u.map(|x| _mm256_set1_pd(x)),
+                Some(u) => u.map(|x| F64x4::splat(x)),
                 None => std::array::from_fn(|q| {
                     let c: [f64; 4] = std::array::from_fn(|l| v.par_of(b0 + l)[q]);
-                    _mm256_loadu_pd(c.as_ptr())
+                    F64x4::load(c.as_ptr())
                 }),
             };
-            let all = _mm256_castsi256_pd(_mm256_set1_epi64x(-1));
+            let all = F64x4::all_ones();
             let (f0, f1, f2, brk, ten, out) = law4(v.t, dt, cols, par, g, all);
-            let st = |a: *mut f64, x| _mm256_storeu_pd(a.add(b0), x);
+            let st = |a: *mut f64, x: F64x4| x.store(a.add(b0));
             st(v.fn_.ptr(), f0);
             st(v.fs.ptr(), f1);
             st(v.m.ptr(), f2);
@@ -527,15 +521,7 @@ pub(crate) unsafe fn four(
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 #[inline(never)]
-unsafe fn four_masked(
-    v: &View,
-    p: usize,
-    m: usize,
-    g: [std::arch::x86_64::__m256d; 9],
-    dt: f64,
-    f: &mut [std::arch::x86_64::__m256d; 4],
-) {
-    use std::arch::x86_64::*;
+unsafe fn four_masked(v: &View, p: usize, m: usize, g: [F64x4; 9], dt: f64, f: &mut [F64x4; 4]) {
     #[cfg(test)]
     LANES.fetch_add(1, Ordering::Relaxed);
     let mut idx = [usize::MAX; 4];
@@ -571,24 +557,19 @@ unsafe fn four_masked(
             flip[l] = -0.0;
         }
     }
-    let ld = |a: &[f64; 4]| _mm256_loadu_pd(a.as_ptr());
+    let ld = |a: &[f64; 4]| F64x4::load(a.as_ptr());
     let flip = ld(&flip);
     // M̄ in the pair's frame (a sign flip, exact).
-    let cols = [
-        ld(&c[0]),
-        ld(&c[1]),
-        ld(&c[2]),
-        _mm256_xor_pd(ld(&c[3]), flip),
-    ];
+    let cols = [ld(&c[0]), ld(&c[1]), ld(&c[2]), ld(&c[3]) ^ flip];
     let on = ld(&on);
     let par = match &v.uniform {
-        Some(u) => u.map(|x| _mm256_set1_pd(x)),
+        Some(u) => u.map(|x| F64x4::splat(x)),
         None => par.map(|a| ld(&a)),
     };
     let (f0, f1, f2, brk, ten, out) = law4(v.t, dt, cols, par, g, on);
     let mut o = [[0.0; 4]; 3];
-    for (a, x) in o.iter_mut().zip([f0, f1, _mm256_xor_pd(f2, flip)]) {
-        _mm256_storeu_pd(a.as_mut_ptr(), x);
+    for (a, x) in o.iter_mut().zip([f0, f1, f2 ^ flip]) {
+        x.store(a.as_mut_ptr());
     }
     for (l, &b) in idx.iter().enumerate() {
         if b != usize::MAX {
@@ -606,53 +587,40 @@ unsafe fn four_masked(
 /// tension lanes and the outputs `[fx, fy, ti, tj]`.
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
-#[allow(clippy::type_complexity)]
 unsafe fn law4(
     t: f64,
     dt: f64,
-    cols: [std::arch::x86_64::__m256d; 4],
-    par: [std::arch::x86_64::__m256d; 6],
-    g: [std::arch::x86_64::__m256d; 9],
-    on: std::arch::x86_64::__m256d,
-) -> (
-    std::arch::x86_64::__m256d,
-    std::arch::x86_64::__m256d,
-    std::arch::x86_64::__m256d,
-    std::arch::x86_64::__m256d,
-    std::arch::x86_64::__m256d,
-    [std::arch::x86_64::__m256d; 4],
-) {
-    use std::arch::x86_64::*;
-    let set = _mm256_set1_pd;
-    let (add, sub, mul) = (_mm256_add_pd, _mm256_sub_pd, _mm256_mul_pd);
+    cols: [F64x4; 4],
+    par: [F64x4; 6],
+    g: [F64x4; 9],
+    on: F64x4,
+) -> (F64x4, F64x4, F64x4, F64x4, F64x4, [F64x4; 4]) {
+    let set = |v| F64x4::splat(v);
     let sign = set(-0.0);
-    let neg = |a| _mm256_xor_pd(a, sign);
+    let neg = |a: F64x4| a ^ sign;
     let [rbar, g0, fs0, mp] = cols;
     let [kn, ks, beta, sigma_c, c, tan_phi] = par;
     let [d, rc, nx, ny, ai, aj, vt, wi, wj] = g;
     let (t, dtv) = (set(t), set(dt));
     // Ā = 2R̄t, Ī = (2/3)R̄³t; the operations of [`law`], in its order.
-    let a = mul(mul(set(2.0), rbar), t);
-    let inertia = mul(mul(mul(mul(set(2.0 / 3.0), rbar), rbar), rbar), t);
-    let (kn_a, ks_a, kn_i) = (mul(kn, a), mul(ks, a), mul(kn, inertia));
-    let gap = sub(d, rc);
-    let f0 = mul(neg(kn_a), sub(gap, g0));
-    let f1 = sub(fs0, mul(ks_a, mul(vt, dtv)));
-    let f2 = sub(mp, mul(kn_i, mul(sub(wj, wi), dtv)));
-    let lever = mul(rbar, set(1.0 / 3.0));
-    let (fs_abs, m_abs) = (_mm256_andnot_pd(sign, f1), _mm256_andnot_pd(sign, f2));
-    let sal = add(mul(neg(f0), lever), mul(beta, m_abs));
-    let ten = _mm256_and_pd(
-        on,
-        _mm256_cmp_pd::<_CMP_GE_OQ>(sal, mul(mul(sigma_c, a), lever)),
-    );
-    let shr = _mm256_cmp_pd::<_CMP_GE_OQ>(fs_abs, add(mul(c, a), mul(f0, tan_phi)));
-    let brk = _mm256_or_pd(ten, _mm256_and_pd(on, shr));
+    let a = set(2.0) * rbar * t;
+    let inertia = set(2.0 / 3.0) * rbar * rbar * rbar * t;
+    let (kn_a, ks_a, kn_i) = (kn * a, ks * a, kn * inertia);
+    let gap = d - rc;
+    let f0 = neg(kn_a) * (gap - g0);
+    let f1 = fs0 - ks_a * (vt * dtv);
+    let f2 = mp - kn_i * ((wj - wi) * dtv);
+    let lever = rbar * set(1.0 / 3.0);
+    let (fs_abs, m_abs) = (sign.andnot(f1), sign.andnot(f2));
+    let sal = neg(f0) * lever + beta * m_abs;
+    let ten = on & sal.ge(sigma_c * a * lever);
+    let shr = fs_abs.ge(c * a + f0 * tan_phi);
+    let brk = ten | (on & shr);
     let out = [
-        add(mul(f0, nx), mul(f1, neg(ny))),
-        add(mul(f0, ny), mul(f1, nx)),
-        sub(mul(neg(ai), f1), f2),
-        add(mul(neg(aj), f1), f2),
+        f0 * nx + f1 * neg(ny),
+        f0 * ny + f1 * nx,
+        neg(ai) * f1 - f2,
+        neg(aj) * f1 + f2,
     ];
     (f0, f1, f2, brk, ten, out)
 }
@@ -664,21 +632,20 @@ unsafe fn law4(
 unsafe fn finish(
     v: &View,
     idx: [usize; 4],
-    on: std::arch::x86_64::__m256d,
-    brk: std::arch::x86_64::__m256d,
-    ten: std::arch::x86_64::__m256d,
-    out: [std::arch::x86_64::__m256d; 4],
-    f: &mut [std::arch::x86_64::__m256d; 4],
+    on: F64x4,
+    brk: F64x4,
+    ten: F64x4,
+    out: [F64x4; 4],
+    f: &mut [F64x4; 4],
 ) {
-    use std::arch::x86_64::*;
-    let bm = _mm256_movemask_pd(brk);
-    if bm == 0 && _mm256_movemask_pd(on) == 15 {
+    let bm = brk.bitmask();
+    if bm == 0 && on.bitmask() == 15 {
         for (fk, ok) in f.iter_mut().zip(out) {
-            *fk = _mm256_add_pd(*fk, ok);
+            *fk = *fk + ok;
         }
         return;
     }
-    let tm = _mm256_movemask_pd(ten);
+    let tm = ten.bitmask();
     for (l, &b) in idx.iter().enumerate() {
         if bm >> l & 1 == 0 {
             continue;
@@ -691,9 +658,9 @@ unsafe fn finish(
         *v.status.ptr().add(b) = NEW + mode.index() as u8;
         v.breaks.0.fetch_add(1, Ordering::Relaxed);
     }
-    let keep = _mm256_andnot_pd(brk, on);
+    let keep = brk.andnot(on);
     for (fk, ok) in f.iter_mut().zip(out) {
-        *fk = _mm256_blendv_pd(*fk, _mm256_add_pd(*fk, ok), keep);
+        *fk = keep.select(*fk + ok, *fk);
     }
 }
 

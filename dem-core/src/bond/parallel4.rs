@@ -19,6 +19,8 @@
 use super::criteria::BreakMode;
 use super::kernel::{BlockOut, BondsIn, BondsMut, Ctx, NEW};
 use crate::lanes::pair_columns;
+#[cfg(target_arch = "x86_64")]
+use crate::lanes::F64x4;
 use crate::lanes::BOND_BLOCK;
 
 #[cfg(test)]
@@ -52,20 +54,12 @@ pub(super) unsafe fn block(
     m: &mut BondsMut,
     out: &mut BlockOut,
 ) -> usize {
-    use std::arch::x86_64::*;
     match par {
         Par::Uniform(u) => {
-            let u = u.map(|v| _mm256_set1_pd(v));
+            let u = u.map(|v| F64x4::splat(v));
             block_with(c, b, base, |p, _| u[p], m, out)
         }
-        Par::PerBond(a) => block_with(
-            c,
-            b,
-            base,
-            |p, k| _mm256_loadu_pd(a[p][k..].as_ptr()),
-            m,
-            out,
-        ),
+        Par::PerBond(a) => block_with(c, b, base, |p, k| F64x4::load(a[p][k..].as_ptr()), m, out),
     }
 }
 
@@ -77,11 +71,10 @@ unsafe fn block_with(
     c: &Ctx,
     b: &BondsIn,
     base: usize,
-    par: impl Fn(usize, usize) -> std::arch::x86_64::__m256d,
+    par: impl Fn(usize, usize) -> F64x4,
     m: &mut BondsMut,
     out: &mut BlockOut,
 ) -> usize {
-    use std::arch::x86_64::*;
     #[cfg(test)]
     BLOCKS.with(|b| b.set(b.get() + 1));
     let r = base..base + BOND_BLOCK;
@@ -99,25 +92,21 @@ unsafe fn block_with(
     let f_m: &mut [f64; BOND_BLOCK] = (&mut *m.m).try_into().expect("a full block");
     let status: &mut [u8; BOND_BLOCK] = (&mut *m.status).try_into().expect("a full block");
     let base_pk = c.packed.as_ptr();
-    let set = _mm256_set1_pd;
+    let set = |v| F64x4::splat(v);
     let [lx, hx, ly, hy] = c.v.img.parts();
     let (lx, hx, nhx) = (set(lx), set(hx), set(-hx));
     let (ly, hy, nhy) = (set(ly), set(hy), set(-hy));
-    let (zero, one, half, sign) = (_mm256_setzero_pd(), set(1.0), set(0.5), set(-0.0));
+    let (zero, one, half, sign) = (F64x4::zero(), set(1.0), set(0.5), set(-0.0));
     let (two, two_thirds, third) = (set(2.0), set(2.0 / 3.0), set(1.0 / 3.0));
     let (t, dt) = (set(c.t), set(c.dt));
-    let (add, sub, mul) = (_mm256_add_pd, _mm256_sub_pd, _mm256_mul_pd);
-    let neg = |a| _mm256_xor_pd(a, sign);
+    let neg = |a: F64x4| a ^ sign;
     // SAFETY (loads and stores at k): k + 4 <= BOND_BLOCK, the arrays' length.
-    let ld = |a: &[f64; BOND_BLOCK], k: usize| _mm256_loadu_pd(a.as_ptr().add(k));
-    let st = |a: &mut [f64; BOND_BLOCK], k: usize, v| _mm256_storeu_pd(a.as_mut_ptr().add(k), v);
+    let ld = |a: &[f64; BOND_BLOCK], k: usize| F64x4::load(a.as_ptr().add(k));
+    let st = |a: &mut [f64; BOND_BLOCK], k: usize, v: F64x4| v.store(a.as_mut_ptr().add(k));
     // `MinImage::delta_select`: d − L when d > L/2, d + L when d < −L/2, else d (L = +∞ on
     // an axis that is not periodic: neither holds).
-    let image = |d, l, h, nh| {
-        let above = _mm256_cmp_pd::<_CMP_GT_OQ>(d, h);
-        let below = _mm256_cmp_pd::<_CMP_LT_OQ>(d, nh);
-        _mm256_blendv_pd(_mm256_blendv_pd(d, add(d, l), below), sub(d, l), above)
-    };
+    let image =
+        |d: F64x4, l: F64x4, h: F64x4, nh: F64x4| d.gt(h).select(d - l, d.lt(nh).select(d + l, d));
     let [ox, oy, oti, otj] = out;
     // Bits k of the block: tension and shear conditions.
     let (mut tension, mut shear) = (0u32, 0u32);
@@ -125,49 +114,48 @@ unsafe fn block_with(
         let ii = std::array::from_fn(|l| i_[k + l] as usize);
         let jj = std::array::from_fn(|l| j_[k + l] as usize);
         // SAFETY: every index below c.packed.len() (the contract).
-        let ([dx, dy, dvx, dvy], [wi, ri, _], [wj, rj, _]) = pair_columns(base_pk, ii, jj);
+        let (dv, ci, cj) = pair_columns(base_pk, ii, jj);
+        let ([dx, dy, dvx, dvy], [wi, ri, _], [wj, rj, _]) =
+            (dv.map(F64x4), ci.map(F64x4), cj.map(F64x4));
         let (dx, dy) = (image(dx, lx, hx, nhx), image(dy, ly, hy, nhy));
         // `normal_gap`.
-        let dist = _mm256_sqrt_pd(add(mul(dx, dx), mul(dy, dy)));
-        let ok = _mm256_cmp_pd::<_CMP_GT_OQ>(dist, zero);
-        let inv = _mm256_div_pd(one, _mm256_blendv_pd(one, dist, ok));
-        let nx = _mm256_blendv_pd(one, mul(dx, inv), ok);
-        let ny = mul(dy, inv);
-        let gap = sub(sub(dist, ri), rj);
-        let (ai, aj) = (add(ri, mul(half, gap)), add(rj, mul(half, gap)));
+        let dist = (dx * dx + dy * dy).sqrt();
+        let ok = dist.gt(zero);
+        let inv = one / ok.select(dist, one);
+        let nx = ok.select(dx * inv, one);
+        let ny = dy * inv;
+        let gap = dist - ri - rj;
+        let (ai, aj) = (ri + half * gap, rj + half * gap);
         // Pass 1b: tangential relative velocity at the contact point, relative spin.
-        let vt = sub(
-            add(mul(dvx, neg(ny)), mul(dvy, nx)),
-            add(mul(wj, aj), mul(wi, ai)),
-        );
-        let dw = sub(wj, wi);
+        let vt = (dvx * neg(ny) + dvy * nx) - (wj * aj + wi * ai);
+        let dw = wj - wi;
         // `potyondy2004::update`: Ā = 2R̄t, Ī = (2/3)R̄³t.
         let rbar = ld(rbar_, k);
         let (kn, ks) = (par(0, k), par(1, k));
-        let a = mul(mul(two, rbar), t);
-        let inertia = mul(mul(mul(mul(two_thirds, rbar), rbar), rbar), t);
-        let (kn_a, ks_a, kn_i) = (mul(kn, a), mul(ks, a), mul(kn, inertia));
-        let f0 = mul(neg(kn_a), sub(gap, ld(g0_, k)));
-        let f1 = sub(ld(f_s, k), mul(ks_a, mul(vt, dt)));
-        let f2 = sub(ld(f_m, k), mul(kn_i, mul(dw, dt)));
+        let a = two * rbar * t;
+        let inertia = two_thirds * rbar * rbar * rbar * t;
+        let (kn_a, ks_a, kn_i) = (kn * a, ks * a, kn * inertia);
+        let f0 = neg(kn_a) * (gap - ld(g0_, k));
+        let f1 = ld(f_s, k) - ks_a * (vt * dt);
+        let f2 = ld(f_m, k) - kn_i * (dw * dt);
         st(f_n, k, f0);
         st(f_s, k, f1);
         st(f_m, k, f2);
         // `stress_flags`: σ̄ĀI/… as −F̄n ℓ + β̄|M̄| ≥ σ̄c Ā ℓ, |F̄s| ≥ c̄Ā + F̄n tan φ̄.
-        let lever = mul(rbar, third);
-        let (fs_abs, m_abs) = (_mm256_andnot_pd(sign, f1), _mm256_andnot_pd(sign, f2));
-        let sal = add(mul(neg(f0), lever), mul(par(3, k), m_abs));
-        let ten = _mm256_cmp_pd::<_CMP_GE_OQ>(sal, mul(mul(par(4, k), a), lever));
-        let lim = add(mul(par(5, k), a), mul(f0, par(6, k)));
-        let shr = _mm256_cmp_pd::<_CMP_GE_OQ>(fs_abs, lim);
-        tension |= (_mm256_movemask_pd(ten) as u32) << k;
-        shear |= (_mm256_movemask_pd(shr) as u32) << k;
+        let lever = rbar * third;
+        let (fs_abs, m_abs) = (sign.andnot(f1), sign.andnot(f2));
+        let sal = neg(f0) * lever + par(3, k) * m_abs;
+        let ten = sal.ge(par(4, k) * a * lever);
+        let lim = par(5, k) * a + f0 * par(6, k);
+        let shr = fs_abs.ge(lim);
+        tension |= ten.bitmask() << k;
+        shear |= shr.bitmask() << k;
         // `finish`: force on j F̄n n̂ + F̄s t̂ (t̂ = (−n_y, n_x)), torques −a_i F̄s − M̄ on i and
         // −a_j F̄s + M̄ on j.
-        st(ox, k, add(mul(f0, nx), mul(f1, neg(ny))));
-        st(oy, k, add(mul(f0, ny), mul(f1, nx)));
-        st(oti, k, sub(mul(neg(ai), f1), f2));
-        st(otj, k, add(mul(neg(aj), f1), f2));
+        st(ox, k, f0 * nx + f1 * neg(ny));
+        st(oy, k, f0 * ny + f1 * nx);
+        st(oti, k, neg(ai) * f1 - f2);
+        st(otj, k, neg(aj) * f1 + f2);
     }
     // Tension takes precedence when both conditions hold (`finish`).
     let shear = shear & !tension;

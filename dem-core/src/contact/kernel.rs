@@ -202,9 +202,9 @@ pub(crate) trait PairHook: Sync {
         &self,
         p: usize,
         m: usize,
-        g: [std::arch::x86_64::__m256d; 9],
+        g: [crate::lanes::F64x4; 9],
         dt: f64,
-        f: &mut [std::arch::x86_64::__m256d; 4],
+        f: &mut [crate::lanes::F64x4; 4],
     );
 }
 

@@ -14,6 +14,8 @@
 //! compare it with the portable path.
 
 use super::kernel::{at, Ctx, PairHook, PairLaw, Scratch};
+#[cfg(target_arch = "x86_64")]
+use crate::lanes::F64x4;
 use crate::lanes::{pair_columns, Packed, PAIR_BLOCK};
 
 /// The parameters of a uniform linear law, as the four-lane kernel needs them.
@@ -78,16 +80,15 @@ pub(crate) unsafe fn block<
     us: &mut [f64],
     s: &mut Scratch,
 ) {
-    use std::arch::x86_64::*;
     assert!(q <= PAIR_BLOCK && us.len() == q && c.owner.len() == c.nbr.len());
     #[cfg(test)]
     BLOCKS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
     assert!(pk.len() + 1 == c.start.len());
     let base = pk.as_ptr();
-    let set = _mm256_set1_pd;
+    let set = |v| F64x4::splat(v);
     let [lx, hx, ly, hy] = c.img.parts();
     let (lx, hx, nhx, ly, hy, nhy) = (set(lx), set(hx), set(-hx), set(ly), set(hy), set(-hy));
-    let (zero, one, half) = (_mm256_setzero_pd(), set(1.0), set(0.5));
+    let (zero, one, half) = (F64x4::zero(), set(1.0), set(0.5));
     let sign = set(-0.0);
     let (kn, nks, sd, mu, cc, dt) = (
         set(lin.kn),
@@ -101,10 +102,6 @@ pub(crate) unsafe fn block<
     let inv_ks = set(if lin.ks > 0.0 { 1.0 / lin.ks } else { 0.0 });
     // ½k_n, ½k_s of the energies (`force_cn`, `released`; halving is exact).
     let (hkn, hks) = (set(0.5 * lin.kn), set(0.5 * lin.ks));
-    let lt = |a, b| _mm256_cmp_pd::<_CMP_LT_OQ>(a, b);
-    let gt = |a, b| _mm256_cmp_pd::<_CMP_GT_OQ>(a, b);
-    // `if m { t } else { f }`.
-    let sel = |m, t, f| _mm256_blendv_pd(f, t, m);
     // SAFETY (history accesses): a group reads and writes entries k..k + m, k + m <= q.
     let usp = us.as_mut_ptr();
     // One group: scratch entries k..k + 4, of which the first m are pairs with discs ii, jj.
@@ -115,126 +112,104 @@ pub(crate) unsafe fn block<
             let pp: [usize; 4] = $pp;
             // SAFETY (record loads): every disc index comes from the valid list (< n =
             // pk.len()).
-            let ([dx, dy, dvx, dvy], [wi, ri, mi], [wj, rj, mj]) = pair_columns(base, ii, jj);
-            let ms = _mm256_add_pd(mi, mj);
+            let (dv, ci, cj) = pair_columns(base, ii, jj);
+            let ([dx, dy, dvx, dvy], [wi, ri, mi], [wj, rj, mj]) =
+                (dv.map(F64x4), ci.map(F64x4), cj.map(F64x4));
+            let ms = mi + mj;
             // Minimum image (`MinImage::delta_select`).
             let (dx, dy) = if PER {
-                let (ax, bx) = (_mm256_sub_pd(dx, lx), _mm256_add_pd(dx, lx));
-                let (ay, by) = (_mm256_sub_pd(dy, ly), _mm256_add_pd(dy, ly));
+                let (ax, bx) = (dx - lx, dx + lx);
+                let (ay, by) = (dy - ly, dy + ly);
                 (
-                    sel(gt(dx, hx), ax, sel(lt(dx, nhx), bx, dx)),
-                    sel(gt(dy, hy), ay, sel(lt(dy, nhy), by, dy)),
+                    dx.gt(hx).select(ax, dx.lt(nhx).select(bx, dx)),
+                    dy.gt(hy).select(ay, dy.lt(nhy).select(by, dy)),
                 )
             } else {
                 (dx, dy)
             };
             // `kernel::eval`.
-            let d2 = _mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy));
-            let rc = _mm256_add_pd(ri, rj);
+            let d2 = dx * dx + dy * dy;
+            let rc = ri + rj;
             // The reach r_i + r_j + g₀ with reference gaps (the general gather's `reach`); the
             // arms stay on the geometric overlap (`eval`'s h).
             let reach = if G0 {
                 let g = pp.map(|p| at!(c.g0, p));
-                _mm256_add_pd(rc, _mm256_loadu_pd(g.as_ptr()))
+                rc + F64x4::load(g.as_ptr())
             } else {
                 rc
             };
-            let touch = _mm256_and_pd(
-                _mm256_and_pd(lt(d2, _mm256_mul_pd(reach, reach)), gt(reach, zero)),
-                gt(ms, zero),
-            );
-            let dd = _mm256_sqrt_pd(d2);
-            let inv = _mm256_div_pd(one, dd);
-            let (nx, ny) = (_mm256_mul_pd(dx, inv), _mm256_mul_pd(dy, inv));
-            let h = _mm256_mul_pd(half, _mm256_sub_pd(rc, dd));
-            let (ai, aj) = (_mm256_sub_pd(ri, h), _mm256_sub_pd(rj, h));
-            let wr = _mm256_sub_pd(
-                _mm256_add_pd(_mm256_mul_pd(wi, ri), _mm256_mul_pd(wj, rj)),
-                _mm256_mul_pd(h, _mm256_add_pd(wi, wj)),
-            );
-            let rvx = _mm256_add_pd(dvx, _mm256_mul_pd(wr, ny));
-            let rvy = _mm256_sub_pd(dvy, _mm256_mul_pd(wr, nx));
-            let delta = _mm256_sub_pd(reach, dd);
-            let vn = _mm256_add_pd(_mm256_mul_pd(rvx, nx), _mm256_mul_pd(rvy, ny));
-            let vt = _mm256_sub_pd(_mm256_mul_pd(rvy, nx), _mm256_mul_pd(rvx, ny));
-            let m_eff = _mm256_div_pd(one, ms);
+            let touch = d2.lt(reach * reach) & reach.gt(zero) & ms.gt(zero);
+            let dd = d2.sqrt();
+            let inv = one / dd;
+            let (nx, ny) = (dx * inv, dy * inv);
+            let h = half * (rc - dd);
+            let (ai, aj) = (ri - h, rj - h);
+            let wr = (wi * ri + wj * rj) - h * (wi + wj);
+            let rvx = dvx + wr * ny;
+            let rvy = dvy - wr * nx;
+            let delta = reach - dd;
+            let vn = rvx * nx + rvy * ny;
+            let vt = rvy * nx - rvx * ny;
+            let m_eff = one / ms;
             // `LinearGamma` / `LinearRatio`: c_n = γ m* or (2ζ) √(m* k_n).
             let cn = if RATIO {
-                _mm256_mul_pd(cc, _mm256_sqrt_pd(_mm256_mul_pd(m_eff, kn)))
+                cc * (m_eff * kn).sqrt()
             } else {
-                _mm256_mul_pd(cc, m_eff)
+                cc * m_eff
             };
             // `LinearSpringDashpot::force_cn`.
-            let ct = _mm256_mul_pd(sd, cn);
-            let f_n = _mm256_sub_pd(_mm256_mul_pd(kn, delta), _mm256_mul_pd(cn, vn));
+            let ct = sd * cn;
+            let f_n = kn * delta - cn * vn;
             // The histories of the group's pairs (a partial group reads and writes a copy).
             let up = usp.add(k);
             let mut u = [0.0; 4];
             let u0 = if m == 4 {
                 // SAFETY: k + 4 <= q = us.len().
-                _mm256_loadu_pd(up)
+                F64x4::load(up)
             } else {
                 for (l, v) in u.iter_mut().enumerate().take(m) {
                     *v = *up.add(l);
                 }
-                _mm256_loadu_pd(u.as_ptr())
+                F64x4::load(u.as_ptr())
             };
-            let ctvt = _mm256_mul_pd(ct, vt);
-            let us1 = _mm256_add_pd(u0, _mm256_mul_pd(vt, dt));
-            let ft0 = _mm256_sub_pd(_mm256_mul_pd(nks, us1), ctvt);
-            let f_max = _mm256_mul_pd(mu, _mm256_max_pd(f_n, zero));
-            let slip = gt(_mm256_andnot_pd(sign, ft0), f_max);
-            let ft_s = _mm256_or_pd(_mm256_andnot_pd(sign, f_max), _mm256_and_pd(sign, ft0));
-            let us_s = _mm256_mul_pd(_mm256_xor_pd(_mm256_add_pd(ft_s, ctvt), sign), inv_ks);
-            let f_t = sel(slip, ft_s, ft0);
-            let u1 = sel(slip, us_s, us1);
+            let ctvt = ct * vt;
+            let us1 = u0 + vt * dt;
+            let ft0 = nks * us1 - ctvt;
+            let f_max = mu * f_n.max(zero);
+            // |f_t⁰| > f_max; the slipping force is f_max with f_t⁰'s sign.
+            let slip = sign.andnot(ft0).gt(f_max);
+            let ft_s = sign.andnot(f_max) | (sign & ft0);
+            let us_s = ((ft_s + ctvt) ^ sign) * inv_ks;
+            let f_t = slip.select(ft_s, ft0);
+            let u1 = slip.select(us_s, us1);
+            // SAFETY (scratch stores): k < q <= PAIR_BLOCK and k, PAIR_BLOCK are multiples of 4.
+            let st = |a: &mut [f64; PAIR_BLOCK], v: F64x4| v.store(a.as_mut_ptr().add(k));
             if E {
                 // `force_cn`'s energies: strain ½k_nδ² + ½k_s u², slip work
                 // ½k_s (u⁰ + u_slip)(u¹ − u_slip); a pair that opens releases ½k_s (u⁰)²
                 // (`released`); then `eval`'s selects (and its + 0 of the rolling terms).
-                let e_fric = sel(
-                    slip,
-                    _mm256_mul_pd(
-                        _mm256_mul_pd(hks, _mm256_add_pd(u0, us_s)),
-                        _mm256_sub_pd(us1, us_s),
-                    ),
-                    zero,
-                );
-                let e_strain = _mm256_add_pd(
-                    _mm256_mul_pd(_mm256_mul_pd(hkn, delta), delta),
-                    _mm256_mul_pd(_mm256_mul_pd(hks, u1), u1),
-                );
-                let released = _mm256_mul_pd(_mm256_mul_pd(hks, u0), u0);
-                let st = |a: &mut [f64; PAIR_BLOCK], v| _mm256_storeu_pd(a.as_mut_ptr().add(k), v);
-                st(
-                    &mut s.es,
-                    _mm256_and_pd(touch, _mm256_add_pd(e_strain, zero)),
-                );
-                st(&mut s.ef, sel(touch, _mm256_add_pd(e_fric, zero), released));
+                let e_fric = slip.select(hks * (u0 + us_s) * (us1 - us_s), zero);
+                let e_strain = hkn * delta * delta + hks * u1 * u1;
+                let released = hks * u0 * u0;
+                st(&mut s.es, touch & (e_strain + zero));
+                st(&mut s.ef, touch.select(e_fric + zero, released));
             }
             // Back in `eval`: a pair not touching drops its history and gives no force.
-            let u1 = _mm256_and_pd(touch, u1);
+            let u1 = touch & u1;
             if m == 4 {
-                _mm256_storeu_pd(up, u1);
+                u1.store(up);
             } else {
-                _mm256_storeu_pd(u.as_mut_ptr(), u1);
+                u1.store(u.as_mut_ptr());
                 for (l, v) in u.iter().enumerate().take(m) {
                     *up.add(l) = *v;
                 }
             }
-            let fx = _mm256_sub_pd(_mm256_mul_pd(f_n, nx), _mm256_mul_pd(f_t, ny));
-            let fy = _mm256_add_pd(_mm256_mul_pd(f_n, ny), _mm256_mul_pd(f_t, nx));
+            let fx = f_n * nx - f_t * ny;
+            let fy = f_n * ny + f_t * nx;
             // −a_i f_t + 0 (the rolling moment, none) and −a_j f_t − 0.
-            let ti = _mm256_add_pd(_mm256_mul_pd(_mm256_xor_pd(ai, sign), f_t), zero);
-            let tj = _mm256_mul_pd(_mm256_xor_pd(aj, sign), f_t);
-            // SAFETY (scratch stores): k < q <= PAIR_BLOCK and k, PAIR_BLOCK are multiples of 4.
-            let st = |a: &mut [f64; PAIR_BLOCK], v| _mm256_storeu_pd(a.as_mut_ptr().add(k), v);
-            let (fx, fy, ti, tj) = (
-                _mm256_and_pd(touch, fx),
-                _mm256_and_pd(touch, fy),
-                _mm256_and_pd(touch, ti),
-                _mm256_and_pd(touch, tj),
-            );
+            let ti = (ai ^ sign) * f_t + zero;
+            let tj = (aj ^ sign) * f_t;
+            let (fx, fy, ti, tj) = (touch & fx, touch & fy, touch & ti, touch & tj);
             let (fx, fy, ti, tj) = match (FUSED, c.hook) {
                 (true, Some(h)) => {
                     // The per-pair hook (the pairs' parallel bonds, `bond::fused`), from this
@@ -244,7 +219,7 @@ pub(crate) unsafe fn block<
                     // SAFETY: AVX2 (this function's contract); k + m <= q, pairs p0..p0 + q
                     // exist.
                     h.four(p0 + k, m, g, c.dt, &mut f);
-                    (f[0], f[1], f[2], f[3])
+                    f.into()
                 }
                 _ => (fx, fy, ti, tj),
             };
