@@ -61,6 +61,8 @@ pub fn run_built(
         Some(world) => Simulation::with_world(resolved, world, opts)?,
         None => Simulation::new(resolved, opts)?,
     };
+    // The analyses read the history in memory.
+    sim.keep_history()?;
     let steps = sim.total_steps();
     if steps > STEP_LIMIT {
         return Err(LabError::TooManySteps {

@@ -276,18 +276,21 @@ impl Simulation {
                 .unwrap_or_default();
             let mut h = History::with_gauges(&out.join("history.csv"), &walls, &gauges, &groups)
                 .with_element_columns(&fj);
-            h.set_rows(rows)
+            let earlier = h
+                .set_rows(rows)
                 .map_err(|(row, reason)| CheckpointError::Format {
                     file: restarted_from.clone().unwrap_or_default(),
                     reason: format!("history row {row}: {reason}"),
                 })?;
-            Some(h)
+            Some((h, earlier))
         } else {
             None
         };
+        // (A restart's peak so far, from the rows it brings.)
         let peak_load = (scene.run.stop_after_peak.as_ref())
             .zip(history.as_ref())
-            .map_or(0.0, |(s, h)| peak_of_record(h.record(), s));
+            .map_or(0.0, |(s, (_, earlier))| peak_of_record(earlier, s));
+        let history = history.map(|(h, _)| h);
         let pvd = (o.vtk_every > 0).then(|| {
             let mut c = Collection::new(&out.join("snapshots.pvd"));
             c.entries = snaps;
@@ -336,11 +339,26 @@ impl Simulation {
         &self.out
     }
 
+    /// Keeps the history's rows as numbers ([`Record`]) for [`Simulation::history`]; off by
+    /// default (a plain run holds its history once, as text). Errors when the rows a restart
+    /// brought do not read.
+    pub fn keep_history(&mut self) -> Result<(), RunError> {
+        let from = self.restarted_from.clone().unwrap_or_default();
+        if let Some(h) = self.history.as_mut() {
+            h.keep_record()
+                .map_err(|(row, reason)| CheckpointError::Format {
+                    file: from,
+                    reason: format!("history row {row}: {reason}"),
+                })?;
+        }
+        Ok(())
+    }
+
     /// The history's rows as numbers (of the whole run: a restart brings the earlier
-    /// invocations' rows from the checkpoint), or `None` without a history
-    /// (`outputs.history_every` = 0).
+    /// invocations' rows from the checkpoint), if kept ([`Simulation::keep_history`]); `None`
+    /// without a history (`outputs.history_every` = 0).
     pub fn history(&self) -> Option<&Record> {
-        self.history.as_ref().map(History::record)
+        self.history.as_ref().and_then(History::record)
     }
 
     /// The stages the world runs.

@@ -7,9 +7,10 @@
 //! of the run, and at most every few seconds), so it is always complete and a restart continues
 //! it exactly (the rows travel in the checkpoint).
 //!
-//! Beside the text, the same numbers are kept as a typed [`Record`], series by wall, gauge,
-//! energy term and bond group: what the lab tests analyse, in memory, instead of reading the
-//! file back by column name. A restart rebuilds it from the checkpoint's rows.
+//! On request ([`History::keep_record`]) the same numbers are also kept as a typed [`Record`],
+//! series by wall, gauge, energy term and bond group: what the lab tests analyse, in memory,
+//! instead of reading the file back by column name. A restart rebuilds it from the
+//! checkpoint's rows. A plain run keeps only the text.
 
 use super::{finite, push_num, write_atomic, OutputError};
 use crate::energy::EnergyReport;
@@ -329,8 +330,10 @@ pub struct History {
     groups: usize,
     /// Flat-joint groups with a `broken_<group>_elements` column (none: the column is absent).
     element_groups: usize,
-    /// The same rows as numbers.
+    /// The same rows as numbers, when kept ([`History::keep_record`]); else the series'
+    /// names only.
     record: Record,
+    keep: bool,
 }
 
 impl History {
@@ -396,6 +399,7 @@ impl History {
             groups: bond_groups.len(),
             element_groups: 0,
             record,
+            keep: false,
         }
     }
 
@@ -476,7 +480,9 @@ impl History {
         }
         row.push('\n');
         self.rows.push_str(&row);
-        self.record.push(r);
+        if self.keep {
+            self.record.push(r);
+        }
         Ok(())
     }
 
@@ -493,19 +499,33 @@ impl History {
         &self.rows
     }
 
-    /// Continues from rows saved in a checkpoint; the rows are also read into the
-    /// [`Record`]. Errors give the 1-based row and the reason (rows of another layout).
-    pub fn set_rows(&mut self, rows: String) -> Result<(), (usize, String)> {
+    /// Continues from rows saved in a checkpoint. Returns them as numbers (kept too when the
+    /// record is); errors give the 1-based row and the reason (rows of another layout).
+    pub fn set_rows(&mut self, rows: String) -> Result<Record, (usize, String)> {
         let mut record = self.record.names_only();
         record.parse_rows(&rows)?;
-        self.record = record;
+        if self.keep {
+            self.record = record.clone();
+        }
         self.rows = rows;
+        Ok(record)
+    }
+
+    /// Keeps the rows as numbers from now on (and those so far, read from their text): for
+    /// callers that analyse the run in memory (the lab tests). Off by default, so a plain run
+    /// holds its history once, as text.
+    pub fn keep_record(&mut self) -> Result<(), (usize, String)> {
+        if !self.keep {
+            let mut record = self.record.names_only();
+            record.parse_rows(&self.rows)?;
+            (self.record, self.keep) = (record, true);
+        }
         Ok(())
     }
 
-    /// The rows so far as numbers.
-    pub fn record(&self) -> &Record {
-        &self.record
+    /// The rows so far as numbers, if kept ([`History::keep_record`]).
+    pub fn record(&self) -> Option<&Record> {
+        self.keep.then_some(&self.record)
     }
 
     pub fn header(&self) -> &str {
@@ -603,6 +623,8 @@ mod tests {
                 .with_element_columns(&["fj"])
         };
         let mut h = new();
+        assert!(h.record().is_none(), "not kept unless asked");
+        h.keep_record().unwrap();
         let mut w = vec![
             Wall::new("top", [0.0, 0.0], [1.0, 0.0], 0),
             Wall::new("tool", [0.0, 0.0], [0.0, 1.0], 0),
@@ -629,7 +651,7 @@ mod tests {
             })
             .unwrap();
         }
-        let r = h.record();
+        let r = h.record().unwrap();
         assert_eq!(r.len(), 3);
         assert_eq!(r.wall("tool").unwrap().fx[2], 6.0e20);
         assert_eq!(r.wall("tool").unwrap().fy[1], -1.0 / 3.0);
@@ -652,10 +674,18 @@ mod tests {
         assert_eq!(values[4], r.walls[0].fy[0]);
         assert_eq!(values[10].to_bits(), r.gauges[0].y[0].to_bits());
 
+        // A restart: the rows come back as the same numbers, kept when asked (before or
+        // after the rows are set).
         let mut again = new();
-        again.set_rows(text.clone()).unwrap();
-        assert_eq!(again.record(), r);
+        assert_eq!(&again.set_rows(text.clone()).unwrap(), r);
+        assert!(again.record().is_none());
+        again.keep_record().unwrap();
+        assert_eq!(again.record(), Some(r));
         assert_eq!(again.rows(), text);
+        let mut kept = new();
+        kept.keep_record().unwrap();
+        kept.set_rows(text.clone()).unwrap();
+        assert_eq!(kept.record(), Some(r));
         let mut other = History::new(&path, &["top"], &[]);
         let err = other.set_rows(text).unwrap_err();
         assert_eq!(err.0, 1);
