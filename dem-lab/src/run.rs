@@ -77,7 +77,7 @@ pub fn run_built(
     }
     let out_dir = sim.out_dir().to_path_buf();
     let (summary, _) = sim.run(progress)?;
-    let history = sim.history().cloned().ok_or_else(|| LabError::Param {
+    let history = sim.take_history().ok_or_else(|| LabError::Param {
         field: format!("{}: outputs.history_every", scene_file.display()),
         reason: "0: a lab test analyses the history; set a positive cadence".into(),
     })?;

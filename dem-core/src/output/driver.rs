@@ -63,6 +63,14 @@ pub type HookError = Box<dyn std::error::Error + Send + Sync>;
 /// The function of a [`StepHook`].
 pub type HookFn = Box<dyn FnMut(&mut World) -> Result<(), HookError>>;
 
+/// A restart's history rows that do not read: the checkpoint's fault.
+fn rows_error(checkpoint: &Option<String>, (row, reason): (usize, String)) -> CheckpointError {
+    CheckpointError::Format {
+        file: checkpoint.clone().unwrap_or_default(),
+        reason: format!("history row {row}: {reason}"),
+    }
+}
+
 /// Why a run did not complete.
 #[derive(Debug, thiserror::Error)]
 pub enum RunError {
@@ -276,12 +284,7 @@ impl Simulation {
                 .unwrap_or_default();
             let mut h = History::with_gauges(&out.join("history.csv"), &walls, &gauges, &groups)
                 .with_element_columns(&fj);
-            let earlier = h
-                .set_rows(rows)
-                .map_err(|(row, reason)| CheckpointError::Format {
-                    file: restarted_from.clone().unwrap_or_default(),
-                    reason: format!("history row {row}: {reason}"),
-                })?;
+            let earlier = (h.set_rows(rows)).map_err(|e| rows_error(&restarted_from, e))?;
             Some((h, earlier))
         } else {
             None
@@ -343,15 +346,15 @@ impl Simulation {
     /// default (a plain run holds its history once, as text). Errors when the rows a restart
     /// brought do not read.
     pub fn keep_history(&mut self) -> Result<(), RunError> {
-        let from = self.restarted_from.clone().unwrap_or_default();
         if let Some(h) = self.history.as_mut() {
-            h.keep_record()
-                .map_err(|(row, reason)| CheckpointError::Format {
-                    file: from,
-                    reason: format!("history row {row}: {reason}"),
-                })?;
+            (h.keep_record()).map_err(|e| rows_error(&self.restarted_from, e))?;
         }
         Ok(())
+    }
+
+    /// The record of [`Simulation::keep_history`], handed over (keeping stops).
+    pub fn take_history(&mut self) -> Option<Record> {
+        self.history.as_mut().and_then(History::take_record)
     }
 
     /// The history's rows as numbers (of the whole run: a restart brings the earlier

@@ -187,29 +187,49 @@ impl Record {
 
     /// The same series, with no rows.
     fn names_only(&self) -> Record {
-        let name = |name: &String| name.clone();
+        let mut r = Record::named(
+            self.walls.iter().map(|w| w.name.as_str()),
+            self.gauges.iter().map(|g| g.name.as_str()),
+            self.groups.iter().map(|g| g.name.as_str()),
+        );
+        for (g, o) in r.groups.iter_mut().zip(&self.groups) {
+            g.elements = o.elements.as_ref().map(|_| Vec::new());
+        }
+        r
+    }
+
+    /// Series of these names, with no rows (no flat-joint element series).
+    fn named<'a>(
+        walls: impl Iterator<Item = &'a str>,
+        gauges: impl Iterator<Item = &'a str>,
+        groups: impl Iterator<Item = &'a str>,
+    ) -> Record {
         Record {
-            walls: (self.walls.iter())
-                .map(|w| WallSeries {
-                    name: name(&w.name),
+            walls: (walls.map(String::from))
+                .map(|name| WallSeries {
+                    name,
                     ..WallSeries::default()
                 })
                 .collect(),
-            gauges: (self.gauges.iter())
-                .map(|g| GaugeSeries {
-                    name: name(&g.name),
+            gauges: (gauges.map(String::from))
+                .map(|name| GaugeSeries {
+                    name,
                     ..GaugeSeries::default()
                 })
                 .collect(),
-            groups: (self.groups.iter())
-                .map(|g| GroupSeries {
-                    name: name(&g.name),
-                    elements: g.elements.as_ref().map(|_| Vec::new()),
+            groups: (groups.map(String::from))
+                .map(|name| GroupSeries {
+                    name,
                     ..GroupSeries::default()
                 })
                 .collect(),
             ..Record::default()
         }
+    }
+
+    /// Flat-joint groups (those with an element series).
+    fn element_groups(&self) -> usize {
+        self.groups.iter().filter(|g| g.elements.is_some()).count()
     }
 
     /// Appends one row's values; zeros as the file writes them.
@@ -250,9 +270,8 @@ impl Record {
     /// Appends the rows of history text (as [`History::rows`] holds them); errors give the
     /// 1-based row and the reason.
     fn parse_rows(&mut self, text: &str) -> Result<(), (usize, String)> {
-        let n_el = self.groups.iter().filter(|g| g.elements.is_some()).count();
         let width = 3 + 3 * self.walls.len() + 2 * self.gauges.len() + 12;
-        let width = width + 2 * self.groups.len() + n_el;
+        let width = width + 2 * self.groups.len() + self.element_groups();
         for (i, line) in text.lines().enumerate() {
             let v: Vec<&str> = line.split(',').collect();
             if v.len() != width {
@@ -325,13 +344,10 @@ pub struct History {
     path: PathBuf,
     header: String,
     rows: String,
-    walls: usize,
-    gauges: usize,
-    groups: usize,
-    /// Flat-joint groups with a `broken_<group>_elements` column (none: the column is absent).
-    element_groups: usize,
     /// The same rows as numbers, when kept ([`History::keep_record`]); else the series'
-    /// names only.
+    /// names only (the columns: walls, gauges, bond groups, and the flat-joint groups'
+    /// element series, present exactly where the file has a `broken_<group>_elements`
+    /// column).
     record: Record,
     keep: bool,
 }
@@ -368,36 +384,15 @@ impl History {
             h.push_str(&format!(",broken_{g}_tension,broken_{g}_shear"));
         }
         h.push('\n');
-        let named = |n: &&str| n.to_string();
-        let record = Record {
-            walls: (walls.iter().map(named))
-                .map(|name| WallSeries {
-                    name,
-                    ..WallSeries::default()
-                })
-                .collect(),
-            gauges: (gauges.iter().map(named))
-                .map(|name| GaugeSeries {
-                    name,
-                    ..GaugeSeries::default()
-                })
-                .collect(),
-            groups: (bond_groups.iter().map(named))
-                .map(|name| GroupSeries {
-                    name,
-                    ..GroupSeries::default()
-                })
-                .collect(),
-            ..Record::default()
-        };
+        let record = Record::named(
+            walls.iter().copied(),
+            gauges.iter().copied(),
+            bond_groups.iter().copied(),
+        );
         History {
             path: path.to_path_buf(),
             header: h,
             rows: String::new(),
-            walls: walls.len(),
-            gauges: gauges.len(),
-            groups: bond_groups.len(),
-            element_groups: 0,
             record,
             keep: false,
         }
@@ -413,7 +408,6 @@ impl History {
             self.header.push_str(&format!(",broken_{g}_elements"));
         }
         self.header.push('\n');
-        self.element_groups = flat_joint_groups.len();
         for g in self.record.groups.iter_mut() {
             if flat_joint_groups.contains(&g.name.as_str()) {
                 g.elements = Some(Vec::new());
@@ -438,10 +432,11 @@ impl History {
             broken,
             elements,
         } = *r;
-        debug_assert_eq!(walls.len(), self.walls);
-        debug_assert_eq!(gauges.len(), self.gauges);
-        debug_assert_eq!(broken.len(), self.groups);
-        debug_assert_eq!(elements.len(), self.element_groups);
+        let names = &self.record;
+        debug_assert_eq!(walls.len(), names.walls.len());
+        debug_assert_eq!(gauges.len(), names.gauges.len());
+        debug_assert_eq!(broken.len(), names.groups.len());
+        debug_assert_eq!(elements.len(), names.element_groups());
         let p = &self.path;
         let mut row = String::with_capacity(256);
         push_num(
@@ -521,6 +516,12 @@ impl History {
             (self.record, self.keep) = (record, true);
         }
         Ok(())
+    }
+
+    /// The record, if kept, handed over (keeping stops: the history goes on as text only).
+    pub fn take_record(&mut self) -> Option<Record> {
+        let names = self.record.names_only();
+        std::mem::take(&mut self.keep).then(|| std::mem::replace(&mut self.record, names))
     }
 
     /// The rows so far as numbers, if kept ([`History::keep_record`]).
