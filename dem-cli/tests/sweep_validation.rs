@@ -187,17 +187,24 @@ fn table2_and_speed_study_files_run_validations_jobs() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// The mass-scaled Table 2 (`data/studies/table2-mass-scaled.sweep.json`, seeds 1–5): its ORC
-/// and traditional cases are Table 2's own jobs (inputs and keys), its improved-ORC cases
-/// Table 2's with `mass_scaling` = 0.02 and nothing else changed.
+/// The mass-scaled Table 2 studies (`data/studies/table2-mass-scaled.sweep.json`, budget
+/// 0.02, and `table2-mass-scaled-b05.sweep.json`, 0.05; seeds 1–5): their ORC and traditional
+/// cases are Table 2's own jobs (inputs and keys), their improved-ORC cases Table 2's with
+/// `mass_scaling` = the budget and nothing else changed.
 #[test]
 fn mass_scaled_table2_differs_from_table2_only_by_the_improved_budget() {
+    for (file, budget) in [
+        ("table2-mass-scaled.sweep.json", 0.02),
+        ("table2-mass-scaled-b05.sweep.json", 0.05),
+    ] {
+        mass_scaled_table2(file, budget);
+    }
+}
+
+fn mass_scaled_table2(file: &str, budget: f64) {
     let data = root().join("data");
-    let dir = tmp("mass-scaled");
-    let cases = dry_run_cases(
-        &data.join("studies/table2-mass-scaled.sweep.json"),
-        &dir.join("ms"),
-    );
+    let dir = tmp(&format!("mass-scaled-{budget}"));
+    let cases = dry_run_cases(&data.join("studies").join(file), &dir.join("ms"));
     let jobs = validation::table2_section::plan(&data, false)
         .unwrap()
         .jobs();
@@ -217,7 +224,7 @@ fn mass_scaled_table2_differs_from_table2_only_by_the_improved_budget() {
         assert_eq!(m, &job.model, "{n}: model");
         let mut want = job.test.clone();
         if a["method"] == "improved" {
-            want.mass_scaling = 0.02;
+            want.mass_scaling = budget;
             assert_ne!(key_text(sp, m, &i.test).unwrap(), key_of(job), "{n}: key");
         } else {
             assert_eq!(key_text(sp, m, &i.test).unwrap(), key_of(job), "{n}: key");
