@@ -235,25 +235,32 @@ fn mass_scaled_table2(file: &str, budget: f64) {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// The check seeds of the mass-scaling decision (`table2-mass-scaled-check.sweep.json`): the 20
-/// improved-ORC cases of Table 2's seeds 6–10 with `mass_scaling` = 0.02 and nothing else
-/// changed, so they compare with the committed unscaled runs of the same specimens.
+/// The check seeds of the mass-scaling decision (`table2-mass-scaled-check.sweep.json`, budget
+/// 0.02, and `table2-mass-scaled-check-b05.sweep.json`, 0.05): the 20 improved-ORC cases of
+/// Table 2's seeds 6–10 with `mass_scaling` = the budget and nothing else changed, so they
+/// compare with the committed unscaled runs of the same specimens.
 #[test]
-fn mass_scaling_check_study_is_table2_improved_seeds_6_to_10_scaled() {
+fn mass_scaling_check_studies_are_table2_improved_seeds_6_to_10_scaled() {
+    for (file, budget) in [
+        ("table2-mass-scaled-check.sweep.json", 0.02),
+        ("table2-mass-scaled-check-b05.sweep.json", 0.05),
+    ] {
+        mass_scaling_check_study(file, budget);
+    }
+}
+
+fn mass_scaling_check_study(file: &str, budget: f64) {
     let data = root().join("data");
-    let dir = tmp("mass-scaled-check");
-    let cases = dry_run_cases(
-        &data.join("studies/table2-mass-scaled-check.sweep.json"),
-        &dir.join("ck"),
-    );
+    let dir = tmp(&format!("mass-scaled-check-{budget}"));
+    let cases = dry_run_cases(&data.join("studies").join(file), &dir.join("ck"));
     let jobs = validation::table2_section::plan(&data, false)
         .unwrap()
         .jobs();
-    assert_eq!(cases.len(), 20);
+    assert_eq!(cases.len(), 20, "{file}");
     let mut seen = std::collections::BTreeSet::new();
     for (a, i) in &cases {
         let seed: u64 = a["seed"].parse().unwrap();
-        assert!((6..=10).contains(&seed), "seed {seed}");
+        assert!((6..=10).contains(&seed), "{file}: seed {seed}");
         let n = format!(
             "improved-d{}-v{}-s{}",
             mm(&a["depth"]),
@@ -262,11 +269,11 @@ fn mass_scaling_check_study_is_table2_improved_seeds_6_to_10_scaled() {
         );
         let job = jobs.iter().find(|j| j.name == n).expect("a Table 2 job");
         let (sp, m) = (i.specimen.as_ref().unwrap(), i.model.as_ref().unwrap());
-        assert_eq!(sp, &job.specimen, "{n}: specimen");
-        assert_eq!(m, &job.model, "{n}: model");
+        assert_eq!(sp, &job.specimen, "{file} {n}: specimen");
+        assert_eq!(m, &job.model, "{file} {n}: model");
         let mut want = job.test.clone();
-        want.mass_scaling = 0.02;
-        assert_eq!(i.test, want, "{n}: test");
+        want.mass_scaling = budget;
+        assert_eq!(i.test, want, "{file} {n}: test");
         assert!(seen.insert(n));
     }
     let _ = std::fs::remove_dir_all(&dir);
