@@ -13,10 +13,12 @@
 #   scripts/slurm-check.sh            # builds `dem` (cargo build --release -p dem-cli)
 #   DEM=/path/to/dem scripts/slurm-check.sh
 #   KEEP=1 ...                        # keep the work folder (printed) for a look
+#   STUDY=path/study.json TIME=01:00:00 ...   # another study (and the tasks' time limit)
 set -euo pipefail
 
 root=$(cd "$(dirname "$0")/.." && pwd)
-study="$root/examples/studies/cutting-demo.json"
+study=$(readlink -f "${STUDY:-$root/examples/studies/cutting-demo.json}")
+[ -f "$study" ] || { echo "slurm-check: STUDY $study: no such file" >&2; exit 1; }
 start=$(date +%s)
 secs() { awk -v a="$1" -v b="$2" 'BEGIN { printf "%.1f", b - a }'; }
 say() { printf '[slurm-check %3ds] %s\n' "$(($(date +%s) - start))" "$*"; }
@@ -137,7 +139,7 @@ done
 say "cluster up: $(sinfo -h -o '%P %a %D %T %c')"
 
 # The study on Slurm: one array task per case.
-"$DEM" sweep plan "$study" --out "$work/slurm" --time 00:10:00 >/dev/null
+"$DEM" sweep plan "$study" --out "$work/slurm" --time "${TIME:-00:10:00}" >/dev/null
 n=$(wc -l <"$work/slurm/cases.jsonl")
 say "submitting $n array tasks: $(grep -- '--array' "$work/slurm/slurm.sbatch")"
 t0=$(date +%s.%N)
@@ -156,6 +158,7 @@ t0=$(date +%s.%N)
 "$DEM" sweep run "$work/local" --jobs 2 2>/dev/null | tail -1
 t1=$(date +%s.%N)
 say "local run (--jobs 2) done in $(secs "$t0" "$t1") s"
+"$DEM" sweep status "$work/local" | tail -n +2
 
 status=0
 for f in table.csv table.json; do

@@ -349,6 +349,7 @@ fn study_files_bad_and_good() {
         "data/studies/table2-mass-scaled-check.sweep.json",
         "data/studies/table2-mass-scaled-b05.sweep.json",
         "data/studies/table2-mass-scaled-check-b05.sweep.json",
+        "data/studies/table2-two-orc-cases.sweep.json",
         "data/studies/speed-damping.sweep.json",
     ] {
         let v = read(&root().join(f));

@@ -407,6 +407,61 @@ fn two_runs_on_one_folder_never_run_a_case_twice_and_aggregates_are_right() {
             close(&a["median"], s[1]);
         }
     }
+    // The sweep's time: sums over all cases and per depth equal the per-case columns; the
+    // time some case was running lies between the longest case and the sum of the cases.
+    let rows = t["cases"].as_array().unwrap();
+    let total = |key: &str, depth: Option<&str>| -> f64 {
+        rows.iter()
+            .filter(|c| depth.is_none_or(|d| c["axes"]["depth"] == d))
+            .map(|c| c[key].as_f64().unwrap())
+            .sum()
+    };
+    let tm = &t["timing"];
+    let near = |v: &Value, w: f64| (v.as_f64().unwrap() - w).abs() <= 1e-9 * w.max(1.0);
+    assert_eq!(tm["cases"], 6, "{tm}");
+    assert!(near(&tm["cpu_s"], total("cpu_s", None)), "{tm}");
+    assert!(near(&tm["wall_s"], total("wall_s", None)), "{tm}");
+    assert_eq!(
+        tm["by_axis"].as_array().unwrap().len(),
+        1,
+        "no seed sums: {tm}"
+    );
+    assert_eq!(tm["by_axis"][0]["axis"], "depth");
+    for (v, depth) in tm["by_axis"][0]["values"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .zip(["0.3mm", "0.4mm"])
+    {
+        assert_eq!((&v["value"], &v["cases"]), (&json!(depth), &json!(3)));
+        assert!(near(&v["cpu_s"], total("cpu_s", Some(depth))), "{v}");
+        assert!(near(&v["wall_s"], total("wall_s", Some(depth))), "{v}");
+    }
+    let longest = rows
+        .iter()
+        .map(|c| c["wall_s"].as_f64().unwrap())
+        .fold(0.0, f64::max);
+    let (busy, span) = (
+        tm["busy_s"].as_f64().unwrap(),
+        tm["span_s"].as_f64().unwrap(),
+    );
+    // (Case ends are whole seconds: up to 1 s either way.)
+    assert!(busy >= longest - 1.0 && busy <= span + 1e-9, "{tm}");
+    assert!(busy <= total("wall_s", None) + 1.0, "{tm}");
+    let st = Command::new(env!("CARGO_BIN_EXE_dem"))
+        .args(["sweep", "status", dir.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert!(
+        text(&st).contains("time of the finished cases (last attempts): 6 cases")
+            && text(&st).contains("  depth=0.4mm: 3 cases, CPU "),
+        "{}",
+        text(&st)
+    );
+    collect(&dir, &d.join("u.json"), &["--no-timing"]);
+    let u = std::fs::read_to_string(d.join("u.json")).unwrap();
+    assert!(!u.contains("timing"), "{u}");
+
     // The CSV form of the same aggregates.
     collect(&dir, &d.join("t.csv"), &[]);
     let agg = std::fs::read_to_string(d.join("t.aggregates.csv")).unwrap();

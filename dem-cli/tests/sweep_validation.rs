@@ -101,6 +101,17 @@ fn mm(s: &str) -> String {
     s.trim_end_matches("mm").to_string()
 }
 
+/// Validation's name of a Table 2 case's run: `orc-d1-v2-s1`.
+fn table2_name(a: &BTreeMap<String, String>) -> String {
+    format!(
+        "{}-d{}-v{}-s{}",
+        a["method"],
+        mm(&a["depth"]),
+        a["speed"],
+        a["seed"]
+    )
+}
+
 /// Every case equals the job of its cell (typed values and key JSON), and every job has a case.
 fn check(
     cases: &[(BTreeMap<String, String>, Inputs)],
@@ -135,15 +146,7 @@ fn table2_and_speed_study_files_run_validations_jobs() {
         .unwrap()
         .jobs();
     assert_eq!(jobs.len(), 120);
-    check(&cases, &jobs, |a| {
-        format!(
-            "{}-d{}-v{}-s{}",
-            a["method"],
-            mm(&a["depth"]),
-            a["speed"],
-            a["seed"]
-        )
-    });
+    check(&cases, &jobs, table2_name);
     // Few irregular grains for ORC and improved ORC, none for traditional.
     let few = |m: Method| {
         jobs.iter()
@@ -160,15 +163,7 @@ fn table2_and_speed_study_files_run_validations_jobs() {
         .unwrap()
         .jobs();
     assert_eq!(jobs.len(), 12);
-    check(&cases, &jobs, |a| {
-        format!(
-            "{}-d{}-v{}-s{}",
-            a["method"],
-            mm(&a["depth"]),
-            a["speed"],
-            a["seed"]
-        )
-    });
+    check(&cases, &jobs, table2_name);
     // The speed and damping study: damping sets × methods × speeds × seeds.
     let cases = dry_run_cases(
         &data.join("studies/speed-damping.sweep.json"),
@@ -211,13 +206,7 @@ fn mass_scaled_table2(file: &str, budget: f64) {
     assert_eq!(cases.len(), 60);
     let mut seen = std::collections::BTreeSet::new();
     for (a, i) in &cases {
-        let n = format!(
-            "{}-d{}-v{}-s{}",
-            a["method"],
-            mm(&a["depth"]),
-            a["speed"],
-            a["seed"]
-        );
+        let n = table2_name(a);
         let job = jobs.iter().find(|j| j.name == n).expect("a Table 2 job");
         let (sp, m) = (i.specimen.as_ref().unwrap(), i.model.as_ref().unwrap());
         assert_eq!(sp, &job.specimen, "{n}: specimen");
@@ -276,6 +265,33 @@ fn mass_scaling_check_study(file: &str, budget: f64) {
         assert_eq!(i.test, want, "{file} {n}: test");
         assert!(seen.insert(n));
     }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The study of the N-core measurement (`table2-two-orc-cases.sweep.json`, docs/sweep.md): two
+/// of Table 2's own cases (ORC, a_p = 1 mm, 2 m/s, seeds 1 and 2), keys and all.
+#[test]
+fn two_case_study_is_two_table2_orc_cases() {
+    let data = root().join("data");
+    let dir = tmp("two-orc");
+    let cases = dry_run_cases(
+        &data.join("studies/table2-two-orc-cases.sweep.json"),
+        &dir.join("two"),
+    );
+    let jobs = validation::table2_section::plan(&data, false)
+        .unwrap()
+        .jobs();
+    let names: Vec<String> = cases
+        .iter()
+        .map(|(a, i)| {
+            let n = table2_name(a);
+            let job = jobs.iter().find(|j| j.name == n).expect("a Table 2 job");
+            let (sp, m) = (i.specimen.as_ref().unwrap(), i.model.as_ref().unwrap());
+            assert_eq!(key_text(sp, m, &i.test).unwrap(), key_of(job), "{n}: key");
+            n
+        })
+        .collect();
+    assert_eq!(names, ["orc-d1-v2-s1", "orc-d1-v2-s2"]);
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -7,11 +7,13 @@
 //! values over the group's done cases give n, mean x̄ = Σx/n, sd = √(Σ(x − x̄)²/(n − 1)),
 //! SE = sd/√n and the median (the middle value, or the mean of the two middle ones). sd and SE
 //! need n ≥ 2; a figure that does not exist is null in JSON and an empty cell in CSV, never
-//! NaN. CSV writes the aggregates beside the table as `<stem>.aggregates.csv`. Files are written
-//! atomically.
+//! NaN. CSV writes the aggregates beside the table as `<stem>.aggregates.csv`. With the timing
+//! columns, JSON also holds the sweep's time, overall and per axis value ([`super::timing`]),
+//! which `status` prints. Files are written atomically.
 
 use super::case::{self, read_cases, State, STUDY_FILE};
 use super::study;
+use super::timing::{self, Sum, Timing};
 use clap::Args;
 use serde_json::{json, Map, Value};
 use std::path::{Path, PathBuf};
@@ -87,6 +89,14 @@ fn num(v: Option<f64>) -> Value {
 /// A group of cases: the axis values they share (all but the seed) and their indices.
 type Group = (Vec<(String, String)>, Vec<usize>);
 
+/// The seed axis of the sweep in `dir` (`None` when its study has none or cannot be read:
+/// `status` then sums over every axis).
+fn seed_axis(dir: &Path) -> Option<String> {
+    let file = dir.join(STUDY_FILE);
+    let p = study::parse(&std::fs::read(&file).ok()?, &file).ok()?;
+    p.axes.iter().find(|a| a.seed).map(|a| a.flag.clone())
+}
+
 /// The table as JSON (see the module doc).
 pub fn table(dir: &Path, timing: bool) -> Result<Value, String> {
     let file = dir.join(STUDY_FILE);
@@ -96,6 +106,7 @@ pub fn table(dir: &Path, timing: bool) -> Result<Value, String> {
     let seed = p.axes.iter().find(|a| a.seed).map(|a| a.flag.clone());
     let mut rows = Vec::new();
     let mut groups: Vec<Group> = Vec::new();
+    let mut records = Vec::new();
     for c in &cases {
         let st = case::state(c, dir);
         let mut outs = Map::new();
@@ -134,6 +145,7 @@ pub fn table(dir: &Path, timing: bool) -> Result<Value, String> {
             row.insert("wall_s".into(), num(rec.map(|r| r.wall_s)));
             row.insert("cpu_s".into(), num(rec.and_then(|r| r.cpu_s)));
         }
+        records.push(rec.cloned());
         rows.push(Value::Object(row));
         if seed.is_some() {
             let g: Vec<(String, String)> = c
@@ -174,7 +186,7 @@ pub fn table(dir: &Path, timing: bool) -> Result<Value, String> {
             "outputs": Value::Object(outs),
         }));
     }
-    Ok(json!({
+    let mut t = json!({
         "study": p.study.name,
         "test": p.study.base.test,
         "axes": p.axes.iter().map(|a| a.flag.clone()).collect::<Vec<_>>(),
@@ -183,7 +195,41 @@ pub fn table(dir: &Path, timing: bool) -> Result<Value, String> {
             .collect::<Vec<_>>(),
         "cases": rows,
         "aggregates": aggs,
-    }))
+    });
+    if timing {
+        let refs: Vec<Option<&case::Record>> = records.iter().map(Option::as_ref).collect();
+        t["timing"] =
+            timing::timing(&cases, &refs, seed.as_deref()).map_or(Value::Null, |t| timing_json(&t));
+    }
+    Ok(t)
+}
+
+/// [`Timing`] as JSON.
+fn timing_json(t: &Timing) -> Value {
+    let sum = |s: &Sum| {
+        json!({"cases": s.cases, "cpu_s": num(Some(s.cpu_s)), "cpu_unknown": s.cpu_unknown,
+               "wall_s": num(Some(s.wall_s))})
+    };
+    let mut v = sum(&t.all);
+    v["busy_s"] = num(Some(t.busy_s));
+    v["span_s"] = num(Some(t.span_s));
+    v["by_axis"] = t
+        .by_axis
+        .iter()
+        .map(|a| {
+            let values: Vec<Value> = a
+                .values
+                .iter()
+                .map(|(val, s)| {
+                    let mut o = sum(s);
+                    o["value"] = json!(val);
+                    o
+                })
+                .collect();
+            json!({"axis": a.axis, "values": values})
+        })
+        .collect();
+    v
 }
 
 fn cell(v: &Value) -> String {
@@ -333,8 +379,13 @@ pub fn status(a: StatusArgs) -> Result<ExitCode, String> {
     let cases = read_cases(&a.dir)?;
     let mut counts = std::collections::BTreeMap::<&str, usize>::new();
     let mut lines = Vec::new();
+    let mut records = Vec::new();
     for c in &cases {
         let st = case::state(c, &a.dir);
+        records.push(match &st {
+            State::Done(r) | State::Failed(r) => Some(r.clone()),
+            _ => None,
+        });
         *counts.entry(st.name()).or_default() += 1;
         let extra = match &st {
             State::Done(r) => format!(
@@ -367,6 +418,12 @@ pub fn status(a: StatusArgs) -> Result<ExitCode, String> {
     );
     for l in lines {
         println!("{l}");
+    }
+    let refs: Vec<Option<&case::Record>> = records.iter().map(Option::as_ref).collect();
+    if let Some(t) = timing::timing(&cases, &refs, seed_axis(&a.dir).as_deref()) {
+        for l in timing::lines(&t) {
+            println!("{l}");
+        }
     }
     Ok(ExitCode::SUCCESS)
 }

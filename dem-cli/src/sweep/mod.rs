@@ -4,7 +4,7 @@
 //!
 //! Modules, each using only those listed before it: [`study`] (the study file), [`claim`]
 //! (which process runs a case), [`case`] (a planned case and its folder's files), [`plan`],
-//! [`mod@run`], [`collect`] (also `status`).
+//! [`mod@run`], [`timing`] (the time a sweep took), [`collect`] (also `status`).
 
 mod case;
 mod claim;
@@ -12,6 +12,7 @@ mod collect;
 mod plan;
 mod run;
 pub(crate) mod study;
+mod timing;
 
 use clap::Subcommand;
 use std::process::ExitCode;
@@ -25,7 +26,8 @@ pub enum SweepCmd {
     /// Run the cases not yet finished, N at a time (or case I alone: --index I); several
     /// processes (Slurm tasks) may share DIR.
     Run(run::RunArgs),
-    /// Counts and the state of each case.
+    /// Counts, the state of each case, and the time taken (CPU and wall, overall and per axis
+    /// value).
     Status(collect::StatusArgs),
     /// One row per case (axis values, collected outputs, status, times) and aggregates over
     /// seeds (n, mean, sd, SE, median) as CSV or JSON.

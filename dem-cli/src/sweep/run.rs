@@ -267,6 +267,7 @@ fn fmt_secs(s: f64) -> String {
 }
 
 pub fn run(a: RunArgs) -> Result<ExitCode, String> {
+    let t_run = Instant::now();
     let dir = a.dir.clone();
     let cases = read_cases(&dir)?;
     if let Some(i) = a.index {
@@ -451,13 +452,14 @@ pub fn run(a: RunArgs) -> Result<ExitCode, String> {
         }
     }
     println!(
-        "sweep {}: {} cases: {} done, {} failed, {} running elsewhere, {} pending",
+        "sweep {}: {} cases: {} done, {} failed, {} running elsewhere, {} pending; this run {}",
         dir.display(),
         chosen.len(),
         counts[0],
         counts[1],
         counts[2],
-        counts[3]
+        counts[3],
+        fmt_secs(t_run.elapsed().as_secs_f64())
     );
     for l in elsewhere {
         println!("{l}");
