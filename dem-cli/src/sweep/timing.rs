@@ -177,7 +177,7 @@ pub fn lines(t: &Timing) -> Vec<String> {
         )
     };
     let mut out = vec![format!(
-        "time of the finished cases (last attempts): {}; busy {} (some case running), \
+        "time of the finished cases (last attempts): {}; busy (some case running) {}, \
          first start to last end {}",
         sum(&t.all),
         secs(t.busy_s),
