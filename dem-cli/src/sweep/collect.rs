@@ -92,9 +92,7 @@ type Group = (Vec<(String, String)>, Vec<usize>);
 /// The seed axis of the sweep in `dir` (`None` when its study has none or cannot be read:
 /// `status` then sums over every axis).
 fn seed_axis(dir: &Path) -> Option<String> {
-    let file = dir.join(STUDY_FILE);
-    let p = study::parse(&std::fs::read(&file).ok()?, &file).ok()?;
-    p.axes.iter().find(|a| a.seed).map(|a| a.flag.clone())
+    study::read(&dir.join(STUDY_FILE)).ok()?.1.seed_axis()
 }
 
 /// The table as JSON (see the module doc).
@@ -103,7 +101,7 @@ pub fn table(dir: &Path, timing: bool) -> Result<Value, String> {
     let bytes = std::fs::read(&file).map_err(|e| format!("{}: {e}", file.display()))?;
     let p = study::parse(&bytes, &file)?;
     let cases = read_cases(dir)?;
-    let seed = p.axes.iter().find(|a| a.seed).map(|a| a.flag.clone());
+    let seed = p.seed_axis();
     let mut rows = Vec::new();
     let mut groups: Vec<Group> = Vec::new();
     let mut records = Vec::new();
@@ -197,9 +195,8 @@ pub fn table(dir: &Path, timing: bool) -> Result<Value, String> {
         "aggregates": aggs,
     });
     if timing {
-        let refs: Vec<Option<&case::Record>> = records.iter().map(Option::as_ref).collect();
-        t["timing"] =
-            timing::timing(&cases, &refs, seed.as_deref()).map_or(Value::Null, |t| timing_json(&t));
+        t["timing"] = timing::timing(&cases, &records, seed.as_deref())
+            .map_or(Value::Null, |t| timing_json(&t));
     }
     Ok(t)
 }
@@ -419,8 +416,7 @@ pub fn status(a: StatusArgs) -> Result<ExitCode, String> {
     for l in lines {
         println!("{l}");
     }
-    let refs: Vec<Option<&case::Record>> = records.iter().map(Option::as_ref).collect();
-    if let Some(t) = timing::timing(&cases, &refs, seed_axis(&a.dir).as_deref()) {
+    if let Some(t) = timing::timing(&cases, &records, seed_axis(&a.dir).as_deref()) {
         for l in timing::lines(&t) {
             println!("{l}");
         }

@@ -204,6 +204,13 @@ pub struct Parsed {
     pub outputs: Vec<Output>,
 }
 
+impl Parsed {
+    /// The flag of the seed axis, if the study has one (at most one: [`parse`] checks).
+    pub fn seed_axis(&self) -> Option<String> {
+        self.axes.iter().find(|a| a.seed).map(|a| a.flag.clone())
+    }
+}
+
 /// Reads `path` and checks its structure (fields, test, axes, ranges, collect); the flags are
 /// checked by [`super::plan`] against the test's command line.
 pub fn read(path: &Path) -> Result<(Vec<u8>, Parsed), String> {

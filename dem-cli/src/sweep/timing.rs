@@ -93,7 +93,7 @@ pub fn union_length(iv: &mut [(f64, f64)]) -> f64 {
 /// has finished. `seed_axis`: the axis left out of the per-axis sums.
 pub fn timing(
     cases: &[Case],
-    records: &[Option<&Record>],
+    records: &[Option<Record>],
     seed_axis: Option<&str>,
 ) -> Option<Timing> {
     let mut all = Sum::default();
@@ -256,7 +256,8 @@ mod tests {
             rec(1120, 70.0, Some(60.5)),
             rec(1230, 30.0, None),
         );
-        let t = timing(&cases, &[Some(&a), Some(&b), Some(&c), None], Some("seed")).unwrap();
+        let recs = [Some(a.clone()), Some(b), Some(c), None];
+        let t = timing(&cases, &recs, Some("seed")).unwrap();
         assert_eq!(t.all.cases, 3);
         assert_eq!(t.all.wall_s, 200.0);
         assert_eq!(t.all.cpu_s, 150.5);
@@ -276,7 +277,7 @@ mod tests {
         assert_eq!((v[1].1.cases, v[1].1.wall_s, v[1].1.cpu_s), (1, 70.0, 60.5));
         // Without a seed axis every axis is summed; nothing finished: no timing.
         assert_eq!(
-            timing(&cases, &[Some(&a), None, None, None], None)
+            timing(&cases, &[Some(a), None, None, None], None)
                 .unwrap()
                 .by_axis
                 .len(),
