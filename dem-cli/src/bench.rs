@@ -58,6 +58,10 @@ pub struct CuttingBench {
     /// Table 2's 1 m/s; the cost of a step hardly depends on it.
     #[arg(long, default_value_t = 10.0)]
     speed: f64,
+    /// Frame of reference of the local damping: lab (PFC, the default) | fragment (relative
+    /// to each disc's bonded fragment; `dem test cutting --damping-frame`)
+    #[arg(long, default_value = "lab")]
+    damping_frame: String,
 }
 
 #[derive(Args)]
@@ -367,7 +371,8 @@ fn cutting(b: CuttingBench) -> Result<ExitCode, String> {
             path
         }
     };
-    // Table 2's test (a_p 1 mm, L 10 mm, rigid tool, local damping 0.7) at --speed; the cut
+    // Table 2's test (a_p 1 mm, L 10 mm, rigid tool, local damping 0.7 in --damping-frame)
+    // at --speed; the cut
     // length is the specimen's width when that is shorter.
     // Errors about a given specimen name the flag.
     let named = |e: dem_lab::LabError| match &b.specimen {
@@ -376,7 +381,14 @@ fn cutting(b: CuttingBench) -> Result<ExitCode, String> {
     };
     let info = dem_lab::cutting::SpecimenInfo::read(&specimen).map_err(named)?;
     let width = info.extent[1] - info.extent[0];
-    let test = CuttingTest::new(1e-3, b.speed, width.min(10e-3));
+    let test = CuttingTest {
+        damping_frame: match b.damping_frame.as_str() {
+            "lab" => dem_core::DampingFrame::Lab,
+            "fragment" => dem_core::DampingFrame::Fragment,
+            s => return Err(format!("--damping-frame: {s:?} is not lab or fragment")),
+        },
+        ..CuttingTest::new(1e-3, b.speed, width.min(10e-3))
+    };
     let scene_file = dir.0.join("cutting.scene.json");
     let mut cs = CuttingScene::build(&test, &model, &specimen, &scene_file, 0).map_err(named)?;
     let world = cs.take_world().ok_or("cutting scene: no world built")?;

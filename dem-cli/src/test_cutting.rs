@@ -138,6 +138,16 @@ pub struct CuttingArgs {
     /// PFC local damping α (default 0.7, PFC's default; 0 = undamped).
     #[arg(long)]
     pub local_damping: Option<f64>,
+    /// Frame of reference of the local damping: lab (default, PFC: each disc's own velocity;
+    /// drags debris in steady motion) | fragment (the motion relative to the disc's bonded
+    /// fragment: no drag on rigid motion; docs/cutting.md, "Damping and the frame of
+    /// reference")
+    #[arg(long)]
+    pub damping_frame: Option<String>,
+    /// Frame of reference of the run: lab (default: the tool moves at v) | tool (the tool at
+    /// rest, the specimen and slot walls moving at −v; the Galilean check)
+    #[arg(long)]
+    pub frame: Option<String>,
     /// Safety factor of the automatic time step (default 0.3).
     #[arg(long)]
     pub dt_factor: Option<f64>,
@@ -268,6 +278,20 @@ impl CuttingArgs {
         }
         if let Some(v) = self.local_damping {
             t.local_damping = v;
+        }
+        if let Some(s) = &self.damping_frame {
+            t.damping_frame = match s.as_str() {
+                "lab" => dem_core::DampingFrame::Lab,
+                "fragment" => dem_core::DampingFrame::Fragment,
+                _ => return Err(format!("--damping-frame: {s:?} is not lab or fragment")),
+            };
+        }
+        if let Some(s) = &self.frame {
+            t.frame = match s.as_str() {
+                "lab" => cutting::CutFrame::Lab,
+                "tool" => cutting::CutFrame::Tool,
+                _ => return Err(format!("--frame: {s:?} is not lab or tool")),
+            };
         }
         if let Some(v) = self.window_start {
             t.window_start = v;
@@ -658,7 +682,7 @@ pub fn run(a: CuttingArgs) -> Result<ExitCode, String> {
         .build()
         .map_err(|e| e.to_string())?;
     println!(
-        "cutting {}: a_p {} mm, v {} m/s, L {} mm, rake {}°, clearance {}°, tool {} ({}), local damping {}, contact damping {}, dt factor {}",
+        "cutting {}: a_p {} mm, v {} m/s, L {} mm, rake {}°, clearance {}°, tool {} ({}), local damping {} ({} frame), contact damping {}, dt factor {}{}",
         specimen.display(),
         test.depth * 1e3,
         test.speed,
@@ -678,8 +702,16 @@ pub fn run(a: CuttingArgs) -> Result<ExitCode, String> {
             ToolModel::Segments => format!("{}× k_n", test.tool_stiffness),
         },
         test.local_damping,
+        match test.damping_frame {
+            dem_core::DampingFrame::Lab => "lab",
+            dem_core::DampingFrame::Fragment => "fragment",
+        },
         test.contact_damping,
-        test.dt_factor
+        test.dt_factor,
+        match test.frame {
+            cutting::CutFrame::Lab => "",
+            cutting::CutFrame::Tool => ", run in the tool's frame",
+        }
     );
     if let Some(f) = &model.flat_joint {
         println!(
@@ -951,6 +983,32 @@ mod tests {
 
     /// Bad flat-joint values are errors naming the flag (or the model file's field), checked
     /// as the other lab tests check them.
+    /// `--damping-frame` and `--frame` reach the test; bad values name the flag, and the tool
+    /// frame refuses fragment deletion (its rules are the lab frame's).
+    #[test]
+    fn damping_and_run_frames_reach_the_test() {
+        let t = args(&["--damping-frame", "fragment", "--frame", "tool"])
+            .unwrap()
+            .test()
+            .unwrap();
+        assert_eq!(t.damping_frame, dem_core::DampingFrame::Fragment);
+        assert_eq!(t.frame, cutting::CutFrame::Tool);
+        let d = args(&[]).unwrap().test().unwrap();
+        assert!(d.damping_frame.is_lab() && d.frame.is_lab());
+        let e = args(&["--damping-frame", "relative"])
+            .unwrap()
+            .test()
+            .unwrap_err();
+        assert!(e.starts_with("--damping-frame: \"relative\""), "{e}");
+        let e = args(&["--frame", "wheel"]).unwrap().test().unwrap_err();
+        assert!(e.starts_with("--frame: \"wheel\""), "{e}");
+        let e = args(&["--frame", "tool", "--delete-fragments"])
+            .unwrap()
+            .test()
+            .unwrap_err();
+        assert!(e.starts_with("frame: the tool frame"), "{e}");
+    }
+
     #[test]
     fn bad_flat_joint_values_name_the_flag() {
         let e = |v: &[&str]| args(v).unwrap().inputs().unwrap_err();

@@ -6,7 +6,8 @@
 //! with Δt_kick = (Δt_old + Δt)/2 (equal to Δt unless the step just changed), the local damping
 //! F_d = −α |F + m g| sign(v) per component (Cundall 1987; Potyondy & Cundall 2004 eq. 4) and
 //! the viscous F_v = −c v, c = 2ζ√(m K) (see [`crate::Params::viscous_damping`]); the same for
-//! θ, ω with the torque and I. Fixed discs move with their prescribed velocity. Members of rigid
+//! θ, ω with the torque and I. In the fragment frame ([`crate::damping`]) the local damping
+//! forces are computed before this pass and added here in place of the sign rule. Fixed discs move with their prescribed velocity. Members of rigid
 //! clumps are moved by [`crate::clump`]. Kinetic energy is reported at time t with the mean of
 //! the two half-step velocities.
 
@@ -99,6 +100,9 @@ struct Ro<'a> {
     fixed: &'a [bool],
     /// Dashpot sums (length n when energy is tracked and `Kick::dash`).
     dash: &'a Dashpot,
+    /// Local damping forces and torques computed in the fragment frame (length n, or empty
+    /// when local damping acts in the lab frame or not at all).
+    rel: &'a [Vec<f64>; 3],
     /// Where to pack the moved discs for the next force pass, if anywhere, and the radii
     /// for the records.
     pack: Option<PackOut>,
@@ -141,20 +145,27 @@ thread_local! {
 /// Returns whether some disc moved beyond the rebuild limit.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-fn sub_block<const E: bool, const D: bool, const DAMP: bool, const VISC: bool, const G: bool>(
+fn sub_block<
+    const E: bool,
+    const D: bool,
+    const DAMP: bool,
+    const REL: bool,
+    const VISC: bool,
+    const G: bool,
+>(
     x: &mut [f64],
     y: &mut [f64],
     th: &mut [f64],
     vx: &mut [f64],
     vy: &mut [f64],
     w: &mut [f64],
-    ro: [&[f64]; 14],
+    ro: [&[f64]; 17],
     fixed: &[bool],
     k: &Kick,
     t: &mut Terms,
 ) -> bool {
     let n = x.len();
-    let [m, inertia, fx, fy, tq, im, ii, x0, y0, cvt, cvr, dfx, dfy, dtq] = ro;
+    let [m, inertia, fx, fy, tq, im, ii, x0, y0, cvt, cvr, dfx, dfy, dtq, rfx, rfy, rtq] = ro;
     let (y, th, vx, vy, w) = (
         &mut y[..n],
         &mut th[..n],
@@ -165,6 +176,7 @@ fn sub_block<const E: bool, const D: bool, const DAMP: bool, const VISC: bool, c
     let (m, inertia, fx, fy, tq) = (&m[..n], &inertia[..n], &fx[..n], &fy[..n], &tq[..n]);
     let (im, ii, x0, y0) = (&im[..n], &ii[..n], &x0[..n], &y0[..n]);
     let (cvt, cvr, dfx, dfy, dtq) = (&cvt[..n], &cvr[..n], &dfx[..n], &dfy[..n], &dtq[..n]);
+    let (rfx, rfy, rtq) = (&rfx[..n], &rfy[..n], &rtq[..n]);
     let fixed = &fixed[..n];
     let [t_kt, t_kr, t_dmp, t_dc, t_gp, t_bw] = t;
     let (t_kt, t_kr, t_dmp) = (&mut t_kt[..n], &mut t_kr[..n], &mut t_dmp[..n]);
@@ -186,6 +198,11 @@ fn sub_block<const E: bool, const D: bool, const DAMP: bool, const VISC: bool, c
             ax -= k.alpha * ax.abs() * sgn(ux);
             ay -= k.alpha * ay.abs() * sgn(uy);
             at -= k.alpha * at.abs() * sgn(uw);
+        }
+        if REL {
+            ax += rfx[i];
+            ay += rfy[i];
+            at += rtq[i];
         }
         if VISC {
             ax -= cvt[i] * ux;
@@ -254,7 +271,13 @@ fn sub_block<const E: bool, const D: bool, const DAMP: bool, const VISC: bool, c
 /// touches indices in [lo, hi).
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-unsafe fn chunk<const E: bool, const D: bool, const DAMP: bool, const VISC: bool>(
+unsafe fn chunk<
+    const E: bool,
+    const D: bool,
+    const DAMP: bool,
+    const REL: bool,
+    const VISC: bool,
+>(
     p: &[SyncPtr<f64>; 6],
     d: &Ro,
     c: &DiscCache,
@@ -287,6 +310,15 @@ unsafe fn chunk<const E: bool, const D: bool, const DAMP: bool, const VISC: bool
         } else {
             (im, im, im)
         };
+        let (rfx, rfy, rtq) = if REL {
+            (
+                &d.rel[0][r.clone()],
+                &d.rel[1][r.clone()],
+                &d.rel[2][r.clone()],
+            )
+        } else {
+            (im, im, im)
+        };
         let ro = [
             &d.m[r.clone()],
             &d.inertia[r.clone()],
@@ -302,14 +334,17 @@ unsafe fn chunk<const E: bool, const D: bool, const DAMP: bool, const VISC: bool
             dfx,
             dfy,
             dtq,
+            rfx,
+            rfy,
+            rtq,
         ];
         let xs = [0, 1, 2, 3, 4, 5].map(|a| p[a].slice(b0, n));
         let [x, y, th, vx, vy, w] = xs;
         let fixed = &d.fixed[r];
         exceeded |= if k.gravity != [0.0, 0.0] {
-            sub_block::<E, D, DAMP, VISC, true>(x, y, th, vx, vy, w, ro, fixed, k, terms)
+            sub_block::<E, D, DAMP, REL, VISC, true>(x, y, th, vx, vy, w, ro, fixed, k, terms)
         } else {
-            sub_block::<E, D, DAMP, VISC, false>(x, y, th, vx, vy, w, ro, fixed, k, terms)
+            sub_block::<E, D, DAMP, REL, VISC, false>(x, y, th, vx, vy, w, ro, fixed, k, terms)
         };
         #[cfg(target_arch = "x86_64")]
         if let Some(po) = d.pack {
@@ -357,7 +392,13 @@ unsafe fn chunk<const E: bool, const D: bool, const DAMP: bool, const VISC: bool
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 #[allow(clippy::too_many_arguments)]
-unsafe fn chunk_avx2<const E: bool, const D: bool, const DAMP: bool, const VISC: bool>(
+unsafe fn chunk_avx2<
+    const E: bool,
+    const D: bool,
+    const DAMP: bool,
+    const REL: bool,
+    const VISC: bool,
+>(
     p: &[SyncPtr<f64>; 6],
     d: &Ro,
     c: &DiscCache,
@@ -368,12 +409,18 @@ unsafe fn chunk_avx2<const E: bool, const D: bool, const DAMP: bool, const VISC:
     hi: usize,
     terms: &mut Terms,
 ) -> Moved {
-    chunk::<E, D, DAMP, VISC>(p, d, c, x0, y0, k, lo, hi, terms)
+    chunk::<E, D, DAMP, REL, VISC>(p, d, c, x0, y0, k, lo, hi, terms)
 }
 
 /// Dispatch on the instruction set (same bits either way: no FMA contraction).
 #[allow(clippy::too_many_arguments)]
-unsafe fn chunk_best<const E: bool, const D: bool, const DAMP: bool, const VISC: bool>(
+unsafe fn chunk_best<
+    const E: bool,
+    const D: bool,
+    const DAMP: bool,
+    const REL: bool,
+    const VISC: bool,
+>(
     p: &[SyncPtr<f64>; 6],
     d: &Ro,
     c: &DiscCache,
@@ -386,19 +433,21 @@ unsafe fn chunk_best<const E: bool, const D: bool, const DAMP: bool, const VISC:
 ) -> Moved {
     #[cfg(target_arch = "x86_64")]
     if crate::lanes::has_avx2() {
-        return chunk_avx2::<E, D, DAMP, VISC>(p, d, c, x0, y0, k, lo, hi, terms);
+        return chunk_avx2::<E, D, DAMP, REL, VISC>(p, d, c, x0, y0, k, lo, hi, terms);
     }
-    chunk::<E, D, DAMP, VISC>(p, d, c, x0, y0, k, lo, hi, terms)
+    chunk::<E, D, DAMP, REL, VISC>(p, d, c, x0, y0, k, lo, hi, terms)
 }
 
 /// Integrate all free and fixed discs; chunked like the force pass so that the reported sums
 /// do not depend on the thread count. `pack`: where to pack the moved discs for the next
 /// disc–disc pass (see [`PackOut`]), if anywhere. `workers`: the step's team size
-/// (`crate::team::Threads`; one: no split).
+/// (`crate::team::Threads`; one: no split). `rel`: the local damping forces and torques of
+/// the fragment frame ([`crate::damping`]; length n), or three empty vectors.
 #[allow(clippy::too_many_arguments)]
 pub fn integrate_discs(
     d: &mut Discs,
     dash: &Dashpot,
+    rel: &[Vec<f64>; 3],
     c: &DiscCache,
     x0: &[f64],
     y0: &[f64],
@@ -409,6 +458,8 @@ pub fn integrate_discs(
 ) -> Moved {
     let n = d.len();
     assert!(pack.is_none_or(|po| po.len >= n && d.r.len() >= n && c.minv_contact.len() >= n));
+    let with_rel = !rel[0].is_empty();
+    assert!(!with_rel || rel.iter().all(|v| v.len() == n) && k.alpha == 0.0);
     let Discs {
         x,
         y,
@@ -441,6 +492,7 @@ pub fn integrate_discs(
         torque,
         fixed,
         dash,
+        rel,
         pack,
         r,
     };
@@ -452,43 +504,34 @@ pub fn integrate_discs(
         // which `dr` does not borrow.
         TERMS.with(|t| unsafe {
             let t = &mut **t.borrow_mut();
-            match (k.track, k.dash, k.alpha > 0.0, !c.visc_t.is_empty()) {
-                (false, _, false, false) => {
-                    chunk_best::<false, false, false, false>(&p, dr, c, x0, y0, k, lo, hi, t)
-                }
-                (false, _, false, true) => {
-                    chunk_best::<false, false, false, true>(&p, dr, c, x0, y0, k, lo, hi, t)
-                }
-                (false, _, true, false) => {
-                    chunk_best::<false, false, true, false>(&p, dr, c, x0, y0, k, lo, hi, t)
-                }
-                (false, _, true, true) => {
-                    chunk_best::<false, false, true, true>(&p, dr, c, x0, y0, k, lo, hi, t)
-                }
-                (true, false, false, false) => {
-                    chunk_best::<true, false, false, false>(&p, dr, c, x0, y0, k, lo, hi, t)
-                }
-                (true, false, false, true) => {
-                    chunk_best::<true, false, false, true>(&p, dr, c, x0, y0, k, lo, hi, t)
-                }
-                (true, false, true, false) => {
-                    chunk_best::<true, false, true, false>(&p, dr, c, x0, y0, k, lo, hi, t)
-                }
-                (true, false, true, true) => {
-                    chunk_best::<true, false, true, true>(&p, dr, c, x0, y0, k, lo, hi, t)
-                }
-                (true, true, false, false) => {
-                    chunk_best::<true, true, false, false>(&p, dr, c, x0, y0, k, lo, hi, t)
-                }
-                (true, true, false, true) => {
-                    chunk_best::<true, true, false, true>(&p, dr, c, x0, y0, k, lo, hi, t)
-                }
-                (true, true, true, false) => {
-                    chunk_best::<true, true, true, false>(&p, dr, c, x0, y0, k, lo, hi, t)
-                }
-                (true, true, true, true) => {
-                    chunk_best::<true, true, true, true>(&p, dr, c, x0, y0, k, lo, hi, t)
-                }
+            // One monomorphised pass per combination of: energy tracking, dashpot sums (only
+            // with tracking), local damping in the lab frame, in the fragment frame (never
+            // both: the fragment frame runs with alpha 0), viscous damping.
+            macro_rules! go {
+                ($e:literal, $d:literal, $a:literal, $r:literal, $v:literal) => {
+                    chunk_best::<$e, $d, $a, $r, $v>(&p, dr, c, x0, y0, k, lo, hi, t)
+                };
+            }
+            let visc = !c.visc_t.is_empty();
+            match (k.track, k.dash, k.alpha > 0.0, with_rel, visc) {
+                (false, _, false, false, false) => go!(false, false, false, false, false),
+                (false, _, false, false, true) => go!(false, false, false, false, true),
+                (false, _, true, _, false) => go!(false, false, true, false, false),
+                (false, _, true, _, true) => go!(false, false, true, false, true),
+                (false, _, false, true, false) => go!(false, false, false, true, false),
+                (false, _, false, true, true) => go!(false, false, false, true, true),
+                (true, false, false, false, false) => go!(true, false, false, false, false),
+                (true, false, false, false, true) => go!(true, false, false, false, true),
+                (true, false, true, _, false) => go!(true, false, true, false, false),
+                (true, false, true, _, true) => go!(true, false, true, false, true),
+                (true, false, false, true, false) => go!(true, false, false, true, false),
+                (true, false, false, true, true) => go!(true, false, false, true, true),
+                (true, true, false, false, false) => go!(true, true, false, false, false),
+                (true, true, false, false, true) => go!(true, true, false, false, true),
+                (true, true, true, _, false) => go!(true, true, true, false, false),
+                (true, true, true, _, true) => go!(true, true, true, false, true),
+                (true, true, false, true, false) => go!(true, true, false, true, false),
+                (true, true, false, true, true) => go!(true, true, false, true, true),
             }
         })
     };

@@ -10,6 +10,7 @@
 //! walls        contact::disc_segment  disc–segment contacts, wall reactions and work
 //! bonds        bond::Bonds            (only when the scene has bonds)
 //! clumps       clump::step_clumps     gather, integrate, place members (only with clumps)
+//! damping      damping                local damping in the fragment frame (only when chosen)
 //! integrate    integrate              central difference, local/viscous damping, gravity
 //! energy       energy                 kinetic, strain, dissipation, boundary work, balance
 //! ```
@@ -50,6 +51,7 @@ pub mod bonded_clump;
 pub mod checkpoint;
 pub mod clump;
 pub mod contact;
+pub mod damping;
 pub mod energy;
 pub mod fragments;
 pub mod mass_scaling;
@@ -82,6 +84,7 @@ pub mod bench;
 // the world and its state, the laws and bonds. (Everything else stays at its module path.)
 pub use bond::{BondGroup, BondModel, Bonds, Criterion};
 pub use contact::{ContactLaws, ContactModel, ContactView, HertzMindlin, LinearSpringDashpot};
+pub use damping::DampingFrame;
 pub use energy::EnergyReport;
 pub use guard::GuardError;
 pub use output::driver::{Ending, HookError, RunError, RunOptions, Simulation, StepHook};

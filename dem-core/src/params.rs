@@ -1,5 +1,6 @@
 //! Every tunable of the time step in one struct, with documented defaults.
 
+use crate::damping::DampingFrame;
 use serde::{Deserialize, Serialize};
 
 /// Parameters of [`crate::World::step`]. Thread count is not here: the caller runs the world
@@ -22,6 +23,11 @@ pub struct Params {
     /// PFC local damping coefficient α: F_d = −α |F| sign(v) per component and for the torque
     /// (Cundall 1987; Potyondy & Cundall 2004 §2.2). 0 for dynamic runs, 0.7 for quasi-static.
     pub local_damping: f64,
+    /// The frame local damping acts in: the lab frame (PFC; default) or each body's bonded
+    /// fragment ([`crate::damping`]: leaves rigid motion alone, Galilean-invariant). Left out
+    /// of the serialised parameters (checkpoints) at its default.
+    #[serde(default, skip_serializing_if = "DampingFrame::is_lab")]
+    pub damping_frame: DampingFrame,
     /// Global viscous damping as a fraction ζ of each body's critical damping:
     /// F_v = −2 ζ √(m K_trans) v and T_v = −2 ζ √(I K_rot) ω, with K the stiffness sums of the
     /// time-step estimate. 0 = off.
@@ -70,6 +76,7 @@ impl Default for Params {
             dt_factor: Params::DEFAULT_DT_FACTOR,
             dt_fixed: None,
             local_damping: 0.0,
+            damping_frame: DampingFrame::Lab,
             viscous_damping: 0.0,
             gravity: None,
             skin: None,

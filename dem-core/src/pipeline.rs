@@ -333,10 +333,35 @@ impl World {
         let records_current = self.ws.slots.packed_current;
         self.ws.slots.packed_current = false;
         let t4 = Counters::lap(&mut self.counters.bonds, t3);
+        // Local damping in the fragment frame: its forces now, from this step's forces and
+        // the half-step velocities; the integrator adds them in place of the sign rule.
+        let frame = self.params.local_damping > 0.0
+            && self.params.damping_frame == crate::damping::DampingFrame::Fragment;
+        if frame {
+            self.ws.frag.compute(
+                &self.state,
+                &self.cache.inv_m,
+                self.bonds.as_ref(),
+                &self.index_of_id,
+                self.nb.builds,
+                self.params.local_damping,
+                self.params.gravity.unwrap_or([0.0; 2]),
+            );
+        }
+        let no_rel: [Vec<f64>; 3] = Default::default();
+        let (rel, rel_clumps): (&[Vec<f64>; 3], &[[f64; 3]]) = if frame {
+            (&self.ws.frag.disc, &self.ws.frag.clump)
+        } else {
+            (&no_rel, &[])
+        };
         let kick = Kick {
             kick: 0.5 * (self.dt_prev + dt),
             drift: dt,
-            alpha: self.params.local_damping,
+            alpha: if frame {
+                0.0
+            } else {
+                self.params.local_damping
+            },
             gravity: self.params.gravity.unwrap_or([0.0; 2]),
             track,
             dash,
@@ -366,6 +391,7 @@ impl World {
         let mut moved = integrate::integrate_discs(
             &mut self.state.discs,
             &self.ws.slots.dashpot,
+            rel,
             &self.cache,
             &self.nb.x0,
             &self.nb.y0,
@@ -386,6 +412,7 @@ impl World {
                 &self.index_of_id,
                 &self.ws.slots.dashpot,
                 &visc,
+                rel_clumps,
                 &self.nb.x0,
                 &self.nb.y0,
                 &kick,

@@ -721,6 +721,7 @@ fn scene(
         damping: DampingSpec {
             local: test.local_damping,
             viscous: 0.0,
+            ..Default::default()
         },
         run: RunSpec {
             duration: Some(duration),

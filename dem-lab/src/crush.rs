@@ -497,6 +497,7 @@ pub fn scene(test: &CrushTest, g: &GrainFacts, ext: [f64; 4], tpl_name: &str) ->
         damping: DampingSpec {
             local: test.local_damping,
             viscous: 0.0,
+            ..Default::default()
         },
         run: RunSpec {
             duration: Some(test.max_closure * g.d / (2.0 * v)),

@@ -25,7 +25,7 @@ use dem_core::output::driver::RunOptions;
 use dem_core::output::history::Record;
 use dem_core::output::write_atomic;
 use dem_core::scene::schema::{OutputSpec, RunSpec, SceneFile, SpecimenFile, WallSpec};
-use dem_core::World;
+use dem_core::{DampingFrame, State, World};
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
 use std::fmt::Write as _;
@@ -81,6 +81,20 @@ pub struct CuttingTest {
     /// is a train of spikes (measured on the 20 × 10 mm Si3N4 specimen, 2.5 mm cut: mean/peak
     /// 0.02 undamped against 0.13 at 0.7, docs/cutting.md). Set 0 for an undamped run.
     pub local_damping: f64,
+    /// The frame of reference of the local damping ([`dem_core::damping`]): `lab` (PFC: each
+    /// disc's own velocity; drags debris and anything else in steady motion) or `fragment`
+    /// (the motion relative to the disc's bonded fragment: no drag on rigid motion, the same
+    /// forces in every frame of reference). Default `lab`. Left out of the serialised test
+    /// (and so of the run keys) at `lab`.
+    #[serde(default, skip_serializing_if = "DampingFrame::is_lab")]
+    pub damping_frame: DampingFrame,
+    /// The frame of reference the cut is run in: `lab` (default: specimen and slot walls at
+    /// rest, the tool moving at v) or `tool` (the tool at rest, the specimen and slot walls
+    /// moving at −v): the Galilean contract of docs/cutting.md. The analyses (chips,
+    /// surface, cracks) see the final state shifted back to the lab frame. Left out of the
+    /// serialised test at `lab`.
+    #[serde(default, skip_serializing_if = "CutFrame::is_lab")]
+    pub frame: CutFrame,
     /// Safety factor of the automatic time step. Default 0.3 (the engine's 0.04 is chosen for
     /// energy conservation of an elastic gas over 1e5 steps; here stability and force
     /// statistics matter: see docs/cutting.md for the halving check).
@@ -149,6 +163,24 @@ pub struct CuttingTest {
     pub mass_scaling: f64,
 }
 
+/// The frame of reference a cut is run in ([`CuttingTest::frame`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
+#[serde(rename_all = "snake_case")]
+pub enum CutFrame {
+    /// Specimen and slot at rest, tool moving at v.
+    #[default]
+    Lab,
+    /// Tool at rest, specimen and slot moving at −v.
+    Tool,
+}
+
+impl CutFrame {
+    pub fn is_lab(&self) -> bool {
+        *self == CutFrame::Lab
+    }
+}
+
 fn is_zero(v: &f64) -> bool {
     *v == 0.0
 }
@@ -182,6 +214,8 @@ impl Default for CuttingTest {
             tool_stiffness: 10.0,
             tool_friction: 0.0,
             local_damping: 0.7,
+            damping_frame: DampingFrame::Lab,
+            frame: CutFrame::Lab,
             dt_factor: 0.3,
             history_rows: 4000,
             window_start: 2.0,
@@ -288,6 +322,14 @@ impl CuttingTest {
         }
         if !(0.0..1.0).contains(&self.local_damping) {
             return bad("local_damping", "must lie in [0, 1)".into());
+        }
+        if self.frame == CutFrame::Tool && self.delete_fragments {
+            return bad(
+                "frame",
+                "the tool frame moves the specimen, and fragment deletion's rules are written \
+                 for the lab frame: run delete_fragments with frame \"lab\""
+                    .into(),
+            );
         }
         if self.dt_factor > 1.0 {
             return bad("dt_factor", "must lie in (0, 1]".into());
@@ -616,21 +658,30 @@ pub fn scene(
         kstool,
         test.tool_friction,
     ));
-    // The slot walls at rest; the tool's at (v, 0) about its edge.
+    // Lab frame: the slot walls at rest, the tool's at (v, 0) about its edge. Tool frame: every
+    // body and wall given −(v, 0): the tool at rest, the specimen and the slot moving.
+    let frame_v = match test.frame {
+        CutFrame::Lab => [0.0, 0.0],
+        CutFrame::Tool => [-g.velocity[0], -g.velocity[1]],
+    };
     let wall = |w: &Segment| WallSpec {
         via: w.via.clone(),
-        ..super::common::wall(&w.name, w.a, w.b, [0.0, 0.0])
+        ..super::common::wall(&w.name, w.a, w.b, frame_v)
     };
     s.walls = g.slot.iter().map(wall).collect();
     for w in &g.tool {
         s.walls.push(WallSpec {
             material: TOOL_MATERIAL.into(),
-            velocity: g.velocity,
+            velocity: [g.velocity[0] + frame_v[0], g.velocity[1] + frame_v[1]],
             center: Some(g.edge_start),
             ..wall(w)
         });
     }
+    for sp in &mut s.bodies.specimens {
+        sp.velocity = frame_v;
+    }
     s.damping.local = test.local_damping;
+    s.damping.frame = test.damping_frame;
     s.run = RunSpec {
         duration: Some(g.duration),
         dt_factor: Some(test.dt_factor),
@@ -651,6 +702,29 @@ pub fn scene(
         ..OutputSpec::default()
     };
     Ok(s)
+}
+
+/// A copy of `st` with every disc, clump and wall moved by `d` (m): a cut run in the tool's
+/// frame, seen in the lab frame (velocities are left as they are: the analyses read
+/// positions).
+fn shift_state(st: &State, d: [f64; 2]) -> State {
+    let mut s = st.clone();
+    for x in s.discs.x.iter_mut().chain(s.clumps.x.iter_mut()) {
+        *x += d[0];
+    }
+    for y in s.discs.y.iter_mut().chain(s.clumps.y.iter_mut()) {
+        *y += d[1];
+    }
+    for w in &mut s.walls {
+        for p in [&mut w.a, &mut w.b, &mut w.center]
+            .into_iter()
+            .chain(w.via.iter_mut())
+        {
+            p[0] += d[0];
+            p[1] += d[1];
+        }
+    }
+    s
 }
 
 /// Tool forces against travel, one entry per history row.
@@ -913,7 +987,17 @@ pub fn analyze(
         .find(|(_, m)| **m > 0.0)
         .map(|(s, _)| *s);
 
-    let st = &world.state;
+    // A cut run in the tool's frame is analysed in the lab frame: its final state shifted by
+    // the distance the specimen travelled (v t).
+    let shifted;
+    let st = match test.frame {
+        CutFrame::Lab => &world.state,
+        CutFrame::Tool => {
+            let t = world.state.time;
+            shifted = shift_state(&world.state, [g.velocity[0] * t, g.velocity[1] * t]);
+            &shifted
+        }
+    };
     let bonds = world.bonds.as_ref();
     let frags = chips::fragments(st, bonds);
     let chips = chips::classify(&frags, g.nominal_y);

@@ -95,8 +95,12 @@ impl LabModel {
         }
     }
 
-    /// Linear contact normal stiffness of two discs, k_n = 2 t E_c (Potyondy & Cundall 2004
-    /// §2.3 in 2D: k_n = A E_c / L with A = 2 R t and L = 2 R).
+    /// Linear contact normal stiffness of two discs, k_n = 2 t E_c: Potyondy & Cundall's
+    /// (2004, §2.3) 2D relation E_c = k_n/(2t) for one ball's stiffness, applied here to the
+    /// contact (no second ball spring in series). Their contact relation k_n = A E/L with
+    /// A = 2Rt and L = 2R gives k_n = t E, so the modulus of this contact in that sense is
+    /// 2 E_c; what E_c means is set by this line, and the calibrated models (`data/models`)
+    /// absorb the factor (see [`crate::specimen::MicroParams::contact_modulus`]).
     pub fn contact_kn(&self) -> f64 {
         2.0 * self.thickness * self.micro.contact_modulus
     }
@@ -187,6 +191,7 @@ impl LabModel {
                 specimens: vec![SpecimenRef {
                     file: specimen_file.into(),
                     offset,
+                    velocity: [0.0, 0.0],
                 }],
                 ..BodiesSpec::default()
             },

@@ -202,6 +202,14 @@ impl Bonds {
             .count()
     }
 
+    /// The disc index pairs of the intact bonds (as [`Bonds::n_intact`] counts them), in
+    /// store order.
+    pub fn intact_pairs(&self) -> impl Iterator<Item = (usize, usize)> + '_ {
+        (0..self.len())
+            .filter(|&b| self.status[b] == INTACT && !self.fj.get(b).is_some_and(|f| f.logged))
+            .map(|b| (self.i[b] as usize, self.j[b] as usize))
+    }
+
     /// Broken bonds per group as `[tension, shear]`, indexed like [`Bonds::groups`].
     pub fn broken_counts(&self) -> &[[u64; 2]] {
         &self.broken

@@ -133,14 +133,16 @@ pub type TrigCache = Vec<Option<[f64; 3]>>;
 
 /// Gather member forces to the clumps, integrate the clumps and place their members.
 /// `index_of_id` maps disc ids to current indices; `visc` are the clumps' viscous
-/// coefficients (translation, rotation) or empty; `trig` is the clumps' [`TrigCache`]
-/// (resized as needed).
+/// coefficients (translation, rotation) or empty; `rel` the clumps' local damping force and
+/// torque in the fragment frame ([`crate::damping`]) or empty; `trig` is the clumps'
+/// [`TrigCache`] (resized as needed).
 #[allow(clippy::too_many_arguments)]
 pub fn step_clumps(
     st: &mut State,
     index_of_id: &[u32],
     dash: &crate::contact::disc_disc::Dashpot,
     visc: &[[f64; 2]],
+    rel: &[[f64; 3]],
     x0: &[f64],
     y0: &[f64],
     k: &Kick,
@@ -185,6 +187,11 @@ pub fn step_clumps(
             fx -= k.alpha * fx.abs() * sgn(ux);
             fy -= k.alpha * fy.abs() * sgn(uy);
             t -= k.alpha * t.abs() * sgn(uw);
+        }
+        if let Some(r) = rel.get(c) {
+            fx += r[0];
+            fy += r[1];
+            t += r[2];
         }
         if let Some(v) = visc.get(c) {
             fx -= v[0] * ux;

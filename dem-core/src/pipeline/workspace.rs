@@ -3,10 +3,11 @@
 //! temporary buffers and can be dropped at any time"). A checkpoint leaves it out; a world
 //! read back from one starts with an empty workspace and continues bit-identically, because
 //! every entry is either rebuilt before use or flagged stale (`packed_fresh`,
-//! `packed_current` false, an empty clump trig cache).
+//! `packed_current` false, an empty clump trig cache, fragments found again).
 
 use crate::clump;
 use crate::contact::disc_disc::Slots;
+use crate::damping::FragmentDamping;
 use crate::integrate::Moved;
 use crate::team::Threads;
 
@@ -24,4 +25,7 @@ pub(crate) struct StepWorkspace {
     /// The thread counts of this step, read from the rayon pool at its start (the one read
     /// of the step; the team reads its own size where it dispatches).
     pub threads: Threads,
+    /// Local damping in the fragment frame: the fragments and this step's damping forces
+    /// (used only when `Params::damping_frame` is `Fragment`).
+    pub frag: FragmentDamping,
 }

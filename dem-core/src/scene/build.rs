@@ -225,6 +225,7 @@ pub fn params(scene: &Scene) -> Params {
         dt_factor: r.dt_factor.unwrap_or(d.dt_factor),
         dt_fixed: r.dt,
         local_damping: scene.damping.local,
+        damping_frame: scene.damping.frame,
         viscous_damping: scene.damping.viscous,
         gravity: scene.gravity,
         skin: r.skin,

@@ -164,6 +164,8 @@ pub struct WallInit {
 pub struct Damping {
     pub local: f64,
     pub viscous: f64,
+    /// The frame local damping acts in ([`crate::damping`]).
+    pub frame: crate::damping::DampingFrame,
 }
 
 /// Run control.

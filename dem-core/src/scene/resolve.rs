@@ -143,18 +143,35 @@ impl Resolver {
                 ));
             }
             let su = spec.units.metres();
+            let sv = v2(
+                [
+                    ck.finite(&format!("{field}.velocity[0]"), sp.velocity[0])?,
+                    ck.finite(&format!("{field}.velocity[1]"), sp.velocity[1])?,
+                ],
+                u,
+            );
             let base = self.discs.len();
             for (k, set) in spec.discs.iter().enumerate() {
                 self.disc_set(&sck, &format!("discs[{k}]"), set, su, off)?;
             }
             let n = self.discs.len() - base;
+            for d in &mut self.discs[base..] {
+                d.vx += sv[0];
+                d.vy += sv[1];
+            }
             let links = resolve_links(&sfile, &spec, base, n, su, |f, g| self.group(&sck, f, g))?;
             self.rigid_clumps.extend(links.0);
             self.bonds.extend(links.1);
             for (k, set) in spec.clumps.iter().enumerate() {
+                // (Placement velocities are in the specimen's unit.)
+                let mut set = set.clone();
+                for p in &mut set.placements {
+                    p.velocity[0] += sv[0] / su;
+                    p.velocity[1] += sv[1] / su;
+                }
                 clump_sets.push((
                     format!("clumps[{k}]"),
-                    set.clone(),
+                    set,
                     su,
                     off,
                     dir_of(&path),
@@ -187,6 +204,7 @@ impl Resolver {
         let damping = Damping {
             local: ck.range("damping.local", raw.damping.local, 0.0, 1.0, false)?,
             viscous: ck.range("damping.viscous", raw.damping.viscous, 0.0, 1.0, false)?,
+            frame: raw.damping.frame,
         };
         let run = controls::run(&ck, &raw.run, u, &walls, &raw.outputs)?;
         let outputs = controls::outputs(&ck, &self.scene_path, &raw.outputs, u)?;

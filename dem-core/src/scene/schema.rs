@@ -399,6 +399,14 @@ pub struct SpecimenRef {
     /// Shift (scene length unit).
     #[serde(default)]
     pub offset: [f64; 2],
+    /// Initial velocity added to every body of the specimen (scene length unit / s): the
+    /// specimen moving as a whole, e.g. a cut run in the tool's frame of reference.
+    #[serde(default, skip_serializing_if = "is_zero2")]
+    pub velocity: [f64; 2],
+}
+
+fn is_zero2(v: &[f64; 2]) -> bool {
+    *v == [0.0, 0.0]
 }
 
 /// A specimen file: bodies in their own length unit; materials and bond groups refer to the
@@ -552,7 +560,8 @@ pub struct PeriodicSpec {
     pub y: Option<[f64; 2]>,
 }
 
-/// Damping: PFC local damping α and global viscous damping ζ.
+/// Damping: PFC local damping α (in the lab frame or each body's bonded fragment) and global
+/// viscous damping ζ.
 #[derive(Debug, Clone, Default, Serialize, Deserialize)]
 #[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(deny_unknown_fields)]
@@ -564,6 +573,12 @@ pub struct DampingSpec {
     /// F_v = −2ζ√(m K) v, T_v = −2ζ√(I K_rot) ω.
     #[serde(default)]
     pub viscous: f64,
+    /// The frame local damping acts in: `"lab"` (default; PFC: F_d = −α|F| sign(v), which
+    /// drags bodies in steady motion) or `"fragment"` (the motion relative to the body's bonded
+    /// fragment, with the net force and moment removed per fragment: no drag on any rigid
+    /// motion, the same forces in every frame of reference; `dem_core::damping`).
+    #[serde(default, skip_serializing_if = "crate::damping::DampingFrame::is_lab")]
+    pub frame: crate::damping::DampingFrame,
 }
 
 /// How long to run and with which time step.

@@ -230,6 +230,7 @@ pub fn example_scene(s: &Specimen, material: &str, specimen_file: &str, steps: u
             specimens: vec![SpecimenRef {
                 file: specimen_file.into(),
                 offset: [0.0, 0.0],
+                velocity: [0.0, 0.0],
             }],
             ..BodiesSpec::default()
         },
@@ -241,6 +242,7 @@ pub fn example_scene(s: &Specimen, material: &str, specimen_file: &str, steps: u
         damping: dem_core::scene::schema::DampingSpec {
             local: super::relax::LOCAL_DAMPING,
             viscous: 0.0,
+            ..Default::default()
         },
         run: RunSpec {
             steps: Some(steps),

@@ -115,9 +115,12 @@ pub enum RadiusDist {
 /// loads the specimen sets its own; these are written to the summary.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct MicroParams {
-    /// Contact modulus E_c (Pa): linear contact stiffness k_n = A E_c / L with A = 2Rt and
-    /// L = 2R, i.e. k_n = 2 t E_c (the 2D deformability relation of Potyondy & Cundall 2004,
-    /// §2.3).
+    /// Contact modulus E_c (Pa), defined by the linear contact stiffness k_n = 2 t E_c (set by
+    /// [`crate::LabModel::contact_kn`]): Potyondy & Cundall's (2004, §2.3) 2D relation for the
+    /// stiffness of one *ball*, used here for the contact itself. By P&C's contact relation
+    /// k_n = A E / L (A = 2Rt, L = 2R: k_n = t E) this contact has the modulus 2 E_c, so a
+    /// PFC2D model's contact stiffness is reproduced with half its E_c. The calibrations in
+    /// `data/models` are made with this convention and absorb the factor of 2.
     pub contact_modulus: f64,
     /// k_n / k_s of contacts.
     pub stiffness_ratio: f64,

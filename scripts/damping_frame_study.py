@@ -1,0 +1,187 @@
+#!/usr/bin/env python3
+"""Tables and a plot of the damping-frame study (issue 47; docs/cutting.md, "Damping and the
+frame of reference") from its committed runs.
+
+Usage: scripts/damping_frame_study.py DIR [--plot OUT.png]
+
+DIR holds one folder per cut, named `<damping>-<case>-s<seed>` as written by the study's
+commands (docs/report/studies/damping-frame/README.md):
+  spec-sN / frag-lab-sN      lab frame, v = 1 m/s (PFC local damping / fragment frame)
+  lab-tool-sN / frag-tool-sN the same cut run in the tool's frame (`--frame tool`)
+  lab-vV-sN / frag-vV-sN     other speeds V (m/s)
+Each folder's cutting.result.json gives the window-mean main force. Prints Markdown tables:
+the frame test (paired lab − tool difference per damping, mean ± SE over seeds), and the
+forces against speed with the exponent n of F ∝ v^n (least squares on ln F – ln v over the
+speeds whose seed-mean force is positive; per seed where all its forces are positive).
+"""
+import json
+import math
+import os
+import sys
+
+
+def load(d):
+    out = {}
+    for name in sorted(os.listdir(d)):
+        f = os.path.join(d, name, "cutting.result.json")
+        if os.path.isfile(f):
+            with open(f) as fh:
+                r = json.load(fh)
+            out[name] = r
+    return out
+
+
+def mean_se(xs):
+    n = len(xs)
+    if n == 0:
+        return float("nan"), float("nan")
+    m = sum(xs) / n
+    if n < 2:
+        return m, float("nan")
+    var = sum((x - m) ** 2 for x in xs) / (n - 1)
+    return m, math.sqrt(var / n)
+
+
+def slope(v, f):
+    """Least-squares slope of ln f on ln v."""
+    x = [math.log(a) for a in v]
+    y = [math.log(b) for b in f]
+    n = len(x)
+    mx, my = sum(x) / n, sum(y) / n
+    sxx = sum((a - mx) ** 2 for a in x)
+    return sum((a - mx) * (b - my) for a, b in zip(x, y)) / sxx
+
+
+def kn(r):
+    return r["main_force"]["mean"] / 1e3
+
+
+def main():
+    args = sys.argv[1:]
+    if not args:
+        sys.exit(__doc__)
+    d = args[0]
+    plot = args[args.index("--plot") + 1] if "--plot" in args else None
+    runs = load(d)
+    seeds = sorted({int(n.rsplit("-s", 1)[1]) for n in runs})
+
+    def at(damping, case, s):
+        if damping == "lab" and case == "lab":
+            name = f"spec-s{s}"
+        elif case in ("lab", "tool"):
+            name = f"{'lab' if damping == 'lab' else 'frag'}-{case}-s{s}"
+        else:
+            name = f"{'lab' if damping == 'lab' else 'frag'}-v{case}-s{s}"
+            if case == "1":
+                return at(damping, "lab", s)
+        r = runs.get(name)
+        return None if r is None else r
+
+    print("### Frame test: window-mean main force (kN), a_p 1 mm, v 1 m/s, L 5 mm\n")
+    print("| seed | PFC local, lab frame | PFC local, tool frame | fragment, lab frame | fragment, tool frame |")
+    print("|---|---|---|---|---|")
+    diffs = {"lab": [], "fragment": []}
+    for s in seeds:
+        cells = []
+        for dmp in ("lab", "fragment"):
+            a, b = at(dmp, "lab", s), at(dmp, "tool", s)
+            cells += ["–" if a is None else f"{kn(a):.2f}", "–" if b is None else f"{kn(b):.2f}"]
+            if a is not None and b is not None:
+                diffs[dmp].append(kn(a) - kn(b))
+        if any(c != "–" for c in cells):
+            print(f"| {s} | " + " | ".join(cells) + " |")
+    for dmp, label in (("lab", "PFC local damping"), ("fragment", "fragment frame")):
+        m, se = mean_se(diffs[dmp])
+        n = len(diffs[dmp])
+        pos = sum(1 for x in diffs[dmp] if x > 0)
+        print(f"\n{label}: lab − tool frame {m:+.2f} ± {se:.2f} kN (mean ± SE over {n} seeds; "
+              f"lab frame higher in {pos} of {n})")
+
+    print("\n### Where the tool's work goes (lab frame, v 1 m/s; % of the boundary work, seed means)\n")
+    print("| damping | boundary work (J) | local damping | friction | bond breakage | kinetic at the end | single-grain share of chip discs | chip speed mean (m/s) |")
+    print("|---|---|---|---|---|---|---|---|")
+    for dmp, label in (("lab", "PFC local"), ("fragment", "fragment frame")):
+        rows = []
+        for s in seeds:
+            r = at(dmp, "lab", s)
+            if r is None:
+                continue
+            sm = os.path.join(d, f"spec-s{s}" if dmp == "lab" else f"frag-lab-s{s}", "summary.json")
+            if not os.path.isfile(sm):
+                continue
+            with open(sm) as fh:
+                e = json.load(fh)["energy"]
+            w = e["boundary_work"]
+            ke = e["kinetic_translation"] + e["kinetic_rotation"]
+            rm = r.get("removal") or {}
+            rows.append([w, e["damping"] / w, e["friction"] / w, e["bond_break"] / w, ke / w,
+                         rm.get("single_grain_share", float("nan")),
+                         rm.get("chip_speed_mean", float("nan"))])
+        if not rows:
+            continue
+        m = [sum(c) / len(c) for c in zip(*rows)]
+        print(f"| {label} ({len(rows)} seeds) | {m[0]:.1f} | {100 * m[1]:.0f} % | {100 * m[2]:.0f} % | "
+              f"{100 * m[3]:.0f} % | {100 * m[4]:.0f} % | {100 * m[5]:.0f} % | {m[6]:.1f} |")
+
+    print("\n### Main force against speed (kN), traditional specimen, a_p 1 mm, L 5 mm\n")
+    speeds = ["0.25", "0.5", "1", "2", "4"]
+    series = {}
+    for dmp, label in (("lab", "PFC local (lab frame)"), ("fragment", "fragment frame")):
+        print(f"{label}:\n")
+        print("| seed | " + " | ".join(f"v {v}" for v in speeds) + " | n |")
+        print("|---|" + "---|" * (len(speeds) + 1))
+        per_v = {v: [] for v in speeds}
+        for s in seeds:
+            row, vs, fs = [], [], []
+            for v in speeds:
+                r = at(dmp, v, s)
+                if r is None:
+                    row.append("–")
+                    continue
+                f = kn(r)
+                row.append(f"{f:.2f}")
+                per_v[v].append(f)
+                vs.append(float(v))
+                fs.append(f)
+            if all(c == "–" for c in row):
+                continue
+            n = (f"{slope(vs, fs):.2f}" if len(vs) >= 3 and all(f > 0 for f in fs)
+                 else "–")
+            print(f"| {s} | " + " | ".join(row) + f" | {n} |")
+        ms = {v: mean_se(per_v[v]) for v in speeds if per_v[v]}
+        row = [f"{ms[v][0]:.2f} ± {ms[v][1]:.2f} ({len(per_v[v])})" if v in ms else "–"
+               for v in speeds]
+        good = [v for v in speeds if v in ms and ms[v][0] > 0]
+        n = f"{slope([float(v) for v in good], [ms[v][0] for v in good]):.2f}" if len(good) >= 3 else "–"
+        print("| mean ± SE (seeds) | " + " | ".join(row) + f" | {n} |\n")
+        series[label] = ms
+    if plot:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+
+        fig, ax = plt.subplots(figsize=(6, 4.2))
+        for (label, ms), mk in zip(series.items(), ("o-", "s--")):
+            vs = [float(v) for v in speeds if v in ms and ms[v][0] > 0]
+            m = [ms[v][0] for v in speeds if v in ms and ms[v][0] > 0]
+            e = [0 if math.isnan(ms[v][1]) else ms[v][1] for v in speeds if v in ms and ms[v][0] > 0]
+            ax.errorbar(vs, m, yerr=e, fmt=mk, capsize=3, label=label)
+        vv = [0.25, 4.0]
+        ax.plot(vv, [20 * (x / 1.0) for x in vv], ":", color="grey", label="∝ v (n = 1)")
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel("cutting speed v (m/s)")
+        ax.set_ylabel("window-mean main force (kN, t = 1 m)")
+        ax.set_title("Traditional Si3N4, a_p 1 mm, L 5 mm: mean ± SE over seeds")
+        ax.legend(fontsize=8)
+        ax.grid(True, which="both", alpha=0.3)
+        fig.tight_layout()
+        tmp = plot + ".tmp.png"
+        fig.savefig(tmp, dpi=120)
+        os.replace(tmp, plot)
+        print(f"plot: {plot}")
+
+
+if __name__ == "__main__":
+    main()
