@@ -27,7 +27,7 @@
 //! ```
 //!
 //! with F_i, T_i the body's total force (gravity included) and torque, as in local damping.
-//! Properties (tested in `tests/invariance.rs` and `tests/damping_offset.rs`):
+//! Properties (tested in `tests/invariance.rs`):
 //! * Galilean invariance: u, q and F do not change when every body and wall is given +U;
 //! * Σ F_d = 0 and Σ (T_d + r × F_d) = 0 over each fragment: its momentum and angular
 //!   momentum are those of the undamped motion, and a rigidly moving fragment is not braked;
@@ -39,9 +39,11 @@
 //!   spring under local damping: the amplitude falls by √((1 − α)/(1 + α)) every half period.
 //!
 //! Fragments are found again (union–find over the intact bonds) when the bond count, the
-//! intact count, the disc or clump count or the neighbour list (which reorders discs)
-//! changes; the damping pass itself is four serial passes over the nodes, the same
-//! arithmetic for any thread count.
+//! break count, the disc or clump count or the neighbour list (which reorders discs)
+//! changes. The damping itself is three serial passes (moments, damping, rigid correction):
+//! over the discs of the largest fragment branch-free and on four lanes (AVX2 where the CPU
+//! has it, the same bits either way), over the other nodes one by one; the same arithmetic
+//! for any thread count.
 
 use crate::bond::Bonds;
 use crate::fragments::UnionFind;
