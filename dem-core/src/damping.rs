@@ -94,12 +94,11 @@ pub(crate) struct FragmentDamping {
     mask: Vec<f64>,
     /// The nodes outside the masked passes: discs of other fragments, and every clump.
     others: Vec<u32>,
-    /// Per fragment: the origin (its first node's position now), then the sums M, Σ m d
-    /// (d = minimum image of x − origin; 2), Σ m v (2), Σ (I + m|d|²), Σ (I ω + m d × v).
-    sums: Vec<[f64; 9]>,
-    /// Per fragment: centroid offset c = Σ m d / M (2), V (2), Ω, M, J, then the resultant
-    /// force (2) and moment of the local damping F*, T* about the centroid.
-    rigid: Vec<[f64; 10]>,
+    /// Per fragment: the sums M, Σ m d (d = minimum image of x − origin; 2), Σ m v (2),
+    /// Σ (I + m|d|²), Σ (I ω + m d × v).
+    sums: Vec<[f64; 7]>,
+    /// Per fragment: its origin, rigid motion and the resultant of the local damping.
+    rigid: Vec<Rigid>,
     /// Gathered clump forces and torques (members' sums, gravity included).
     cf: Vec<[f64; 3]>,
     /// The damping force and torque of each disc (0 for discs that are not free nodes).
@@ -120,6 +119,51 @@ struct Node {
     w: f64,
     f: [f64; 2],
     t: f64,
+}
+
+/// A fragment's rigid motion, about its origin o (its first node's position now): centroid
+/// offset c = Σ m d / M, V, Ω, M, J about the centroid; and the resultant force and moment
+/// (about the centroid) of the local damping F*, T* on it.
+#[derive(Clone, Copy, Debug, Default)]
+struct Rigid {
+    o: [f64; 2],
+    c: [f64; 2],
+    v: [f64; 2],
+    om: f64,
+    m: f64,
+    j: f64,
+    force: [f64; 2],
+    moment: f64,
+}
+
+impl Rigid {
+    /// From the sums of pass 1 (parallel axes for J and L).
+    fn of(o: [f64; 2], s: &[f64; 7]) -> Rigid {
+        let m = s[0];
+        let (cx, cy, vx, vy) = (s[1] / m, s[2] / m, s[3] / m, s[4] / m);
+        let j = s[5] - m * (cx * cx + cy * cy);
+        let l = s[6] - m * (cx * vy - cy * vx);
+        let om = if j > 0.0 { l / j } else { 0.0 };
+        Rigid {
+            o,
+            c: [cx, cy],
+            v: [vx, vy],
+            om,
+            m,
+            j,
+            ..Rigid::default()
+        }
+    }
+
+    /// The rigid acceleration a and angular acceleration β the resultant would give.
+    fn acc(&self) -> ([f64; 2], f64) {
+        let beta = if self.j > 0.0 {
+            self.moment / self.j
+        } else {
+            0.0
+        };
+        ([self.force[0] / self.m, self.force[1] / self.m], beta)
+    }
 }
 
 /// Lanes of the masked passes' partial sums.
@@ -168,54 +212,44 @@ impl FragmentDamping {
         self.clump.clear();
         self.clump.resize(nc, [0.0; 3]);
         // Pass 1: mass, first and second moments and momenta about each fragment's origin.
+        let origin: Vec<[f64; 2]> = (self.first.iter())
+            .map(|&k| node(st, &self.cf, k as usize, gravity).x)
+            .collect();
         self.sums.clear();
-        for f in 0..nf {
-            let o = node(st, &self.cf, self.first[f] as usize, gravity).x;
-            self.sums
-                .push([o[0], o[1], 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-        }
+        self.sums.resize(nf, [0.0; 7]);
         if self.big != NONE {
             let b = self.big as usize;
-            let o = [self.sums[b][0], self.sums[b][1]];
-            let s = moments_masked(&Arrays::of(st, &self.mask), o, &img);
-            self.sums[b][2..].copy_from_slice(&s);
+            self.sums[b] = moments_masked(&Arrays::of(st, &self.mask), origin[b], &img);
         }
         for &k in &self.others {
             let k = k as usize;
             let f = self.label[k] as usize;
             let p = node(st, &self.cf, k, gravity);
-            let s = &mut self.sums[f];
-            let (dx, dy) = img.delta(p.x[0] - s[0], p.x[1] - s[1]);
-            s[2] += p.m;
-            s[3] += p.m * dx;
-            s[4] += p.m * dy;
-            s[5] += p.m * p.v[0];
-            s[6] += p.m * p.v[1];
-            s[7] += p.i + p.m * (dx * dx + dy * dy);
-            s[8] += p.i * p.w + p.m * (dx * p.v[1] - dy * p.v[0]);
+            let (o, s) = (origin[f], &mut self.sums[f]);
+            let (dx, dy) = img.delta(p.x[0] - o[0], p.x[1] - o[1]);
+            s[0] += p.m;
+            s[1] += p.m * dx;
+            s[2] += p.m * dy;
+            s[3] += p.m * p.v[0];
+            s[4] += p.m * p.v[1];
+            s[5] += p.i + p.m * (dx * dx + dy * dy);
+            s[6] += p.i * p.w + p.m * (dx * p.v[1] - dy * p.v[0]);
         }
         // The rigid motion: centroid, V, J and L about the centroid (parallel axes), Ω.
         self.rigid.clear();
-        for s in &self.sums {
-            let m = s[2];
-            let (cx, cy, vx, vy) = (s[3] / m, s[4] / m, s[5] / m, s[6] / m);
-            let j = s[7] - m * (cx * cx + cy * cy);
-            let l = s[8] - m * (cx * vy - cy * vx);
-            let om = if j > 0.0 { l / j } else { 0.0 };
-            self.rigid.push([cx, cy, vx, vy, om, m, j, 0.0, 0.0, 0.0]);
-        }
+        (self.rigid).extend(origin.iter().zip(&self.sums).map(|(&o, s)| Rigid::of(o, s)));
         // Pass 2: local damping of the relative motion, and its resultant per fragment.
-        if let Some((b, o, rg)) = self.big_fragment() {
+        if self.big != NONE {
+            let b = self.big as usize;
+            let a = Arrays::of(st, &self.mask);
             let p = DampIn {
-                o,
-                c: [rg[0], rg[1]],
-                v: [rg[2], rg[3]],
-                om: rg[4],
+                rg: &self.rigid[b],
                 alpha,
                 g: gravity,
             };
-            let res = damp_masked(&Arrays::of(st, &self.mask), &p, &img, &mut self.disc);
-            self.rigid[b][7..].copy_from_slice(&res);
+            let res = damp_masked(&a, &p, &img, &mut self.disc);
+            self.rigid[b].force = [res[0], res[1]];
+            self.rigid[b].moment = res[2];
         } else {
             for v in self.disc.iter_mut() {
                 v.fill(0.0);
@@ -225,30 +259,25 @@ impl FragmentDamping {
             let k = self.others[q] as usize;
             let f = self.label[k] as usize;
             let p = node(st, &self.cf, k, gravity);
-            let (o, rg) = (&self.sums[f], &mut self.rigid[f]);
-            let (dx, dy) = img.delta(p.x[0] - o[0], p.x[1] - o[1]);
-            let (rx, ry) = (dx - rg[0], dy - rg[1]);
-            let ux = p.v[0] - rg[2] + rg[4] * ry;
-            let uy = p.v[1] - rg[3] - rg[4] * rx;
+            let rg = &mut self.rigid[f];
+            let (dx, dy) = img.delta(p.x[0] - rg.o[0], p.x[1] - rg.o[1]);
+            let (rx, ry) = (dx - rg.c[0], dy - rg.c[1]);
+            let ux = p.v[0] - rg.v[0] + rg.om * ry;
+            let uy = p.v[1] - rg.v[1] - rg.om * rx;
             let d = [
                 -alpha * p.f[0].abs() * sgn(ux),
                 -alpha * p.f[1].abs() * sgn(uy),
-                -alpha * p.t.abs() * sgn(p.w - rg[4]),
+                -alpha * p.t.abs() * sgn(p.w - rg.om),
             ];
-            rg[7] += d[0];
-            rg[8] += d[1];
-            rg[9] += d[2] + rx * d[1] - ry * d[0];
+            rg.force[0] += d[0];
+            rg.force[1] += d[1];
+            rg.moment += d[2] + rx * d[1] - ry * d[0];
             self.put(k, n, d);
         }
         // Pass 3: remove the rigid part; a fragment of one node is not damped at all.
-        if let Some((_, o, rg)) = self.big_fragment() {
-            let p = CorrectIn {
-                o,
-                c: [rg[0], rg[1]],
-                acc: [rg[7] / rg[5], rg[8] / rg[5]],
-                beta: if rg[6] > 0.0 { rg[9] / rg[6] } else { 0.0 },
-            };
-            correct_masked(&Arrays::of(st, &self.mask), &p, &img, &mut self.disc);
+        if self.big != NONE {
+            let rg = &self.rigid[self.big as usize];
+            correct_masked(&Arrays::of(st, &self.mask), rg, &img, &mut self.disc);
         }
         for q in 0..self.others.len() {
             let k = self.others[q] as usize;
@@ -258,11 +287,10 @@ impl FragmentDamping {
                 continue;
             }
             let p = node(st, &self.cf, k, gravity);
-            let (o, rg) = (&self.sums[f], &self.rigid[f]);
-            let (dx, dy) = img.delta(p.x[0] - o[0], p.x[1] - o[1]);
-            let (rx, ry) = (dx - rg[0], dy - rg[1]);
-            let (ax, ay) = (rg[7] / rg[5], rg[8] / rg[5]);
-            let beta = if rg[6] > 0.0 { rg[9] / rg[6] } else { 0.0 };
+            let rg = &self.rigid[f];
+            let (dx, dy) = img.delta(p.x[0] - rg.o[0], p.x[1] - rg.o[1]);
+            let (rx, ry) = (dx - rg.c[0], dy - rg.c[1]);
+            let ([ax, ay], beta) = rg.acc();
             let d = self.get(k, n);
             self.put(
                 k,
@@ -274,14 +302,6 @@ impl FragmentDamping {
                 ],
             );
         }
-    }
-
-    /// The largest fragment's index, origin and rigid motion, if there is one.
-    fn big_fragment(&self) -> Option<(usize, [f64; 2], [f64; 10])> {
-        (self.big != NONE).then(|| {
-            let b = self.big as usize;
-            (b, [self.sums[b][0], self.sums[b][1]], self.rigid[b])
-        })
     }
 
     fn put(&mut self, k: usize, n: usize, d: [f64; 3]) {
@@ -472,15 +492,11 @@ fn moments_masked(a: &Arrays, o: [f64; 2], img: &MinImage) -> [f64; 7] {
         // SAFETY: the CPU has AVX2.
         return unsafe { simd::moments(a, o, img) };
     }
-    moments_body(a, o, img, 0)
+    moments_lanes(a, o, img, [[0.0; L]; 7], 0).map(total)
 }
 
 /// Pass 1 in lanes: lane l takes the discs L b + l of the whole blocks from `from` on, lane 0
 /// the rest (the order the four-lane copy in [`simd`] keeps: the same bits).
-fn moments_body(a: &Arrays, o: [f64; 2], img: &MinImage, from: usize) -> [f64; 7] {
-    moments_lanes(a, o, img, [[0.0; L]; 7], from).map(total)
-}
-
 fn moments_lanes(
     a: &Arrays,
     o: [f64; 2],
@@ -521,12 +537,9 @@ fn damp_masked(a: &Arrays, p: &DampIn, img: &MinImage, out: &mut [Vec<f64>; 3]) 
     damp_lanes(a, p, img, out, [[0.0; L]; 3], 0).map(total)
 }
 
-/// What pass 2 needs besides the discs: the origin, the fragment's rigid motion, α, g.
-struct DampIn {
-    o: [f64; 2],
-    c: [f64; 2],
-    v: [f64; 2],
-    om: f64,
+/// What pass 2 needs besides the discs: the fragment's rigid motion, α and g.
+struct DampIn<'a> {
+    rg: &'a Rigid,
     alpha: f64,
     g: [f64; 2],
 }
@@ -549,14 +562,14 @@ fn damp_lanes(
         } else {
             0
         };
-        let (dx, dy) = img.delta_select(a.x[k] - p.o[0], a.y[k] - p.o[1]);
-        let (rx, ry) = (dx - p.c[0], dy - p.c[1]);
-        let ux = a.vx[k] - p.v[0] + p.om * ry;
-        let uy = a.vy[k] - p.v[1] - p.om * rx;
+        let (dx, dy) = img.delta_select(a.x[k] - p.rg.o[0], a.y[k] - p.rg.o[1]);
+        let (rx, ry) = (dx - p.rg.c[0], dy - p.rg.c[1]);
+        let ux = a.vx[k] - p.rg.v[0] + p.rg.om * ry;
+        let uy = a.vy[k] - p.rg.v[1] - p.rg.om * rx;
         let ka = a.mask[k] * p.alpha;
         let dfx = -ka * (a.fx[k] + a.m[k] * p.g[0]).abs() * sgn(ux);
         let dfy = -ka * (a.fy[k] + a.m[k] * p.g[1]).abs() * sgn(uy);
-        let dt = -ka * a.tq[k].abs() * sgn(a.w[k] - p.om);
+        let dt = -ka * a.tq[k].abs() * sgn(a.w[k] - p.rg.om);
         s[0][l] += dfx;
         s[1][l] += dfy;
         s[2][l] += dt + rx * dfy - ry * dfx;
@@ -571,7 +584,7 @@ fn damp_lanes(
 /// operations in the scalar code's order, so the results are the same bits.
 #[cfg(target_arch = "x86_64")]
 mod simd {
-    use super::{correct_from, damp_lanes, moments_lanes, total, Arrays, CorrectIn, DampIn, L};
+    use super::{correct_from, damp_lanes, moments_lanes, total, Arrays, DampIn, Rigid, L};
     use crate::lanes::F64x4;
     use crate::state::MinImage;
 
@@ -650,8 +663,13 @@ mod simd {
         let set = |v| F64x4::splat(v);
         let (zero, one, sign) = (F64x4::zero(), set(1.0), set(-0.0));
         let mut s = [zero; 3];
-        let (o0, o1, c0, c1) = (set(p.o[0]), set(p.o[1]), set(p.c[0]), set(p.c[1]));
-        let (v0, v1, om, al) = (set(p.v[0]), set(p.v[1]), set(p.om), set(p.alpha));
+        let (o0, o1, c0, c1) = (
+            set(p.rg.o[0]),
+            set(p.rg.o[1]),
+            set(p.rg.c[0]),
+            set(p.rg.c[1]),
+        );
+        let (v0, v1, om, al) = (set(p.rg.v[0]), set(p.rg.v[1]), set(p.rg.om), set(p.alpha));
         let (g0, g1) = (set(p.g[0]), set(p.g[1]));
         let sg = |u: F64x4| u.gt(zero).select(one, zero) - u.lt(zero).select(one, zero);
         let [ox, oy, ot] = out;
@@ -682,17 +700,13 @@ mod simd {
     /// # Safety
     /// The CPU must support AVX2.
     #[target_feature(enable = "avx2")]
-    pub(super) unsafe fn correct(
-        a: &Arrays,
-        p: &CorrectIn,
-        img: &MinImage,
-        out: &mut [Vec<f64>; 3],
-    ) {
+    pub(super) unsafe fn correct(a: &Arrays, rg: &Rigid, img: &MinImage, out: &mut [Vec<f64>; 3]) {
         let n = a.m.len();
         let blocks = n / L;
         let set = |v| F64x4::splat(v);
-        let (o0, o1, c0, c1) = (set(p.o[0]), set(p.o[1]), set(p.c[0]), set(p.c[1]));
-        let (a0, a1, beta) = (set(p.acc[0]), set(p.acc[1]), set(p.beta));
+        let (o0, o1, c0, c1) = (set(rg.o[0]), set(rg.o[1]), set(rg.c[0]), set(rg.c[1]));
+        let ([a0, a1], beta) = rg.acc();
+        let (a0, a1, beta) = (set(a0), set(a1), set(beta));
         let [ox, oy, ot] = out;
         assert!(ox.len() >= n && oy.len() >= n && ot.len() >= n);
         for b in 0..blocks {
@@ -709,40 +723,33 @@ mod simd {
             fy.store(oy.as_mut_ptr().add(i));
             t.store(ot.as_mut_ptr().add(i));
         }
-        correct_from(a, p, img, out, blocks * L);
+        correct_from(a, rg, img, out, blocks * L);
     }
 }
 
 /// Pass 3 over the masked discs: subtract the rigid acceleration field of the resultant,
 /// m (a + β × r) and I β, from `out`.
-fn correct_masked(a: &Arrays, p: &CorrectIn, img: &MinImage, out: &mut [Vec<f64>; 3]) {
+fn correct_masked(a: &Arrays, rg: &Rigid, img: &MinImage, out: &mut [Vec<f64>; 3]) {
     #[cfg(target_arch = "x86_64")]
     if crate::lanes::has_avx2() {
         // SAFETY: the CPU has AVX2.
-        return unsafe { simd::correct(a, p, img, out) };
+        return unsafe { simd::correct(a, rg, img, out) };
     }
-    correct_from(a, p, img, out, 0)
+    correct_from(a, rg, img, out, 0)
 }
 
-/// What pass 3 needs besides the discs: the origin, the centroid offset, a and β.
-struct CorrectIn {
-    o: [f64; 2],
-    c: [f64; 2],
-    acc: [f64; 2],
-    beta: f64,
-}
-
-fn correct_from(a: &Arrays, p: &CorrectIn, img: &MinImage, out: &mut [Vec<f64>; 3], from: usize) {
+fn correct_from(a: &Arrays, rg: &Rigid, img: &MinImage, out: &mut [Vec<f64>; 3], from: usize) {
     let n = a.m.len();
     let [ox, oy, ot] = out;
     let (ox, oy, ot) = (&mut ox[..n], &mut oy[..n], &mut ot[..n]);
+    let (acc, beta) = rg.acc();
     for i in from..n {
-        let (dx, dy) = img.delta_select(a.x[i] - p.o[0], a.y[i] - p.o[1]);
-        let (rx, ry) = (dx - p.c[0], dy - p.c[1]);
+        let (dx, dy) = img.delta_select(a.x[i] - rg.o[0], a.y[i] - rg.o[1]);
+        let (rx, ry) = (dx - rg.c[0], dy - rg.c[1]);
         let mm = a.mask[i] * a.m[i];
-        ox[i] -= mm * (p.acc[0] - p.beta * ry);
-        oy[i] -= mm * (p.acc[1] + p.beta * rx);
-        ot[i] -= a.mask[i] * a.ii[i] * p.beta;
+        ox[i] -= mm * (acc[0] - beta * ry);
+        oy[i] -= mm * (acc[1] + beta * rx);
+        ot[i] -= a.mask[i] * a.ii[i] * beta;
     }
 }
 
@@ -801,11 +808,18 @@ mod tests {
         let vm = unsafe { simd::moments(&a, o, &img) };
         let sm = moments_lanes(&a, o, &img, [[0.0; L]; 7], 0).map(total);
         assert_eq!(vm.map(f64::to_bits), sm.map(f64::to_bits));
-        let p = DampIn {
+        let rg = Rigid {
             o,
             c: [0.003, 0.001],
             v: [0.1, -0.2],
             om: 3.0,
+            m: 2.0,
+            j: 0.5,
+            force: [1.0, -0.5],
+            moment: 3.5,
+        };
+        let p = DampIn {
+            rg: &rg,
             alpha: 0.7,
             g: [0.0, -9.81],
         };
@@ -819,15 +833,10 @@ mod tests {
         let rs = damp_lanes(&a, &p, &img, &mut out_s, [[0.0; L]; 3], 0).map(total);
         assert_eq!(rv.map(f64::to_bits), rs.map(f64::to_bits));
         assert_eq!(out_v, out_s);
-        let q = CorrectIn {
-            o,
-            c: p.c,
-            acc: [0.5, -0.25],
-            beta: 7.0,
-        };
+        // (a = force/m = [0.5, −0.25], β = moment/J = 7.)
         // SAFETY: AVX2 checked above.
-        unsafe { simd::correct(&a, &q, &img, &mut out_v) };
-        correct_from(&a, &q, &img, &mut out_s, 0);
+        unsafe { simd::correct(&a, &rg, &img, &mut out_v) };
+        correct_from(&a, &rg, &img, &mut out_s, 0);
         assert_eq!(out_v, out_s);
         assert!(out_s[0].iter().any(|&v| v != 0.0));
     }
