@@ -585,13 +585,7 @@ pub fn advance_walls(walls: &mut [crate::state::Wall], dt: f64) {
             }
         }
         if w.v != [0.0, 0.0] {
-            for p in [&mut w.a, &mut w.b, &mut w.center]
-                .into_iter()
-                .chain(w.via.iter_mut())
-            {
-                p[0] += w.v[0] * dt;
-                p[1] += w.v[1] * dt;
-            }
+            w.translate([w.v[0] * dt, w.v[1] * dt]);
         }
     }
 }

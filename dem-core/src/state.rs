@@ -233,6 +233,17 @@ impl Wall {
     }
 
     /// The wall's vertices in order: a, the `via` points, b.
+    /// Move the wall (its end points, inner vertices and centre) by `d` (m).
+    pub fn translate(&mut self, d: [f64; 2]) {
+        for p in [&mut self.a, &mut self.b, &mut self.center]
+            .into_iter()
+            .chain(self.via.iter_mut())
+        {
+            p[0] += d[0];
+            p[1] += d[1];
+        }
+    }
+
     pub fn vertices(&self) -> impl Iterator<Item = [f64; 2]> + '_ {
         std::iter::once(self.a)
             .chain(self.via.iter().copied())

@@ -716,13 +716,7 @@ fn shift_state(st: &State, d: [f64; 2]) -> State {
         *y += d[1];
     }
     for w in &mut s.walls {
-        for p in [&mut w.a, &mut w.b, &mut w.center]
-            .into_iter()
-            .chain(w.via.iter_mut())
-        {
-            p[0] += d[0];
-            p[1] += d[1];
-        }
+        w.translate(d);
     }
     s
 }
