@@ -19,41 +19,9 @@ import math
 import os
 import sys
 
-
-def load(d):
-    out = {}
-    for name in sorted(os.listdir(d)):
-        f = os.path.join(d, name, "cutting.result.json")
-        if os.path.isfile(f):
-            with open(f) as fh:
-                r = json.load(fh)
-            out[name] = r
-    return out
-
-
-def mean_se(xs):
-    n = len(xs)
-    if n == 0:
-        return float("nan"), float("nan")
-    m = sum(xs) / n
-    if n < 2:
-        return m, float("nan")
-    var = sum((x - m) ** 2 for x in xs) / (n - 1)
-    return m, math.sqrt(var / n)
-
-
-def slope(v, f):
-    """Least-squares slope of ln f on ln v."""
-    x = [math.log(a) for a in v]
-    y = [math.log(b) for b in f]
-    n = len(x)
-    mx, my = sum(x) / n, sum(y) / n
-    sxx = sum((a - mx) ** 2 for a in x)
-    return sum((a - mx) * (b - my) for a, b in zip(x, y)) / sxx
-
-
-def kn(r):
-    return r["main_force"]["mean"] / 1e3
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from cut_runs import kn, load, mean_se, slope  # noqa: E402
+from cut_runs import touching as touching_of  # noqa: E402
 
 
 def main():
@@ -65,7 +33,24 @@ def main():
     runs = load(d)
     seeds = sorted({int(n.rsplit("-s", 1)[1]) for n in runs})
 
+    def name_of(damping, case, s):
+        if damping == "fragc":
+            return f"fragc-v{case}-s{s}"
+        if damping == "lab" and case == "lab":
+            return f"spec-s{s}"
+        if case in ("lab", "tool"):
+            return f"{'lab' if damping == 'lab' else 'frag'}-{case}-s{s}"
+        if case == "1":
+            return name_of(damping, "lab", s)
+        return f"{'lab' if damping == 'lab' else 'frag'}-v{case}-s{s}"
+
+    def touching(damping, case, s):
+        name = name_of(damping, case, s)
+        return touching_of(d, name, runs.get(name))
+
     def at(damping, case, s):
+        if damping == "fragc":
+            return runs.get(name_of(damping, case, s))
         if damping == "lab" and case == "lab":
             name = f"spec-s{s}"
         elif case in ("lab", "tool"):
@@ -126,7 +111,11 @@ def main():
     print("\n### Main force against speed (kN), traditional specimen, a_p 1 mm, L 5 mm\n")
     speeds = ["0.25", "0.5", "1", "2", "4"]
     series = {}
-    for dmp, label in (("lab", "PFC local (lab frame)"), ("fragment", "fragment frame")):
+    dampings = (("lab", "PFC local (lab frame)"), ("fragment", "fragment frame"),
+                ("fragc", "fragment frame + contact dashpots 0.2 (pilot)"))
+    for dmp, label in dampings:
+        if not any(at(dmp, v, s) for v in speeds for s in seeds):
+            continue
         print(f"{label}:\n")
         print("| seed | " + " | ".join(f"v {v}" for v in speeds) + " | n | n (0.5–4 m/s) |")
         print("|---|" + "---|" * (len(speeds) + 2))
@@ -164,6 +153,25 @@ def main():
         n2 = f"{mn:.2f} ± {se:.2f} ({len(ns)} seeds)" if ns else "–"
         print("| mean ± SE (seeds) | " + " | ".join(row) + f" | {n} (of the means) | {n2} |\n")
         series[label] = ms
+    print("### Tool touching anything: share of the window's force rows with main force > 0 "
+          "(seed means; a_p 1 mm, L 5 mm)\n")
+    print("| damping | frame | " + " | ".join(f"v {v}" for v in speeds) + " |")
+    print("|---|---|" + "---|" * len(speeds))
+    for dmp, label in dampings:
+        for case, frame in (("v", "lab"), ("tool", "tool")):
+            if case == "tool" and dmp == "fragc":
+                continue
+            cells = []
+            for v in speeds:
+                if case == "tool" and v != "1":
+                    cells.append("–")
+                    continue
+                t = [x for x in (touching(dmp, "tool" if case == "tool" else v, s) for s in seeds)
+                     if x is not None]
+                cells.append(f"{100 * sum(t) / len(t):.0f} % ({len(t)})" if t else "–")
+            if any(c != "–" for c in cells):
+                print(f"| {label} | {frame} | " + " | ".join(cells) + " |")
+    print()
     if plot:
         import matplotlib
 
@@ -172,7 +180,7 @@ def main():
         import matplotlib.ticker
 
         fig, ax = plt.subplots(figsize=(6, 4.2))
-        for (label, ms), mk in zip(series.items(), ("o-", "s--")):
+        for (label, ms), mk in zip(series.items(), ("o-", "s--", "^:")):
             vs = [float(v) for v in speeds if v in ms and ms[v][0] > 0]
             m = [ms[v][0] for v in speeds if v in ms and ms[v][0] > 0]
             e = [0 if math.isnan(ms[v][1]) else ms[v][1] for v in speeds if v in ms and ms[v][0] > 0]

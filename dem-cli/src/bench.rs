@@ -382,11 +382,10 @@ fn cutting(b: CuttingBench) -> Result<ExitCode, String> {
     let info = dem_lab::cutting::SpecimenInfo::read(&specimen).map_err(named)?;
     let width = info.extent[1] - info.extent[0];
     let test = CuttingTest {
-        damping_frame: match b.damping_frame.as_str() {
-            "lab" => dem_core::DampingFrame::Lab,
-            "fragment" => dem_core::DampingFrame::Fragment,
-            s => return Err(format!("--damping-frame: {s:?} is not lab or fragment")),
-        },
+        damping_frame: b
+            .damping_frame
+            .parse()
+            .map_err(|e| format!("--damping-frame: {e}"))?,
         ..CuttingTest::new(1e-3, b.speed, width.min(10e-3))
     };
     let scene_file = dir.0.join("cutting.scene.json");

@@ -280,11 +280,7 @@ impl CuttingArgs {
             t.local_damping = v;
         }
         if let Some(s) = &self.damping_frame {
-            t.damping_frame = match s.as_str() {
-                "lab" => dem_core::DampingFrame::Lab,
-                "fragment" => dem_core::DampingFrame::Fragment,
-                _ => return Err(format!("--damping-frame: {s:?} is not lab or fragment")),
-            };
+            t.damping_frame = s.parse().map_err(|e| format!("--damping-frame: {e}"))?;
         }
         if let Some(s) = &self.frame {
             t.frame = match s.as_str() {
@@ -702,10 +698,7 @@ pub fn run(a: CuttingArgs) -> Result<ExitCode, String> {
             ToolModel::Segments => format!("{}× k_n", test.tool_stiffness),
         },
         test.local_damping,
-        match test.damping_frame {
-            dem_core::DampingFrame::Lab => "lab",
-            dem_core::DampingFrame::Fragment => "fragment",
-        },
+        test.damping_frame.name(),
         test.contact_damping,
         test.dt_factor,
         match test.frame {
@@ -995,6 +988,8 @@ mod tests {
         assert_eq!(t.frame, cutting::CutFrame::Tool);
         let d = args(&[]).unwrap().test().unwrap();
         assert!(d.damping_frame.is_lab() && d.frame.is_lab());
+        let l = args(&["--damping-frame", "lab"]).unwrap().test().unwrap();
+        assert!(l.damping_frame.is_lab());
         let e = args(&["--damping-frame", "relative"])
             .unwrap()
             .test()

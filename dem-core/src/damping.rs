@@ -68,6 +68,27 @@ impl DampingFrame {
     pub fn is_lab(&self) -> bool {
         *self == DampingFrame::Lab
     }
+
+    /// The name used in scene files and on the command line (`lab`, `fragment`).
+    pub fn name(&self) -> &'static str {
+        match self {
+            DampingFrame::Lab => "lab",
+            DampingFrame::Fragment => "fragment",
+        }
+    }
+}
+
+impl std::str::FromStr for DampingFrame {
+    type Err = String;
+
+    /// Parses a scene's or a flag's name; the error says what is accepted.
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "lab" => Ok(DampingFrame::Lab),
+            "fragment" => Ok(DampingFrame::Fragment),
+            _ => Err(format!("{s:?} is not lab or fragment")),
+        }
+    }
 }
 
 /// The damping forces of one step in the fragment frame, and the fragments they were
@@ -97,6 +118,8 @@ pub(crate) struct FragmentDamping {
     /// Per fragment: the sums M, Σ m d (d = minimum image of x − origin; 2), Σ m v (2),
     /// Σ (I + m|d|²), Σ (I ω + m d × v).
     sums: Vec<[f64; 7]>,
+    /// Per fragment: the position of its first node now (scratch, kept to avoid allocating).
+    origin: Vec<[f64; 2]>,
     /// Per fragment: its origin, rigid motion and the resultant of the local damping.
     rigid: Vec<Rigid>,
     /// Gathered clump forces and torques (members' sums, gravity included).
@@ -212,9 +235,10 @@ impl FragmentDamping {
         self.clump.clear();
         self.clump.resize(nc, [0.0; 3]);
         // Pass 1: mass, first and second moments and momenta about each fragment's origin.
-        let origin: Vec<[f64; 2]> = (self.first.iter())
-            .map(|&k| node(st, &self.cf, k as usize, gravity).x)
-            .collect();
+        self.origin.clear();
+        (self.origin)
+            .extend((self.first.iter()).map(|&k| node(st, &self.cf, k as usize, gravity).x));
+        let origin = &self.origin;
         self.sums.clear();
         self.sums.resize(nf, [0.0; 7]);
         if self.big != NONE {

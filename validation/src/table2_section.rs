@@ -242,7 +242,9 @@ pub fn section(
     let total_time: f64 = records.iter().map(|r| r.wall_time_s).sum();
     let mut md = format!(
         "Plan ({}): specimens {} × {} mm, radii {:.3}–{:.3} mm, methods {}, seeds {:?}, L = {} mm, \
-         calibrated Si3N4 model (`data/models/si3n4.model.json`); {} runs, {:.0} s of run time.\n\n",
+         calibrated Si3N4 model (`data/models/si3n4.model.json`), local damping {} in the {} \
+         frame (docs/cutting.md, \"Damping and the frame of reference\"); {} runs, {:.0} s of \
+         run time.\n\n",
         match (quick, partial) {
             (true, _) => "quick: coarse specimens, short cut — not comparable with the paper",
             (false, true) => "full set-up, **part of the runs** (methods and seeds below)",
@@ -255,6 +257,8 @@ pub fn section(
         plan.methods.iter().map(|m| m.name()).collect::<Vec<_>>().join(", "),
         plan.seeds,
         plan.length * 1e3,
+        plan.test(1.0, 1.0).local_damping,
+        plan.test(1.0, 1.0).damping_frame.name(),
         records.len(),
         total_time
     );
