@@ -183,6 +183,33 @@ fn run_writes_history_snapshots_and_summary() {
         "{}",
         text(&o)
     );
+    // Issue 48 D6: the same edit with one space after `"checksum":` is refused too (it used to
+    // switch the check off), and so is the edit in a copy re-saved by another JSON writer
+    // (pretty-printed, keys sorted).
+    let edited = String::from_utf8(bytes).unwrap();
+    let spaced = edited.replacen("\"checksum\":", "\"checksum\": ", 1);
+    let pretty = {
+        let v: serde_json::Value = serde_json::from_str(&edited).unwrap();
+        serde_json::to_string_pretty(&v).unwrap()
+    };
+    for (name, t) in [("ckpt-spaced.json", spaced), ("ckpt-resaved.json", pretty)] {
+        let bad = dir.join(name);
+        std::fs::write(&bad, t).unwrap();
+        let o = dem(&[
+            "run",
+            scene.to_str().unwrap(),
+            "--out",
+            dir.join("out4").to_str().unwrap(),
+            "--restart",
+            bad.to_str().unwrap(),
+        ]);
+        assert_eq!(o.status.code(), Some(2), "{name}: {}", text(&o));
+        assert!(
+            text(&o).contains(&format!("{name}: the checkpoint is corrupt")),
+            "{}",
+            text(&o)
+        );
+    }
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

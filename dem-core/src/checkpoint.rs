@@ -4,11 +4,16 @@
 //! bit-identically: the same steps give the same bytes of state as an uninterrupted run.
 //!
 //! **Checksum.** The file opens with `{"checksum":"<SHA-256>",` followed by the rest of the
-//! checkpoint's JSON; the SHA-256 (hex) is over the JSON text without that field, i.e. `{`
-//! and the bytes after the comma. [`load`] recomputes it over the bytes as read, so any change
-//! to the file (a digit edited, a truncated or mixed write) is refused naming the file, before
-//! the world is deserialized. Checkpoints written before the checksum existed (no such field)
-//! still load. A checkpoint edited on purpose loads again once its `checksum` field is removed.
+//! checkpoint's JSON; the SHA-256 (hex) is over the *content* without that field, in a
+//! canonical form (compact, object keys sorted, numbers in their shortest round-trip form).
+//! [`load`] parses the file and recomputes it, so any change to a value (a digit edited, a
+//! truncated or mixed write) is refused naming the file, before the world is deserialized,
+//! whatever the spacing or key order of the file (a checkpoint re-saved by another JSON library
+//! with nothing changed still loads; one space after `"checksum":` does not switch the check
+//! off). Checkpoints written before the canonical form (the hash over the bytes after the
+//! field) load while those bytes are unchanged; those written before the checksum existed (no
+//! such field) still load. A checkpoint edited on purpose loads again once its `checksum`
+//! field is removed: that is the one override.
 //!
 //! **Two formats, one content.** A checkpoint is written as JSON (above; `ckpt-<step>.json`,
 //! the default) or in the binary format below (`ckpt-<step>.bin`, scene field
@@ -191,29 +196,101 @@ fn sha256_hex(bytes: &[&[u8]]) -> String {
     h.finalize().iter().map(|b| format!("{b:02x}")).collect()
 }
 
-/// Puts the checksum field in front of a checkpoint's JSON text `body` (an object).
+/// Feeds the canonical form of `v` to `h`: compact JSON with every object's keys sorted
+/// (byte order), numbers as serde_json prints them (shortest round-trip form), strings
+/// escaped as serde_json escapes them. Two texts of the same content (other spacing, key
+/// order or number spelling, as a re-save by another JSON library gives) have one canonical
+/// form; any change of a value changes it.
+fn canonical(v: &serde_json::Value, h: &mut Sha256) {
+    use serde_json::Value;
+    match v {
+        Value::Null => h.update(b"null"),
+        Value::Bool(b) => h.update(if *b { &b"true"[..] } else { &b"false"[..] }),
+        Value::Number(n) => h.update(n.to_string().as_bytes()),
+        Value::String(s) => h.update(Value::String(s.clone()).to_string().as_bytes()),
+        Value::Array(a) => {
+            h.update(b"[");
+            for (i, x) in a.iter().enumerate() {
+                if i > 0 {
+                    h.update(b",");
+                }
+                canonical(x, h);
+            }
+            h.update(b"]");
+        }
+        Value::Object(m) => {
+            let mut keys: Vec<&String> = m.keys().collect();
+            keys.sort();
+            h.update(b"{");
+            for (i, k) in keys.into_iter().enumerate() {
+                if i > 0 {
+                    h.update(b",");
+                }
+                h.update(Value::String(k.clone()).to_string().as_bytes());
+                h.update(b":");
+                canonical(&m[k], h);
+            }
+            h.update(b"}");
+        }
+    }
+}
+
+/// SHA-256 (hex) of the canonical form of a checkpoint's content without its `checksum`.
+fn content_hash(v: &serde_json::Value) -> String {
+    let mut h = Sha256::new();
+    match v {
+        serde_json::Value::Object(m) if m.contains_key("checksum") => {
+            let mut m = m.clone();
+            m.remove("checksum");
+            canonical(&serde_json::Value::Object(m), &mut h);
+        }
+        _ => canonical(v, &mut h),
+    }
+    h.finalize().iter().map(|b| format!("{b:02x}")).collect()
+}
+
+/// Puts the checksum field in front of a checkpoint's JSON text `body` (an object): the
+/// SHA-256 of the body's canonical form ([`canonical`]).
 fn with_checksum(body: &str) -> String {
-    let hash = sha256_hex(&[body.as_bytes()]);
+    let hash = match serde_json::from_str::<serde_json::Value>(body) {
+        Ok(v) => content_hash(&v),
+        // (Not reached for the bodies `to_json` serialises; hash the text as it is.)
+        Err(_) => sha256_hex(&[body.as_bytes()]),
+    };
     let rest = &body[1..];
     let sep = if rest.starts_with('}') { "" } else { "," };
     format!("{CHECKSUM_PREFIX}{hash}\"{sep}{rest}")
 }
 
-/// Checks the checksum of a checkpoint file's text, if it has one (the module docs).
+/// Checks the checksum of a checkpoint file's text, if it has a `checksum` field (the module
+/// docs): on the parsed content, so that neither spacing nor key order nor a re-save can turn
+/// the check off, and any edited value is refused. Files written before the canonical form
+/// (their hash is over their own bytes after the field) are accepted while those bytes are
+/// unchanged.
 fn verify_checksum(file: &str, text: &str) -> Result<(), CheckpointError> {
-    let Some(after) = text.strip_prefix(CHECKSUM_PREFIX) else {
+    let format = |reason: String| CheckpointError::Format {
+        file: file.to_string(),
+        reason,
+    };
+    let v: serde_json::Value =
+        serde_json::from_str(text).map_err(|e| format(format!("not JSON: {e}")))?;
+    let Some(field) = v.get("checksum") else {
         return Ok(());
     };
-    let stored = after.get(..CHECKSUM_HEX).unwrap_or(after);
-    let rest = after
-        .get(CHECKSUM_HEX..)
+    let stored = field
+        .as_str()
+        .filter(|s| s.len() == CHECKSUM_HEX && s.bytes().all(|b| b.is_ascii_hexdigit()))
+        .ok_or_else(|| format("the checksum field is not 64 hex digits".into()))?;
+    // Written before the canonical form: the hash of the bytes after the field.
+    let legacy = text
+        .strip_prefix(CHECKSUM_PREFIX)
+        .and_then(|a| a.get(CHECKSUM_HEX..))
         .and_then(|r| r.strip_prefix('"'))
-        .ok_or_else(|| CheckpointError::Format {
-            file: file.to_string(),
-            reason: "the checksum field is not 64 hex digits".into(),
-        })?;
-    let rest = rest.strip_prefix(',').unwrap_or(rest);
-    let computed = sha256_hex(&[b"{", rest.as_bytes()]);
+        .map(|r| sha256_hex(&[b"{", r.strip_prefix(',').unwrap_or(r).as_bytes()]));
+    if legacy.as_deref() == Some(stored) {
+        return Ok(());
+    }
+    let computed = content_hash(&v);
     if computed != stored {
         return Err(CheckpointError::Corrupt {
             file: file.to_string(),
@@ -514,6 +591,7 @@ mod tests {
         );
         let v: serde_json::Value = serde_json::from_str(&text).unwrap();
         assert_eq!(v["world"]["x"][1], 2.5);
+        assert_eq!(content_hash(&v), sha256_hex(&[body.as_bytes()]));
         verify_checksum("c.json", &text).unwrap();
         let bad = text.replace("2.5", "3.5");
         let e = verify_checksum("c.json", &bad).unwrap_err().to_string();
@@ -524,5 +602,53 @@ mod tests {
         verify_checksum("c.json", body).unwrap();
         // An empty object gets no dangling comma.
         assert!(serde_json::from_str::<serde_json::Value>(&with_checksum("{}")).is_ok());
+    }
+
+    /// Issue 48 D6: the check is on the content. One space after `"checksum":` (or any other
+    /// spacing, key order, or a re-save by another JSON writer) neither turns it off nor
+    /// trips it; an edited value is refused in every spelling; a checksum written over the
+    /// file's bytes (before the canonical form) still verifies; a malformed field is refused.
+    #[test]
+    fn checksum_is_checked_on_the_content_in_any_spelling() {
+        let body = r#"{"schema":"dem.checkpoint/1","world":{"v":[1e-5,-0.3],"id":7,"s":"a\"b"}}"#;
+        let text = with_checksum(body);
+        let spaced = text.replacen("\"checksum\":", "\"checksum\": ", 1);
+        verify_checksum("c.json", &spaced).unwrap();
+        let v: serde_json::Value = serde_json::from_str(&text).unwrap();
+        let pretty = serde_json::to_string_pretty(&v).unwrap();
+        verify_checksum("c.json", &pretty).unwrap();
+        // Keys in another order, a number spelled otherwise (as Python's json.dump writes it).
+        let python = format!(
+            r#"{{"world": {{"s": "a\"b", "id": 7, "v": [1e-05, -0.3]}}, "checksum": "{}", "schema": "dem.checkpoint/1"}}"#,
+            v["checksum"].as_str().unwrap()
+        );
+        verify_checksum("c.json", &python).unwrap();
+        for edited in [
+            spaced.replace("-0.3", "-0.4"),
+            pretty.replace("-0.3", "-0.4"),
+            python.replace("-0.3", "-0.4"),
+        ] {
+            let e = verify_checksum("c.json", &edited).unwrap_err().to_string();
+            assert!(e.contains("corrupt"), "{e}");
+        }
+        // The override: without the field it loads (and says nothing).
+        let mut m = v.as_object().unwrap().clone();
+        m.remove("checksum");
+        let edited = serde_json::Value::Object(m)
+            .to_string()
+            .replace("-0.3", "-0.4");
+        verify_checksum("c.json", &edited).unwrap();
+        // A checkpoint of before the canonical form: its hash over the bytes after the field.
+        let legacy = format!(
+            "{CHECKSUM_PREFIX}{}\",{}",
+            sha256_hex(&[b"{\"world\":{\"id\":7},\"schema\":\"x\"}"]),
+            "\"world\":{\"id\":7},\"schema\":\"x\"}"
+        );
+        verify_checksum("c.json", &legacy).unwrap();
+        assert!(verify_checksum("c.json", &legacy.replace("\"id\":7", "\"id\":8")).is_err());
+        let e = verify_checksum("c.json", r#"{"checksum": "abc", "schema": "x"}"#)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("not 64 hex digits"), "{e}");
     }
 }
