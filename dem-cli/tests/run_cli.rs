@@ -645,3 +645,60 @@ fn binary_vtk_snapshots_render_like_ascii() {
     ]);
     assert_eq!(o.status.code(), Some(2), "{}", text(&o));
 }
+
+/// Issue 48 D1: a scene that is one of the files the run writes into its --out folder (its
+/// summary, history or final checkpoint, by any spelling: `..`, a symlink) is refused before
+/// anything is written, and stays as it was; `--force` changes nothing.
+#[test]
+fn a_scene_that_is_one_of_the_runs_outputs_is_refused() {
+    let dir = tmp("input-is-output");
+    let scene = tiny_scene(&dir);
+    let text_of_scene = std::fs::read_to_string(&scene).unwrap();
+    let sc = dir.join("sc1");
+    std::fs::create_dir_all(&sc).unwrap();
+    for name in [
+        "summary.json",
+        "history.csv",
+        "ckpt-final.json",
+        "ckpt-000000200.json",
+    ] {
+        let p = sc.join(name);
+        std::fs::write(&p, &text_of_scene).unwrap();
+        let spelled = dir.join("sc1/../sc1").join(name);
+        for (s, force) in [(&p, false), (&spelled, false), (&p, true)] {
+            let mut args = vec!["run", s.to_str().unwrap(), "--out", sc.to_str().unwrap()];
+            if force {
+                args.push("--force");
+            }
+            let o = dem(&args);
+            assert_eq!(o.status.code(), Some(2), "{name}: {}", text(&o));
+            assert!(
+                text(&o).contains(&format!("the run's own output `{name}`")),
+                "{}",
+                text(&o)
+            );
+            assert_eq!(
+                std::fs::read_to_string(&p).unwrap(),
+                text_of_scene,
+                "{name}"
+            );
+        }
+        std::fs::remove_file(&p).unwrap();
+    }
+    #[cfg(unix)]
+    {
+        let p = sc.join("summary.json");
+        std::fs::write(&p, &text_of_scene).unwrap();
+        let link = dir.join("link.json");
+        std::os::unix::fs::symlink(&p, &link).unwrap();
+        let o = dem(&["run", link.to_str().unwrap(), "--out", sc.to_str().unwrap()]);
+        assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+        assert_eq!(std::fs::read_to_string(&p).unwrap(), text_of_scene);
+    }
+    // The same scene under its own name in that folder runs.
+    let own = sc.join("scene.json");
+    std::fs::write(&own, &text_of_scene).unwrap();
+    let o = dem(&["run", own.to_str().unwrap(), "--out", sc.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", text(&o));
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -199,6 +199,25 @@ fn is_output_name(name: &str) -> bool {
         .contains(&name)
 }
 
+/// Refuses an input file that is one of the files a run into `out` writes (issue 48 D1: `dem
+/// run sc/summary.json --out sc` replaced its own scene with the summary). The file is
+/// resolved first (symlinks, `..`), so any spelling of the same file is caught; a file that
+/// does not exist yet, or an output folder not made yet, cannot be overwritten and passes.
+pub fn check_not_an_output(input: &Path, out: &Path) -> Result<(), OutputError> {
+    let (Ok(file), Ok(dir)) = (std::fs::canonicalize(input), std::fs::canonicalize(out)) else {
+        return Ok(());
+    };
+    let name = file.file_name().and_then(|n| n.to_str()).unwrap_or("");
+    if file.parent() == Some(dir.as_path()) && is_output_name(name) {
+        return Err(OutputError::InputIsOutput {
+            file: input.display().to_string(),
+            name: name.to_string(),
+            out: out.display().to_string(),
+        });
+    }
+    Ok(())
+}
+
 /// History is rewritten at least this often while running (besides checkpoints and the end).
 const FLUSH_EVERY: Duration = Duration::from_secs(5);
 
@@ -230,6 +249,7 @@ impl Simulation {
             .out_dir
             .clone()
             .unwrap_or_else(|| scene.outputs.dir.clone());
+        check_not_an_output(&scene.file, &out)?;
         let hash = scene.physics_hash();
         let (world, rows, snaps, restarted_from, before) = match &opts.restart {
             Some(p) => {

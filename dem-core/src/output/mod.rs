@@ -28,6 +28,12 @@ pub enum OutputError {
         what: String,
         value: f64,
     },
+    #[error("{file}: this input is the run's own output `{name}` in {out}: the run would overwrite it; copy it elsewhere or give another --out")]
+    InputIsOutput {
+        file: String,
+        name: String,
+        out: String,
+    },
 }
 
 /// Writes `bytes` atomically to `path` (parent folders created).
