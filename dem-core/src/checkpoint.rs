@@ -200,52 +200,51 @@ fn sha256_hex(bytes: &[&[u8]]) -> String {
 /// (byte order), numbers as serde_json prints them (shortest round-trip form), strings
 /// escaped as serde_json escapes them. Two texts of the same content (other spacing, key
 /// order or number spelling, as a re-save by another JSON library gives) have one canonical
-/// form; any change of a value changes it.
-fn canonical(v: &serde_json::Value, h: &mut Sha256) {
+/// form; any change of a value changes it. `skip` leaves out one key of the top object
+/// (the checksum itself), so the content is hashed without copying it.
+fn canonical(v: &serde_json::Value, skip: Option<&str>, h: &mut Sha256) {
     use serde_json::Value;
     match v {
         Value::Null => h.update(b"null"),
         Value::Bool(b) => h.update(if *b { &b"true"[..] } else { &b"false"[..] }),
         Value::Number(n) => h.update(n.to_string().as_bytes()),
-        Value::String(s) => h.update(Value::String(s.clone()).to_string().as_bytes()),
+        Value::String(s) => h.update(quoted(s).as_bytes()),
         Value::Array(a) => {
             h.update(b"[");
             for (i, x) in a.iter().enumerate() {
                 if i > 0 {
                     h.update(b",");
                 }
-                canonical(x, h);
+                canonical(x, None, h);
             }
             h.update(b"]");
         }
         Value::Object(m) => {
-            let mut keys: Vec<&String> = m.keys().collect();
+            let mut keys: Vec<&String> = m.keys().filter(|k| Some(k.as_str()) != skip).collect();
             keys.sort();
             h.update(b"{");
             for (i, k) in keys.into_iter().enumerate() {
                 if i > 0 {
                     h.update(b",");
                 }
-                h.update(Value::String(k.clone()).to_string().as_bytes());
+                h.update(quoted(k).as_bytes());
                 h.update(b":");
-                canonical(&m[k], h);
+                canonical(&m[k], None, h);
             }
             h.update(b"}");
         }
     }
 }
 
+/// `s` as a JSON string literal, escaped as serde_json escapes it (no copy of `s` first).
+fn quoted(s: &str) -> String {
+    serde_json::to_string(s).unwrap_or_default()
+}
+
 /// SHA-256 (hex) of the canonical form of a checkpoint's content without its `checksum`.
 fn content_hash(v: &serde_json::Value) -> String {
     let mut h = Sha256::new();
-    match v {
-        serde_json::Value::Object(m) if m.contains_key("checksum") => {
-            let mut m = m.clone();
-            m.remove("checksum");
-            canonical(&serde_json::Value::Object(m), &mut h);
-        }
-        _ => canonical(v, &mut h),
-    }
+    canonical(v, Some("checksum"), &mut h);
     h.finalize().iter().map(|b| format!("{b:02x}")).collect()
 }
 
