@@ -58,9 +58,9 @@ pub struct CuttingBench {
     /// Table 2's 1 m/s; the cost of a step hardly depends on it.
     #[arg(long, default_value_t = 10.0)]
     speed: f64,
-    /// Frame of reference of the local damping: lab (PFC, the default) | fragment (relative
-    /// to each disc's bonded fragment; `dem test cutting --damping-frame`)
-    #[arg(long, default_value = "lab")]
+    /// Frame of reference of the local damping: fragment (relative to each disc's bonded
+    /// fragment; the cutting test's default) | lab (PFC; `dem test cutting --damping-frame`)
+    #[arg(long, default_value = "fragment")]
     damping_frame: String,
 }
 

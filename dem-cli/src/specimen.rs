@@ -302,6 +302,23 @@ pub fn run(a: SpecimenArgs) -> Result<ExitCode, String> {
         }
         e => e.to_string(),
     })?;
+    // An output never replaces an input (issue 48 D2), --force or not: the material file read
+    // is not one of the three files written, under any spelling of its path.
+    if let Some(m) = &a.material {
+        let outs = [a.out.clone(), scene_path(&a.out), io::summary_path(&a.out)];
+        if let Some(f) = outs
+            .iter()
+            .find(|f| dem_core::output::driver::same_file(m, f))
+        {
+            return Err(format!(
+                "--out {}: would write {}, which is the --material file {}; give another --out \
+                 (--force does not replace an input)",
+                a.out.display(),
+                f.display(),
+                m.display()
+            ));
+        }
+    }
     // Never a silent overwrite (issue 20): the specimen file and the scene beside it (which
     // the user may have edited) are refused before the minutes of generation, unless --force.
     if !a.force {

@@ -138,10 +138,9 @@ pub struct CuttingArgs {
     /// PFC local damping α (default 0.7, PFC's default; 0 = undamped).
     #[arg(long)]
     pub local_damping: Option<f64>,
-    /// Frame of reference of the local damping: lab (default, PFC: each disc's own velocity;
-    /// drags debris in steady motion) | fragment (the motion relative to the disc's bonded
-    /// fragment: no drag on rigid motion; docs/cutting.md, "Damping and the frame of
-    /// reference")
+    /// Frame of reference of the local damping: fragment (default: the motion relative to the
+    /// disc's bonded fragment, no drag on rigid motion; docs/cutting.md, "Damping and the frame
+    /// of reference") | lab (PFC: each disc's own velocity; drags debris in steady motion)
     #[arg(long)]
     pub damping_frame: Option<String>,
     /// Frame of reference of the run: lab (default: the tool moves at v) | tool (the tool at
@@ -760,6 +759,18 @@ pub fn report(r: &CuttingResult) -> String {
         m.mean * kn,
         m.sd * kn
     );
+    if let Some(t) = r.touching {
+        let _ = writeln!(
+            s,
+            "  tool touching      {:.0} % of the window's rows{}",
+            100.0 * t,
+            if t < 0.2 {
+                " (a train of strikes: the mean rests on few of them; a longer cut averages more)"
+            } else {
+                ""
+            }
+        );
+    }
     let _ = writeln!(
         s,
         "  vertical force (kN) peak {:.4}  mean {:.4}  sd {:.4}",
@@ -974,10 +985,9 @@ mod tests {
         let _ = std::fs::remove_dir_all(&dir);
     }
 
-    /// Bad flat-joint values are errors naming the flag (or the model file's field), checked
-    /// as the other lab tests check them.
-    /// `--damping-frame` and `--frame` reach the test; bad values name the flag, and the tool
-    /// frame refuses fragment deletion (its rules are the lab frame's).
+    /// `--damping-frame` and `--frame` reach the test (the damping frame's default is
+    /// `fragment`, the run frame's `lab`); bad values name the flag, and the tool frame refuses
+    /// fragment deletion (its rules are the lab frame's).
     #[test]
     fn damping_and_run_frames_reach_the_test() {
         let t = args(&["--damping-frame", "fragment", "--frame", "tool"])
@@ -987,7 +997,7 @@ mod tests {
         assert_eq!(t.damping_frame, dem_core::DampingFrame::Fragment);
         assert_eq!(t.frame, cutting::CutFrame::Tool);
         let d = args(&[]).unwrap().test().unwrap();
-        assert!(d.damping_frame.is_lab() && d.frame.is_lab());
+        assert!(d.damping_frame == dem_core::DampingFrame::Fragment && d.frame.is_lab());
         let l = args(&["--damping-frame", "lab"]).unwrap().test().unwrap();
         assert!(l.damping_frame.is_lab());
         let e = args(&["--damping-frame", "relative"])
@@ -1004,6 +1014,8 @@ mod tests {
         assert!(e.starts_with("frame: the tool frame"), "{e}");
     }
 
+    /// Bad flat-joint values are errors naming the flag (or the model file's field), checked
+    /// as the other lab tests check them.
     #[test]
     fn bad_flat_joint_values_name_the_flag() {
         let e = |v: &[&str]| args(v).unwrap().inputs().unwrap_err();

@@ -7,6 +7,30 @@ use std::path::PathBuf;
 mod common;
 use common::{dem, material, text, tmp};
 
+/// The tool pushed on the specimen (a positive main force at a travel inside the cut) and
+/// broke bonds; the window's figures are finite and its touching share a fraction. Not the
+/// window mean's sign: with the default damping (fragment frame) a chip broken off flies clear
+/// and a window of these small cuts (0.2 mm of travel) can fall between two strikes.
+fn assert_tool_met_the_specimen(r: &serde_json::Value) {
+    let first = r["contact_travel"].as_f64();
+    let length = r["test"]["length"].as_f64().unwrap();
+    assert!(
+        first.is_some_and(|x| x > 0.0 && x < length),
+        "{}",
+        r["contact_travel"]
+    );
+    assert!(r["broken_total"].as_u64().unwrap() > 0);
+    for k in ["peak", "mean", "sd"] {
+        assert!(
+            r["main_force"][k].as_f64().unwrap().is_finite(),
+            "{}",
+            r["main_force"]
+        );
+    }
+    let t = r["touching"].as_f64().unwrap();
+    assert!((0.0..=1.0).contains(&t), "{t}");
+}
+
 #[test]
 fn cutting_generates_cuts_and_reports() {
     let dir = tmp("ok");
@@ -76,7 +100,7 @@ fn cutting_generates_cuts_and_reports() {
     let r: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("cutting.result.json")).unwrap())
             .unwrap();
-    assert!(r["main_force"]["mean"].as_f64().unwrap() > 0.0);
+    assert_tool_met_the_specimen(&r);
     assert_eq!(r["test"]["depth"].as_f64().unwrap(), 0.4e-3);
     assert_eq!(r["test"]["speed"].as_f64().unwrap(), 10.0);
     // The scene is plain: `dem run` loads and starts it (capped at 200 steps).
@@ -381,7 +405,7 @@ fn specimen_cache_gives_the_generated_specimen() {
 }
 
 /// `--flat-joint 2` (Potyondy 2012) on the smallest cut of these tests: the scene's bond groups
-/// are flat joints of those elements, the cut finishes with a positive mean force and broken
+/// are flat joints of those elements, the tool meets the specimen and breaks
 /// interfaces (cement all gone), and reports the element figures; the inputs record the
 /// option and the model it ran with carries it.
 #[test]
@@ -426,11 +450,7 @@ fn cutting_with_flat_joints_runs_and_counts_broken_interfaces() {
     assert_eq!(i["model"]["flat_joint"]["elements"], 2);
     assert_eq!(i["model"]["flat_joint"]["friction"], 0.5);
     let r = read("cutting.result.json");
-    assert!(
-        r["main_force"]["mean"].as_f64().unwrap() > 0.0,
-        "{}",
-        r["main_force"]
-    );
+    assert_tool_met_the_specimen(&r);
     let broken = r["broken_total"].as_u64().unwrap();
     assert!(broken >= 1, "{}", r["broken_bonds"]);
     let mut sum = 0;

@@ -403,3 +403,56 @@ fn improved_grains_below_their_cover_warn_and_strict_fails() {
     assert!(!strict_out.exists() && !dir.join("strict.summary.json").exists());
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// Issue 48 D2: `--out` onto the `--material` file it reads is refused, `--force` or not and
+/// whatever the spelling (the file itself, a `..` detour, a symlink, the scene or summary name
+/// landing on it), before anything is written; the material keeps its bytes.
+#[test]
+fn specimen_out_never_replaces_its_material() {
+    let dir = tmp("out-is-material");
+    std::fs::create_dir_all(dir.join("sub")).unwrap();
+    let mat = dir.join("mat.json");
+    std::fs::copy(material(), &mat).unwrap();
+    let bytes = std::fs::read(&mat).unwrap();
+    std::os::unix::fs::symlink(&mat, dir.join("link.json")).unwrap();
+    // `--out m` writes m, m.scene.json and m.summary.json: a material named m.scene.json is hit
+    // by the scene of `--out m.json`.
+    let scene_named = dir.join("s.scene.json");
+    std::fs::copy(material(), &scene_named).unwrap();
+    let run = |material: &std::path::Path, out: &std::path::Path| {
+        dem(&[
+            "specimen",
+            "--width",
+            "3mm",
+            "--height",
+            "1.5mm",
+            "--r-min",
+            "0.1mm",
+            "--r-max",
+            "0.16mm",
+            "--material",
+            material.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--force",
+        ])
+    };
+    for (m, out) in [
+        (mat.clone(), mat.clone()),
+        (mat.clone(), dir.join("sub").join("..").join("mat.json")),
+        (dir.join("link.json"), mat.clone()),
+        (scene_named.clone(), dir.join("s.json")),
+    ] {
+        let o = run(&m, &out);
+        let t = text(&o);
+        assert!(!o.status.success(), "{t}");
+        assert!(
+            t.contains("which is the --material file") && t.contains("--force does not"),
+            "{t}"
+        );
+    }
+    assert_eq!(std::fs::read(&mat).unwrap(), bytes);
+    assert_eq!(std::fs::read(&scene_named).unwrap(), bytes);
+    assert!(!dir.join("s.json").exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}

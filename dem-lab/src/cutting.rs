@@ -84,9 +84,11 @@ pub struct CuttingTest {
     /// The frame of reference of the local damping ([`dem_core::damping`]): `lab` (PFC: each
     /// disc's own velocity; drags debris and anything else in steady motion) or `fragment`
     /// (the motion relative to the disc's bonded fragment: no drag on rigid motion, the same
-    /// forces in every frame of reference). Default `lab` (the choice is pending: docs/cutting.md,
-    /// "Damping and the frame of reference"). Left out of the serialised test (and so of the
-    /// run keys) at `lab`, and a serialised test without it is `lab`, whatever the default.
+    /// forces in every frame of reference). Default `fragment`, chosen on issue 47's contracts
+    /// and speed exponent (docs/cutting.md, "Damping and the frame of reference", decision log
+    /// 2026-12-02). Left out of the serialised test (and so of the run keys) at `lab`, and a
+    /// serialised test without it is `lab`, whatever the default: every run made before the
+    /// switch keeps its key and meaning.
     #[serde(default, skip_serializing_if = "DampingFrame::is_lab")]
     pub damping_frame: DampingFrame,
     /// The frame of reference the cut is run in: `lab` (default: specimen and slot walls at
@@ -215,7 +217,7 @@ impl Default for CuttingTest {
             tool_stiffness: 10.0,
             tool_friction: 0.0,
             local_damping: 0.7,
-            damping_frame: DampingFrame::Lab,
+            damping_frame: DampingFrame::Fragment,
             frame: CutFrame::Lab,
             dt_factor: 0.3,
             history_rows: 4000,
@@ -918,6 +920,12 @@ pub struct CuttingResult {
     pub main_force_before_entry: f64,
     /// First travel at which the main force is positive (m).
     pub contact_travel: Option<f64>,
+    /// Share of the steady window's force rows with the tool touching anything (a positive
+    /// main force): under damping that leaves flying debris alone a brittle cut is a train of
+    /// strikes, and a window mean over few of them says little (docs/cutting.md, "Damping and
+    /// the frame of reference"). `None` in results written before it was recorded.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub touching: Option<f64>,
     pub chips: ChipReport,
     pub broken_bonds: Vec<BrokenBonds>,
     pub broken_total: u64,
@@ -955,6 +963,19 @@ fn stats_or_err(
     })
 }
 
+/// Share of the rows with travel in `window` whose main force is positive; `None` when the
+/// window holds no row.
+fn touching_share(travel: &[f64], main: &[f64], window: [f64; 2]) -> Option<f64> {
+    let (mut rows, mut on) = (0usize, 0usize);
+    for (s, m) in travel.iter().zip(main) {
+        if *s >= window[0] && *s <= window[1] {
+            rows += 1;
+            on += usize::from(*m > 0.0);
+        }
+    }
+    (rows > 0).then(|| on as f64 / rows as f64)
+}
+
 /// Analyses a finished cut: tool forces from `history`, chips, broken bonds, surface and
 /// residual cracks from the final `world`.
 pub fn analyze(
@@ -981,6 +1002,7 @@ pub fn analyze(
         .zip(&f.main)
         .find(|(_, m)| **m > 0.0)
         .map(|(s, _)| *s);
+    let touching = touching_share(&f.travel, &f.main, window);
 
     // A cut run in the tool's frame is analysed in the lab frame: its final state shifted by
     // the distance the specimen travelled (v t).
@@ -1052,6 +1074,7 @@ pub fn analyze(
         vertical_force,
         main_force_before_entry,
         contact_travel,
+        touching,
         chips,
         broken_bonds,
         broken_total,
@@ -1471,24 +1494,28 @@ mod tests {
     }
 
     /// The damping frame is absent from a serialised test at `lab` (the run keys of every cut
-    /// before the option stay as they were) and named at `fragment`; a serialised test
-    /// without it reads as `lab`; both round-trip.
+    /// before the option stay as they were) and named at `fragment`, the default; a
+    /// serialised test without it reads as `lab`; both round-trip.
     #[test]
     fn the_damping_frame_is_named_only_when_not_lab() {
         let t = CuttingTest::default();
-        assert!(t.damping_frame.is_lab());
+        assert_eq!(t.damping_frame, dem_core::DampingFrame::Fragment);
         let j = serde_json::to_value(&t).unwrap();
-        assert!(j.get("damping_frame").is_none(), "{j}");
-        let back: CuttingTest = serde_json::from_value(j).unwrap();
-        assert_eq!(back, t);
-        let f = CuttingTest {
-            damping_frame: dem_core::DampingFrame::Fragment,
-            ..t
-        };
-        let j = serde_json::to_value(&f).unwrap();
         assert_eq!(j["damping_frame"], "fragment", "{j}");
         let back: CuttingTest = serde_json::from_value(j).unwrap();
-        assert_eq!(back, f);
+        assert_eq!(back, t);
+        let lab = CuttingTest {
+            damping_frame: dem_core::DampingFrame::Lab,
+            ..t
+        };
+        let mut j = serde_json::to_value(&lab).unwrap();
+        assert!(j.get("damping_frame").is_none(), "{j}");
+        let back: CuttingTest = serde_json::from_value(j.clone()).unwrap();
+        assert_eq!(back, lab);
+        // A test written before the option (no field) is the lab frame, not today's default.
+        j.as_object_mut().unwrap().remove("damping_frame");
+        let old: CuttingTest = serde_json::from_value(j).unwrap();
+        assert!(old.damping_frame.is_lab());
     }
 
     /// The model read back from a specimen's files keeps a flat joint its scene names (both

@@ -194,6 +194,7 @@ pub fn finished(
             ),
             median_n: hist.run.map(|s| s.median),
             top5_work_share: hist.run.and_then(|s| s.top5_work_share),
+            touching: res.touching,
         },
         result_file: dir.join(cutting::RESULT_FILE).display().to_string(),
         resumed,

@@ -95,6 +95,10 @@ pub struct RunRecord {
     pub median_n: Option<f64>,
     #[serde(default)]
     pub top5_work_share: Option<f64>,
+    /// Share of the window's force rows with the tool touching anything
+    /// ([`dem_lab::cutting::CuttingResult::touching`]); `None` in records written before it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub touching: Option<f64>,
 }
 
 /// The seed-averaged moving-mean peak of one cell ([`PEAK_STATISTIC`], computed by the
@@ -178,6 +182,11 @@ pub struct Cell {
     pub previous_mean_kN: Option<f64>,
     #[serde(default)]
     pub previous_peak_kN: Option<f64>,
+    /// Seed mean of the runs' touching shares (the window's rows with the tool touching
+    /// anything), where every run has one: under the fragment-frame damping a brittle cut is
+    /// a train of strikes, and a cell near 0 rests on few of them.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub touching: Option<f64>,
 }
 
 impl Cell {
@@ -386,6 +395,7 @@ pub fn assemble_with(
             let avg = avg.map(|a| mean_sd(&a));
             let median: Option<Vec<f64>> =
                 rs.iter().map(|r| r.median_n.map(|v| v * scale)).collect();
+            let touching: Option<Vec<f64>> = rs.iter().map(|r| r.touching).collect();
             let sa = seed_avg.iter().find(|a| {
                 a.method == m && a.depth_mm == pc.depth_mm && a.speed_m_s == pc.speed_m_s
             });
@@ -413,6 +423,7 @@ pub fn assemble_with(
                 peak_seed_avg_se_kN: sa.and_then(|a| a.peak_se_n).map(|v| v * scale),
                 previous_mean_kN: None,
                 previous_peak_kN: None,
+                touching: touching.map(|t| mean_sd(&t).0),
             });
         }
     }
@@ -685,17 +696,18 @@ impl Table2 {
             "Statistics (docs/cutting.md, \"Force statistics\"): **mean** = seed mean ± SE of \
              the runs' window means; **median** = seed mean of the runs' travel-weighted \
              medians; **peak** = {peak_def}; **raw peak** = seed mean of each run's largest \
-             sample. **Previous** = the table before issue 19 (two-segment tool, every grain a \
-             clump, 5 seeds, its constant fitted on the traditional 1 mm, 1 m/s cell alone; its \
-             peak is the raw one).\n\n"
+             sample. **Previous** = the previous model's table (`table2-previous.json`: PFC local \
+             damping in the lab frame, 10 seeds, its own fitted constant; docs/cutting.md, \
+             decision log 2026-12-02; its peak is the raw one). **Touching** = seed mean of \
+             the share of the window's force rows with the tool touching anything.\n\n"
         );
-        s += "| a_p (mm) | v (m/s) | method | seeds | mean ± SE | median | paper | err | previous | peak ± SE | paper | err | previous | raw peak | peak / mean (paper) |\n";
-        s += "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+        s += "| a_p (mm) | v (m/s) | method | seeds | mean ± SE | median | paper | err | previous | peak ± SE | paper | err | previous | raw peak | peak / mean (paper) | touching |\n";
+        s += "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
         let o = |x: Option<f64>| x.map_or("—".to_string(), |v| format!("{v:.2}"));
         for c in &self.cells {
             let (pk, pk_se) = c.peak();
             s += &format!(
-                "| {} | {} | {} | {} | {} | {} | {:.1} | {:+.0} % | {} | {pk:.2} ± {pk_se:.2} | {:.1} | {:+.0} % | {} | {:.1} | {:.2} ({:.2}) |\n",
+                "| {} | {} | {} | {} | {} | {} | {:.1} | {:+.0} % | {} | {pk:.2} ± {pk_se:.2} | {:.1} | {:+.0} % | {} | {:.1} | {:.2} ({:.2}) | {} |\n",
                 c.depth_mm,
                 c.speed_m_s,
                 c.method,
@@ -710,7 +722,9 @@ impl Table2 {
                 o(c.previous_peak_kN),
                 c.peak_kN,
                 pk / c.mean_kN,
-                c.paper_peak_kN / c.paper_mean_kN
+                c.paper_peak_kN / c.paper_mean_kN,
+                c.touching
+                    .map_or("—".to_string(), |t| format!("{:.0} %", 100.0 * t))
             );
         }
         s +=
@@ -783,6 +797,7 @@ mod tests {
                         broken_intra_grain: None,
                         median_n: Some(mn * 400.0 * f),
                         top5_work_share: None,
+                        touching: None,
                     });
                 }
             }
@@ -933,16 +948,18 @@ mod tests {
             .contains("the seed mean of each run's largest sample ± SE"));
     }
 
-    /// The previous table (written before the seed-averaged peak and the verdicts) still
-    /// loads: the report reads its cells as the "previous" column.
+    /// The previous model's table (PFC local damping in the lab frame, 10 seeds, written
+    /// before the touching share) still loads: the report reads its cells as the "previous"
+    /// column.
     #[test]
     fn the_previous_table_loads() {
         let t: Table2 =
             serde_json::from_str(include_str!("../../docs/report/table2-previous.json")).unwrap();
         assert_eq!(t.cells.len(), 12);
-        assert!(t.cells.iter().all(|c| c.peak_seed_avg_kN.is_none()));
-        assert_eq!(t.peak_seed_avg_numbers, 0);
-        assert!(t.claims.iter().all(|c| c.verdict == Verdict::NotChecked));
+        assert!(t.cells.iter().all(|c| c.seeds == 10 && c.touching.is_none()));
+        assert!(t.cells.iter().all(|c| c.peak_seed_avg_kN.is_some()));
+        assert_eq!(t.claims.len(), 4);
+        assert!(t.claims.iter().all(|c| c.verdict != Verdict::NotChecked));
     }
 
     #[test]

@@ -103,7 +103,8 @@ fn force_series(file: &Path, scale: f64) -> Option<Vec<(f64, f64)>> {
 /// "Decision log").
 pub const CHECK_SEEDS: std::ops::RangeInclusive<u64> = 6..=10;
 
-/// The table before issue 19 in the report folder (earlier model, 5 seeds): its cells are
+/// The previous model's table in the report folder (since 2026-12-02: PFC local damping in the
+/// lab frame, the 10-seed runs of `table2-runs/`; git history has the ones before): its cells are
 /// shown beside the new ones.
 pub const PREVIOUS_FILE: &str = "table2-previous.json";
 
@@ -178,7 +179,7 @@ pub fn section(
             Err(e) => errors.push(format!("claims on the check seeds: {e}")),
         }
     }
-    // Each cell's value in the table before issue 19, where it is kept.
+    // Each cell's value in the previous model's table, where it is kept.
     if let Ok(text) = std::fs::read_to_string(out.join(PREVIOUS_FILE)) {
         match serde_json::from_str::<table2::Table2>(&text) {
             Ok(prev) => {

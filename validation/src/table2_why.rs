@@ -596,6 +596,7 @@ mod tests {
                         broken_intra_grain: Some(if m == "improved" { 20 + s } else { 0 }),
                         median_n: None,
                         top5_work_share: None,
+                        touching: None,
                     });
                 }
             }

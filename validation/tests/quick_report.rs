@@ -71,7 +71,11 @@ fn quick_report_writes_sane_json_for_every_section() {
     );
     assert!(out.join("table3_bars.svg").is_file());
 
-    // Table 2: all three methods, every case of the plan, finite positive forces.
+    // Table 2: all three methods, every case of the plan, finite forces, each cell's touching
+    // share a fraction. Not a positive force in every cell: under the default damping (fragment
+    // frame) a chip broken off flies clear, and on these 82–146-disc specimens a window of
+    // 0.5–1 mm can fall between two strikes (a cell whose tool touched nothing has peak ≤ 0);
+    // the constant needs a positive traditional mean, and the section fails without one.
     let t2 = read(&out, "table2.json");
     let cells = t2["cells"].as_array().expect("cells list");
     assert_eq!(cells.len(), 12, "3 methods × 2 depths × 2 speeds");
@@ -83,9 +87,19 @@ fn quick_report_writes_sane_json_for_every_section() {
         );
     }
     for c in cells {
-        for f in ["peak_kN", "mean_kN", "paper_peak_kN", "paper_mean_kN"] {
-            let v = num(c, f);
-            assert!(v.is_finite() && v > 0.0, "{f} = {v} in {c}");
+        for f in ["peak_kN", "mean_kN"] {
+            assert!(num(c, f).is_finite(), "{f} in {c}");
+        }
+        for f in ["paper_peak_kN", "paper_mean_kN"] {
+            assert!(num(c, f) > 0.0, "{f} in {c}");
+        }
+        let touching = num(c, "touching");
+        assert!((0.0..=1.0).contains(&touching), "{c}");
+        if touching == 0.0 {
+            assert!(
+                num(c, "peak_kN") <= 0.0,
+                "no contact, yet a positive force: {c}"
+            );
         }
         assert!(num(c, "peak_kN") >= num(c, "mean_kN"), "{c}");
         // The averaged peak (absent where the steady window is shorter than a grain) is a
@@ -123,10 +137,15 @@ fn quick_report_writes_sane_json_for_every_section() {
     let cv = read(&out, "cutting_convergence.json");
     let pts = cv["points"].as_array().expect("points");
     assert_eq!(pts.len(), 4, "{cv}");
+    // The reference (finest) run has positive forces (the section fails otherwise); the
+    // coarser ones finite forces (a coarse run may fall between strikes, as above).
     for p in pts {
-        for f in ["peak_n", "mean_n", "wall_time_s", "dt_s"] {
+        for f in ["wall_time_s", "dt_s"] {
             let v = num(p, f);
             assert!(v.is_finite() && v > 0.0, "{f} = {v} in {p}");
+        }
+        for f in ["peak_n", "mean_n"] {
+            assert!(num(p, f).is_finite(), "{f} in {p}");
         }
         assert!(num(p, "mean_err_vs_finest").is_finite());
         if Path::new("/proc/thread-self/schedstat").exists() {

@@ -80,6 +80,17 @@ struct Resolved {
     key: Value,
 }
 
+/// Whether two axis values give the same flags with the same key values (one case).
+fn same(a: &[(String, Resolved)], b: &[(String, Resolved)]) -> bool {
+    let keyed = |v: &[(String, Resolved)]| -> BTreeMap<String, Value> {
+        v.iter()
+            .filter(|(_, r)| r.arg.is_some())
+            .map(|(f, r)| (f.clone(), r.key.clone()))
+            .collect()
+    };
+    keyed(a) == keyed(b)
+}
+
 /// Checks and resolves one flag value; `field` names it in errors.
 fn resolve(
     file: &Path,
@@ -187,6 +198,31 @@ pub fn cases(file: &Path, p: &Parsed) -> Result<Vec<Case>, String> {
                 let info = lookup(&flag, &flag_field)?;
                 let r = resolve(file, &field, &flag, &v, info)?;
                 fs.push((flag, r));
+            }
+            // One physical case is planned once (issue 48 D5): a value whose flags resolve to
+            // those of an earlier value of the axis would give cases of one key and folder,
+            // run once and counted twice. (Spellings are compared as given: `1mm` and `1.0mm`
+            // are two values.)
+            if let Some(k) = vs
+                .iter()
+                .position(|e: &Vec<(String, Resolved)>| same(e, &fs))
+            {
+                let at = |j: usize| {
+                    if a.sets.is_empty() {
+                        format!("axes[{i}].values[{j}]")
+                    } else {
+                        format!("axes[{i}].sets[{j}]")
+                    }
+                };
+                return Err(format!(
+                    "{}: field {}: {:?} gives the same inputs as {} ({:?}): the case would run \
+                     once and count twice; list each value once",
+                    file.display(),
+                    at(j),
+                    a.values[j],
+                    at(k),
+                    a.values[k]
+                ));
             }
             vs.push(fs);
         }
@@ -536,5 +572,39 @@ mod tests {
             r#"[{"name":"d","values":[1]}]"#,
             &["axes[0].name", "only a sets axis"],
         );
+    }
+
+    /// Issue 48 D5: a value listed twice in an axis (seeds, values, or sets giving the same
+    /// flags) is refused, naming both places, instead of planning two cases of one key.
+    #[test]
+    fn a_value_listed_twice_is_refused() {
+        let base = r#"{"name":"d","base":{"test":"cutting","flags":{"r-min":"0.1mm"}},"axes":"#;
+        let e = plan(&format!(r#"{base}[{{"seeds":[1,1,2]}}]}}"#)).unwrap_err();
+        assert!(
+            e.contains("axes[0].values[1]") && e.contains("axes[0].values[0]"),
+            "{e}"
+        );
+        assert!(e.contains("count twice"), "{e}");
+        let e = plan(&format!(
+            r#"{base}[{{"flag":"depth","values":["1mm","2mm","1mm"]}}]}}"#
+        ))
+        .unwrap_err();
+        assert!(
+            e.contains("axes[0].values[2]") && e.contains("axes[0].values[0]"),
+            "{e}"
+        );
+        let e = plan(&format!(
+            r#"{base}[{{"flag":"depth","values":["1mm"]}},{{"name":"damping","sets":[
+                {{"name":"a","flags":{{"local-damping":0.7}}}},
+                {{"name":"b","flags":{{"local-damping":0.7}}}}]}}]}}"#
+        ))
+        .unwrap_err();
+        assert!(
+            e.contains("axes[1].sets[1]") && e.contains("axes[1].sets[0]"),
+            "{e}"
+        );
+        // Distinct values plan as before.
+        let ok = plan(&format!(r#"{base}[{{"seeds":[1,2,3]}}]}}"#)).unwrap();
+        assert_eq!(ok.len(), 3);
     }
 }

@@ -199,6 +199,39 @@ fn is_output_name(name: &str) -> bool {
         .contains(&name)
 }
 
+/// Whether `a` and `b` name one existing file, whatever the spelling (symlinks, `..`, hard
+/// links: the same device and inode on Unix, the same resolved path elsewhere). A path that
+/// does not exist names no file and is nobody's twin.
+///
+/// ```
+/// let d = std::env::temp_dir().join(format!("dem-same-file-doc-{}", std::process::id()));
+/// std::fs::create_dir_all(&d).unwrap();
+/// let f = d.join("m.json");
+/// std::fs::write(&f, "{}").unwrap();
+/// assert!(dem_core::output::driver::same_file(&f, &d.join(".").join("m.json")));
+/// assert!(!dem_core::output::driver::same_file(&f, &d.join("other.json")));
+/// std::fs::remove_dir_all(&d).unwrap();
+/// ```
+pub fn same_file(a: &Path, b: &Path) -> bool {
+    let (Ok(ma), Ok(mb)) = (std::fs::metadata(a), std::fs::metadata(b)) else {
+        return false;
+    };
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt;
+        let _ = (&ma, &mb);
+        ma.dev() == mb.dev() && ma.ino() == mb.ino()
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = (ma, mb);
+        matches!(
+            (std::fs::canonicalize(a), std::fs::canonicalize(b)),
+            (Ok(x), Ok(y)) if x == y
+        )
+    }
+}
+
 /// Refuses an input file that is one of the files a run into `out` writes (issue 48 D1: `dem
 /// run sc/summary.json --out sc` replaced its own scene with the summary). The file is
 /// resolved first (symlinks, `..`), so any spelling of the same file is caught; a file that
