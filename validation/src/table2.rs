@@ -956,7 +956,10 @@ mod tests {
         let t: Table2 =
             serde_json::from_str(include_str!("../../docs/report/table2-previous.json")).unwrap();
         assert_eq!(t.cells.len(), 12);
-        assert!(t.cells.iter().all(|c| c.seeds == 10 && c.touching.is_none()));
+        assert!(t
+            .cells
+            .iter()
+            .all(|c| c.seeds == 10 && c.touching.is_none()));
         assert!(t.cells.iter().all(|c| c.peak_seed_avg_kN.is_some()));
         assert_eq!(t.claims.len(), 4);
         assert!(t.claims.iter().all(|c| c.verdict != Verdict::NotChecked));

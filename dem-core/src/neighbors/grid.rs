@@ -9,6 +9,15 @@
 //! cells crowded by the size of the largest disc, and large discs find small partners through
 //! the small discs' own search: the cost stays linear in N for any radius ratio, with at most
 //! ⌈log₂(r_max/r_min)⌉ + 1 levels. Cells are a counting sort (cell start + sorted indices).
+//!
+//! **Sparse scenes.** When the discs of a level span far more cells than they fill (debris
+//! flown clear of a cut: chips leave at ~20 m/s under damping that does not drag them, and
+//! the bounding box grows to many times the specimen), a level keeps its cell size and lists
+//! only its occupied cells (sorted cell indices, found by binary search) instead of
+//! coarsening the grid: coarse cells put tens of discs in each cell of the specimen and made
+//! the pair search half of a cut's time. The pairs found do not depend on the cells (every
+//! candidate is tested against its reach, and the keys are sorted), so both layouts give the
+//! same list, bit for bit.
 
 #![allow(clippy::needless_range_loop)] // SoA: one index into several arrays
 
@@ -30,8 +39,13 @@ struct Level {
     /// Periodic axes wrap cell coordinates.
     px: bool,
     py: bool,
+    /// Dense: the items of cell c are `items[start[c]..start[c + 1]]`. Sparse: those of the
+    /// k-th occupied cell, `cells[k]`.
     start: Vec<u32>,
     items: Vec<u32>,
+    /// Sparse levels: the occupied cells' indices, ascending; empty for a dense level.
+    cells: Vec<u64>,
+    sparse: bool,
 }
 
 impl Level {
@@ -50,7 +64,24 @@ impl Level {
         let (cx, cy) = self.coord(x, y);
         cy as usize * self.nx + cx as usize
     }
+
+    /// The discs (indices) in cell `c`.
+    #[inline]
+    fn items_of(&self, c: usize) -> &[u32] {
+        let k = if self.sparse {
+            match self.cells.binary_search(&(c as u64)) {
+                Ok(k) => k,
+                Err(_) => return &[],
+            }
+        } else {
+            c
+        };
+        &self.items[self.start[k] as usize..self.start[k + 1] as usize]
+    }
 }
+
+/// Most cells per axis of a sparse level (its cell indices y·nx + x stay below 2⁶²).
+const MAX_AXIS_CELLS: usize = 1 << 31;
 
 #[inline]
 fn wrap_or_clamp(c: i64, n: usize, periodic: bool) -> i64 {
@@ -142,16 +173,19 @@ fn make_level(st: &State, lv: &[u8], l: u8, count: usize, s: f64, bb: [f64; 4]) 
                 (nc, len / nc as f64, per.lo[a], true)
             }
             None => {
-                let nc = (((hi - lo) / s).floor() as usize + 1).max(1);
-                (nc, s, lo, false)
+                // (Saturating: a disc flown to 1e300 m gives the most cells, then coarsening.)
+                let nc = (((hi - lo) / s).floor().min(1e18) as usize).saturating_add(1);
+                (nc.max(1), s, lo, false)
             }
         }
     };
     let (mut nx, mut cx, ox, px) = axis(0, bb[0], bb[1]);
     let (mut ny, mut cy, oy, py) = axis(1, bb[2], bb[3]);
-    // Sparse scenes (discs flown far apart): coarsen non-periodic axes so the grid stays O(N).
+    // Sparse scenes (discs flown far apart): list the occupied cells only (module docs), with
+    // the axes coarsened only as far as the cell indices need.
     let cap = 4 * count + 64;
-    while nx * ny > cap {
+    let sparse = nx.checked_mul(ny).is_none_or(|c| c > cap);
+    while sparse && (nx > MAX_AXIS_CELLS || ny > MAX_AXIS_CELLS) {
         let mut changed = false;
         if !px && nx > 1 {
             nx = nx.div_ceil(2);
@@ -176,10 +210,33 @@ fn make_level(st: &State, lv: &[u8], l: u8, count: usize, s: f64, bb: [f64; 4]) 
         oy,
         px,
         py,
-        start: vec![0; nx * ny + 1],
+        start: Vec::new(),
         items: vec![0; count],
+        cells: Vec::new(),
+        sparse,
     };
     let d = &st.discs;
+    if sparse {
+        // (cell, disc) sorted: the discs of a cell in ascending order, as the counting sort.
+        let mut at: Vec<(u64, u32)> = (0..d.len())
+            .filter(|&k| lv[k] == l)
+            .map(|k| (g.cell_index(d.x[k], d.y[k]) as u64, k as u32))
+            .collect();
+        at.sort_unstable();
+        g.start.push(0);
+        for (n, &(c, k)) in at.iter().enumerate() {
+            if g.cells.last() != Some(&c) {
+                if !g.cells.is_empty() {
+                    g.start.push(n as u32);
+                }
+                g.cells.push(c);
+            }
+            g.items[n] = k;
+        }
+        g.start.push(at.len() as u32);
+        return g;
+    }
+    g.start = vec![0; nx * ny + 1];
     for k in 0..d.len() {
         if lv[k] == l {
             let c = g.cell_index(d.x[k], d.y[k]);
@@ -237,7 +294,7 @@ fn partners(
             }
         }
         for &c in &cells[..nc] {
-            for &j in &g.items[g.start[c] as usize..g.start[c + 1] as usize] {
+            for &j in g.items_of(c) {
                 let j = j as usize;
                 if j == i || (b == a && j < i) {
                     continue;
@@ -313,6 +370,41 @@ mod tests {
             assert!(slow.len() > 1000, "scene too sparse: {}", slow.len());
             assert_eq!(fast, slow, "periodic {per:?}");
         }
+    }
+
+    /// Debris flown far (a few discs 10–10⁴ box sizes away, one at 1e200 m): the levels go
+    /// sparse, and the pairs are still exactly the brute force's, near and far.
+    #[test]
+    fn sparse_levels_find_the_same_pairs() {
+        let mut st = scene([false, false], 10.0, 11);
+        let mut rng = SplitMix64::new(5);
+        for k in 0..40 {
+            let far = 10f64.powi(1 + k % 4);
+            let (x, y) = (far * rng.uniform(), far * (rng.uniform() - 0.5));
+            // Pairs of touching discs out there, so far pairs exist to be found.
+            st.discs.push_uniform(x, y, 0.004, 1000.0, 1.0, 0);
+            st.discs.push_uniform(x + 0.0075, y, 0.004, 1000.0, 1.0, 0);
+        }
+        st.discs.push_uniform(1e200, -1e200, 0.004, 1000.0, 1.0, 0);
+        let img = MinImage::new(&st.periodic);
+        let (lv, _) = levels_of(&st.discs.r);
+        let g = make_level(&st, &lv, 0, lv.iter().filter(|&&l| l == 0).count(), 0.01, {
+            let d = &st.discs;
+            let f = |v: &[f64], m: fn(f64, f64) -> f64, z: f64| v.iter().fold(z, |a, &b| m(a, b));
+            [
+                f(&d.x, f64::min, f64::INFINITY),
+                f(&d.x, f64::max, f64::NEG_INFINITY),
+                f(&d.y, f64::min, f64::INFINITY),
+                f(&d.y, f64::max, f64::NEG_INFINITY),
+            ]
+        });
+        assert!(g.sparse && !g.cells.is_empty());
+        let skin = 0.001;
+        let fast = find_pairs(&st, skin, &img);
+        let slow = brute(&st, skin, &img);
+        let n0 = 1500u64;
+        assert!(fast.iter().filter(|&&k| (k >> 32) >= n0).count() >= 40);
+        assert_eq!(fast, slow);
     }
 
     #[test]
