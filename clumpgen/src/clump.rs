@@ -5,8 +5,7 @@ use crate::descriptors::{shape_descriptors, ShapeDescriptors};
 use crate::fill::{FillParams, Filler, StopReason};
 use crate::lattice::{lattice_fill, MAX_LATTICE_NODES};
 use crate::massfit::{
-    fit_masses, fit_masses_interior, fit_masses_plain, inertia_about_origin, residuals,
-    MassFitError, MassTargets,
+    fit_masses, fit_masses_interior, fit_masses_plain, residuals, MassFitError, MassTargets,
 };
 use crate::outline::Outline;
 use crate::props::{polygon_props, PolygonProps};
@@ -310,23 +309,6 @@ fn check_params(p: &ClumpParams, file: &str) -> Result<(), ClumpError> {
     })
 }
 
-/// Mass properties of discs with masses `m`, about the grain centroid (the frame's origin).
-fn mass_props(discs: &[Disc]) -> MassProps {
-    let xyr: Vec<[f64; 3]> = discs.iter().map(|d| [d.x, d.y, d.r]).collect();
-    let m: Vec<f64> = discs.iter().map(|d| d.m).collect();
-    let mass: f64 = m.iter().sum();
-    let cx = discs.iter().map(|d| d.m * d.x).sum::<f64>() / mass;
-    let cy = discs.iter().map(|d| d.m * d.y).sum::<f64>() / mass;
-    let inertia = inertia_about_origin(&xyr, &m);
-    MassProps {
-        mass,
-        centroid: [cx, cy],
-        inertia,
-        inertia_own: inertia - mass * (cx * cx + cy * cy),
-        area: discs.iter().map(|d| std::f64::consts::PI * d.r * d.r).sum(),
-    }
-}
-
 /// The improved method's mass solve for one grain.
 struct Solve<'a> {
     p: &'a ClumpParams,
@@ -545,7 +527,7 @@ pub fn make_template(outline: &Outline, p: &ClumpParams) -> Result<Template, Clu
         }
     };
     let (cover, cover_bound) = filler.cover();
-    let achieved = mass_props(&discs);
+    let achieved = MassProps::of_discs(&discs);
     let xyr: Vec<[f64; 3]> = discs.iter().map(|d| [d.x, d.y, d.r]).collect();
     let m: Vec<f64> = discs.iter().map(|d| d.m).collect();
     let res = residuals(
@@ -717,7 +699,7 @@ fn lattice_template(
                     mass"
                 .into(),
         },
-        achieved: mass_props(&discs),
+        achieved: MassProps::of_discs(&discs),
         discs,
         target,
         residuals: res,

@@ -113,6 +113,26 @@ pub struct MassProps {
     pub area: f64,
 }
 
+impl MassProps {
+    /// Mass properties of discs with masses `m`, about the grain centroid (the frame's
+    /// origin): Σm, Σm·x/Σm, Σm(r²/2 + |x|²), and Σπr² as the area.
+    pub fn of_discs(discs: &[Disc]) -> MassProps {
+        let xyr: Vec<[f64; 3]> = discs.iter().map(|d| [d.x, d.y, d.r]).collect();
+        let m: Vec<f64> = discs.iter().map(|d| d.m).collect();
+        let mass: f64 = m.iter().sum();
+        let cx = discs.iter().map(|d| d.m * d.x).sum::<f64>() / mass;
+        let cy = discs.iter().map(|d| d.m * d.y).sum::<f64>() / mass;
+        let inertia = crate::massfit::inertia_about_origin(&xyr, &m);
+        MassProps {
+            mass,
+            centroid: [cx, cy],
+            inertia,
+            inertia_own: inertia - mass * (cx * cx + cy * cy),
+            area: discs.iter().map(|d| std::f64::consts::PI * d.r * d.r).sum(),
+        }
+    }
+}
+
 /// Area cover of the clump.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
@@ -338,8 +358,56 @@ impl Template {
                 return Err(bad(name.into(), "contains a non-finite number"));
             }
         }
+        // The lattice's own geometry first: a moved node is a broken link before it is a
+        // moved centroid.
         if let Some(l) = &self.lattice {
             self.check_lattice(l, file)?;
+        }
+        self.check_achieved(file)
+    }
+
+    /// The stated clump properties (`achieved`, what a rigid clump of the template moves
+    /// with) are the discs' own: Σm, Σm·x/Σm and Σm(r²/2 + |x|²) to 1e-9 (relative; the
+    /// centroid relative to the radius of gyration; every number is finite here, checked
+    /// before). Issue 48 D16: a template with one disc's
+    /// mass edited ran with the old clump mass, silently.
+    fn check_achieved(&self, file: &str) -> Result<(), TemplateError> {
+        let own = MassProps::of_discs(&self.discs);
+        let a = &self.achieved;
+        let tol = 1e-9;
+        let gyr = (a.inertia / a.mass).abs().sqrt();
+        let off = (own.centroid[0] - a.centroid[0]).hypot(own.centroid[1] - a.centroid[1]);
+        let bad = |field: &str, what: &str, discs: String, stated: String| TemplateError::Field {
+            file: file.to_string(),
+            field: format!("achieved.{field}"),
+            reason: format!(
+                "the discs give {what} {discs}, the template states {stated} (a disc edited?); \
+                 regenerate the template (dem clump) or make the two agree"
+            ),
+        };
+        if (own.mass - a.mass).abs() > tol * a.mass.abs() {
+            return Err(bad(
+                "mass",
+                "a mass of",
+                format!("{:.6e} kg", own.mass),
+                format!("{:.6e} kg", a.mass),
+            ));
+        }
+        if off > tol * gyr {
+            return Err(bad(
+                "centroid",
+                "a centroid of",
+                format!("({:.6e}, {:.6e}) m", own.centroid[0], own.centroid[1]),
+                format!("({:.6e}, {:.6e}) m", a.centroid[0], a.centroid[1]),
+            ));
+        }
+        if (own.inertia - a.inertia).abs() > tol * a.inertia.abs() {
+            return Err(bad(
+                "inertia",
+                "an inertia of",
+                format!("{:.6e} kg m²", own.inertia),
+                format!("{:.6e} kg m²", a.inertia),
+            ));
         }
         Ok(())
     }

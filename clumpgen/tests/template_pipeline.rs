@@ -117,6 +117,40 @@ fn loader_names_the_bad_field() {
     assert!(e.to_string().starts_with("x.json"), "{e}");
 }
 
+/// Issue 48 D16: discs edited after generation (one mass × 10, one disc moved, one radius
+/// grown) disagree with the stated clump properties, which a rigid clump moves with: the
+/// loader refuses them naming `achieved.mass`, `achieved.centroid` or `achieved.inertia` and
+/// both values; the template as written loads.
+#[test]
+fn discs_that_disagree_with_the_clump_properties_are_refused() {
+    let t = template_of(&ngon_csv(9, 5.0, 0.0, 0.0), &ClumpParams::default());
+    let good = serde_json::to_value(&t).unwrap();
+    assert!(Template::from_json(&good.to_string(), "x.json").is_ok());
+    let last = t.discs.len() - 1;
+    let edits: [(&str, f64, &str); 3] = [
+        ("m", 10.0, "mass"),
+        ("x", 1.5, "centroid"),
+        ("r", 1.2, "inertia"),
+    ];
+    for (key, factor, field) in edits {
+        let mut v = good.clone();
+        let d = &mut v["discs"][last][key];
+        *d = serde_json::json!(d.as_f64().unwrap() * factor + if key == "x" { 1e-4 } else { 0.0 });
+        match Template::from_json(&v.to_string(), "x.json") {
+            Err(TemplateError::Field {
+                field: f, reason, ..
+            }) => {
+                assert_eq!(f, format!("achieved.{field}"), "{key}: {reason}");
+                assert!(
+                    reason.contains("the discs give") && reason.contains("states"),
+                    "{reason}"
+                );
+            }
+            other => panic!("{key}: {other:?}"),
+        }
+    }
+}
+
 /// Every shipped outline: cover ≥ 0.95, positive masses, residuals ≤ 1e-9, discs inside.
 #[test]
 fn shipped_outlines_meet_the_targets() {

@@ -4,7 +4,7 @@
 //! unless `--force`.
 
 use clap::Args;
-use dem_core::output::driver::{Ending, RunOptions, Simulation};
+use dem_core::output::driver::{Ending, RunOptions, Simulation, MAX_OUTPUT_BYTES_UNASKED};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
 use std::path::PathBuf;
@@ -206,50 +206,11 @@ fn check_step_count(sim: &Simulation, yes: bool) -> Result<(), String> {
     ))
 }
 
-/// Above this many bytes of snapshots and checkpoints (estimated) `dem run` states the figure
-/// and refuses unless `--yes`: 10 GB, an order of magnitude above the largest output of the
-/// project's own runs (a 10 mm Table 2 cut, ~1,600 discs, 20 snapshots: ~30 MB).
-pub const MAX_OUTPUT_BYTES_UNASKED: f64 = 10e9;
-
-/// Bytes per disc of a VTK snapshot (with its contacts and bonds) and of a JSON and a binary
-/// checkpoint, measured on an improved-ORC cutting specimen (~1,590 discs, ~3,170 bonds:
-/// 0.55 MB a snapshot; 846 and 421 B per disc without the history rows; docs/reliability.md,
-/// "Checkpoints").
-const SNAPSHOT_BYTES_PER_DISC: f64 = 345.0;
-const BINARY_SNAPSHOT_BYTES_PER_DISC: f64 = 292.0;
-const JSON_CHECKPOINT_BYTES_PER_DISC: f64 = 846.0;
-const BINARY_CHECKPOINT_BYTES_PER_DISC: f64 = 421.0;
-
-/// The disk a run's snapshots and checkpoints will take, estimated from its step count, disc
-/// count and output intervals (the numbered checkpoints kept are bounded by
-/// `outputs.checkpoint_keep`; `ckpt-final` counts once; none with `outputs.checkpoints` off).
-fn output_bytes(sim: &Simulation) -> f64 {
-    let steps = sim.total_steps();
-    let o = &sim.scene.outputs;
-    let discs = sim.world.state.discs.len() as f64;
-    let every = |k: u64| steps.checked_div(k).unwrap_or(0);
-    let snapshots = every(o.vtk_every) as f64;
-    let per_snapshot = match o.vtk_format {
-        dem_core::output::vtk::Format::Ascii => SNAPSHOT_BYTES_PER_DISC,
-        dem_core::output::vtk::Format::Binary => BINARY_SNAPSHOT_BYTES_PER_DISC,
-    };
-    let numbered = every(o.checkpoint_every);
-    let kept = match o.checkpoint_keep {
-        0 => numbered,
-        k => numbered.min(u64::from(k)),
-    };
-    let checkpoints = if o.checkpoints { kept + 1 } else { 0 };
-    let per_checkpoint = match o.checkpoint_format {
-        dem_core::checkpoint::Format::Json => JSON_CHECKPOINT_BYTES_PER_DISC,
-        dem_core::checkpoint::Format::Binary => BINARY_CHECKPOINT_BYTES_PER_DISC,
-    };
-    discs * (snapshots * per_snapshot + checkpoints as f64 * per_checkpoint)
-}
-
-/// Refuses a run whose outputs would fill more than [`MAX_OUTPUT_BYTES_UNASKED`] unless `yes`
+/// Refuses a run whose outputs would fill more than [`MAX_OUTPUT_BYTES_UNASKED`] (the
+/// estimate is [`Simulation::output_bytes`], the one every run path uses) unless `yes`
 /// (issue 20: VTK output grew ~48 MB/min with no warning), naming the scene fields to change.
 fn check_output_size(sim: &Simulation, yes: bool) -> Result<(), String> {
-    let bytes = output_bytes(sim);
+    let bytes = sim.output_bytes();
     if bytes <= MAX_OUTPUT_BYTES_UNASKED || yes {
         return Ok(());
     }

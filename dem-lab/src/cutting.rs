@@ -296,6 +296,18 @@ impl CuttingTest {
                 "the rake face must reach above the specimen top (rake_face · cos γ > 1)".into(),
             );
         }
+        // A snapshot at most every history row (issue 48 D4: `--snapshots 100000000` wrote one
+        // every step, 25,546 files in 90 s); the disk estimate of the run layer bounds the rest.
+        if self.snapshots > self.history_rows {
+            return bad(
+                "snapshots",
+                format!(
+                    "{} is more than the {} history rows (history_rows): snapshots are taken \
+                     at most once a row; ask for at most {} (or more rows)",
+                    self.snapshots, self.history_rows, self.history_rows
+                ),
+            );
+        }
         if !(self.mass_scaling >= 0.0 && self.mass_scaling <= 0.5) {
             return bad(
                 "mass_scaling",
@@ -964,8 +976,9 @@ fn stats_or_err(
 }
 
 /// Share of the rows with travel in `window` whose main force is positive; `None` when the
-/// window holds no row.
-fn touching_share(travel: &[f64], main: &[f64], window: [f64; 2]) -> Option<f64> {
+/// window holds no row ([`CuttingResult::touching`]; also read back from the forces file of a
+/// run written before the field).
+pub fn touching_share(travel: &[f64], main: &[f64], window: [f64; 2]) -> Option<f64> {
     let (mut rows, mut on) = (0usize, 0usize);
     for (s, m) in travel.iter().zip(main) {
         if *s >= window[0] && *s <= window[1] {
@@ -1442,6 +1455,28 @@ mod tests {
             Err(LabError::Param { field, reason }) => Some((field, reason)),
             Err(e) => panic!("{e}"),
         }
+    }
+
+    /// Issue 48 D4: more snapshots than history rows (a snapshot every step of the run) is
+    /// refused naming the field and the most allowed; as many as rows is fine.
+    #[test]
+    fn more_snapshots_than_rows_are_refused() {
+        let t = CuttingTest::default();
+        let ok = CuttingTest {
+            snapshots: t.history_rows,
+            ..t.clone()
+        };
+        assert!(field(ok.validate()).is_none());
+        let bad = CuttingTest {
+            snapshots: 100_000_000,
+            ..t
+        };
+        let (f, reason) = field(bad.validate()).unwrap();
+        assert_eq!(f, "snapshots");
+        assert!(
+            reason.contains("100000000") && reason.contains("at most 4000"),
+            "{reason}"
+        );
     }
 
     #[test]

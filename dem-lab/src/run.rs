@@ -72,6 +72,20 @@ pub fn run_built(
             limit: STEP_LIMIT,
         });
     }
+    // The disk estimate `dem run` refuses on (issue 48 D4: `--snapshots 100000000` wrote a
+    // snapshot every step, 453 MB in 90 s, no warning).
+    let bytes = sim.output_bytes();
+    if bytes > dem_core::output::driver::MAX_OUTPUT_BYTES_UNASKED {
+        let o = &sim.scene.outputs;
+        return Err(LabError::TooMuchOutput {
+            scene: scene_file.display().to_string(),
+            gb: bytes / 1e9,
+            steps,
+            discs: sim.world.state.discs.len(),
+            vtk_every: o.vtk_every,
+            limit_gb: dem_core::output::driver::MAX_OUTPUT_BYTES_UNASKED / 1e9,
+        });
+    }
     if let Some(h) = hook {
         sim.set_hook(h);
     }

@@ -194,7 +194,11 @@ pub fn finished(
             ),
             median_n: hist.run.map(|s| s.median),
             top5_work_share: hist.run.and_then(|s| s.top5_work_share),
-            touching: res.touching,
+            // Runs written before the field: from their forces file.
+            touching: res.touching.or_else(|| {
+                main_force(&dir.join(cutting::FORCES_FILE))
+                    .and_then(|(x, f)| cutting::touching_share(&x, &f, res.window))
+            }),
         },
         result_file: dir.join(cutting::RESULT_FILE).display().to_string(),
         resumed,

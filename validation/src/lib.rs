@@ -7,6 +7,7 @@ pub mod convergence;
 pub mod crush;
 pub mod crush_column;
 pub mod cutting_runs;
+pub mod damping_studies;
 pub mod environment;
 pub mod error;
 pub mod force_statistics;

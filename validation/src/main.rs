@@ -26,8 +26,8 @@ struct Args {
     /// Quick mode (CI): 1 seed, short cut, coarse specimens, a short clump sweep.
     #[arg(long)]
     quick: bool,
-    /// Run only these sections (comma-separated): table1, sweep, table2, table3, pictures,
-    /// convergence, stability, crush. Cutting (and Table 3's bending) runs already in the output
+    /// Run only these sections (comma-separated): table1, sweep, table2, damping, table3,
+    /// pictures, convergence, stability, crush. Cutting (and Table 3's bending) runs already in the output
     /// folder with the same parameters are read back, not run again.
     #[arg(long, value_delimiter = ',')]
     only: Vec<String>,

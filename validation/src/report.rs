@@ -39,10 +39,11 @@ pub struct ReportOptions {
 }
 
 /// Section names, in the order they run.
-pub const SECTIONS: [&str; 8] = [
+pub const SECTIONS: [&str; 9] = [
     "table1",
     "sweep",
     "table2",
+    "damping",
     "table3",
     "pictures",
     "convergence",
@@ -60,6 +61,11 @@ pub struct Shared {
 }
 
 /// The specimens and one cut of each, as pictures (committed PNGs, see [`crate::pictures`]).
+/// Issue 47's contracts and trends, read from the committed studies under `<out>/studies`.
+fn damping_section(o: &ReportOptions, _: &mut Shared) -> Result<Section> {
+    Ok(crate::damping_studies::section(&o.out))
+}
+
 fn pictures_section(o: &ReportOptions, _: &mut Shared) -> Result<Section> {
     Ok(crate::pictures::section(&o.pictures))
 }
@@ -206,10 +212,11 @@ pub fn run(o: &ReportOptions) -> Result<String> {
     let mut env = Environment::capture(mode);
     let mut sections = Vec::new();
     type Builder = fn(&ReportOptions, &mut Shared) -> Result<Section>;
-    let all: [Builder; 8] = [
+    let all: [Builder; 9] = [
         table1_section,
         sweep_section,
         table2_section,
+        damping_section,
         table3_section,
         pictures_section,
         convergence_section,

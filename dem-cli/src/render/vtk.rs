@@ -396,7 +396,21 @@ pub fn load_vtp(path: &Path, time: Option<f64>) -> Result<Picture, String> {
              writes (snap-*.vtp)"
         )
     })?;
+    finite_points(pts, &file, "disc centre")?;
+    if let Some(k) = r.iter().position(|v| !(v.is_finite() && *v > 0.0)) {
+        return Err(format!(
+            "{file}: point array \"radius\", value {k}: {}; a disc radius is a positive finite \
+             number",
+            r[k]
+        ));
+    }
     let vel = sized(&pd, &file, "PointData", "velocity", 3, n)?;
+    if let Some(k) = vel.and_then(|v| v.iter().position(|x| !x.is_finite())) {
+        return Err(format!(
+            "{file}: point array \"velocity\", component {k} (disc {}): not finite",
+            k / 3
+        ));
+    }
     let int = |name: &str| -> Result<Option<Vec<u32>>, String> {
         Ok(sized(&pd, &file, "PointData", name, 1, n)?.map(|v| {
             v.iter()
@@ -503,6 +517,7 @@ fn load_walls(path: &Path) -> Result<Vec<WallLine>, String> {
     let pd = parse_polydata(&text, &file)?;
     let pts = sized(&pd, &file, "Points", "points", 3, pd.points)?
         .ok_or_else(|| format!("{file}: no <Points> array (the wall vertices)"))?;
+    finite_points(pts, &file, "wall vertex")?;
     Ok(line_cells(&pd, &file)?
         .into_iter()
         .enumerate()
@@ -512,6 +527,20 @@ fn load_walls(path: &Path) -> Result<Vec<WallLine>, String> {
             points: c.iter().map(|&v| [pts[3 * v], pts[3 * v + 1]]).collect(),
         })
         .collect())
+}
+
+/// Refuses a NaN or infinite coordinate of `<Points>` (issue 48 D17: a snapshot with a NaN
+/// coordinate drew with exit 0), naming the point.
+fn finite_points(pts: &[f64], file: &str, what: &str) -> Result<(), String> {
+    match pts.iter().position(|v| !v.is_finite()) {
+        Some(k) => Err(format!(
+            "{file}: <Points>, point {} ({what}): coordinate {} is {}; not a finite number",
+            k / 3,
+            ["x", "y", "z"][k % 3],
+            pts[k]
+        )),
+        None => Ok(()),
+    }
 }
 
 /// The disc snapshots of a `.pvd` collection in time order: (time in s, path). Wall files
@@ -593,6 +622,66 @@ mod tests {
         assert!(e.contains("compressed"), "{e}");
         let e = parse_polydata(&t[..t.len() / 2], "f.vtp").err().unwrap();
         assert!(e.contains("truncated"), "{e}");
+    }
+
+    /// Issue 48 D17: a snapshot with a NaN or infinite centre, a NaN, zero or negative
+    /// radius, or a NaN velocity is refused naming the array and the disc; walls likewise.
+    #[test]
+    fn non_finite_snapshots_are_refused() {
+        let dir = std::env::temp_dir().join(format!("dem-vtk-nan-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let snap = |pts: &str, r: &str, v: &str| {
+            format!(
+                "<VTKFile type=\"PolyData\">\n<PolyData><Piece NumberOfPoints=\"2\" NumberOfLines=\"0\">\n\
+                 <PointData><DataArray type=\"Float64\" Name=\"radius\" format=\"ascii\">\n{r}\n</DataArray>\n\
+                 <DataArray type=\"Float64\" Name=\"velocity\" NumberOfComponents=\"3\" format=\"ascii\">\n{v}\n</DataArray></PointData>\n\
+                 <Points><DataArray type=\"Float64\" Name=\"points\" NumberOfComponents=\"3\" format=\"ascii\">\n{pts}\n</DataArray></Points>\n\
+                 </Piece></PolyData></VTKFile>\n"
+            )
+        };
+        let f = dir.join("snap-000000000.vtp");
+        let load = |text: String| {
+            std::fs::write(&f, text).unwrap();
+            load_vtp(&f, Some(0.0))
+        };
+        let (p, r, v) = ("0 0 0 1 2 0", "0.5 0.25", "0 0 0 1 0 0");
+        assert!(load(snap(p, r, v)).is_ok());
+        for (bad, want) in [
+            (
+                snap("0 0 0 nan 2 0", r, v),
+                "point 1 (disc centre): coordinate x is NaN",
+            ),
+            (
+                snap("0 inf 0 1 2 0", r, v),
+                "point 0 (disc centre): coordinate y is inf",
+            ),
+            (snap(p, "0.5 NaN", v), "\"radius\", value 1: NaN"),
+            (snap(p, "0 0.25", v), "\"radius\", value 0: 0"),
+            (snap(p, "0.5 -1", v), "\"radius\", value 1: -1"),
+            (
+                snap(p, r, "0 0 0 1 nan 0"),
+                "\"velocity\", component 4 (disc 1)",
+            ),
+        ] {
+            let e = load(bad).err().unwrap();
+            assert!(e.contains("snap-000000000.vtp") && e.contains(want), "{e}");
+        }
+        // The walls file beside it: a NaN vertex is refused naming that file.
+        std::fs::write(
+            dir.join("walls-000000000.vtp"),
+            "<VTKFile type=\"PolyData\">\n<PolyData><Piece NumberOfPoints=\"2\" NumberOfLines=\"1\">\n\
+             <Points><DataArray type=\"Float64\" Name=\"points\" NumberOfComponents=\"3\" format=\"ascii\">\n0 0 0 nan 1 0\n</DataArray></Points>\n\
+             <Lines><DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n0 1\n</DataArray>\n\
+             <DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n2\n</DataArray></Lines>\n\
+             </Piece></PolyData></VTKFile>\n",
+        )
+        .unwrap();
+        let e = load(snap(p, r, v)).err().unwrap();
+        assert!(
+            e.contains("walls-000000000.vtp") && e.contains("point 1 (wall vertex)"),
+            "{e}"
+        );
+        let _ = std::fs::remove_dir_all(&dir);
     }
 
     /// A binary (appended base64) snapshot and walls, as dem run writes them, draw the same

@@ -251,6 +251,21 @@ pub fn check_not_an_output(input: &Path, out: &Path) -> Result<(), OutputError> 
     Ok(())
 }
 
+/// Above this many bytes of snapshots and checkpoints (estimated by
+/// [`Simulation::output_bytes`]) `dem run` states the figure and refuses unless `--yes`, and a
+/// lab test refuses (issue 48 D4): 10 GB, an order of magnitude above the largest output of the
+/// project's own runs (a 10 mm Table 2 cut, ~1,600 discs, 20 snapshots: ~30 MB).
+pub const MAX_OUTPUT_BYTES_UNASKED: f64 = 10e9;
+
+/// Bytes per disc of a VTK snapshot (with its contacts and bonds) and of a JSON and a binary
+/// checkpoint, measured on an improved-ORC cutting specimen (~1,590 discs, ~3,170 bonds:
+/// 0.55 MB a snapshot; 846 and 421 B per disc without the history rows; docs/reliability.md,
+/// "Checkpoints").
+const SNAPSHOT_BYTES_PER_DISC: f64 = 345.0;
+const BINARY_SNAPSHOT_BYTES_PER_DISC: f64 = 292.0;
+const JSON_CHECKPOINT_BYTES_PER_DISC: f64 = 846.0;
+const BINARY_CHECKPOINT_BYTES_PER_DISC: f64 = 421.0;
+
 /// History is rewritten at least this often while running (besides checkpoints and the end).
 const FLUSH_EVERY: Duration = Duration::from_secs(5);
 
@@ -424,6 +439,32 @@ impl Simulation {
 
     fn ending(&self) -> Option<Ending> {
         ending_of(&self.world.state, self.scene.run.stop, self.max_steps)
+    }
+
+    /// The disk a run's snapshots and checkpoints will take, estimated from its step count, disc
+    /// count and output intervals (the numbered checkpoints kept are bounded by
+    /// `outputs.checkpoint_keep`; `ckpt-final` counts once; none with `outputs.checkpoints` off).
+    pub fn output_bytes(&self) -> f64 {
+        let steps = self.total_steps();
+        let o = &self.scene.outputs;
+        let discs = self.world.state.discs.len() as f64;
+        let every = |k: u64| steps.checked_div(k).unwrap_or(0);
+        let snapshots = every(o.vtk_every) as f64;
+        let per_snapshot = match o.vtk_format {
+            vtk::Format::Ascii => SNAPSHOT_BYTES_PER_DISC,
+            vtk::Format::Binary => BINARY_SNAPSHOT_BYTES_PER_DISC,
+        };
+        let numbered = every(o.checkpoint_every);
+        let kept = match o.checkpoint_keep {
+            0 => numbered,
+            k => numbered.min(u64::from(k)),
+        };
+        let checkpoints = if o.checkpoints { kept + 1 } else { 0 };
+        let per_checkpoint = match o.checkpoint_format {
+            checkpoint::Format::Json => JSON_CHECKPOINT_BYTES_PER_DISC,
+            checkpoint::Format::Binary => BINARY_CHECKPOINT_BYTES_PER_DISC,
+        };
+        discs * (snapshots * per_snapshot + checkpoints as f64 * per_checkpoint)
     }
 
     /// Estimated total steps of this invocation (exact for a step count).
