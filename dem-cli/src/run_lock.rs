@@ -240,7 +240,14 @@ pub fn acquire(
         )),
         Ok(old) => {
             let running = old.running();
-            if old.scene == me.scene && old.command != me.command {
+            // One scene file however it was spelled (issue 48 D15: `cc/cutting.scene.json` and
+            // `./cc/cutting.scene.json` were "another scene").
+            let same_scene = old.scene == me.scene
+                || dem_core::output::driver::same_file(
+                    std::path::Path::new(&old.scene),
+                    std::path::Path::new(&me.scene),
+                );
+            if same_scene && old.command != me.command {
                 // The same scene file, run by another command (a lab test's scene run by
                 // `dem run`, or the other way round).
                 notes.push(format!(
@@ -249,7 +256,7 @@ pub fn acquire(
                     old.scene,
                     old.command
                 ));
-            } else if old.scene_hash != hash && old.scene == me.scene {
+            } else if old.scene_hash != hash && same_scene {
                 // The same scene file, edited (or a lab test with other inputs): a fresh run
                 // replaces its outputs.
                 notes.push(format!(
@@ -258,7 +265,7 @@ pub fn acquire(
                     out.display()
                 ));
             }
-            if old.scene_hash != hash && old.scene != me.scene {
+            if old.scene_hash != hash && !same_scene {
                 let now = if running {
                     format!(", being run now by {}", old.who())
                 } else {
@@ -419,6 +426,41 @@ mod tests {
         child.wait().unwrap();
         assert!(!zombie(std::process::id()));
         assert!(process_alive(1));
+    }
+
+    /// Issue 48 D15: a lock taken before its scene existed keeps the path as spelled; the
+    /// same file reached by another spelling is the same scene (a rerun with a note), not
+    /// "another scene". A different file still is.
+    #[test]
+    fn the_same_scene_spelled_otherwise_is_not_another_scene() {
+        let dir = std::env::temp_dir().join(format!("dem-lock-spelling-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(dir.join("sub")).unwrap();
+        let out = dir.join("out");
+        let spelled = dir.join("sub").join("..").join("s.json");
+        fn claim<'a>(scene: &'a Path, command: &'a str, hash: &'a str) -> Claim<'a> {
+            Claim {
+                command,
+                scene,
+                hash,
+            }
+        }
+        // The lab test takes the folder before writing its scene: the path stays as given.
+        let (lock, _) = acquire(&out, claim(&spelled, "dem test cutting", "aa"), false).unwrap();
+        drop(lock);
+        std::fs::write(dir.join("s.json"), "{}").unwrap();
+        let (lock, notes) = acquire(&out, claim(&dir.join("s.json"), RUN, "bb"), false).unwrap();
+        assert!(
+            notes.iter().any(|n| n.contains("outputs are replaced")),
+            "{notes:?}"
+        );
+        drop(lock);
+        std::fs::write(dir.join("other.json"), "{}").unwrap();
+        let e = acquire(&out, claim(&dir.join("other.json"), RUN, "cc"), false)
+            .err()
+            .unwrap();
+        assert!(e.contains("another scene"), "{e}");
+        let _ = std::fs::remove_dir_all(&dir);
     }
 
     #[test]

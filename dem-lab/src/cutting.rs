@@ -353,9 +353,19 @@ impl CuttingTest {
             return bad("history_rows", "at least 10".into());
         }
         if !(self.window_start >= 0.0 && self.window_start * self.depth < self.length) {
+            // Issue 48 D9: the numbers and every flag that moves it, not only a flag the user
+            // may not have given.
             return bad(
                 "window_start",
-                "the steady window (window_start · a_p to L) is empty".into(),
+                format!(
+                    "the steady window from window_start × depth = {} × {:.4} mm = {:.4} mm to \
+                     the cut length {:.4} mm is empty: lengthen the cut (--length), cut \
+                     shallower (--depth) or start the window earlier (--window-start)",
+                    self.window_start,
+                    self.depth * 1e3,
+                    self.window_start * self.depth * 1e3,
+                    self.length * 1e3
+                ),
             );
         }
         Ok(())
@@ -1454,6 +1464,22 @@ mod tests {
             Ok(()) => None,
             Err(LabError::Param { field, reason }) => Some((field, reason)),
             Err(e) => panic!("{e}"),
+        }
+    }
+
+    /// Issue 48 D9: an empty steady window names the numbers and the flags that move it.
+    #[test]
+    fn an_empty_window_names_depth_length_and_start() {
+        let t = CuttingTest::new(5e-3, 1.0, 10e-3);
+        let (f, reason) = field(t.validate()).unwrap();
+        assert_eq!(f, "window_start");
+        for s in [
+            "2 × 5.0000 mm = 10.0000 mm",
+            "10.0000 mm is empty",
+            "--length",
+            "--depth",
+        ] {
+            assert!(reason.contains(s), "{s}: {reason}");
         }
     }
 
