@@ -36,8 +36,9 @@ pub enum GuardError {
         cause: String,
     },
     #[error(
-        "step {step}: discs {disc} and {other}: overlap is {fraction:.3} of the smaller radius \
-         (limit {limit}); likely cause: {cause}"
+        "step {step}: {pair}: overlap is {fraction:.3} of {} (limit {limit}); likely cause: \
+         {cause}",
+        if *.other == u32::MAX { "the disc's radius" } else { "the smaller radius" }
     )]
     Overlap {
         step: u64,
@@ -47,6 +48,10 @@ pub enum GuardError {
         fraction: f64,
         limit: f64,
         cause: String,
+        /// The pair as the message names it: "discs 3 and 4", or "disc 3 and wall 'tool'"
+        /// (issue 48 D10: the wall was named by its sentinel id, 4294967295); the overlap is
+        /// of the smaller radius, or of the disc's for a wall.
+        pair: Box<str>,
     },
     #[error(
         "step {step}: kinetic energy {kinetic:.4e} J exceeds {limit}× the energy supplied \
@@ -173,6 +178,10 @@ impl World {
                         self.dt_cause()
                     ),
                 };
+                let pair = match o.wall {
+                    Some(w) => format!("disc {} and wall '{}'", o.disc, st.walls[w].name),
+                    None => format!("discs {} and {}", o.disc, o.other),
+                };
                 return Err(GuardError::Overlap {
                     step,
                     disc: o.disc,
@@ -180,6 +189,7 @@ impl World {
                     fraction: o.fraction,
                     limit,
                     cause,
+                    pair: pair.into(),
                 });
             }
         }

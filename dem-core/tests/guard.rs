@@ -150,6 +150,23 @@ fn sic_stiffness_scene_runs_stably() {
     );
 }
 
+/// Issue 48 D10: a disc placed deep in a wall is named with the wall's name, not the
+/// sentinel partner id 4294967295, and the overlap is of the disc's radius.
+#[test]
+fn a_disc_in_a_wall_names_the_wall() {
+    let mut w = chain(Params::default());
+    w.state
+        .walls
+        .push(Wall::new("floor", [-1.0, 0.005], [1.0, 0.005], 0));
+    w.refresh();
+    let e = w.guard().expect_err("disc 0 half inside the floor");
+    let msg = e.to_string();
+    assert!(matches!(e, GuardError::Overlap { step: 0, .. }), "{msg}");
+    assert!(msg.contains("and wall 'floor'"), "{msg}");
+    assert!(msg.contains("of the disc's radius"), "{msg}");
+    assert!(!msg.contains("4294967295"), "{msg}");
+}
+
 #[test]
 fn input_errors_are_named_as_input_not_as_the_time_step() {
     // Two discs at the same point: the state before any step is refused as an input overlap.
