@@ -71,6 +71,20 @@ fn scan_comment(raw: &mut RawOutline, comment: &str, pos: Pos) -> Result<(), Out
     Ok(())
 }
 
+/// At most this many characters of an input line are echoed in an error.
+const ECHO_CHARS: usize = 120;
+
+/// `s`, or its first [`ECHO_CHARS`] characters and its length when longer (issue 48 D13: a line
+/// of 800,000 fields was echoed whole, 1.6 MB on stderr).
+fn excerpt(s: &str) -> String {
+    let n = s.chars().count();
+    if n <= ECHO_CHARS {
+        return s.to_string();
+    }
+    let head: String = s.chars().take(ECHO_CHARS).collect();
+    format!("{head}… ({n} characters in all)")
+}
+
 /// Parse a text (CSV / whitespace / tab) outline. Errors carry an empty file name.
 pub(crate) fn parse_text(text: &str) -> Result<RawOutline, OutlineError> {
     let mut raw = RawOutline::default();
@@ -102,7 +116,7 @@ pub(crate) fn parse_text(text: &str) -> Result<RawOutline, OutlineError> {
         let bad = |reason: String| OutlineError::Unparsable {
             file: String::new(),
             line: lineno,
-            text: line.to_string(),
+            text: excerpt(line),
             reason,
         };
         if fields.len() != 2 {
@@ -115,14 +129,14 @@ pub(crate) fn parse_text(text: &str) -> Result<RawOutline, OutlineError> {
         for k in 0..2 {
             match &parsed[k] {
                 Ok(v) => xy[k] = *v,
-                Err(_) => return Err(bad(format!("{:?} is not a number", fields[k]))),
+                Err(_) => return Err(bad(format!("{:?} is not a number", excerpt(fields[k])))),
             }
         }
         if !(xy[0].is_finite() && xy[1].is_finite()) {
             return Err(OutlineError::NonFinite {
                 file: String::new(),
                 pos: Pos::Line(lineno),
-                text: line.to_string(),
+                text: excerpt(line),
             });
         }
         raw.points.push(xy);
@@ -198,6 +212,34 @@ mod tests {
     fn crlf_and_byte_order_mark() {
         let r = parse_text("\u{feff}x,y\r\n0,0\r\n1,0\r\n1,1\r\n").unwrap();
         assert_eq!(r.points, vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]]);
+    }
+
+    /// Issue 48 D13: a line of 800,000 fields is refused with its field count and an excerpt,
+    /// not echoed whole; so is one huge bad field.
+    #[test]
+    fn a_huge_line_is_echoed_in_part() {
+        let line = vec!["1"; 800_000].join(",");
+        let e = parse_text(&format!("0,0\n{line}\n"))
+            .unwrap_err()
+            .to_string();
+        assert!(e.len() < 600, "{} bytes", e.len());
+        assert!(
+            e.contains("found 800000 fields") && e.contains("1599999 characters in all"),
+            "{e}"
+        );
+        let e = parse_text(&format!("0,0\n1,{}\n", "x".repeat(1_000_000)))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.len() < 800 && e.contains("1000000 characters in all"),
+            "{e}"
+        );
+        // Short lines are echoed as they are.
+        let e = parse_text("0,0\n1,2,3\n").unwrap_err().to_string();
+        assert!(
+            e.contains("1,2,3") && !e.contains("characters in all"),
+            "{e}"
+        );
     }
 
     #[test]
