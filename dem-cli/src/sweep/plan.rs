@@ -80,15 +80,15 @@ struct Resolved {
     key: Value,
 }
 
-/// Whether two axis values give the same flags with the same key values (one case).
-fn same(a: &[(String, Resolved)], b: &[(String, Resolved)]) -> bool {
-    let keyed = |v: &[(String, Resolved)]| -> BTreeMap<String, Value> {
-        v.iter()
-            .filter(|(_, r)| r.arg.is_some())
-            .map(|(f, r)| (f.clone(), r.key.clone()))
-            .collect()
-    };
-    keyed(a) == keyed(b)
+/// The inputs one axis value gives: its flags with their key values, sorted, as compact JSON
+/// (two values with the same identity are one case).
+fn identity(v: &[(String, Resolved)]) -> String {
+    let keyed: BTreeMap<&str, &Value> = v
+        .iter()
+        .filter(|(_, r)| r.arg.is_some())
+        .map(|(f, r)| (f.as_str(), &r.key))
+        .collect();
+    serde_json::to_string(&keyed).unwrap_or_default()
 }
 
 /// Checks and resolves one flag value; `field` names it in errors.
@@ -186,6 +186,7 @@ pub fn cases(file: &Path, p: &Parsed) -> Result<Vec<Case>, String> {
     let mut axes: Vec<Vec<Vec<(String, Resolved)>>> = Vec::new();
     for (i, a) in p.axes.iter().enumerate() {
         let mut vs = Vec::new();
+        let mut seen: BTreeMap<String, usize> = BTreeMap::new();
         for j in 0..a.values.len() {
             let mut fs = Vec::new();
             for (flag, v) in a.flags_of(j) {
@@ -203,10 +204,8 @@ pub fn cases(file: &Path, p: &Parsed) -> Result<Vec<Case>, String> {
             // those of an earlier value of the axis would give cases of one key and folder,
             // run once and counted twice. (Spellings are compared as given: `1mm` and `1.0mm`
             // are two values.)
-            if let Some(k) = vs
-                .iter()
-                .position(|e: &Vec<(String, Resolved)>| same(e, &fs))
-            {
+            // (A map of the values seen: a seeds range of 100,000 values stays linear.)
+            if let Some(&k) = seen.get(&identity(&fs)) {
                 let at = |j: usize| {
                     if a.sets.is_empty() {
                         format!("axes[{i}].values[{j}]")
@@ -224,6 +223,7 @@ pub fn cases(file: &Path, p: &Parsed) -> Result<Vec<Case>, String> {
                     a.values[k]
                 ));
             }
+            seen.insert(identity(&fs), j);
             vs.push(fs);
         }
         axes.push(vs);
