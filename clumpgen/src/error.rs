@@ -99,6 +99,24 @@ pub enum OutlineError {
         height: f64,
         units: String,
     },
+    /// The outline's size in metres is outside `range`, what a grain can be here
+    /// (`outline::SIZE_RANGE`): wrong units, a wrong pixel size, or coordinates that overflow.
+    #[error(
+        "{file}: the outline spans {w} x {h} {units} = {s} m, outside the {lo:e} to {hi:e} m a \
+         grain can span here; check the units (--units) or the pixel size (--px-scale)",
+        w = short(*.width), h = short(*.height), s = short(*.size),
+        lo = .range[0], hi = .range[1]
+    )]
+    OutOfScale {
+        file: String,
+        /// The larger side of the bounding box, in metres (may be inf).
+        size: f64,
+        width: f64,
+        height: f64,
+        units: String,
+        /// The sizes accepted (m).
+        range: [f64; 2],
+    },
     /// Two non-adjacent edges meet (cross, touch, or overlap), or two adjacent edges fold back
     /// onto each other.
     #[error(
@@ -159,6 +177,23 @@ pub enum OutlineError {
     GisUnits { file: String, reason: String },
 }
 
+/// `x` to 4 significant digits: plain between 0.001 and 10^6 (`7`, `12.35`), else in
+/// scientific notation with trailing zeros dropped (`1e201`, not `9.999999999999999e200`).
+fn short(x: f64) -> String {
+    if x != 0.0 && (1e-3..1e6).contains(&x.abs()) {
+        let d = 3 - x.abs().log10().floor() as i32;
+        let p = 10f64.powi(d);
+        return format!("{}", (x * p).round() / p);
+    }
+    let s = format!("{x:.3e}");
+    match s.split_once('e') {
+        Some((m, e)) if m.contains('.') => {
+            format!("{}e{e}", m.trim_end_matches('0').trim_end_matches('.'))
+        }
+        _ => s,
+    }
+}
+
 impl OutlineError {
     /// Replace the file name of an error produced without one (e.g. by [`crate::Units::parse`]).
     pub fn with_file(mut self, name: &str) -> Self {
@@ -169,6 +204,7 @@ impl OutlineError {
             | OutlineError::NonFinite { file, .. }
             | OutlineError::TooFewPoints { file, .. }
             | OutlineError::ZeroArea { file, .. }
+            | OutlineError::OutOfScale { file, .. }
             | OutlineError::SelfIntersection { file, .. }
             | OutlineError::UnknownUnits { file, .. }
             | OutlineError::PxWithoutScale { file, .. }

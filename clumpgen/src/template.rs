@@ -217,6 +217,12 @@ pub enum TemplateError {
         file: String,
         source: std::io::Error,
     },
+    /// Saving failed (a read-only or full disk, a missing permission).
+    #[error("{file}: cannot write: {source}")]
+    Write {
+        file: String,
+        source: std::io::Error,
+    },
     #[error("{file}: not a clump template: {source}")]
     Json {
         file: String,
@@ -469,7 +475,7 @@ impl Template {
     /// Reads and checks a template.
     pub fn load(path: &Path) -> Result<Template, TemplateError> {
         let file = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|source| TemplateError::Io {
+        let text = crate::io::read_input_string(path).map_err(|source| TemplateError::Io {
             file: file.clone(),
             source,
         })?;
@@ -499,6 +505,6 @@ impl Template {
         let file = path.display().to_string();
         let text = self.to_json(&file)?;
         crate::io::write_atomic(path, text.as_bytes())
-            .map_err(|source| TemplateError::Io { file, source })
+            .map_err(|source| TemplateError::Write { file, source })
     }
 }

@@ -233,6 +233,25 @@ fn zero_area() {
     assert!(matches!(e, OutlineError::ZeroArea { .. }), "{e}");
 }
 
+/// Issue 48 D12: coordinates of 1e200 mm (before: "signed area inf ... points collinear") or
+/// 1e-200 mm (before: "signed area 0e0") are refused by their size with a hint at the units; the
+/// ends of the range are read.
+#[test]
+fn outlines_of_no_physical_size_are_refused_by_size() {
+    for (scale, size) in [("1e200", "1e197 m"), ("1e-200", "1e-203 m")] {
+        let text = format!("x,y\n0,0\n{scale},0\n{scale},{scale}\n0,{scale}\n");
+        let e = csv(&text).unwrap_err();
+        assert!(matches!(e, OutlineError::OutOfScale { .. }), "{e}");
+        let msg = e.to_string();
+        assert!(msg.contains(size) && msg.contains("--units"), "{msg}");
+    }
+    // 1e-6 mm = 1 nm and 1e7 mm = 10 km: inside.
+    for side in ["1e-6", "1e7"] {
+        let text = format!("0,0\n{side},0\n{side},{side}\n0,{side}\n");
+        assert!(csv(&text).is_ok(), "{side} mm");
+    }
+}
+
 #[test]
 fn self_intersection_names_edges_lines_and_point() {
     // Unequal bow-tie at UTM-like offsets; points on lines 3..6.

@@ -306,7 +306,7 @@ fn cutting(b: CuttingBench) -> Result<ExitCode, String> {
             b.method
         ));
     }
-    let text = std::fs::read_to_string(&b.model)
+    let text = clumpgen::io::read_input_string(&b.model)
         .map_err(|e| format!("--model {}: {e}", b.model.display()))?;
     let model: dem_lab::LabModel =
         serde_json::from_str(&text).map_err(|e| format!("--model {}: {e}", b.model.display()))?;

@@ -212,8 +212,14 @@ pub fn run(a: ClumpArgs) -> Result<ExitCode, String> {
     };
     let inputs = collect_inputs_except(&a.inputs, Some(&a.out)).map_err(|e| e.to_string())?;
     if inputs.is_empty() {
+        // Only folders can come back empty (a file given by name is read whatever its
+        // extension), so name them: a folder called `x.csv` is otherwise a puzzle.
+        let folders: Vec<String> = a.inputs.iter().map(|p| p.display().to_string()).collect();
         return Err(format!(
-            "no outline files found (looked for .csv, .txt, .xy, .dat, .json, .{})",
+            "no outline files found in the folder{} {} (looked for .csv, .txt, .xy, .dat, .json, \
+             .{} inside)",
+            if folders.len() == 1 { "" } else { "s" },
+            folders.join(", "),
             MULTI_EXTENSIONS.join(", .")
         ));
     }

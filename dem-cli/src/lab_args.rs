@@ -227,8 +227,8 @@ impl FlatJointArgs {
 /// A `--model` file (a [`LabModel`] JSON, as `dem calibrate` writes it), its `flat_joint`
 /// record checked ([`FlatJointOption::check`]); errors name `--model`, the file and the field.
 pub fn read_model(path: &Path) -> Result<LabModel, String> {
-    let text =
-        std::fs::read_to_string(path).map_err(|e| format!("--model {}: {e}", path.display()))?;
+    let text = clumpgen::io::read_input_string(path)
+        .map_err(|e| format!("--model {}: {e}", path.display()))?;
     let m: LabModel =
         serde_json::from_str(&text).map_err(|e| format!("--model {}: {e}", path.display()))?;
     if let Some(o) = &m.flat_joint {

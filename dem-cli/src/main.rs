@@ -24,6 +24,10 @@ mod test_cutting;
 struct Cli {
     #[command(subcommand)]
     command: Command,
+    /// Largest input file or stream any command reads, in MiB (default 1024; also the
+    /// environment variable DEM_MAX_INPUT_MIB). Devices and folders are refused whatever the size.
+    #[arg(long, global = true, value_name = "MiB", value_parser = clap::value_parser!(u64).range(1..))]
+    max_input_mib: Option<u64>,
 }
 
 // Parsed once per process: the size of the largest variant is of no account.
@@ -84,6 +88,12 @@ fn main() -> ExitCode {
         Ok(cli) => cli,
         Err(e) => e.exit(),
     };
+    if let Some(mib) = cli.max_input_mib {
+        clumpgen::io::set_input_limit(mib.saturating_mul(1 << 20));
+        // The cases `dem sweep run` starts read their inputs under the same limit. (Set before
+        // any thread is started.)
+        std::env::set_var(clumpgen::io::INPUT_LIMIT_ENV, mib.to_string());
+    }
     let result = match cli.command {
         Command::Clump(a) => clump::run(a),
         Command::Run(a) => run::run(a),

@@ -291,17 +291,7 @@ pub fn run(a: SpecimenArgs) -> Result<ExitCode, String> {
         a.insertion.as_deref(),
     )?;
     p.validate().map_err(|e| e.to_string())?;
-    p.check_resolution().map_err(|e| match e {
-        specimen::SpecimenError::Geometry { field, reason } => {
-            let given = if field == "width" {
-                &a.width
-            } else {
-                &a.height
-            };
-            format!("--{field} {given}: {reason}")
-        }
-        e => e.to_string(),
-    })?;
+    check_resolution(&p, &a.width, &a.height)?;
     // An output never replaces an input (issue 48 D2), --force or not: the material file read
     // is not one of the three files written, under any spelling of its path.
     if let Some(m) = &a.material {
@@ -441,4 +431,21 @@ pub fn cover_lines(
         v.push(format!("and {} more", below.len() - COVER_LIST));
     }
     v
+}
+
+/// [`specimen::SpecimenParams::check_resolution`] with the refusal naming the flag and the value
+/// given (`--height 2mm: ...`); `dem specimen` and the generating lab tests (`dem test cutting`,
+/// issue 48 D8) share it.
+pub(crate) fn check_resolution(
+    p: &specimen::SpecimenParams,
+    width: &str,
+    height: &str,
+) -> Result<(), String> {
+    p.check_resolution().map_err(|e| match e {
+        specimen::SpecimenError::Geometry { field, reason } => {
+            let given = if field == "width" { width } else { height };
+            format!("--{field} {given}: {reason}")
+        }
+        e => e.to_string(),
+    })
 }

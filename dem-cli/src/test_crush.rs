@@ -310,7 +310,8 @@ pub fn run(a: CrushArgs) -> Result<ExitCode, String> {
         .map_err(|e| e.to_string())?;
     // The folder stage 1's scene runs into is locked to this test's inputs (run_lock.rs), so
     // two runs never mix their outputs there; the grain is part of the inputs.
-    let grain = std::fs::read(&template).map_err(|e| format!("{}: {e}", template.display()))?;
+    let grain =
+        clumpgen::io::read_input(&template).map_err(|e| format!("{}: {e}", template.display()))?;
     let _lock = crate::run_lock::acquire_noted(
         &a.out.join(format!("{}.out", test.name)),
         crate::run_lock::Claim {

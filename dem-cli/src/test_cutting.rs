@@ -222,8 +222,8 @@ impl CuttingArgs {
     pub fn test(&self) -> Result<CuttingTest, String> {
         let mut t = match &self.params {
             Some(p) => {
-                let text =
-                    std::fs::read_to_string(p).map_err(|e| format!("{}: {e}", p.display()))?;
+                let text = clumpgen::io::read_input_string(p)
+                    .map_err(|e| format!("{}: {e}", p.display()))?;
                 let given: serde_json::Value =
                     serde_json::from_str(&text).map_err(|e| format!("{}: {e}", p.display()))?;
                 // The file's fields over today's defaults (a field the file leaves out is the
@@ -424,6 +424,7 @@ impl CuttingArgs {
             }
         }
         p.validate().map_err(|e| e.to_string())?;
+        crate::specimen::check_resolution(&p, &self.width, &self.height)?;
         Ok(p)
     }
 
@@ -494,8 +495,8 @@ impl CuttingArgs {
         let mut summary = None;
         for f in SPECIMEN_FILES {
             let src = c.join(f);
-            let text =
-                std::fs::read_to_string(&src).map_err(|e| format!("{}: {e}", src.display()))?;
+            let text = clumpgen::io::read_input_string(&src)
+                .map_err(|e| format!("{}: {e}", src.display()))?;
             io::write_atomic(&self.out.join(f), &text).map_err(|e| e.to_string())?;
             if f == SPECIMEN_FILES[1] {
                 let s: dem_lab::specimen::Summary =

@@ -637,3 +637,122 @@ fn geojson_needs_units() {
     assert!((t.shape.area - 1e-4).abs() < 1e-16);
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Issue 48 D3: a link to `/dev/zero` named like an outline, and `/dev/zero` itself, end at once
+/// with the file and its kind (before: no output while memory grew to 12 GB in 11 s; a hang);
+/// a file over `--max-input-mib` is refused with the limit and the flag; a folder named like an
+/// outline file is named as a folder.
+#[cfg(target_os = "linux")]
+#[test]
+fn devices_oversized_files_and_folders_named_like_files_are_refused_by_name() {
+    let dir = tmp("bounded");
+    let link = dir.join("zero.csv");
+    std::os::unix::fs::symlink("/dev/zero", &link).unwrap();
+    let out = dir.join("o");
+    for input in [link.as_path(), std::path::Path::new("/dev/zero")] {
+        let t0 = std::time::Instant::now();
+        let o = dem(&[std::path::Path::new("clump"), input, "--out".as_ref(), &out]);
+        let t = text(&o);
+        assert_eq!(o.status.code(), Some(1), "{t}");
+        assert!(
+            t.contains(&format!(
+                "{}: cannot read: is a character device",
+                input.display()
+            )),
+            "{t}"
+        );
+        assert!(t0.elapsed().as_secs_f64() < 30.0, "not refused at once");
+    }
+    let big = dir.join("big.csv");
+    let mut rows = String::from("x,y\n");
+    while rows.len() < 2 << 20 {
+        rows.push_str("0.000000,0.000000\n");
+    }
+    std::fs::write(&big, rows).unwrap();
+    let o = dem(&[
+        "--max-input-mib".as_ref(),
+        "1".as_ref(),
+        std::path::Path::new("clump"),
+        &big,
+        "--out".as_ref(),
+        &out,
+    ]);
+    let t = text(&o);
+    assert_eq!(o.status.code(), Some(1), "{t}");
+    assert!(
+        t.contains("big.csv: cannot read: larger than the input limit of 1 MiB")
+            && t.contains("--max-input-mib"),
+        "{t}"
+    );
+    let folder = dir.join("x.csv");
+    std::fs::create_dir_all(&folder).unwrap();
+    let o = dem(&[
+        std::path::Path::new("clump"),
+        &folder,
+        "--out".as_ref(),
+        &out,
+    ]);
+    let t = text(&o);
+    assert_eq!(o.status.code(), Some(2), "{t}");
+    assert!(
+        t.contains(&format!("in the folder {}", folder.display())),
+        "{t}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Issue 48 D11: a template that cannot be saved (here its name is taken by a folder) is
+/// reported as a write failure naming the file (before: "cannot read").
+#[test]
+fn a_failed_save_is_reported_as_a_write() {
+    let dir = tmp("write-fail");
+    std::fs::write(dir.join("g.csv"), SQUARE).unwrap();
+    let out = dir.join("o");
+    std::fs::create_dir_all(out.join("g.json")).unwrap();
+    let o = dem(&[
+        std::path::Path::new("clump"),
+        &dir.join("g.csv"),
+        "--out".as_ref(),
+        &out,
+    ]);
+    let t = text(&o);
+    assert_eq!(o.status.code(), Some(1), "{t}");
+    assert!(t.contains("g.json: cannot write"), "{t}");
+    assert!(!t.contains("cannot read"), "{t}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Issue 48 D12: a pixel size of 1e200 m is refused by the grain's size in metres, with the
+/// flag to check (before: "invalid parameter: ... r_min = 0e0 m", a flag not given).
+#[test]
+fn an_absurd_pixel_size_names_the_size_and_the_flag() {
+    let dir = tmp("px-scale");
+    let png = dir.join("g.png");
+    let rows = [
+        ".........",
+        ".1111111.",
+        ".1111111.",
+        ".1111111.",
+        ".1111111.",
+        ".........",
+    ];
+    grey_png(&png, &rows);
+    let o = dem(&[
+        std::path::Path::new("clump"),
+        &png,
+        "--units".as_ref(),
+        "px".as_ref(),
+        "--px-scale".as_ref(),
+        "1e200".as_ref(),
+        "--out".as_ref(),
+        &dir.join("o"),
+    ]);
+    let t = text(&o);
+    assert_eq!(o.status.code(), Some(1), "{t}");
+    assert!(
+        t.contains("7 x 4 px = 7e200 m") && t.contains("--px-scale"),
+        "{t}"
+    );
+    assert!(!t.contains("r_min"), "{t}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -585,6 +585,36 @@ fn cut_geometry_outside_the_specimen_is_refused() {
     assert_eq!(r.status.code(), Some(2), "{t}");
     assert!(t.contains("--length 5mm") && t.contains("--width"), "{t}");
     assert!(!out.join("specimen.json").exists());
+    // Issue 48 D8: a specimen too coarse for its height is refused as `dem specimen` refuses it,
+    // before generating (before: the generator failed in `grow`).
+    let r = dem(&[
+        "test",
+        "cutting",
+        "--width",
+        "4mm",
+        "--height",
+        "2mm",
+        "--r-min",
+        "0.3mm",
+        "--r-max",
+        "0.5mm",
+        "--material",
+        &material(),
+        "--depth",
+        "0.5mm",
+        "--length",
+        "2mm",
+        "--out",
+        o,
+    ]);
+    let t = text(&r);
+    assert_eq!(r.status.code(), Some(2), "{t}");
+    assert!(
+        t.contains("--height 2mm: 2 mm is 2.5 mean disc diameters") && t.contains("at least 5"),
+        "{t}"
+    );
+    assert!(!t.contains("grow"), "{t}");
+    assert!(!out.join("specimen.json").exists());
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -309,6 +309,46 @@ fn a_specimen_a_few_discs_across_is_refused_naming_the_flag() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
+/// Issue 48 D7: 12 × 4 mm, 0.175–0.285 mm, seed 1 jammed in `grow` and the message named
+/// `--dt-factor`, a flag `dem specimen` lacks. Now its packing is grown again more slowly, it
+/// builds, and the summary says so; seeds 2 and 3, which grew at once, say nothing of it.
+#[test]
+fn a_packing_that_jams_is_grown_again_and_builds() {
+    let dir = tmp("jam");
+    for seed in ["1", "2"] {
+        let out = dir.join(format!("s{seed}.json"));
+        let o = dem(&[
+            "specimen",
+            "--width",
+            "12mm",
+            "--height",
+            "4mm",
+            "--r-min",
+            "0.175mm",
+            "--r-max",
+            "0.285mm",
+            "--material",
+            &material(),
+            "--seed",
+            seed,
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        let t = text(&o);
+        assert_eq!(o.status.code(), Some(0), "seed {seed}: {t}");
+        assert!(out.exists());
+        assert!(!t.contains("--dt-factor"), "{t}");
+        let summary = std::fs::read_to_string(dir.join(format!("s{seed}.summary.json"))).unwrap();
+        assert_eq!(
+            t.contains("grown again 5 times more slowly"),
+            seed == "1",
+            "seed {seed}: {t}"
+        );
+        assert_eq!(summary.contains("\"grow_retried\": true"), seed == "1");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
 #[test]
 fn improved_grains_below_their_cover_warn_and_strict_fails() {
     // Issue 20 item 4: template discs of at least 0.1 mm cannot cover the ~0.5 mm grains to

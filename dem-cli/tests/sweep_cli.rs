@@ -572,3 +572,62 @@ fn bad_study_files_name_the_file_and_field() {
     assert!(!d.join("out").join("cases.jsonl").exists());
     let _ = std::fs::remove_dir_all(&d);
 }
+
+/// Issue 48: `sweep run` ran whatever argv an edited cases.jsonl held. Now a line whose command
+/// line does not give its key (a value changed by hand, a flag added), or whose named file
+/// changed after planning, stops the run before any case starts, naming the line.
+#[test]
+fn an_edited_plan_or_a_changed_input_is_refused_before_running() {
+    let d = tmp("edited");
+    let mat = d.join("mat.json");
+    std::fs::copy(material(), &mat).unwrap();
+    let mut st = study("edited", "10m/s", &["0.3mm"], &[1, 2]);
+    st["base"]["flags"]["material"] = json!(mat.display().to_string());
+    let s = write(&d, "study.json", &st);
+    let dir = d.join("sweep");
+    assert!(plan(&s, &dir).status.success());
+    let original = std::fs::read_to_string(dir.join("cases.jsonl")).unwrap();
+    let run = || dem(&["sweep", "run", dir.to_str().unwrap(), "--jobs", "1"]);
+    for (edit, why) in [
+        (
+            original.replacen("\"0.3mm\"", "\"0.9mm\"", 2),
+            "does not give its key",
+        ),
+        (
+            original.replacen("\"--seed\",", "\"--speed\",\"1000m/s\",\"--seed\",", 1),
+            "does not give its key",
+        ),
+        (
+            original.replacen("\"--seed\",", "\"--out\",\"/tmp/x\",\"--seed\",", 1),
+            "--out is not a flag a study can set",
+        ),
+    ] {
+        assert_ne!(edit, original);
+        std::fs::write(dir.join("cases.jsonl"), &edit).unwrap();
+        let o = run();
+        let t = text(&o);
+        assert_eq!(o.status.code(), Some(2), "{t}");
+        assert!(
+            t.contains("cases.jsonl: line 1: case 0") && t.contains(why),
+            "{t}"
+        );
+        assert!(t.contains("only what the study plans runs"), "{t}");
+        assert!(!dir.join("cases").read_dir().unwrap().any(|e| e
+            .unwrap()
+            .path()
+            .join("log.txt")
+            .exists()));
+    }
+    // The plan as written, but its material edited after planning: refused too.
+    std::fs::write(dir.join("cases.jsonl"), &original).unwrap();
+    let text0 = std::fs::read_to_string(&mat).unwrap();
+    std::fs::write(&mat, text0.replacen('{', "{\n", 1)).unwrap();
+    let o = run();
+    let t = text(&o);
+    assert_eq!(o.status.code(), Some(2), "{t}");
+    assert!(
+        t.contains("line 1") && t.contains("does not give its key"),
+        "{t}"
+    );
+    std::fs::remove_dir_all(&d).ok();
+}

@@ -555,7 +555,7 @@ pub fn parse(text: &str, file: &str) -> Result<Checkpoint, CheckpointError> {
 /// with physics hash `scene_hash`.
 pub fn load(path: &Path, scene_hash: &str) -> Result<Checkpoint, CheckpointError> {
     let file = path.display().to_string();
-    let bytes = std::fs::read(path).map_err(|source| CheckpointError::Io {
+    let bytes = clumpgen::io::read_input(path).map_err(|source| CheckpointError::Io {
         file: file.clone(),
         source,
     })?;

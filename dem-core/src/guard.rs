@@ -81,6 +81,20 @@ pub struct DeepestOverlap {
     pub wall: Option<usize>,
 }
 
+impl GuardError {
+    /// The same stop with another "likely cause": a caller that knows more than the engine (the
+    /// specimen generator, whose command has no time-step flag) says what to do in its terms.
+    pub fn with_cause(mut self, new: String) -> Self {
+        match &mut self {
+            GuardError::NonFinite { cause, .. }
+            | GuardError::Speed { cause, .. }
+            | GuardError::Overlap { cause, .. }
+            | GuardError::EnergyGrowth { cause, .. } => *cause = new,
+        }
+        self
+    }
+}
+
 impl World {
     fn dt_cause(&self) -> String {
         let crit = self.critical_dt();
@@ -131,9 +145,24 @@ impl World {
             let fraction = speed * self.dt() / d.r[i];
             if fraction > MAX_TRAVEL_PER_STEP {
                 let cause = if step == 0 {
-                    "the input gives it this speed (no step has run yet): check the velocity \
-                     in the scene's discs or clumps"
-                        .to_string()
+                    match self.params.dt_fixed {
+                        // Speed × step: with a fixed step the step is as likely the mistake as
+                        // the speed (issue 48 D14: `dt: 1` was blamed on the velocity alone).
+                        Some(dt) => format!(
+                            "the fixed time step (scene run.dt = {dt:.4e} s) is too long for \
+                             the speed the input gives it (no step has run yet): at most \
+                             {:.3e} s keeps it within {MAX_TRAVEL_PER_STEP} of its radius per \
+                             step, and the critical step √(m/K) of this scene is {:.3e} s (the \
+                             automatic step, without run.dt, would be {:.3e} s); or check the \
+                             velocity in the scene's discs or clumps",
+                            MAX_TRAVEL_PER_STEP * d.r[i] / speed,
+                            self.critical_dt(),
+                            self.params.dt_factor * self.critical_dt()
+                        ),
+                        None => "the input gives it this speed (no step has run yet): check \
+                                 the velocity in the scene's discs or clumps"
+                            .to_string(),
+                    }
                 } else {
                     format!(
                         "accelerated beyond control: a load too large for the disc (gravity, \

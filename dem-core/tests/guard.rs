@@ -209,6 +209,30 @@ fn input_errors_are_named_as_input_not_as_the_time_step() {
     assert_eq!(w.last_good().unwrap().step, 0);
 }
 
+/// Issue 48 D14: with a fixed step of 1 s a disc moving 1 m/s crosses 100 radii per step; the
+/// message puts the fixed step first, with the step that would do and the automatic one
+/// (before: "the input gives it this speed ... check the velocity", the step not named).
+#[test]
+fn a_fixed_step_too_long_for_the_speed_is_named_as_the_step() {
+    let mut w = chain(Params {
+        dt_fixed: Some(1.0),
+        ..Params::default()
+    });
+    w.state.discs.vx[5] = 1.0;
+    w.refresh();
+    let e = w.guard().expect_err("100 radii per step");
+    let msg = e.to_string();
+    assert!(matches!(e, GuardError::Speed { step: 0, .. }), "{msg}");
+    assert!(
+        msg.contains("fixed time step (scene run.dt = 1.0000e0 s) is too long"),
+        "{msg}"
+    );
+    // 0.5 of r = 0.01 m at 1 m/s: 5e-3 s.
+    assert!(msg.contains("at most 5.000e-3 s"), "{msg}");
+    let crit = w.critical_dt();
+    assert!(msg.contains(&format!("{crit:.3e} s")), "{msg}");
+}
+
 #[test]
 fn fast_but_resolved_motion_passes() {
     // A disc crossing a tenth of its radius per step is fast but integrated: no stop.

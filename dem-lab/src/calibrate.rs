@@ -128,7 +128,7 @@ impl MaterialFile {
     /// errors name the file and the field.
     pub fn read_unchecked(path: &Path) -> Result<MaterialFile, LabError> {
         let file = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|source| LabError::Io {
+        let text = clumpgen::io::read_input_string(path).map_err(|source| LabError::Io {
             file: file.clone(),
             source,
         })?;

@@ -453,7 +453,7 @@ impl SpecimenInfo {
     /// clump sets).
     pub fn read(path: &Path) -> Result<SpecimenInfo, LabError> {
         let file = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|source| LabError::Io {
+        let text = clumpgen::io::read_input_string(path).map_err(|source| LabError::Io {
             file: file.clone(),
             source,
         })?;
@@ -523,7 +523,7 @@ impl SpecimenInfo {
 /// wins, `CuttingArgs::with_joints` in dem-cli).
 pub fn model_from_specimen(path: &Path) -> Result<LabModel, LabError> {
     let read = |p: &Path| -> Result<Value, LabError> {
-        let text = std::fs::read_to_string(p).map_err(|source| LabError::Io {
+        let text = clumpgen::io::read_input_string(p).map_err(|source| LabError::Io {
             file: p.display().to_string(),
             source,
         })?;

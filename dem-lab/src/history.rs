@@ -32,7 +32,7 @@ impl Table {
     /// Reads a CSV history (header line, then numbers).
     pub fn read(path: &Path) -> Result<Table, HistoryError> {
         let file = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|source| HistoryError::Io {
+        let text = clumpgen::io::read_input_string(path).map_err(|source| HistoryError::Io {
             file: file.clone(),
             source,
         })?;

@@ -279,7 +279,7 @@ fn below_cover(file: &Path, sf: &SpecimenFile) -> Vec<GrainCover> {
 /// A specimen file and its discs in metres; it must hold discs and no template clumps.
 fn read_file(file: &Path) -> Result<(SpecimenFile, Vec<[f64; 3]>), LabError> {
     let name = file.display().to_string();
-    let text = std::fs::read_to_string(file).map_err(|source| LabError::Io {
+    let text = clumpgen::io::read_input_string(file).map_err(|source| LabError::Io {
         file: name.clone(),
         source,
     })?;

@@ -224,7 +224,9 @@ fn wkt_geometry(
         }
         _ => s,
     };
-    let g: wkt::Wkt<f64> = body.parse().map_err(|e: &str| e.to_string())?;
+    let g: wkt::Wkt<f64> = body
+        .parse()
+        .map_err(|e: &str| bad_coordinate(body).unwrap_or_else(|| e.to_string()))?;
     let mut add = |rings: Rings| {
         let k = out.len();
         out.push(Poly {
@@ -247,6 +249,18 @@ fn wkt_geometry(
         _ => return Err("not a grain outline (expected POLYGON or MULTIPOLYGON)".to_string()),
     }
     Ok(())
+}
+
+/// The first coordinate of a WKT geometry that is not a finite number, as a reason: the `wkt`
+/// crate reads `nan` as the end of a list and says "Missing closing parenthesis"
+/// (issue 48).
+fn bad_coordinate(body: &str) -> Option<String> {
+    let (_, coords) = body.split_once('(')?;
+    coords
+        .split(|c: char| c == '(' || c == ')' || c == ',' || c.is_whitespace())
+        .filter(|t| !t.is_empty() && !t.eq_ignore_ascii_case("EMPTY"))
+        .find(|t| !t.parse::<f64>().is_ok_and(f64::is_finite))
+        .map(|t| format!("coordinate `{t}` is not a finite number"))
 }
 
 fn parse_wkt(text: &str, file: &str) -> Result<(Vec<Poly>, Option<String>), OutlineError> {
@@ -451,5 +465,27 @@ mod tests {
         ] {
             assert!(!is_geographic_crs(n), "{n}");
         }
+    }
+
+    /// Issue 48: a `nan` coordinate is named as such (before: "Missing
+    /// closing parenthesis"); a well-formed polygon still reads.
+    #[test]
+    fn a_non_finite_wkt_coordinate_is_named() {
+        for (text, token) in [
+            ("POLYGON ((0 0, 1 0, nan 1, 0 0))", "nan"),
+            ("POLYGON ((0 0, 1 0, 1 NaN, 0 0))", "NaN"),
+        ] {
+            let Err(e) = parse_wkt(text, "g.wkt") else {
+                panic!("{text} was read");
+            };
+            let e = e.to_string();
+            assert!(
+                e.contains(&format!("coordinate `{token}` is not a finite number")),
+                "{e}"
+            );
+            assert!(e.starts_with("g.wkt") && e.contains("line 1"), "{e}");
+        }
+        let (polys, _) = parse_wkt("POLYGON ((0 0, 1 0, 1 1, 0 0))", "g.wkt").unwrap();
+        assert_eq!(polys.len(), 1);
     }
 }

@@ -76,7 +76,7 @@ pub fn read_grains(
             ),
         });
     };
-    let bytes = std::fs::read(path).map_err(|e| OutlineError::Io {
+    let bytes = crate::io::read_input(path).map_err(|e| OutlineError::Io {
         file: file.clone(),
         source: e,
     })?;
@@ -133,10 +133,17 @@ pub struct Outline {
     pub grain: Option<String>,
 }
 
+/// The sizes, in metres, a grain outline's bounding box may span: 1 nm (below, a "grain" is a
+/// few atoms) to 10 km (above, the file is in the wrong units; and the squares and products of
+/// coordinates the area and inertia need would lose their digits or overflow far beyond).
+/// Outside it an outline is refused with [`OutlineError::OutOfScale`] (issue 48: 1e200 mm
+/// coordinates were a "degenerate outline" of area inf).
+pub const SIZE_RANGE: [f64; 2] = [1e-9, 1e4];
+
 /// Read an outline file (JSON if the extension is `.json`, case-insensitive; text otherwise).
 pub fn read_outline(path: &Path, opts: &ReadOptions) -> Result<Outline, OutlineError> {
     let source = path.display().to_string();
-    let bytes = std::fs::read(path).map_err(|e| OutlineError::Io {
+    let bytes = crate::io::read_input(path).map_err(|e| OutlineError::Io {
         file: source.clone(),
         source: e,
     })?;
@@ -216,6 +223,17 @@ pub(crate) fn finish(
         .map(|p| [p[0] - origin[0], p[1] - origin[1]])
         .collect();
     let (w, h) = (hi[0] - lo[0], hi[1] - lo[1]);
+    let size = w.max(h) * units.metres_per_unit();
+    if !(SIZE_RANGE[0]..=SIZE_RANGE[1]).contains(&size) {
+        return Err(OutlineError::OutOfScale {
+            file: what.to_string(),
+            size,
+            width: w,
+            height: h,
+            units: units.name(),
+            range: SIZE_RANGE,
+        });
+    }
     let area = signed_area(&local);
     if area.is_nan() || area.abs() <= 1e-12 * (w + h) * (w + h) {
         return Err(OutlineError::ZeroArea {

@@ -87,11 +87,32 @@ pub(crate) fn image_grains(
         file: file.to_string(),
         reason,
     };
-    let img = image::ImageReader::new(std::io::Cursor::new(bytes))
-        .with_guessed_format()
-        .map_err(|e| bad(e.to_string()))?
-        .decode()
+    let reader = || {
+        image::ImageReader::new(std::io::Cursor::new(bytes))
+            .with_guessed_format()
+            .map_err(|e| bad(e.to_string()))
+    };
+    // The header's size first: the decoded image is an input too, bounded by the same limit as
+    // the file (`dem --max-input-mib`), and a refusal names the size (issue 48: a 100000 ×
+    // 100000 header ended in the decoder's bare "Memory limit exceeded").
+    let (w, h) = reader()?
+        .into_dimensions()
         .map_err(|e| bad(e.to_string()))?;
+    let limit = crate::io::input_limit();
+    let decoded = 2 * u64::from(w) * u64::from(h);
+    if decoded > limit {
+        return Err(bad(format!(
+            "{w} × {h} pixels take up to {} MiB decoded, more than the input limit of {} MiB; \
+             crop or downscale the image, or raise the limit with `dem --max-input-mib N`",
+            decoded.div_ceil(1 << 20),
+            limit.div_ceil(1 << 20)
+        )));
+    }
+    let mut limits = image::Limits::default();
+    limits.max_alloc = Some(limit);
+    let mut decoder = reader()?;
+    decoder.limits(limits);
+    let img = decoder.decode().map_err(|e| bad(e.to_string()))?;
     let (w, h) = (img.width() as usize, img.height() as usize);
     let values: Vec<u16> = match img {
         DynamicImage::ImageLuma8(b) => b.into_raw().into_iter().map(u16::from).collect(),
@@ -523,6 +544,63 @@ mod tests {
             c.hi = [c.hi[0].max(x), c.hi[1].max(y)];
         }
         c
+    }
+
+    /// A PNG of `w` × `h` 8-bit greyscale pixels whose image data is empty: a header only.
+    fn png_header(w: u32, h: u32) -> Vec<u8> {
+        fn crc32(bytes: &[u8]) -> u32 {
+            let mut c = !0u32;
+            for &b in bytes {
+                c ^= u32::from(b);
+                for _ in 0..8 {
+                    c = if c & 1 == 1 {
+                        0xEDB8_8320 ^ (c >> 1)
+                    } else {
+                        c >> 1
+                    };
+                }
+            }
+            !c
+        }
+        let mut png = b"\x89PNG\r\n\x1a\n".to_vec();
+        let mut ihdr = w.to_be_bytes().to_vec();
+        ihdr.extend_from_slice(&h.to_be_bytes());
+        ihdr.extend_from_slice(&[8, 0, 0, 0, 0]);
+        for (kind, data) in [(&b"IHDR"[..], &ihdr[..]), (b"IDAT", &[]), (b"IEND", &[])] {
+            let chunk = [kind, data].concat();
+            png.extend_from_slice(&(data.len() as u32).to_be_bytes());
+            png.extend_from_slice(&chunk);
+            png.extend_from_slice(&crc32(&chunk).to_be_bytes());
+        }
+        png
+    }
+
+    /// Issue 48: a 100000 × 100000 header is refused by its size and the limit, before any
+    /// decoding (before: the decoder's "Memory limit exceeded", no size).
+    #[test]
+    fn an_image_too_large_to_decode_is_refused_with_its_size() {
+        let opts = ReadOptions {
+            units: Some(Units::Px {
+                metres_per_px: 1e-6,
+            }),
+            resample: None,
+        };
+        let bytes = png_header(100_000, 100_000);
+        let e = image_grains(
+            &bytes,
+            "huge.png",
+            "huge",
+            "",
+            &opts,
+            &GrainOptions::default(),
+        )
+        .expect_err("10^10 pixels");
+        let msg = e.to_string();
+        assert!(
+            msg.starts_with("huge.png: ") && msg.contains("100000 × 100000 pixels"),
+            "{msg}"
+        );
+        assert!(msg.contains("input limit of 1024 MiB") && msg.contains("--max-input-mib"));
     }
 
     #[test]

@@ -32,7 +32,7 @@ pub fn load(path: &Path, outline: Option<&Path>) -> Result<Picture, String> {
     {
         return super::vtk::load_vtp(path, None);
     }
-    let bytes = std::fs::read(path).map_err(|e| format!("{file}: cannot read: {e}"))?;
+    let bytes = clumpgen::io::read_input(path).map_err(|e| format!("{file}: cannot read: {e}"))?;
     if bytes.starts_with(&dem_core::checkpoint::MAGIC) {
         let c = dem_core::checkpoint::parse_bytes(&bytes, &file).map_err(|e| e.to_string())?;
         return Ok(from_checkpoint(c, path));

@@ -385,7 +385,8 @@ fn time_beside(path: &Path) -> Option<f64> {
 /// (s) from the collection, else looked up in `snapshots.pvd` beside the file.
 pub fn load_vtp(path: &Path, time: Option<f64>) -> Result<Picture, String> {
     let file = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|e| format!("{file}: cannot read: {e}"))?;
+    let text =
+        clumpgen::io::read_input_string(path).map_err(|e| format!("{file}: cannot read: {e}"))?;
     let pd = parse_polydata(&text, &file)?;
     let n = pd.points;
     let pts = sized(&pd, &file, "Points", "points", 3, n)?
@@ -513,7 +514,8 @@ fn walls_beside(path: &Path) -> Option<PathBuf> {
 /// The walls of a `walls-*.vtp` (one polyline per line cell; the file does not keep names).
 fn load_walls(path: &Path) -> Result<Vec<WallLine>, String> {
     let file = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|e| format!("{file}: cannot read: {e}"))?;
+    let text =
+        clumpgen::io::read_input_string(path).map_err(|e| format!("{file}: cannot read: {e}"))?;
     let pd = parse_polydata(&text, &file)?;
     let pts = sized(&pd, &file, "Points", "points", 3, pd.points)?
         .ok_or_else(|| format!("{file}: no <Points> array (the wall vertices)"))?;
@@ -547,7 +549,8 @@ fn finite_points(pts: &[f64], file: &str, what: &str) -> Result<(), String> {
 /// (part 1) are skipped: each snapshot finds its own beside it.
 pub fn read_pvd(path: &Path) -> Result<Vec<(f64, PathBuf)>, String> {
     let file = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|e| format!("{file}: cannot read: {e}"))?;
+    let text =
+        clumpgen::io::read_input_string(path).map_err(|e| format!("{file}: cannot read: {e}"))?;
     if !text.contains("type=\"Collection\"") {
         return Err(format!(
             "{file}: not a VTK collection (no <VTKFile type=\"Collection\">)"

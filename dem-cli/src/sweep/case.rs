@@ -74,7 +74,7 @@ pub struct Record {
 /// Reads `DIR/cases.jsonl`, naming the line of a bad one.
 pub fn read_cases(sweep: &Path) -> Result<Vec<Case>, String> {
     let file = sweep.join(CASES_FILE);
-    let text = std::fs::read_to_string(&file).map_err(|e| {
+    let text = clumpgen::io::read_input_string(&file).map_err(|e| {
         format!(
             "{}: {e} (plan the sweep first: dem sweep plan STUDY --out {})",
             file.display(),

@@ -98,7 +98,7 @@ fn seed_axis(dir: &Path) -> Option<String> {
 /// The table as JSON (see the module doc).
 pub fn table(dir: &Path, timing: bool) -> Result<Value, String> {
     let file = dir.join(STUDY_FILE);
-    let bytes = std::fs::read(&file).map_err(|e| format!("{}: {e}", file.display()))?;
+    let bytes = clumpgen::io::read_input(&file).map_err(|e| format!("{}: {e}", file.display()))?;
     let p = study::parse(&bytes, &file)?;
     let cases = read_cases(dir)?;
     let seed = p.seed_axis();

@@ -82,13 +82,55 @@ struct Resolved {
 
 /// The inputs one axis value gives: its flags with their key values, sorted, as compact JSON
 /// (two values with the same identity are one case).
+/// Values are compared by what they mean ([`physical`]): `1mm`, `1.0mm`, `0.001m` and
+/// `1000um` are one depth.
 fn identity(v: &[(String, Resolved)]) -> String {
-    let keyed: BTreeMap<&str, &Value> = v
+    let keyed: BTreeMap<&str, Value> = v
         .iter()
         .filter(|(_, r)| r.arg.is_some())
-        .map(|(f, r)| (f.as_str(), &r.key))
+        .map(|(f, r)| {
+            let k = match &r.key {
+                Value::String(t) => json!(physical(t)),
+                k => k.clone(),
+            };
+            (f.as_str(), k)
+        })
         .collect();
     serde_json::to_string(&keyed).unwrap_or_default()
+}
+
+/// A flag value's physical identity for the duplicate check: a number with a length, speed or
+/// stress unit as its SI value (12 significant digits) and SI unit, `1.0` and `1` as one number,
+/// anything else as written. (Keys stay on the text as given: folders of existing sweeps keep
+/// their names.)
+fn physical(text: &str) -> String {
+    const UNITS: [(&str, f64, &str); 10] = [
+        ("mm/s", 1e-3, "m/s"),
+        ("um/s", 1e-6, "m/s"),
+        ("m/s", 1.0, "m/s"),
+        ("mm", 1e-3, "m"),
+        ("um", 1e-6, "m"),
+        ("µm", 1e-6, "m"),
+        ("GPa", 1e9, "Pa"),
+        ("MPa", 1e6, "Pa"),
+        ("kPa", 1e3, "Pa"),
+        ("Pa", 1.0, "Pa"),
+    ];
+    let t = text.trim();
+    let number = |n: &str| n.trim().parse::<f64>().ok().filter(|v| v.is_finite());
+    if let Some(v) = number(t) {
+        return format!("{v:.11e}");
+    }
+    for (u, f, si) in UNITS {
+        if let Some(v) = t.strip_suffix(u).and_then(number) {
+            return format!("{:.11e} {si}", v * f);
+        }
+    }
+    // Metres last: `mm` and `m/s` end in `m`/`s` too.
+    match t.strip_suffix('m').and_then(number) {
+        Some(v) => format!("{v:.11e} m"),
+        None => text.to_string(),
+    }
 }
 
 /// Checks and resolves one flag value; `field` names it in errors.
@@ -123,7 +165,7 @@ fn resolve(
         });
     }
     let path = study::resolve_path(file, text);
-    let bytes = std::fs::read(&path).map_err(|e| {
+    let bytes = clumpgen::io::read_input(&path).map_err(|e| {
         format!(
             "{}: --{flag} file {text:?} ({}): {e}",
             here(),
@@ -202,8 +244,8 @@ pub fn cases(file: &Path, p: &Parsed) -> Result<Vec<Case>, String> {
             }
             // One physical case is planned once (issue 48 D5): a value whose flags resolve to
             // those of an earlier value of the axis would give cases of one key and folder,
-            // run once and counted twice. (Spellings are compared as given: `1mm` and `1.0mm`
-            // are two values.)
+            // run once and counted twice; or, spelt differently (`1mm`, `1.0mm`), two folders
+            // of one case, counted twice.
             // (A map of the values seen: a seeds range of 100,000 values stays linear.)
             if let Some(&k) = seen.get(&identity(&fs)) {
                 let at = |j: usize| {
@@ -304,6 +346,53 @@ pub fn cases(file: &Path, p: &Parsed) -> Result<Vec<Case>, String> {
         out.push(case);
     }
     Ok(out)
+}
+
+/// The key `c`'s command line gives, the files it names read again; `Err` names what in the
+/// command line is not a planned one. `dem sweep run` runs a case only when this is its key
+/// (issue 48: any argv placed in an edited cases.jsonl ran): an edited line, or a file it names
+/// that changed since planning, is refused.
+pub fn key_of_argv(c: &Case) -> Result<String, String> {
+    let (kind, rest) = match c.argv.as_slice() {
+        [t, k, rest @ ..] if t == "test" && *k == c.test => (k.as_str(), rest),
+        _ => {
+            return Err(format!(
+                "its command line does not start with `test {}`",
+                c.test
+            ))
+        }
+    };
+    let (_, flags) = test_flags(kind)?;
+    let mut key_flags: BTreeMap<String, Value> = BTreeMap::new();
+    let mut it = rest.iter();
+    while let Some(tok) = it.next() {
+        let flag = tok
+            .strip_prefix("--")
+            .ok_or_else(|| format!("{tok:?} is not a flag"))?;
+        let info = flags
+            .get(flag)
+            .filter(|_| !RESERVED.contains(&flag))
+            .ok_or_else(|| format!("--{flag} is not a flag a study can set"))?;
+        let key = if !info.takes_value {
+            json!(true)
+        } else {
+            let v = it.next().ok_or_else(|| format!("--{flag} has no value"))?;
+            if info.is_file {
+                let bytes = clumpgen::io::read_input(Path::new(v))
+                    .map_err(|e| format!("--{flag} file {v}: {e}"))?;
+                json!({ "sha256": hex(&Sha256::digest(&bytes)) })
+            } else {
+                json!(v)
+            }
+        };
+        key_flags.insert(flag.to_string(), key);
+    }
+    let key_json = json!({
+        "test": kind,
+        "flags": Value::Object(key_flags.into_iter().collect())
+    })
+    .to_string();
+    Ok(hex(&Sha256::digest(key_json.as_bytes())))
 }
 
 /// The Slurm batch script of `n` cases.
@@ -603,8 +692,30 @@ mod tests {
             e.contains("axes[1].sets[1]") && e.contains("axes[1].sets[0]"),
             "{e}"
         );
+        // One depth spelt four ways is one value; a speed in two units likewise.
+        for (flag, spellings) in [
+            ("depth", ["1mm", "1.0mm", "0.001m", "1000um"]),
+            ("speed", ["2m/s", "2000mm/s", "2.0m/s", "2e3mm/s"]),
+        ] {
+            for k in 1..spellings.len() {
+                let e = plan(&format!(
+                    r#"{base}[{{"flag":"{flag}","values":["{}","{}"]}}]}}"#,
+                    spellings[0], spellings[k]
+                ))
+                .unwrap_err();
+                assert!(
+                    e.contains("axes[0].values[1]") && e.contains("count twice"),
+                    "{e}"
+                );
+            }
+        }
         // Distinct values plan as before.
         let ok = plan(&format!(r#"{base}[{{"seeds":[1,2,3]}}]}}"#)).unwrap();
+        assert_eq!(ok.len(), 3);
+        let ok = plan(&format!(
+            r#"{base}[{{"flag":"depth","values":["1mm","1.5mm","1m"]}}]}}"#
+        ))
+        .unwrap();
         assert_eq!(ok.len(), 3);
     }
 }

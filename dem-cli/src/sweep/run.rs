@@ -190,6 +190,39 @@ fn start(c: &Case, dir: &Path, exe: &Path, threads: usize) -> Result<Child, Stri
         .map_err(|e| format!("cannot start {}: {e}", exe.display()))
 }
 
+/// Refuses the run when a case's command line does not give its key
+/// ([`super::plan::key_of_argv`]): cases.jsonl was edited, or a file it names changed after
+/// planning. `index`: only that case is checked.
+fn verify_keys(dir: &Path, cases: &[Case], index: Option<usize>) -> Result<(), String> {
+    let file = dir.join(super::case::CASES_FILE);
+    for c in cases.iter().filter(|c| index.is_none_or(|i| i == c.index)) {
+        let why = match super::plan::key_of_argv(c) {
+            Ok(k) if k == c.key => continue,
+            Ok(_) => "its command line does not give its key".to_string(),
+            Err(e) => e,
+        };
+        return Err(format!(
+            "{}: line {}: case {} ({}): {why}: the line was edited, or a file it names changed \
+             after planning; only what the study plans runs: plan the study again (into a new \
+             folder if the inputs changed)",
+            file.display(),
+            c.index + 1,
+            c.index,
+            c.label()
+        ));
+    }
+    Ok(())
+}
+
+/// The line of a failed case's log that says why: the last `error:` line (a usage error's is
+/// followed by clap's "For more information, try '--help'."), else the last line.
+fn reason_line(tail: &[String]) -> Option<&String> {
+    tail.iter()
+        .rev()
+        .find(|l| l.starts_with("error:"))
+        .or(tail.last())
+}
+
 /// Writes done.json or failed.json for a case that ended; the failure reason if it failed.
 fn finish(
     c: &Case,
@@ -232,7 +265,7 @@ fn finish(
     };
     let text = serde_json::to_string_pretty(&rec).map_err(|e| e.to_string())?;
     dem_core::output::write_atomic(&cdir.join(name), text.as_bytes()).map_err(|e| e.to_string())?;
-    Ok(error.map(|e| match rec.log_tail.last() {
+    Ok(error.map(|e| match reason_line(&rec.log_tail) {
         Some(l) => format!("{e}: {l}"),
         None => e,
     }))
@@ -282,6 +315,8 @@ pub fn run(a: RunArgs) -> Result<ExitCode, String> {
     }
     let exe = std::env::current_exe().map_err(|e| format!("the dem executable: {e}"))?;
     let retry = a.retry_failed || a.index.is_some();
+    // Only what was planned runs: each case to run gives its key again from its command line.
+    verify_keys(&dir, &cases, a.index)?;
     let chosen: Vec<usize> = match a.index {
         Some(i) => vec![i],
         None => (0..cases.len()).collect(),
@@ -475,4 +510,27 @@ pub fn run(a: RunArgs) -> Result<ExitCode, String> {
         return Ok(ExitCode::from(1));
     }
     Ok(ExitCode::SUCCESS)
+}
+
+#[cfg(test)]
+mod tests {
+    /// Issue 48: a case ended by a usage error was summarised by clap's last line, "For more
+    /// information, try '--help'."; the `error:` line is the reason.
+    #[test]
+    fn the_reason_is_the_error_line_not_the_help_hint() {
+        let tail: Vec<String> = [
+            "error: unexpected argument '--bogus' found",
+            "",
+            "Usage: dem test cutting [OPTIONS] --out <OUT>",
+            "For more information, try '--help'.",
+        ]
+        .map(String::from)
+        .to_vec();
+        assert_eq!(
+            super::reason_line(&tail).unwrap(),
+            "error: unexpected argument '--bogus' found"
+        );
+        let plain = vec!["step 10".to_string(), "killed".to_string()];
+        assert_eq!(super::reason_line(&plain).unwrap(), "killed");
+    }
 }

@@ -214,7 +214,8 @@ impl Parsed {
 /// Reads `path` and checks its structure (fields, test, axes, ranges, collect); the flags are
 /// checked by [`super::plan`] against the test's command line.
 pub fn read(path: &Path) -> Result<(Vec<u8>, Parsed), String> {
-    let bytes = std::fs::read(path).map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
+    let bytes = clumpgen::io::read_input(path)
+        .map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
     let parsed = parse(&bytes, path)?;
     Ok((bytes, parsed))
 }

@@ -16,7 +16,7 @@ use std::path::{Path, PathBuf};
 
 /// Reads, parses and checks a scene file.
 pub fn load(path: &Path) -> Result<Scene, SceneError> {
-    let text = std::fs::read_to_string(path).map_err(|source| SceneError::Io {
+    let text = clumpgen::io::read_input_string(path).map_err(|source| SceneError::Io {
         file: path.display().to_string(),
         source,
     })?;
@@ -125,7 +125,7 @@ impl Resolver {
                 ],
                 u,
             );
-            let text = std::fs::read_to_string(&path).map_err(|e| {
+            let text = clumpgen::io::read_input_string(&path).map_err(|e| {
                 ck.err(
                     format!("{field}.file"),
                     format!("cannot read {}: {e}", path.display()),

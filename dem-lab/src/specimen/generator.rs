@@ -29,6 +29,9 @@ pub struct PackStats {
     pub discs_drawn: usize,
     pub floaters_resized: usize,
     pub floaters_removed: usize,
+    /// The first growth jammed and the packing was grown again more slowly (issue 48 D7).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub grow_retried: bool,
     /// Floaters still counted after the last pass (left in place).
     pub floaters_left: usize,
     /// Discs with no neighbour within the bond gap at the end, removed.
@@ -41,6 +44,8 @@ pub struct PackStats {
 /// Growth factor per increment and steps per increment.
 const GROW: f64 = 1.005;
 const GROW_STEPS: u64 = 40;
+/// How many times more steps per increment the second growth has when the first jams.
+pub const GROW_RETRY: u64 = 5;
 /// Unbalanced-force ratio counted as equilibrium during packing.
 pub const EQ_TOL: f64 = 2e-3;
 /// Most steps spent settling between two servo changes far from the target stress.
@@ -63,6 +68,35 @@ fn draw_radius(rng: &mut Rng, p: &SpecimenParams) -> f64 {
             }
         }
     }
+}
+
+/// Grows the placed discs from half size to `radii` in ×[`GROW`] increments, `steps_per_inc`
+/// steps after each; returns the final scale (1).
+fn grow(
+    world: &mut World,
+    radii: &[f64],
+    steps_per_inc: u64,
+    p: &SpecimenParams,
+    stats: &mut PackStats,
+    progress: &mut dyn FnMut(Progress),
+) -> f64 {
+    let s0: f64 = 0.5;
+    let incs = ((1.0 / s0).ln() / GROW.ln()).ceil() as usize;
+    let mut s = s0;
+    for k in 0..incs {
+        s = (s * GROW).min(1.0);
+        set_radii(world, radii, s, p.density);
+        world.run(steps_per_inc);
+        stats.steps += steps_per_inc;
+        if k % 10 == 0 {
+            progress(Progress {
+                stage: "grow",
+                fraction: (k + 1) as f64 / incs as f64,
+                message: format!("radius scale {s:.3}"),
+            });
+        }
+    }
+    s
 }
 
 /// Set every disc's radius to `scale × full[id]` and its mass to a uniform disc's.
@@ -159,38 +193,54 @@ pub fn pack(
             });
         }
     }
-    let mut world = World::try_new(st, relax::params(), relax::laws(p, 0.0))?;
     let mut stats = PackStats {
         discs_drawn: n,
         ..PackStats::default()
     };
-    // Growth to full size (the target porosity).
-    let incs = ((1.0 / s0).ln() / GROW.ln()).ceil() as usize;
-    let mut s = s0;
-    for k in 0..incs {
-        s = (s * GROW).min(1.0);
-        set_radii(&mut world, &radii, s, p.density);
-        world.run(GROW_STEPS);
-        stats.steps += GROW_STEPS;
-        if k % 10 == 0 {
+    // Growth to full size (the target porosity), then a rough equilibrium: the servo's first
+    // steps only need the stress's order of magnitude. A packing whose growth jams (two discs
+    // grown into each other beyond the guard's overlap before they can part: 12 × 4 mm, seed 1,
+    // issue 48 D7) is grown again from the same placement GROW_RETRY times more slowly.
+    // Packings that grow at the first attempt are not changed by this.
+    let grown = |st: State,
+                 steps_per_inc: u64,
+                 stats: &mut PackStats,
+                 progress: &mut dyn FnMut(Progress)| {
+        let mut world = World::try_new(st, relax::params(), relax::laws(p, 0.0))?;
+        let s = grow(&mut world, &radii, steps_per_inc, p, stats, progress);
+        let rest = rest_energy(&world, p);
+        stats.steps += relax::to_equilibrium(
+            &mut world,
+            "grow",
+            5.0 * EQ_TOL,
+            rest,
+            p.max_stage_steps,
+            progress,
+        )?;
+        Ok::<_, SpecimenError>((world, s))
+    };
+    let (mut world, s) = match grown(st.clone(), GROW_STEPS, &mut stats, progress) {
+        Ok(g) => g,
+        Err(first) => {
+            stats.grow_retried = true;
+            let slow = GROW_STEPS * GROW_RETRY;
             progress(Progress {
                 stage: "grow",
-                fraction: (k + 1) as f64 / incs as f64,
-                message: format!("radius scale {s:.3}"),
+                fraction: 0.0,
+                message: format!("jammed ({first}); growing again, {slow} steps per increment"),
             });
+            grown(st, slow, &mut stats, progress).map_err(|second| {
+                SpecimenError::NoConvergence {
+                    stage: "grow",
+                    steps: stats.steps,
+                    detail: format!(
+                        "{first}; grown again {GROW_RETRY} times more slowly: {second}"
+                    ),
+                }
+            })?
         }
-    }
+    };
     let mut full: Vec<f64> = radii.iter().map(|r| r * s).collect();
-    // A rough equilibrium: the servo's first steps only need the stress's order of magnitude.
-    let rest = rest_energy(&world, p);
-    stats.steps += relax::to_equilibrium(
-        &mut world,
-        "grow",
-        5.0 * EQ_TOL,
-        rest,
-        p.max_stage_steps,
-        progress,
-    )?;
     stats.steps += servo(&mut world, &mut full, p, progress)?;
     // Floaters: re-size those whose cage allows it, remove the others; the last pass only
     // counts.

@@ -157,10 +157,19 @@ pub fn cycle_until(
         w.run(every);
         steps += every;
         if let Err(e) = w.check() {
+            // The engine's advice names a scene's time-step settings, which `dem specimen` does
+            // not have (issue 48 D7); the generator's step is the engine's automatic one.
+            let cause = format!(
+                "discs driven into each other faster than they part at this stage (time step \
+                 {:.3e} s, {:.2} of the critical step, the generator's fixed factor); try \
+                 another --seed, and report this seed with its flags",
+                w.dt(),
+                w.dt() / w.critical_dt()
+            );
             return Err(SpecimenError::NoConvergence {
                 stage,
                 steps,
-                detail: format!("the blow-up guard stopped it: {e}"),
+                detail: format!("the blow-up guard stopped it: {}", e.with_cause(cause)),
             });
         }
         let (ok, msg) = done(w);

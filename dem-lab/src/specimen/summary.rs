@@ -83,6 +83,9 @@ pub struct Summary {
     pub floaters_left: usize,
     /// Discs with no neighbour within the bond gap, removed before bonding.
     pub loose_removed: usize,
+    /// The packing's first growth jammed and it was grown again more slowly (issue 48 D7).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub grow_retried: bool,
     pub templates: Option<TemplateStats>,
     /// Irregular grains of a few-grains specimen ([`super::GrainMode::Few`]); absent
     /// otherwise.
@@ -198,6 +201,7 @@ pub fn summarize(
         floaters_removed: s.pack.floaters_removed,
         floaters_left: s.pack.floaters_left,
         loose_removed: s.pack.loose_removed,
+        grow_retried: s.pack.grow_retried,
         templates: s.templates.clone(),
         irregular: s.irregular.clone(),
         steps_packing: s.pack.steps,
@@ -276,6 +280,15 @@ impl Summary {
                 self.loose_removed
             ),
         );
+        if self.grow_retried {
+            line(
+                "growth",
+                format!(
+                    "jammed at the first attempt; grown again {} times more slowly",
+                    super::generator::GROW_RETRY
+                ),
+            );
+        }
         if let Some(t) = &self.templates {
             line(
                 "templates",
