@@ -43,6 +43,16 @@ pub enum Length {
     OfReq(f64),
 }
 
+/// `0.02 r_eq` or `0.1 mm` (as the `dem clump` flags take them; the report prints it).
+impl std::fmt::Display for Length {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Length::Metres(v) => write!(f, "{} mm", v * 1e3),
+            Length::OfReq(x) => write!(f, "{x} r_eq"),
+        }
+    }
+}
+
 impl Length {
     pub fn resolve(self, r_eq: f64) -> f64 {
         match self {

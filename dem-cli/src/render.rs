@@ -29,7 +29,8 @@ A VTK snapshot (snap-*.vtp, from a scene with outputs.vtk_every) gives discs (po
 line cells, `bond_state` 1 intact, 0 broken; bond groups by index); the walls come from \
 walls-*.vtp beside it, without names (the tool is drawn as a wall). A snapshot cannot carry \
 where a bond broke (--broken marks it midway between the two centres), nor material or \
-bond-group names: use a checkpoint for those. Only the ASCII VTK that dem run writes is read.
+bond-group names: use a checkpoint for those. The VTK that dem run writes is read, ASCII or \
+binary (outputs.vtk_format: base64, inline or appended; not compressed).
 
 A series (snapshots.pvd) is drawn as an animation, one frame per disc snapshot in time order, \
 all with one view (the union of the frames' extents, or --view) and one speed scale, the \

@@ -724,7 +724,17 @@ pub fn run(a: CuttingArgs) -> Result<ExitCode, String> {
         ProgressBar::hidden()
     };
     let r = pool.install(|| {
-        cutting::run(&test, &model, &specimen, &a.out, &mut |done, total| {
+        let ro = cutting::CuttingRunOptions {
+            on_resume: Some(|at| match at {
+                Some((ckpt, step)) => println!(
+                    "resuming the interrupted run of this cut from {} (step {step})",
+                    ckpt.display()
+                ),
+                None => println!("that checkpoint does not load: starting the cut afresh"),
+            }),
+            ..cutting::CuttingRunOptions::default()
+        };
+        cutting::run_with(&test, &model, &specimen, &a.out, &ro, &mut |done, total| {
             bar.set_length(total.max(1));
             bar.set_position(done);
         })
@@ -826,12 +836,27 @@ pub fn report(r: &CuttingResult) -> String {
         s.push('\n');
     }
     if let Some(f) = &r.surface {
+        // Depth and roughness apart (issue 48: Ra was measured from the nominal line, so a
+        // uniform undercut read as roughness): the depth against the cut line, then Ra and Rz
+        // on the profile's mean line (ISO 4287; dem-lab/src/surface.rs).
+        let _ = write!(
+            s,
+            "  surface            {:+.1} µm from the nominal cut line (mean; {:+.1} to {:+.1})",
+            f.mean_deviation * 1e6,
+            f.min_deviation * 1e6,
+            f.max_deviation * 1e6,
+        );
+        if let Some(m) = f.roughness() {
+            let _ = write!(
+                s,
+                "; on its mean line Ra {:.1} µm, Rz {:.1} µm",
+                m.ra * 1e6,
+                m.rz * 1e6
+            );
+        }
         let _ = writeln!(
             s,
-            "  surface            Ra {:.4} µm, Rz {:.4} µm, mean deviation {:+.4} µm ({} bins of {:.4} mm)",
-            f.ra * 1e6,
-            f.rz * 1e6,
-            f.mean_deviation * 1e6,
+            " ({} bins of {:.4} mm)",
             f.profile.len(),
             f.bin_width * 1e3
         );

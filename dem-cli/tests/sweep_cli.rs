@@ -234,6 +234,14 @@ fn kill_9_then_rerun_gives_the_uninterrupted_table() {
         serde_json::from_str(&std::fs::read_to_string(c1.join("cutting.result.json")).unwrap())
             .unwrap();
     assert_eq!(r["run"]["invocations"], 2, "{}", r["run"]);
+    // ... and said so in its second attempt's log (issue 48: only "took over the stale lock").
+    let log = std::fs::read_to_string(c1.join("log.txt")).unwrap();
+    let second = log.rsplit("=== dem sweep run: attempt").next().unwrap();
+    assert!(
+        second.contains("resuming the interrupted run of this cut from")
+            && second.contains("ckpt-0"),
+        "{second}"
+    );
     for ext in ["csv", "json"] {
         let a = collect(&reference, &d.join(format!("ref.{ext}")), &["--no-timing"]);
         let b = collect(&killed, &d.join(format!("killed.{ext}")), &["--no-timing"]);

@@ -1211,7 +1211,15 @@ pub struct CuttingRunOptions {
     /// Stop when the world reaches this step, before the end (the run then returns
     /// [`LabError::Stopped`] and can be resumed).
     pub max_steps: Option<u64>,
+    /// Told the checkpoint and its step when the run resumes from one (issue 48: a rerun after
+    /// kill -9 said only that it took over a stale lock), and again with `None` when that
+    /// checkpoint does not load and the run starts afresh.
+    pub on_resume: Option<OnResume>,
 }
+
+/// [`CuttingRunOptions::on_resume`]: the checkpoint and its step, or `None` for a fresh start
+/// after a checkpoint that did not load.
+pub type OnResume = fn(Option<(&Path, u64)>);
 
 impl Default for CuttingRunOptions {
     fn default() -> CuttingRunOptions {
@@ -1219,6 +1227,7 @@ impl Default for CuttingRunOptions {
             checkpoints: 20,
             resume: true,
             max_steps: None,
+            on_resume: None,
         }
     }
 }
@@ -1274,10 +1283,13 @@ pub fn run_with(
         dem_core::output::driver::numbered_checkpoints(out_dir)
             .ok()
             .and_then(|mut c| c.pop())
-            .map(|(_, p)| p)
     } else {
         None
     };
+    if let (Some(tell), Some((step, p))) = (ro.on_resume, &restart) {
+        tell(Some((p, *step)));
+    }
+    let restart = restart.map(|(_, p)| p);
     let mut opts = RunOptions {
         out_dir: Some(out_dir.to_path_buf()),
         restart,
@@ -1295,6 +1307,9 @@ pub fn run_with(
             if opts.restart.is_some() =>
         {
             opts.restart = None;
+            if let Some(tell) = ro.on_resume {
+                tell(None);
+            }
             run_built(s, &scene_file, built, &opts, progress, hook())?
         }
         r => r?,

@@ -22,8 +22,14 @@ pub struct Environment {
     pub reused: Reused,
 }
 
+/// Runs in the repository this program was built from, so that the commit is found wherever
+/// the report is made (issue 48: "commit unknown" outside the repository).
 fn run(cmd: &str, args: &[&str]) -> Option<String> {
-    let o = Command::new(cmd).args(args).output().ok()?;
+    let o = Command::new(cmd)
+        .args(args)
+        .current_dir(crate::REPOSITORY)
+        .output()
+        .ok()?;
     o.status
         .success()
         .then(|| String::from_utf8_lossy(&o.stdout).trim().to_string())
@@ -99,7 +105,7 @@ impl Environment {
             String::new()
         };
         format!(
-            "| | |\n|---|---|\n| commit | `{}`{} |\n| machine | {} ({} cores), {} |\n| threads | {} |\n\
+            "| item | value |\n|---|---|\n| commit | `{}`{} |\n| machine | {} ({} cores), {} |\n| threads | {} |\n\
              | compiler | {} |\n| date (UTC) | {} |\n| mode | {} |\n| run time of this call | {:.1} s |\n{}",
             self.commit,
             if self.dirty { " (uncommitted changes)" } else { "" },

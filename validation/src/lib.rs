@@ -2,6 +2,25 @@
 //! the reproducibility report. Each case is one module; `report` runs them and writes Markdown
 //! and JSON.
 
+/// The repository this crate was built in (its data, pictures and git history): the report's
+/// defaults when it runs outside it.
+pub const REPOSITORY: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/..");
+
+/// `given` if the user named it; else `default` relative to the current folder when it exists
+/// there, else relative to [`REPOSITORY`] (issue 48: run from another folder, the report
+/// finished "without 6 section(s)").
+pub fn project_path(given: Option<std::path::PathBuf>, default: &str) -> std::path::PathBuf {
+    given.unwrap_or_else(|| {
+        let here = std::path::PathBuf::from(default);
+        if here.exists() {
+            here
+        } else {
+            let there = std::path::Path::new(REPOSITORY).join(default);
+            there.canonicalize().unwrap_or(there)
+        }
+    })
+}
+
 pub mod clump_sweep;
 pub mod convergence;
 pub mod crush;

@@ -7,9 +7,9 @@ use std::process::ExitCode;
 #[derive(Parser)]
 #[command(about = "Reproduce the published tables and write the report")]
 struct Args {
-    /// The project's data folder.
-    #[arg(long, default_value = "data")]
-    data: PathBuf,
+    /// The project's data folder (default: `data` here, else the repository's).
+    #[arg(long)]
+    data: Option<PathBuf>,
     /// Output folder.
     #[arg(long, default_value = "report")]
     out: PathBuf,
@@ -52,13 +52,15 @@ struct Args {
     #[arg(long)]
     sweep: Option<PathBuf>,
     /// The pictures of the specimens and cuts the report shows (PNGs made by
-    /// `scripts/cut-pictures.sh`).
-    #[arg(long, default_value = "docs/pictures")]
-    pictures: PathBuf,
+    /// `scripts/cut-pictures.sh`; default: `docs/pictures` here, else the repository's).
+    #[arg(long)]
+    pictures: Option<PathBuf>,
 }
 
 fn main() -> ExitCode {
-    let a = Args::parse();
+    let mut a = Args::parse();
+    let data = validation::project_path(a.data.take(), "data");
+    let pictures = validation::project_path(a.pictures.take(), "docs/pictures");
     if let Some(f) = &a.study {
         let progress = |m: &str| eprintln!("{m}");
         let r = validation::study::StudySpec::read(f).and_then(|s| {
@@ -71,7 +73,7 @@ fn main() -> ExitCode {
                     validation::sweep_runs::Source::Here(validation::cutting_runs::Missing::Run)
                 }
             };
-            validation::study::run(&s, &a.data, &a.out, source, &progress).map(|r| (s, r))
+            validation::study::run(&s, &data, &a.out, source, &progress).map(|r| (s, r))
         });
         return match r {
             Ok((s, (rows, errors))) => {
@@ -105,7 +107,7 @@ fn main() -> ExitCode {
         }
     }
     let o = validation::report::ReportOptions {
-        data: a.data,
+        data,
         out: a.out.clone(),
         covers: if a.quick { vec![0.9, 0.95] } else { a.covers },
         repeats: if a.quick { 1 } else { a.repeats },
@@ -125,7 +127,7 @@ fn main() -> ExitCode {
             validation::cutting_runs::Missing::Run
         },
         sweep: a.sweep,
-        pictures: a.pictures,
+        pictures,
     };
     match validation::report::run(&o) {
         Ok(_) => {

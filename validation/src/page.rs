@@ -23,6 +23,19 @@ pub struct Section {
     pub data: Vec<(String, String)>,
 }
 
+/// "12.34 ± 0.56" (mean ± SE, two decimals), with " (n)" when `n` is given; one value, or an
+/// SE that is not finite (one seed's "unknown"), prints as "12.34 (n = 1)": the report's
+/// tables said "± inf" in one place and "± 0.00 (1)" in another (issue 48).
+pub fn pm(mean: f64, se: f64, n: Option<usize>) -> String {
+    if n == Some(1) || !se.is_finite() {
+        return format!("{mean:.2} (n = 1)");
+    }
+    match n {
+        Some(n) => format!("{mean:.2} ± {se:.2} ({n})"),
+        None => format!("{mean:.2} ± {se:.2}"),
+    }
+}
+
 /// Writes `text` to `dir/name` atomically; errors name the file.
 pub fn write(dir: &Path, name: &str, text: &str) -> Result<()> {
     let path = dir.join(name);
@@ -123,6 +136,15 @@ pub fn write_report(dir: &Path, title: &str, sections: &[Section]) -> Result<Str
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Issue 48: one seed prints the same way in every table, not "± inf" or "± 0.00 (1)".
+    #[test]
+    fn one_value_prints_as_n_1_everywhere() {
+        assert_eq!(pm(14.4, 0.24, Some(5)), "14.40 ± 0.24 (5)");
+        assert_eq!(pm(20.9, 2.5, None), "20.90 ± 2.50");
+        assert_eq!(pm(14.4, 0.0, Some(1)), "14.40 (n = 1)");
+        assert_eq!(pm(20.9, f64::INFINITY, None), "20.90 (n = 1)");
+    }
 
     #[test]
     fn writes_markdown_and_self_contained_html() {

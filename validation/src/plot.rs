@@ -46,6 +46,16 @@ fn range(v: impl Iterator<Item = f64>, log: bool) -> (f64, f64) {
 
 /// A tick label with at most three significant digits (log axes' ticks otherwise print as
 /// `0.6000000000000001`); scientific notation outside [1e-3, 1e5).
+/// A tick value at rounding distance from zero on the axis `[lo, hi]` is zero: a tick at
+/// −2.2e-16 on the Weibull plot's axis (issue 48) is the 0 that accumulated steps missed.
+fn snap(v: f64, lo: f64, hi: f64) -> f64 {
+    if v.abs() <= 1e-9 * (hi - lo).abs() {
+        0.0
+    } else {
+        v
+    }
+}
+
 fn tick(v: f64) -> String {
     if v == 0.0 || !v.is_finite() {
         return format!("{v}");
@@ -161,8 +171,8 @@ fn chart(
                     .configure_mesh()
                     .x_desc(x_label)
                     .y_desc(y_label)
-                    .x_label_formatter(&|v| tick(*v))
-                    .y_label_formatter(&|v| tick(*v))
+                    .x_label_formatter(&|v| tick(snap(*v, x0, x1)))
+                    .y_label_formatter(&|v| tick(snap(*v, y0, y1)))
                     .draw()
                     .map_err(err)?;
                 for (k, s) in series.iter().enumerate() {
@@ -350,6 +360,9 @@ mod tests {
         assert_eq!(tick(12.345), "12.3");
         assert_eq!(tick(2.5e-9), "2.5e-9");
         assert_eq!(tick(0.0), "0");
+        // Issue 48: the Weibull plot's "-2.2e-16".
+        assert_eq!(tick(snap(-2.220446049250313e-16, -4.0, 2.0)), "0");
+        assert_eq!(tick(snap(1e-6, 0.0, 1e-5)), "1.0e-6");
     }
 
     #[test]

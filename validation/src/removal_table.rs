@@ -56,7 +56,7 @@ pub struct RemovalCell {
     pub chip_speed_over_v: Option<MeanSe>,
     pub chip_speed_max_over_v: Option<MeanSe>,
     /// Machined surface: mean deviation from the nominal surface (mm, negative below) and
-    /// Ra (µm).
+    /// Ra on the profile's mean line (µm; ISO 4287, `dem_lab::surface::Roughness`).
     pub surface_dev_mm: Option<MeanSe>,
     pub ra_um: Option<MeanSe>,
     /// Residual cracks below the machined surface: count and deepest (mm).
@@ -108,7 +108,12 @@ pub fn cells(runs: &[(&Path, &str)]) -> Result<Vec<RemovalCell>> {
                     r.removal.as_ref().map(|m| m.chip_speed_max / m.tool_speed)
                 }),
                 surface_dev_mm: opt(&|r| r.surface.as_ref().map(|s| s.mean_deviation * 1e3)),
-                ra_um: opt(&|r| r.surface.as_ref().map(|s| s.ra * 1e6)),
+                ra_um: opt(&|r| {
+                    r.surface
+                        .as_ref()
+                        .and_then(|s| s.roughness())
+                        .map(|m| m.ra * 1e6)
+                }),
                 cracks: all(&|r| r.residual_cracks.count as f64),
                 deepest_crack_mm: all(&|r| r.residual_cracks.deepest * 1e3),
             }
@@ -139,7 +144,7 @@ pub(crate) fn find<'a>(
 }
 
 fn pm(x: Option<MeanSe>) -> String {
-    x.map_or("—".into(), |x| format!("{:.2} ± {:.2}", x.mean, x.se))
+    x.map_or("—".into(), |x| crate::page::pm(x.mean, x.se, None))
 }
 
 /// Both of `a > b` and `a > c` at 2 SE: `Some(false)` if either is resolved against.
@@ -259,7 +264,7 @@ pub fn markdown(cells: &[RemovalCell], checks: &[Check]) -> String {
          Seed means ± SE of each run's figures at the end of the cut (`cutting.result.json`: \
          `removal`, `surface`, `residual_cracks`; docs/cutting.md, \"Analysis\"). Chips are \
          the fragments above the nominal surface.\n\n\
-         | a_p (mm) | v (m/s) | method | seeds | single-grain share | ≤ 3-grain share | chip speed / v | fastest chip / v | surface − nominal (mm) | Ra (µm) | residual cracks | deepest (mm) |\n\
+         | a_p (mm) | v (m/s) | method | seeds | single-grain share | ≤ 3-grain share | chip speed / v | fastest chip / v | surface − nominal (mm) | Ra on the mean line (µm) | residual cracks | deepest (mm) |\n\
          |---|---|---|---|---|---|---|---|---|---|---|---|\n",
     );
     let mut sorted: Vec<&RemovalCell> = cells.iter().collect();

@@ -58,6 +58,8 @@ pub struct Shared {
     pub force_scale: Option<f64>,
     /// Finished runs read back instead of run now (see [`Environment::reused`]).
     pub reused: Reused,
+    /// One line per section that can say what holds, for the summary at the top.
+    pub summary: Vec<String>,
 }
 
 /// The specimens and one cut of each, as pictures (committed PNGs, see [`crate::pictures`]).
@@ -162,16 +164,19 @@ fn table2_section(o: &ReportOptions, sh: &mut Shared) -> Result<Section> {
         Some(d) => crate::sweep_runs::Source::Sweep(d),
         None => crate::sweep_runs::Source::Here(o.missing),
     };
-    let (s, scale, reused) =
+    let (s, scale, reused, summary) =
         crate::table2_section::section(&o.data, &o.out, o.quick, &o.table2, source)?;
     sh.force_scale = Some(scale);
     sh.reused.add(reused);
+    sh.summary.push(summary);
     Ok(s)
 }
 
 /// Table 3: the granites' flexural strength ([`crate::table3`]).
-fn table3_section(o: &ReportOptions, _: &mut Shared) -> Result<Section> {
-    crate::table3::section(&o.data, &o.out, o.quick, o.missing)
+fn table3_section(o: &ReportOptions, sh: &mut Shared) -> Result<Section> {
+    let (s, summary) = crate::table3::section(&o.data, &o.out, o.quick, o.missing)?;
+    sh.summary.push(summary);
+    Ok(s)
 }
 
 /// Error against run time of the cutting run ([`crate::convergence`]).
@@ -191,6 +196,34 @@ fn convergence_section(o: &ReportOptions, sh: &mut Shared) -> Result<Section> {
 /// Crushable grains: single-grain crushing, Weibull fit, size effect ([`crate::crush`]).
 fn crush_section(o: &ReportOptions, _: &mut Shared) -> Result<Section> {
     crate::crush::section(&o.data, &o.out, o.quick)
+}
+
+/// What holds and what does not, first on the page (issue 48): the verdict line of each
+/// section that has one, then the sections built and those that failed.
+fn summary_section(lines: &[String], failed: &[String], steps: &[(&str, impl Sized)]) -> Section {
+    let mut md = String::new();
+    for l in lines {
+        md += &format!("- {l}\n");
+    }
+    let built: Vec<&str> = steps
+        .iter()
+        .map(|(n, _)| *n)
+        .filter(|n| !failed.iter().any(|f| f.starts_with(&format!("{n}:"))))
+        .collect();
+    md += &format!("- Sections built: {}.\n", built.join(", "));
+    if !failed.is_empty() {
+        md += &format!(
+            "- **Sections that could not be built**: {}.\n",
+            failed.join("; ")
+        );
+    }
+    md += "\nEach section below gives its numbers, their source and how they were obtained.\n";
+    Section {
+        title: "Summary".into(),
+        markdown: md,
+        figures: vec![],
+        data: vec![],
+    }
 }
 
 /// Drops a leading `# ...` title line (sections get their own `##` title).
@@ -273,6 +306,7 @@ pub fn run(o: &ReportOptions) -> Result<String> {
             data: vec![("environment.json".into(), json(&env))],
         },
     );
+    sections.insert(0, summary_section(&shared.summary, &failed, &steps));
     let md = write_report(
         &o.out,
         "Reproducibility report: DEM of brittle-material cutting",

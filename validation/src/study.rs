@@ -227,7 +227,11 @@ pub fn row(variant: &str, job: &Job, res: &CuttingResult, dir: &Path, cpu: Optio
         chip_discs: res.chips.chips.discs,
         loose_below: res.chips.loose_below_surface.count,
         surface_mean_dev_m: res.surface.as_ref().map(|s| s.mean_deviation),
-        surface_ra_m: res.surface.as_ref().map(|s| s.ra),
+        surface_ra_m: res
+            .surface
+            .as_ref()
+            .and_then(|s| s.roughness())
+            .map(|m| m.ra),
         residual_cracks: res.residual_cracks.count,
         deepest_crack_m: res.residual_cracks.deepest,
         single_grain_share: res.removal.as_ref().map(|m| m.single_grain_share),

@@ -33,7 +33,7 @@ pub struct Row {
     pub chips: usize,
     pub chip_discs: usize,
     pub loose_below: usize,
-    /// Machined surface: mean deviation from y_n and Ra (m).
+    /// Machined surface: mean deviation from y_n, and Ra on the mean line (ISO 4287) (m).
     pub surface_mean_dev_m: Option<f64>,
     pub surface_ra_m: Option<f64>,
     pub residual_cracks: usize,

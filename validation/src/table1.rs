@@ -139,7 +139,7 @@ impl Table1 {
         let mut s = String::from("# Table 1 (Ye & Xu 2010): one grain by method\n\n");
         s.push_str(&format!(
             "Grain `{}`; density {} kg/m³, thickness {:.6e} m (ρ·t set so the real grain's \
-             inertia equals the paper's); cover target {}, r_min {:?}, r_max {:?}.\n\n",
+             inertia equals the paper's); cover target {}, r_min {}, r_max {}.\n\n",
             self.grain,
             self.density_kg_m3,
             self.thickness_m,

@@ -532,9 +532,9 @@ impl Tally {
     }
 }
 
-/// "12.34 ± 0.56" (value ± SE).
+/// "12.34 ± 0.56" (value ± SE; "(n = 1)" for one seed's unknown SE).
 fn pm(x: (f64, f64)) -> String {
-    format!("{:.2} ± {:.2}", x.0, x.1)
+    crate::page::pm(x.0, x.1, None)
 }
 
 /// The four observations of S0 (§ results), each over every case the table holds, on the

@@ -476,12 +476,10 @@ impl Table3 {
         for c in &self.cells {
             let g = p.granites.iter().find(|g| g.name == c.granite);
             s += &format!(
-                "| {} | {} | {:.2} ± {:.2} ({}) | {:.2} | {} | {} | {} | {:+.1} % | {} |\n",
+                "| {} | {} | {} | {:.2} | {} | {} | {} | {:+.1} % | {} |\n",
                 c.granite,
                 c.method,
-                c.mean,
-                c.se,
-                c.n,
+                crate::page::pm(c.mean, c.se, Some(c.n)),
                 c.median,
                 f(c.paper),
                 f(g.map(|g| g.experiment)),
@@ -526,7 +524,13 @@ impl Table3 {
 }
 
 /// The report section: runs (or reads back) the plan, the table, a bar chart.
-pub fn section(data: &Path, out: &Path, quick: bool, missing: Missing) -> Result<Section> {
+/// The section and its line for the report's summary.
+pub fn section(
+    data: &Path,
+    out: &Path,
+    quick: bool,
+    missing: Missing,
+) -> Result<(Section, String)> {
     let plan = plan(data, quick)?;
     let (runs, left, errors) = run(&plan, out, missing, &|l| eprintln!("  {l}"));
     let t = Table3::new(&plan, runs, left, errors);
@@ -554,7 +558,22 @@ pub fn section(data: &Path, out: &Path, quick: bool, missing: Missing) -> Result
         &cats,
         &series,
     )?;
-    Ok(Section {
+    let within = t
+        .cells
+        .iter()
+        .filter(|c| c.rel_err_vs_experiment.abs() <= 0.2)
+        .count();
+    let summary = format!(
+        "**Table 3** (Ye & Xu 2010, granite flexural strength): {within} of {} cells within \
+         ±20 % of the experiment{}.",
+        t.cells.len(),
+        if t.not_run.is_empty() {
+            String::new()
+        } else {
+            format!("; {} runs not run", t.not_run.len())
+        }
+    );
+    let section = Section {
         title: "Table 3 (Ye & Xu 2010): flexural strength of granite".into(),
         markdown: t.markdown(),
         figures: vec![Figure {
@@ -563,7 +582,8 @@ pub fn section(data: &Path, out: &Path, quick: bool, missing: Missing) -> Result
             svg,
         }],
         data: vec![("table3.json".into(), json(&t))],
-    })
+    };
+    Ok((section, summary))
 }
 
 #[cfg(test)]
