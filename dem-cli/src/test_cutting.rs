@@ -156,7 +156,9 @@ pub struct CuttingArgs {
     /// Target number of history rows (default 4000).
     #[arg(long)]
     pub history_rows: Option<u64>,
-    /// VTK snapshots over the run (default 0).
+    /// VTK snapshots: one at the start, then one every 1/N of the planned run (default 0:
+    /// none). The plan is set from the first time step, so a run whose step shrinks writes
+    /// N + 1 files and one whose step grows may write N (issue 48; not yet exact).
     #[arg(long)]
     pub snapshots: Option<u64>,
     /// Delete detached fragments once they are above the nominal surface and clear of the
