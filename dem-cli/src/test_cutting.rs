@@ -156,9 +156,8 @@ pub struct CuttingArgs {
     /// Target number of history rows (default 4000).
     #[arg(long)]
     pub history_rows: Option<u64>,
-    /// VTK snapshots: one at the start, then one every 1/N of the planned run (default 0:
-    /// none). The plan is set from the first time step, so a run whose step shrinks writes
-    /// N + 1 files and one whose step grows may write N (issue 48; not yet exact).
+    /// VTK snapshots spread evenly over the cut's duration, the first at the start and the
+    /// last at the end (default 0: none).
     #[arg(long)]
     pub snapshots: Option<u64>,
     /// Delete detached fragments once they are above the nominal surface and clear of the

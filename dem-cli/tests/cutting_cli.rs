@@ -797,3 +797,48 @@ fn grains_below_cover_warn_and_strict_refuses_the_cut() {
     assert!(out.join("cutting.result.json").exists());
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// Issue 48: `--snapshots 3` wrote 4 (an interval of the planned steps: the start and three
+/// more); a step-interval fix wrote 2 here, where the step grows during the cut. Now N
+/// snapshots spread over the duration are N, the last at the end of the cut.
+#[test]
+fn snapshots_n_writes_n() {
+    let dir = tmp("snapshots");
+    for n in [1usize, 3, 7] {
+        let out = dir.join(format!("cut{n}"));
+        let o = small_cut(
+            &out,
+            &[
+                "--speed",
+                "10m/s",
+                "--history-rows",
+                "200",
+                "--snapshots",
+                &n.to_string(),
+            ],
+        );
+        assert!(o.status.success(), "{}", text(&o));
+        let pvd = std::fs::read_to_string(out.join("snapshots.pvd")).unwrap();
+        let mut steps: Vec<&str> = pvd
+            .split("file=\"snap-")
+            .skip(1)
+            .filter_map(|t| t.split('.').next())
+            .collect();
+        steps.dedup();
+        assert_eq!(steps.len(), n, "{pvd}");
+        assert_eq!(steps[0], "000000000");
+        if n > 1 {
+            let r: serde_json::Value = serde_json::from_str(
+                &std::fs::read_to_string(out.join("cutting.result.json")).unwrap(),
+            )
+            .unwrap();
+            let last: u64 = steps[n - 1].parse().unwrap();
+            assert_eq!(
+                Some(last),
+                r["run"]["steps"].as_u64(),
+                "the last at the end"
+            );
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

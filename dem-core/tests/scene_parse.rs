@@ -490,3 +490,20 @@ fn servo_walls_convert_and_bad_servos_are_named() {
         "{e}"
     );
 }
+
+/// `outputs.vtk_count` (N snapshots spread over the run) and `outputs.vtk_every` are two ways
+/// of saying when to write: both at once is refused naming the field.
+#[test]
+fn vtk_count_and_vtk_every_together_are_refused() {
+    let e = error_of(
+        |v| {
+            v["outputs"]["vtk_every"] = 10.into();
+            v["outputs"]["vtk_count"] = 3.into();
+        },
+        "snapshots.json",
+    );
+    assert!(
+        e.contains("outputs.vtk_count") && e.contains("not both"),
+        "{e}"
+    );
+}

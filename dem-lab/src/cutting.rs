@@ -109,7 +109,8 @@ pub struct CuttingTest {
     pub window_start: f64,
     /// Surface profile bin width (× the mean disc diameter). Default 1.
     pub surface_bin: f64,
-    /// VTK snapshots over the run (0 = none).
+    /// VTK snapshots spread evenly over the run, the first at the start and the last at the
+    /// end (0 = none).
     pub snapshots: u64,
     /// Blow-up guard: kinetic energy may not exceed this × the energy supplied (scene
     /// `run.max_energy_growth`). Default 2, the engine's. (A specimen is handed over
@@ -716,14 +717,12 @@ pub fn scene(
         ..RunSpec::default()
     };
     let every = history_every.max(1);
-    // Roughly `snapshots` over the run: history rows × every = total steps; 0 = none.
-    let vtk = (test.history_rows * every)
-        .checked_div(test.snapshots)
-        .map_or(0, |n| n.max(1));
     s.outputs = OutputSpec {
         dir: Some(".".into()),
         history_every: every,
-        vtk_every: vtk,
+        // `snapshots` spread evenly over the cut's duration, the first at the start and the
+        // last at the end (issue 48: an interval of the planned steps wrote 4 for 3).
+        vtk_count: test.snapshots,
         ..OutputSpec::default()
     };
     Ok(s)

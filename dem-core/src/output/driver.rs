@@ -117,6 +117,8 @@ pub struct Simulation {
     start_step: u64,
     max_steps: Option<u64>,
     restarted_from: Option<String>,
+    /// The next of `outputs.vtk_count`'s evenly spread snapshots (k of 0 … N − 1).
+    snap_k: u64,
     files: BTreeSet<String>,
     dt_range: [f64; 2],
     last_flush: Instant,
@@ -362,7 +364,7 @@ impl Simulation {
             .zip(history.as_ref())
             .map_or(0.0, |(s, (_, earlier))| peak_of_record(earlier, s));
         let history = history.map(|(h, _)| h);
-        let pvd = (o.vtk_every > 0).then(|| {
+        let pvd = (o.vtk_every > 0 || o.vtk_count > 0).then(|| {
             let mut c = Collection::new(&out.join("snapshots.pvd"));
             c.entries = snaps;
             c
@@ -371,6 +373,7 @@ impl Simulation {
         Ok(Simulation {
             max_steps: opts.max_steps.or(scene.run.max_steps),
             start_step: world.state.step,
+            snap_k: 0,
             scene,
             world,
             out,
@@ -441,6 +444,27 @@ impl Simulation {
         ending_of(&self.world.state, self.scene.run.stop, self.max_steps)
     }
 
+    /// How far the run is along its stop: time for a duration, steps for a step count.
+    fn progress_value(&self) -> f64 {
+        progress_of(&self.world.state, self.scene.run.stop)
+    }
+
+    /// Where snapshot k of `outputs.vtk_count` = N falls: k/(N − 1) of the stop (the last
+    /// exactly at it); infinity past the last (and for k ≥ 1 when N ≤ 1).
+    fn snap_target(&self, k: u64) -> f64 {
+        let n = self.scene.outputs.vtk_count;
+        let end = match self.scene.run.stop {
+            Stop::Steps(m) => m as f64,
+            Stop::Duration(d) => d,
+        };
+        match k {
+            0 => 0.0,
+            _ if k >= n || n < 2 => f64::INFINITY,
+            _ if k == n - 1 => end,
+            _ => end * k as f64 / (n - 1) as f64,
+        }
+    }
+
     /// The disk a run's snapshots and checkpoints will take, estimated from its step count, disc
     /// count and output intervals (the numbered checkpoints kept are bounded by
     /// `outputs.checkpoint_keep`; `ckpt-final` counts once; none with `outputs.checkpoints` off).
@@ -449,7 +473,7 @@ impl Simulation {
         let o = &self.scene.outputs;
         let discs = self.world.state.discs.len() as f64;
         let every = |k: u64| steps.checked_div(k).unwrap_or(0);
-        let snapshots = every(o.vtk_every) as f64;
+        let snapshots = (every(o.vtk_every) + o.vtk_count) as f64;
         let per_snapshot = match o.vtk_format {
             vtk::Format::Ascii => SNAPSHOT_BYTES_PER_DISC,
             vtk::Format::Binary => BINARY_SNAPSHOT_BYTES_PER_DISC,
@@ -513,9 +537,15 @@ impl Simulation {
         }
         remove_dead_temporaries(&self.out);
         self.guard(t0)?;
-        if self.world.state.step == 0 && o.vtk_every > 0 {
+        if self.world.state.step == 0 && (o.vtk_every > 0 || o.vtk_count > 0) {
             self.snapshot()?;
         }
+        // The evenly spread snapshots still to come: those past the start (a restart goes on
+        // after the last one its checkpoint's state had passed).
+        let here = self.progress_value();
+        self.snap_k = (1..o.vtk_count)
+            .find(|&k| self.snap_target(k) > here)
+            .unwrap_or(o.vtk_count.max(1));
         let mut total = self.total_steps();
         progress(0, total);
         let every = |n: u64, s: u64| n > 0 && s.is_multiple_of(n);
@@ -541,10 +571,13 @@ impl Simulation {
             .min()
             .unwrap_or(1);
             let (stop, max_steps, mut dr) = (self.scene.run.stop, self.max_steps, self.dt_range);
+            // The batch also stops where the next evenly spread snapshot falls.
+            let snap_at = self.snap_target(self.snap_k);
             self.world.run_while(batch, |w| {
                 let dt = w.dt();
                 dr = [dr[0].min(dt), dr[1].max(dt)];
                 ending_of(&w.state, stop, max_steps).is_none()
+                    && progress_of(&w.state, stop) < snap_at
             });
             self.dt_range = dr;
             let s = self.world.state.step;
@@ -555,9 +588,13 @@ impl Simulation {
                     hook_stop = f(&self.world);
                 }
             }
+            let spread = self.progress_value() >= snap_at;
+            while self.progress_value() >= self.snap_target(self.snap_k) {
+                self.snap_k += 1;
+            }
             let (h, v, c) = (
                 every(o.history_every, s) || (hook_stop && o.history_every > 0),
-                every(o.vtk_every, s),
+                every(o.vtk_every, s) || spread,
                 every(o.checkpoint_every, s),
             );
             if h || v || c || hook_stop || every(o.guard_every, s) {
@@ -890,6 +927,14 @@ pub fn remove_dead_temporaries(dir: &Path) {
         if dead && is_output_name(file) {
             let _ = std::fs::remove_file(e.path());
         }
+    }
+}
+
+/// Time (a duration stop) or steps (a step-count stop) run so far.
+fn progress_of(st: &State, stop: Stop) -> f64 {
+    match stop {
+        Stop::Steps(_) => st.step as f64,
+        Stop::Duration(_) => st.time,
     }
 }
 

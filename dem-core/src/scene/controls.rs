@@ -139,6 +139,12 @@ pub(crate) fn outputs(
     if o.guard_every == 0 {
         return Err(ck.err("outputs.guard_every", "must be at least 1"));
     }
+    if o.vtk_count > 0 && o.vtk_every > 0 {
+        return Err(ck.err(
+            "outputs.vtk_count",
+            "give vtk_every (a snapshot every N steps) or vtk_count (N over the run), not both",
+        ));
+    }
     let mut gauges: Vec<Gauge> = Vec::with_capacity(o.gauges.len());
     for (i, g) in o.gauges.iter().enumerate() {
         let f = |k: &str| format!("outputs.gauges[{i}].{k}");
@@ -171,6 +177,7 @@ pub(crate) fn outputs(
         dir,
         history_every: o.history_every,
         vtk_every: o.vtk_every,
+        vtk_count: o.vtk_count,
         vtk_format: o.vtk_format,
         checkpoint_every: o.checkpoint_every,
         checkpoint_keep: o.checkpoint_keep,

@@ -225,6 +225,8 @@ pub struct Outputs {
     pub dir: PathBuf,
     pub history_every: u64,
     pub vtk_every: u64,
+    /// Snapshots spread evenly over the run (`outputs.vtk_count`; 0: `vtk_every` applies).
+    pub vtk_count: u64,
     /// Encoding of the VTK snapshots.
     pub vtk_format: crate::output::vtk::Format,
     pub checkpoint_every: u64,
@@ -246,6 +248,7 @@ impl Default for Outputs {
             dir: PathBuf::new(),
             history_every: 0,
             vtk_every: 0,
+            vtk_count: 0,
             vtk_format: crate::output::vtk::Format::Ascii,
             checkpoint_every: 0,
             checkpoint_keep: 0,

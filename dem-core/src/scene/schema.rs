@@ -666,6 +666,11 @@ pub struct OutputSpec {
     pub history_every: u64,
     #[serde(default)]
     pub vtk_every: u64,
+    /// This many snapshots spread evenly over the run instead of `vtk_every`: at the fractions
+    /// k/(N − 1) of its duration (or step count), k = 0 … N − 1, the first at the start and the
+    /// last at the end (1: the start only). 0 (default): `vtk_every` applies.
+    #[serde(default, skip_serializing_if = "is_zero_u64")]
+    pub vtk_count: u64,
     /// Snapshot encoding: `"ascii"` (default) or `"binary"` (VTK's appended base64 layout,
     /// exact values, a fixed size per value; see `dem_core::output::vtk`).
     #[serde(default, skip_serializing_if = "crate::output::vtk::Format::is_ascii")]
@@ -699,6 +704,10 @@ fn is_zero_u32(v: &u32) -> bool {
     *v == 0
 }
 
+fn is_zero_u64(v: &u64) -> bool {
+    *v == 0
+}
+
 fn is_true(v: &bool) -> bool {
     *v
 }
@@ -721,6 +730,7 @@ impl Default for OutputSpec {
             dir: None,
             history_every: default_history(),
             vtk_every: 0,
+            vtk_count: 0,
             vtk_format: crate::output::vtk::Format::Ascii,
             checkpoint_every: 0,
             checkpoint_keep: 0,
