@@ -217,7 +217,7 @@ fn check_output_size(sim: &Simulation, yes: bool) -> Result<(), String> {
     let o = &sim.scene.outputs;
     Err(format!(
         "{}: the run's snapshots and checkpoints would take about {:.1} GB ({} steps, {} \
-         discs, a snapshot every {} steps (outputs.vtk_every), a checkpoint every {} steps \
+         discs, {}, a checkpoint every {} steps \
          (outputs.checkpoint_every), {} kept (outputs.checkpoint_keep, 0 = all)), more than \
          the {:.0} GB written without asking. Raise the intervals, or give --yes to run it \
          as it is",
@@ -225,7 +225,7 @@ fn check_output_size(sim: &Simulation, yes: bool) -> Result<(), String> {
         bytes / 1e9,
         sim.total_steps(),
         sim.world.state.discs.len(),
-        o.vtk_every,
+        o.snapshot_plan(),
         o.checkpoint_every,
         o.checkpoint_keep,
         MAX_OUTPUT_BYTES_UNASKED / 1e9

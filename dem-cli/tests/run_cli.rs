@@ -30,6 +30,21 @@ fn a_run_that_would_fill_the_disk_is_refused_unless_asked() {
     );
     assert!(t.contains("--yes") && !t.contains("MAX_"), "{t}");
     assert!(!out.exists(), "a refused run writes nothing");
+    // Snapshots spread over the run are named as such (not "a snapshot every 0 steps").
+    let mut w = v.clone();
+    w["outputs"]["vtk_every"] = 0.into();
+    w["outputs"]["vtk_count"] = 100_000_000u64.into();
+    let q = dir.join("spread.json");
+    std::fs::write(&q, w.to_string()).unwrap();
+    let o = dem(&["run", q.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    let t = text(&o);
+    assert_eq!(o.status.code(), Some(2), "{t}");
+    assert!(
+        t.contains("100000000 snapshots over the run (outputs.vtk_count)")
+            && !t.contains("every 0"),
+        "{t}"
+    );
+    assert!(!out.exists(), "a refused run writes nothing");
     let o = dem(&[
         "run",
         p.to_str().unwrap(),

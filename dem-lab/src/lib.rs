@@ -107,13 +107,14 @@ pub enum LabError {
         dt: f64,
         limit: u64,
     },
-    #[error("{scene}: the test's snapshots and checkpoints would take about {gb:.1} GB ({steps} steps, {discs} discs, a snapshot every {vtk_every} steps), more than the {limit_gb:.0} GB a lab test writes; ask for fewer snapshots (--snapshots), or run the written scene with `dem run --yes`")]
+    #[error("{scene}: the test's snapshots and checkpoints would take about {gb:.1} GB ({steps} steps, {discs} discs, {snapshots}), more than the {limit_gb:.0} GB a lab test writes; ask for fewer snapshots (--snapshots), or run the written scene with `dem run --yes`")]
     TooMuchOutput {
         scene: String,
         gb: f64,
         steps: u64,
         discs: usize,
-        vtk_every: u64,
+        /// [`dem_core::scene::model::Outputs::snapshot_plan`].
+        snapshots: String,
         limit_gb: f64,
     },
 }

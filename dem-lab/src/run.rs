@@ -82,7 +82,7 @@ pub fn run_built(
             gb: bytes / 1e9,
             steps,
             discs: sim.world.state.discs.len(),
-            vtk_every: o.vtk_every,
+            snapshots: o.snapshot_plan(),
             limit_gb: dem_core::output::driver::MAX_OUTPUT_BYTES_UNASKED / 1e9,
         });
     }

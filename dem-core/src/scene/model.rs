@@ -242,6 +242,19 @@ pub struct Outputs {
     pub gauges: Vec<Gauge>,
 }
 
+impl Outputs {
+    /// When snapshots are written, as the disk-estimate messages say it: "a snapshot every 10
+    /// steps (outputs.vtk_every)", "3 snapshots over the run (outputs.vtk_count)" or "no
+    /// snapshots".
+    pub fn snapshot_plan(&self) -> String {
+        match (self.vtk_every, self.vtk_count) {
+            (0, 0) => "no snapshots".into(),
+            (0, n) => format!("{n} snapshots over the run (outputs.vtk_count)"),
+            (k, _) => format!("a snapshot every {k} steps (outputs.vtk_every)"),
+        }
+    }
+}
+
 impl Default for Outputs {
     fn default() -> Outputs {
         Outputs {
