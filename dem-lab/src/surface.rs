@@ -158,6 +158,7 @@ pub fn measure(
     let n = e.len() as f64;
     let max = e.iter().copied().fold(f64::NEG_INFINITY, f64::max);
     let min = e.iter().copied().fold(f64::INFINITY, f64::min);
+    let profile: Vec<[f64; 2]> = env.iter().zip(&e).map(|(p, v)| [p[0], *v]).collect();
     Some(Surface {
         nominal_y,
         x_from,
@@ -168,13 +169,8 @@ pub fn measure(
         mean_deviation: e.iter().sum::<f64>() / n,
         max_deviation: max,
         min_deviation: min,
-        mean_line: Roughness::of(
-            &env.iter()
-                .zip(&e)
-                .map(|(p, v)| [p[0], *v])
-                .collect::<Vec<_>>(),
-        ),
-        profile: env.iter().zip(&e).map(|(p, v)| [p[0], *v]).collect(),
+        mean_line: Roughness::of(&profile),
+        profile,
     })
 }
 

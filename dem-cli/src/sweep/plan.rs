@@ -177,8 +177,23 @@ fn resolve(
         .map_err(|e| format!("{}: {}: {e}", here(), path.display()))?;
     Ok(Resolved {
         arg: Some(abs.display().to_string()),
-        key: json!({ "sha256": hex(&Sha256::digest(&bytes)) }),
+        key: file_key(&bytes),
     })
+}
+
+/// A file flag's key value: the SHA-256 of its bytes, so the key follows content, not place.
+fn file_key(bytes: &[u8]) -> Value {
+    json!({ "sha256": hex(&Sha256::digest(bytes)) })
+}
+
+/// A case's key from its test and its flags' key values (module docs).
+fn case_key(kind: &str, flags: BTreeMap<String, Value>) -> String {
+    let key_json = json!({
+        "test": kind,
+        "flags": Value::Object(flags.into_iter().collect())
+    })
+    .to_string();
+    hex(&Sha256::digest(key_json.as_bytes()))
 }
 
 pub fn hex(bytes: &[u8]) -> String {
@@ -312,14 +327,9 @@ pub fn cases(file: &Path, p: &Parsed) -> Result<Vec<Case>, String> {
             }
             case_axes.push((a.flag.clone(), a.values[pick[j]].clone()));
         }
-        let key_json = json!({
-            "test": kind,
-            "flags": Value::Object(key_flags.into_iter().collect())
-        })
-        .to_string();
         let case = Case {
             index,
-            key: hex(&Sha256::digest(key_json.as_bytes())),
+            key: case_key(kind, key_flags),
             test: kind.to_string(),
             axes: case_axes,
             argv,
@@ -380,19 +390,14 @@ pub fn key_of_argv(c: &Case) -> Result<String, String> {
             if info.is_file {
                 let bytes = clumpgen::io::read_input(Path::new(v))
                     .map_err(|e| format!("--{flag} file {v}: {e}"))?;
-                json!({ "sha256": hex(&Sha256::digest(&bytes)) })
+                file_key(&bytes)
             } else {
                 json!(v)
             }
         };
         key_flags.insert(flag.to_string(), key);
     }
-    let key_json = json!({
-        "test": kind,
-        "flags": Value::Object(key_flags.into_iter().collect())
-    })
-    .to_string();
-    Ok(hex(&Sha256::digest(key_json.as_bytes())))
+    Ok(case_key(kind, key_flags))
 }
 
 /// The Slurm batch script of `n` cases.
