@@ -1,5 +1,6 @@
 //! `dem clump`: a batch of outlines to templates, in parallel, one failure never stopping the rest.
 
+use crate::progress::Progress;
 use clap::Args;
 use clumpgen::batch::{
     collect_inputs_except, plan, plan_clashes, run_plan, BatchItem, BatchOptions, SUMMARY_FILE,
@@ -10,7 +11,6 @@ use clumpgen::outline::{
     GrainOptions, MaskMode, MultiKind, MAX_RESAMPLE, MAX_RESAMPLE_WHY, MULTI_EXTENSIONS,
 };
 use clumpgen::{ClumpParams, Length, Method, ReadOptions, Units};
-use indicatif::{ProgressBar, ProgressStyle};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -269,11 +269,7 @@ pub fn run(a: ClumpArgs) -> Result<ExitCode, String> {
             list.join("\n")
         ));
     }
-    let bar = ProgressBar::new(plan.jobs.len() as u64);
-    bar.set_style(
-        ProgressStyle::with_template("{bar:40} {pos}/{len} grains, {elapsed} ({eta} left)")
-            .expect("static template"),
-    );
+    let bar = Progress::counted(plan.jobs.len() as u64, "grains");
     let report = pool.install(|| run_plan(&inputs, plan, &opts, &|| bar.inc(1)));
     bar.finish_and_clear();
     let failed: Vec<&BatchItem> = report.items.iter().filter(|i| i.error.is_some()).collect();

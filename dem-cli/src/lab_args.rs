@@ -2,14 +2,13 @@
 //! `#[command(flatten)]` by `dem test ucs|brazilian|bending|senb` and `dem calibrate`, and built from
 //! its own flags by `dem test cutting`), and the progress bar the lab commands draw.
 
+use crate::progress::Progress;
 use crate::specimen::{cover_lines, material_values, method_and_dist, parse_length, parse_stress};
 use clap::Args;
 use dem_lab::model::FlatJointOption;
 use dem_lab::specimen::{GrainMode, Method, SpecimenParams};
 use dem_lab::specimens::TestSpecimen;
 use dem_lab::{LabError, LabModel};
-use indicatif::{ProgressBar, ProgressStyle};
-use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 
 /// Specimen, material model and output flags shared by every test (the specimen flags are
@@ -255,14 +254,7 @@ pub fn strict_cover(lab: &LabArgs, spec: &TestSpecimen) -> Result<(), LabError> 
     })
 }
 
-/// A progress bar on stderr, hidden when stderr is not a terminal.
-pub fn progress_bar() -> ProgressBar {
-    if !std::io::stderr().is_terminal() {
-        return ProgressBar::hidden();
-    }
-    let b = ProgressBar::new(1000);
-    if let Ok(s) = ProgressStyle::with_template("{elapsed:>5} {prefix:<10} {bar:30} {msg}") {
-        b.set_style(s);
-    }
-    b
+/// Progress of a specimen generation and a lab test on stderr ([`Progress::stages`]).
+pub fn progress_bar() -> Progress {
+    Progress::stages()
 }

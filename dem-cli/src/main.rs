@@ -8,6 +8,7 @@ mod bench;
 mod calibrate;
 mod clump;
 mod lab_args;
+mod progress;
 mod render;
 mod run;
 mod run_lock;
@@ -62,6 +63,10 @@ enum Command {
     /// Print the JSON Schema of a file kind (scene, template, specimen, study, cutting-params),
     /// derived from the program's own types; `--list` lists them (docs/schema/).
     Schema(schema::SchemaArgs),
+    /// Reproduce the published tables and write the reproducibility report (Markdown, HTML,
+    /// JSON, plots) into a folder; finds the project's data wherever it runs (docs/guide.md,
+    /// "The report"). The same as the `validation` binary.
+    Report(validation::cli::ReportArgs),
 }
 
 /// Every option that takes one value takes it even when it starts with `-`, so `--width -5mm`
@@ -104,6 +109,7 @@ fn main() -> ExitCode {
         Command::Bench(k) => bench::run(k),
         Command::Sweep(c) => sweep::run(c),
         Command::Schema(a) => schema::run(a),
+        Command::Report(a) => return validation::cli::run(a),
     };
     match result {
         Ok(code) => code,

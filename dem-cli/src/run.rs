@@ -3,10 +3,9 @@
 //! output folder is locked to the scene (`run_lock`): another scene's run into it is refused
 //! unless `--force`.
 
+use crate::progress::Progress;
 use clap::Args;
 use dem_core::output::driver::{Ending, RunOptions, Simulation, MAX_OUTPUT_BYTES_UNASKED};
-use indicatif::{ProgressBar, ProgressStyle};
-use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -134,16 +133,7 @@ pub fn run(a: RunArgs) -> Result<ExitCode, String> {
         if !sim.scene.outputs.checkpoints {
             println!("checkpoints: off (this run writes none and cannot be resumed)");
         }
-        let bar = if std::io::stderr().is_terminal() {
-            let b = ProgressBar::new(sim.total_steps());
-            b.set_style(
-                ProgressStyle::with_template("{bar:40} {pos}/{len} steps, {elapsed} ({eta} left)")
-                    .map_err(|e| e.to_string())?,
-            );
-            b
-        } else {
-            ProgressBar::hidden()
-        };
+        let bar = Progress::counted(sim.total_steps(), "steps");
         let result = sim.run(&mut |done, total| {
             bar.set_length(total);
             bar.set_position(done);

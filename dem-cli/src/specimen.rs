@@ -1,12 +1,11 @@
 //! `dem specimen`: build a relaxed bonded specimen (traditional, ORC or improved ORC) and
 //! write it as a `dem.specimen/1` file with a summary JSON beside it (`docs/specimen.md`).
 
+use crate::progress::Progress as Bar;
 use clap::Args;
 use dem_lab::specimen::{
     self, io, FewGrains, GrainMode, IrregularCount, Method, Progress, RadiusDist, SpecimenParams,
 };
-use indicatif::{ProgressBar, ProgressStyle};
-use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -336,20 +335,11 @@ pub fn run(a: SpecimenArgs) -> Result<ExitCode, String> {
         p.seed,
         p.iso_stress * 1e-6
     );
-    let bar = if std::io::stderr().is_terminal() {
-        let b = ProgressBar::new(1000);
-        b.set_style(
-            ProgressStyle::with_template("{elapsed:>5} {prefix:<10} {bar:30} {msg}")
-                .map_err(|e| e.to_string())?,
-        );
-        b
-    } else {
-        ProgressBar::hidden()
-    };
+    let bar = Bar::stages();
     let spec = pool.install(|| {
         specimen::generate(&p, &mut |pr: Progress| {
             bar.set_prefix(pr.stage);
-            bar.set_position((pr.fraction.clamp(0.0, 1.0) * 1000.0) as u64);
+            bar.set_fraction(pr.fraction);
             bar.set_message(pr.message);
         })
     });

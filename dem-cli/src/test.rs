@@ -253,7 +253,7 @@ where
     let out = pool.install(|| -> Result<(TestSpecimen, T), LabError> {
         let spec = specimens::prepare(p, shape, &file, &mut |pr: Progress| {
             bar.set_prefix(pr.stage);
-            bar.set_position((pr.fraction.clamp(0.0, 1.0) * 1000.0) as u64);
+            bar.set_fraction(pr.fraction);
             bar.set_message(pr.message);
         })?;
         bar.set_prefix(test.to_string());

@@ -5,6 +5,7 @@
 //! bonds, machined surface, residual cracks.
 
 use crate::lab_args::{progress_bar, read_model, FlatJointArgs, LabArgs};
+use crate::progress::Progress;
 use crate::specimen::{parse_length, read_material};
 use clap::Args;
 use dem_lab::cutting::{self, CuttingResult, CuttingTest};
@@ -12,9 +13,7 @@ use dem_lab::model::FlatJointOption;
 use dem_lab::specimen::{io, SpecimenParams};
 use dem_lab::tool::ToolModel;
 use dem_lab::LabModel;
-use indicatif::{ProgressBar, ProgressStyle};
 use serde::{Deserialize, Serialize};
-use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -463,7 +462,7 @@ impl CuttingArgs {
         let s = pool.install(|| {
             dem_lab::specimen::generate(p, &mut |pr| {
                 bar.set_prefix(pr.stage);
-                bar.set_position((pr.fraction.clamp(0.0, 1.0) * 1000.0) as u64);
+                bar.set_fraction(pr.fraction);
             })
         });
         bar.finish_and_clear();
@@ -713,17 +712,8 @@ pub fn run(a: CuttingArgs) -> Result<ExitCode, String> {
             f.elements, f.friction, f.bonded_fraction
         );
     }
-    let bar = if std::io::stderr().is_terminal() {
-        let b = ProgressBar::new(1);
-        if let Ok(s) = ProgressStyle::with_template(
-            "{elapsed:>5} cutting {bar:30} {pos}/{len} steps, eta {eta} {msg}",
-        ) {
-            b.set_style(s);
-        }
-        b
-    } else {
-        ProgressBar::hidden()
-    };
+    let bar = Progress::counted(1, "steps");
+    bar.set_prefix("cutting");
     let r = pool.install(|| {
         let ro = cutting::CuttingRunOptions {
             on_resume: Some(|at| match at {

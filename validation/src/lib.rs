@@ -21,6 +21,7 @@ pub fn project_path(given: Option<std::path::PathBuf>, default: &str) -> std::pa
     })
 }
 
+pub mod cli;
 pub mod clump_sweep;
 pub mod convergence;
 pub mod crush;
