@@ -90,7 +90,7 @@ pub struct RenderArgs {
     )]
     view: Option<[f64; 4]>,
     /// Top of the speed scale in m/s (default: the largest speed in the file).
-    #[arg(long, value_name = "M/S", value_parser = parse_speed)]
+    #[arg(long, value_name = "M/S", value_parser = |s: &str| crate::specimen::parse_speed(s, "--speed-max"))]
     speed_max: Option<f64>,
     /// Write 24-bit RGB; by default the PNG has 256 palette colours (the flat colours exact,
     /// anti-aliased edges to the nearest kept colour), about a third of the size.
@@ -148,16 +148,6 @@ fn parse_view(s: &str) -> Result<[f64; 4], String> {
         return Err("need finite XMIN < XMAX and YMIN < YMAX (mm)".into());
     }
     Ok([x0 * 1e-3, x1 * 1e-3, y0 * 1e-3, y1 * 1e-3])
-}
-
-fn parse_speed(s: &str) -> Result<f64, String> {
-    match s.trim().parse::<f64>() {
-        Ok(v) if v.is_finite() && v > 0.0 => Ok(v),
-        Ok(v) => Err(format!(
-            "{v}: the top of the speed scale must be positive (m/s)"
-        )),
-        Err(e) => Err(format!("{e} (a speed in m/s)")),
-    }
 }
 
 /// `x.json` → `x.png` beside it; a series `x.pvd` → `x.gif`.

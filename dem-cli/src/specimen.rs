@@ -114,9 +114,21 @@ fn scene_path(out: &std::path::Path) -> PathBuf {
     out.with_file_name(format!("{stem}.scene.json"))
 }
 
-/// `0.05m/s`, `50mm/s` (or without `/s`) → m/s.
+/// A speed, one rule for every speed flag (`--speed`, `--seat-speed`, `--speed-max`): a number
+/// in m/s (`1`, `2.5`), or with a unit (`1m/s`, `50mm/s`, `500um/s`) → m/s; positive and finite.
 pub fn parse_speed(s: &str, what: &str) -> Result<f64, String> {
-    parse_length(s.trim().strip_suffix("/s").unwrap_or(s.trim()), what)
+    let units = [("mm/s", 1e-3), ("um/s", 1e-6), ("µm/s", 1e-6), ("m/s", 1.0)];
+    match s.trim().parse::<f64>() {
+        Ok(v) if v.is_finite() && v > 0.0 => Ok(v),
+        Ok(_) => Err(format!("{what}: {s:?} must be positive (m/s)")),
+        Err(_) => parse_unit(s, what, &units).map_err(|e| {
+            if e.ends_with(')') && e.contains("needs a unit") {
+                format!("{e}, or a number in m/s")
+            } else {
+                e
+            }
+        }),
+    }
 }
 
 /// `20mm`, `0.2mm`, `500um`, `1e-3m` → metres.
@@ -438,4 +450,45 @@ pub(crate) fn check_resolution(
         }
         e => e.to_string(),
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::parse_speed;
+
+    /// One rule for every speed flag (issue 49): a number is m/s, a unit converts; the error
+    /// names the flag. Before, `dem test cutting --speed` took `1` and refused `50mm/s`,
+    /// while `dem test ucs --speed` refused `1` and took `50mm/s`.
+    #[test]
+    fn speeds_have_one_rule() {
+        for (s, v) in [
+            ("1", 1.0),
+            ("2.5", 2.5),
+            ("1m/s", 1.0),
+            ("1 m/s", 1.0),
+            ("50mm/s", 0.05),
+            ("500um/s", 5e-4),
+            ("2e3mm/s", 2.0),
+        ] {
+            let got = parse_speed(s, "--speed").unwrap();
+            assert!((got - v).abs() <= 1e-15 * v, "{s}: {got}");
+        }
+        let e = parse_speed("0", "--speed").unwrap_err();
+        assert!(e.starts_with("--speed: \"0\" must be positive"), "{e}");
+        let e = parse_speed("-1mm/s", "--seat-speed").unwrap_err();
+        assert!(
+            e.starts_with("--seat-speed: \"-1mm/s\" must be positive"),
+            "{e}"
+        );
+        let e = parse_speed("fast", "--speed").unwrap_err();
+        assert!(
+            e.contains("needs a unit") && e.ends_with("or a number in m/s"),
+            "{e}"
+        );
+        assert!(
+            parse_speed("1m", "--speed").is_err(),
+            "a length is not a speed"
+        );
+        assert!(parse_speed("inf", "--speed").is_err() && parse_speed("NaN", "--speed").is_err());
+    }
 }

@@ -204,19 +204,6 @@ const SPECIMEN_FILES: [&str; 3] = [
     "specimen.scene.json",
 ];
 
-/// `1`, `2.5`, `1m/s`, `1 m/s` → m/s.
-fn parse_speed(s: &str) -> Result<f64, String> {
-    let t = s.trim();
-    let num = t.strip_suffix("m/s").unwrap_or(t).trim();
-    let v: f64 = num
-        .parse()
-        .map_err(|_| format!("--speed: cannot read {s:?} (m/s, e.g. `1` or `1m/s`)"))?;
-    if !(v > 0.0 && v.is_finite()) {
-        return Err(format!("--speed: {s:?} must be positive"));
-    }
-    Ok(v)
-}
-
 impl CuttingArgs {
     /// The test: `--params` file (or the defaults), then the flags.
     pub fn test(&self) -> Result<CuttingTest, String> {
@@ -255,7 +242,7 @@ impl CuttingArgs {
             t.depth = parse_length(s, "--depth")?;
         }
         if let Some(s) = &self.speed {
-            t.speed = parse_speed(s)?;
+            t.speed = crate::specimen::parse_speed(s, "--speed")?;
         }
         if let Some(s) = &self.length {
             t.length = parse_length(s, "--length")?;

@@ -27,12 +27,23 @@ pub struct Section {
 /// SE that is not finite (one seed's "unknown"), prints as "12.34 (n = 1)": the report's
 /// tables said "± inf" in one place and "± 0.00 (1)" in another (issue 48).
 pub fn pm(mean: f64, se: f64, n: Option<usize>) -> String {
+    let m = fixed(mean, 2);
     if n == Some(1) || !se.is_finite() {
-        return format!("{mean:.2} (n = 1)");
+        return format!("{m} (n = 1)");
     }
     match n {
-        Some(n) => format!("{mean:.2} ± {se:.2} ({n})"),
-        None => format!("{mean:.2} ± {se:.2}"),
+        Some(n) => format!("{m} ± {se:.2} ({n})"),
+        None => format!("{m} ± {se:.2}"),
+    }
+}
+
+/// `v` with `decimals` decimals, a value that rounds to zero printed without its sign
+/// ("0.00", not "-0.00").
+pub fn fixed(v: f64, decimals: usize) -> String {
+    let s = format!("{v:.decimals$}");
+    match s.strip_prefix('-') {
+        Some(rest) if rest.chars().all(|c| c == '0' || c == '.') => rest.to_string(),
+        _ => s,
     }
 }
 
@@ -144,6 +155,17 @@ mod tests {
         assert_eq!(pm(20.9, 2.5, None), "20.90 ± 2.50");
         assert_eq!(pm(14.4, 0.0, Some(1)), "14.40 (n = 1)");
         assert_eq!(pm(20.9, f64::INFINITY, None), "20.90 (n = 1)");
+        // A mean that rounds to zero has no sign (the quick report's "-0.00 ± inf").
+        assert_eq!(pm(-0.001, f64::INFINITY, None), "0.00 (n = 1)");
+    }
+
+    #[test]
+    fn zero_prints_without_a_sign() {
+        assert_eq!(fixed(-0.004, 2), "0.00");
+        assert_eq!(fixed(-0.0, 1), "0.0");
+        assert_eq!(fixed(-0.006, 2), "-0.01");
+        assert_eq!(fixed(-12.5, 0), "-12");
+        assert_eq!(fixed(3.14159, 3), "3.142");
     }
 
     #[test]

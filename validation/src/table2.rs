@@ -703,11 +703,12 @@ impl Table2 {
         );
         s += "| a_p (mm) | v (m/s) | method | seeds | mean ± SE | median | paper | err | previous | peak ± SE | paper | err | previous | raw peak | peak / mean (paper) | touching |\n";
         s += "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
-        let o = |x: Option<f64>| x.map_or("—".to_string(), |v| format!("{v:.2}"));
+        let o = |x: Option<f64>| x.map_or("—".to_string(), |v| crate::page::fixed(v, 2));
+        let f = crate::page::fixed;
         for c in &self.cells {
             let (pk, pk_se) = c.peak();
             s += &format!(
-                "| {} | {} | {} | {} | {} | {} | {:.1} | {:+.0} % | {} | {pk:.2} ± {pk_se:.2} | {:.1} | {:+.0} % | {} | {:.1} | {:.2} ({:.2}) | {} |\n",
+                "| {} | {} | {} | {} | {} | {} | {:.1} | {:+.0} % | {} | {} | {:.1} | {:+.0} % | {} | {} | {} ({:.2}) | {} |\n",
                 c.depth_mm,
                 c.speed_m_s,
                 c.method,
@@ -717,11 +718,12 @@ impl Table2 {
                 c.paper_mean_kN,
                 100.0 * c.mean_rel_err,
                 o(c.previous_mean_kN),
+                pm((pk, pk_se)),
                 c.paper_peak_kN,
                 100.0 * c.peak_err(),
                 o(c.previous_peak_kN),
-                c.peak_kN,
-                pk / c.mean_kN,
+                f(c.peak_kN, 1),
+                f(pk / c.mean_kN, 2),
                 c.paper_peak_kN / c.paper_mean_kN,
                 c.touching
                     .map_or("—".to_string(), |t| format!("{:.0} %", 100.0 * t))

@@ -126,7 +126,7 @@ pub fn section(
     quick: bool,
     subset: &Subset,
     source: Source,
-) -> Result<(Section, f64, Reused, String)> {
+) -> Result<(Section, f64, Reused, Vec<String>)> {
     let mut plan = plan(data, quick)?;
     if !subset.methods.is_empty() {
         plan.methods.retain(|m| subset.methods.contains(m));
@@ -272,6 +272,9 @@ pub fn section(
         );
     }
     md += &t.markdown().replacen("## Table 2", "### Table 2", 1);
+    if let Some((file, full)) = quick.then(committed_full).flatten() {
+        md += &beside_full(&t, &file, &full);
+    }
     // The removal mode against S0's description, and its picture.
     let (removal, removal_checks) = match crate::removal_table::cells(&names) {
         Ok(c) => {
@@ -371,12 +374,32 @@ pub fn section(
             ),
         ],
     };
+    let mut summary = vec![summary_line(
+        &t,
+        if quick {
+            ", quick smoke test: one seed, coarse specimens, not comparable with the paper"
+        } else if partial {
+            ", part of the runs"
+        } else {
+            ""
+        },
+    )];
+    if let Some((file, full)) = quick.then(committed_full).flatten() {
+        summary.push(summary_line(
+            &full,
+            &format!(", the committed full report `{}`", file.display()),
+        ));
+    }
+    Ok((section, scale, reused, summary))
+}
+
+/// The summary's line for a Table 2: numbers within ±20 % and S0's claims by verdict.
+fn summary_line(t: &table2::Table2, what: &str) -> String {
     let count = |v: table2::Verdict| t.claims.iter().filter(|c| c.verdict == v).count();
-    let summary = format!(
-        "**Table 2** (Ye & Xu 2010, Si3N4 cutting forces{}): {} of {} numbers within ±20 % of \
-         the paper's (one fitted constant, the thickness); S0's {} claims: {} hold, {} do not, \
-         {} not resolved at 2 SE, {} not checked.",
-        if partial { ", part of the runs" } else { "" },
+    format!(
+        "**Table 2** (Ye & Xu 2010, Si3N4 cutting forces{what}): {} of {} numbers within ±20 % \
+         of the paper's (one fitted constant, the thickness); S0's {} claims: {} hold, {} do \
+         not, {} not resolved at 2 SE, {} not checked.",
         t.within_20_percent,
         t.numbers,
         t.claims.len(),
@@ -384,8 +407,58 @@ pub fn section(
         count(table2::Verdict::DoesNotHold),
         count(table2::Verdict::NotResolved),
         count(table2::Verdict::NotChecked),
+    )
+}
+
+/// The committed full report's Table 2 ([`COMMITTED_TABLE2`], found as the report finds its
+/// data), which the quick report sets beside its smoke-test numbers (issue 49); `None` when it
+/// is absent or does not read as a Table 2.
+fn committed_full() -> Option<(std::path::PathBuf, table2::Table2)> {
+    let file = crate::project_path(None, COMMITTED_TABLE2);
+    let text = std::fs::read_to_string(&file).ok()?;
+    let t = serde_json::from_str(&text).ok()?;
+    Some((file, t))
+}
+
+/// Where the committed full report keeps its Table 2, relative to the repository.
+pub const COMMITTED_TABLE2: &str = "docs/report/table2.json";
+
+/// The quick report's Table 2 beside the committed full one: each quick cell's mean (one seed)
+/// with the full table's seed mean ± SE and the paper's, then the full table's claims.
+fn beside_full(quick: &table2::Table2, file: &Path, full: &table2::Table2) -> String {
+    let mut md = format!(
+        "\n### Beside the committed full Table 2\n\nThe numbers above are a smoke test of the \
+         chain (one seed, coarse specimens, a short cut): they show that it runs, not what the \
+         model predicts. The committed full report (`{}`, {} cells, constant {} = {:.4e} m) \
+         gives, for the same cells:\n\n\
+         | a_p (mm) | v (m/s) | method | quick mean (kN, n = 1) | full mean ± SE (kN) | seeds \
+         | paper (kN) |\n|---|---|---|---|---|---|---|\n",
+        file.display(),
+        full.cells.len(),
+        full.constant.name,
+        full.constant.value,
     );
-    Ok((section, scale, reused, summary))
+    for c in &quick.cells {
+        let Some(f) = full.cell(&c.method, c.depth_mm, c.speed_m_s) else {
+            continue;
+        };
+        md += &format!(
+            "| {} | {} | {} | {:.2} | {} | {} | {} |\n",
+            c.depth_mm,
+            c.speed_m_s,
+            c.method,
+            // + 0.0: a mean that rounds to zero prints as 0.00, not -0.00.
+            (c.mean_kN * 100.0).round() / 100.0 + 0.0,
+            crate::page::pm(f.mean_kN, f.mean_se_kN.unwrap_or(f64::NAN), None),
+            f.seeds,
+            f.paper_mean_kN
+        );
+    }
+    md += &format!("\nThe full table's claims, on {}:\n\n", full.claims_on);
+    for c in &full.claims {
+        md += &format!("- **{}**: {}\n", c.claim, c.verdict.text());
+    }
+    md
 }
 
 /// The (a_p, v) cases among `keys`, sorted, each once, and their labels for a chart.

@@ -36,6 +36,17 @@ fn quick_report_writes_sane_json_for_every_section() {
         pictures: Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/pictures"),
     };
     let md = run(&o).expect("quick report runs");
+    // The first screen (issue 49): it says the quick run is a smoke test, and sets the
+    // committed full Table 2 (with its claims) beside the quick numbers; one seed has no SE.
+    let first = md.split("## Environment").next().unwrap();
+    assert!(
+        first.contains("**Quick mode: a smoke test of the chain**")
+            && first.contains("quick smoke test: one seed")
+            && first.contains("the committed full report `"),
+        "{first}"
+    );
+    assert!(md.contains("### Beside the committed full Table 2"), "{md}");
+    assert!(md.contains("The full table's claims, on ") && !md.contains("± inf"));
     for f in ["index.md", "index.html", "environment.json", "table1.json"] {
         assert!(out.join(f).is_file(), "{f} missing");
     }

@@ -104,9 +104,10 @@ fn identity(v: &[(String, Resolved)]) -> String {
 /// anything else as written. (Keys stay on the text as given: folders of existing sweeps keep
 /// their names.)
 fn physical(text: &str) -> String {
-    const UNITS: [(&str, f64, &str); 10] = [
+    const UNITS: [(&str, f64, &str); 11] = [
         ("mm/s", 1e-3, "m/s"),
         ("um/s", 1e-6, "m/s"),
+        ("µm/s", 1e-6, "m/s"),
         ("m/s", 1.0, "m/s"),
         ("mm", 1e-3, "m"),
         ("um", 1e-6, "m"),
