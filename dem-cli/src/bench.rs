@@ -330,36 +330,20 @@ fn cutting(b: CuttingBench) -> Result<ExitCode, String> {
             p.clone()
         }
         None => {
-            let lab = crate::lab_args::LabArgs {
-                method: b.method.clone(),
-                r_min: "0.175mm".into(),
-                r_max: "0.285mm".into(),
-                dist: "normal".into(),
-                seed: b.seed,
-                material: Some(b.material.clone()),
-                density: None,
-                youngs: None,
-                tensile: None,
-                iso_stress: None,
-                porosity: 0.16,
-                grain_size: Some("0.86mm".into()),
-                template_r_min: Some("0.08mm".into()),
-                max_discs: 9,
-                irregular: "all".into(),
-                irregular_count: None,
-                irregular_size: None,
-                insertion: None,
-                model: Some(b.model.clone()),
-                joints: Default::default(),
-                out: dir.0.clone(),
-                threads: Some(b.threads),
-                dt_factor: None,
-                force: false,
-                strict: false,
-            };
-            let p = lab
-                .specimen_params(w, h)
-                .map_err(|e| format!("--material {}: {e}", b.material.display()))?;
+            // Table 2's specimen (docs/cutting.md): radii 0.175-0.285 mm, grains 0.86 mm,
+            // template discs from 0.08 mm, the material file's density and moduli.
+            let in_material = |e: String| format!("--material {}: {e}", b.material.display());
+            let (method, _) =
+                crate::specimen::method_and_dist(&b.method, "normal").map_err(in_material)?;
+            let (_, density, e, tensile) =
+                crate::specimen::material_values(Some(&b.material), None, None, None)
+                    .map_err(in_material)?;
+            let mut p = dem_lab::specimen::SpecimenParams::new(
+                method, w, h, 0.175e-3, 0.285e-3, density, e, tensile, b.seed,
+            );
+            p.grain_size = 0.86e-3;
+            p.template_r_min = 0.08e-3;
+            p.validate().map_err(|e| in_material(e.to_string()))?;
             let name = crate::specimen::read_material(&b.material)
                 .map_err(|e| format!("--material {}: {e}", b.material.display()))?
                 .0;

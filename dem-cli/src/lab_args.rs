@@ -1,6 +1,6 @@
 //! The specimen, material-model and output flags every lab test shares ([`LabArgs`], used with
-//! `#[command(flatten)]` by `dem test ucs|brazilian|bending|senb` and `dem calibrate`, and built from
-//! its own flags by `dem test cutting`), and the progress bar the lab commands draw.
+//! `#[command(flatten)]` by `dem test ucs|brazilian|bending|senb|cutting` and `dem calibrate`),
+//! and the progress the lab commands draw.
 
 use crate::progress::Progress;
 use crate::specimen::{cover_lines, material_values, method_and_dist, parse_length, parse_stress};
@@ -18,12 +18,12 @@ pub struct LabArgs {
     /// traditional | orc | improved.
     #[arg(long, default_value = "traditional")]
     pub method: String,
-    /// Smallest disc radius with unit (`0.175mm`).
+    /// Smallest disc radius with unit (`0.175mm`; required to generate a specimen).
     #[arg(long)]
-    pub r_min: String,
-    /// Largest disc radius with unit.
+    pub r_min: Option<String>,
+    /// Largest disc radius with unit (required to generate a specimen).
     #[arg(long)]
-    pub r_max: String,
+    pub r_max: Option<String>,
     /// Radius distribution: normal or uniform.
     #[arg(long, default_value = "normal")]
     pub dist: String,
@@ -102,22 +102,60 @@ pub struct LabArgs {
     pub strict: bool,
 }
 
+/// The density (kg/m³), Young's modulus and tensile strength (Pa) a specimen is built from,
+/// when they come from somewhere other than the material flags (`dem test cutting
+/// --specimen-from-model`: the model's), as numbers.
+#[derive(Clone, Copy, Debug)]
+pub struct Elastic {
+    pub density: f64,
+    pub youngs: f64,
+    pub tensile: f64,
+}
+
 impl LabArgs {
     /// Specimen parameters for a `width × height` (m) box from the flags.
     pub fn specimen_params(&self, width: f64, height: f64) -> Result<SpecimenParams, String> {
+        self.specimen_params_of(width, height, None)
+    }
+
+    /// [`LabArgs::specimen_params`] with the density and moduli of `elastic` instead of the
+    /// material flags when it is given.
+    pub fn specimen_params_of(
+        &self,
+        width: f64,
+        height: f64,
+        elastic: Option<Elastic>,
+    ) -> Result<SpecimenParams, String> {
         let (method, dist) = method_and_dist(&self.method, &self.dist)?;
-        let (_, density, e, tensile) = material_values(
-            self.material.as_ref(),
-            self.density,
-            self.youngs.as_deref(),
-            self.tensile.as_deref(),
-        )?;
+        let (density, e, tensile) = match elastic {
+            Some(v) => (v.density, v.youngs, v.tensile),
+            None => {
+                let (_, density, e, tensile) = material_values(
+                    self.material.as_ref(),
+                    self.density,
+                    self.youngs.as_deref(),
+                    self.tensile.as_deref(),
+                )?;
+                (density, e, tensile)
+            }
+        };
+        let radius = |v: &Option<String>, flag: &str| match v {
+            Some(s) => parse_length(s, flag),
+            None => Err(format!(
+                "{flag} is required: the {} disc radius with unit (`0.175mm`)",
+                if flag == "--r-min" {
+                    "smallest"
+                } else {
+                    "largest"
+                }
+            )),
+        };
         let mut p = SpecimenParams::new(
             method,
             width,
             height,
-            parse_length(&self.r_min, "--r-min")?,
-            parse_length(&self.r_max, "--r-max")?,
+            radius(&self.r_min, "--r-min")?,
+            radius(&self.r_max, "--r-max")?,
             density,
             e,
             tensile,

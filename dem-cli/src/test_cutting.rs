@@ -4,7 +4,7 @@
 //! analysed: peak and mean main and vertical force over the steady window, chips, broken
 //! bonds, machined surface, residual cracks.
 
-use crate::lab_args::{progress_bar, read_model, FlatJointArgs, LabArgs};
+use crate::lab_args::{progress_bar, read_model, Elastic, LabArgs};
 use crate::progress::Progress;
 use crate::specimen::{parse_length, read_material};
 use clap::Args;
@@ -26,44 +26,12 @@ pub struct CuttingArgs {
     /// from the specimen flags below into `<out>/specimen.json`.
     #[arg(long)]
     pub specimen: Option<PathBuf>,
-    /// Generation (without --specimen): traditional | orc | improved.
-    #[arg(long, default_value = "traditional")]
-    pub method: String,
     /// Generation: specimen width with unit.
     #[arg(long, default_value = "20mm")]
     pub width: String,
     /// Generation: specimen height with unit.
     #[arg(long, default_value = "10mm")]
     pub height: String,
-    /// Generation: smallest disc radius with unit (required without --specimen).
-    #[arg(long)]
-    pub r_min: Option<String>,
-    /// Generation: largest disc radius with unit (required without --specimen).
-    #[arg(long)]
-    pub r_max: Option<String>,
-    /// Generation: mean grain diameter with unit (orc, improved).
-    #[arg(long)]
-    pub grain_size: Option<String>,
-    /// Generation: smallest template disc radius with unit (improved).
-    #[arg(long)]
-    pub template_r_min: Option<String>,
-    /// Generation: which grains are irregular (orc, improved; as `dem specimen`): `all` (every
-    /// cell of a Voronoi tessellation of --grain-size) or `few` (S0: a few synthetic grains
-    /// in the traditional packing, as many as give S0's disc ratio). A traditional specimen
-    /// has no irregular grains: ignored for it.
-    #[arg(long, default_value = "all")]
-    pub irregular: String,
-    /// Generation, with `--irregular few`: this many irregular grains instead of S0's ratio.
-    #[arg(long)]
-    pub irregular_count: Option<usize>,
-    /// Generation, with `--irregular few`: equivalent diameter of the irregular grains with
-    /// unit (default --grain-size).
-    #[arg(long)]
-    pub irregular_size: Option<String>,
-    /// Generation, with `--irregular few`, improved ORC: `affine` (default; Table 2's
-    /// specimens) or `servo`, as `dem specimen --insertion`.
-    #[arg(long)]
-    pub insertion: Option<String>,
     /// Generation: build the specimen with --model's density and micro-parameters (E = its
     /// contact modulus, σ_t = its grain-boundary tensile strength, σ0 = 1 % of σ_t) instead of
     /// a material's, and run with the model's r_mean set to the specimen's (r_min + r_max)/2
@@ -71,26 +39,6 @@ pub struct CuttingArgs {
     /// Needs --model; --material, --density, --youngs and --tensile are refused with it.
     #[arg(long)]
     pub specimen_from_model: bool,
-    /// Generation: material file (data/materials/*.json).
-    #[arg(long)]
-    pub material: Option<PathBuf>,
-    /// Generation: Young's modulus with unit, overriding the material file.
-    #[arg(long)]
-    pub youngs: Option<String>,
-    /// Generation: tensile strength with unit, overriding the material file.
-    #[arg(long)]
-    pub tensile: Option<String>,
-    /// Generation: density (kg/m³), overriding the material file.
-    #[arg(long)]
-    pub density: Option<f64>,
-    /// Generation: random seed.
-    #[arg(long, default_value_t = 1)]
-    pub seed: u64,
-    /// Generation: an improved-ORC grain whose template stops below its cover target is a
-    /// failure (the specimen is not written, the cut does not run; exit code 2) instead of a
-    /// warning, as in `dem specimen` and the other lab tests.
-    #[arg(long)]
-    pub strict: bool,
     /// A CuttingTest JSON (all fields optional, SI units, see docs/cutting.md); the flags
     /// below override it.
     #[arg(long)]
@@ -146,9 +94,6 @@ pub struct CuttingArgs {
     /// rest, the specimen and slot walls moving at −v; the Galilean check)
     #[arg(long)]
     pub frame: Option<String>,
-    /// Safety factor of the automatic time step (default 0.3).
-    #[arg(long)]
-    pub dt_factor: Option<f64>,
     /// Start of the steady window as a multiple of a_p (default 2).
     #[arg(long)]
     pub window_start: Option<f64>,
@@ -164,37 +109,27 @@ pub struct CuttingArgs {
     /// fragments").
     #[arg(long)]
     pub delete_fragments: bool,
-    /// A LabModel JSON (density, thickness, r_mean, micro; `dem calibrate` writes one) to run
-    /// with instead of the specimen's own micro-parameters. Its `flat_joint` record (`dem
-    /// calibrate --flat-joint` writes one) is kept: the cut runs with flat joints.
-    #[arg(long)]
-    pub model: Option<PathBuf>,
-    /// Flat joints (Potyondy 2012) instead of parallel bonds, as in the other lab tests:
-    /// --flat-joint N, --joint-friction μ, --joint-bonded-fraction φ. They win over the
-    /// model's own `flat_joint` record (of --model, or of the specimen's scene).
-    #[command(flatten)]
-    pub joints: FlatJointArgs,
     /// Resolve the specimen parameters, model and test, write them to
     /// `<out>/cutting.inputs.json` and print them; generate and run nothing.
     #[arg(long)]
     pub dry_run: bool,
-    /// Output folder: cutting.inputs.json, cutting.scene.json, the run's outputs,
-    /// cutting.forces.csv, cutting.result.json.
-    #[arg(long)]
-    pub out: PathBuf,
-    /// Worker threads, at least 1 (default: all cores); results do not depend on it.
-    #[arg(long, value_parser = crate::parse_threads)]
-    pub threads: Option<usize>,
-    /// Run even if `--out` is locked by a run of another scene or one still running
-    /// (`run.lock`; a rerun of the same cut is always allowed).
-    #[arg(long)]
-    pub force: bool,
     /// Generation: reuse the specimen of the same parameters from this folder if one was
     /// generated there before (a sub-folder per parameter hash), and keep a newly generated one
     /// there. `dem sweep run` passes `DIR/specimens`, so a study's cases of one seed generate
     /// their specimen once (generation is deterministic: the files are the same bytes).
     #[arg(long)]
     pub specimen_cache: Option<PathBuf>,
+    /// The specimen flags (used without --specimen), the material model (`--model`: a LabModel
+    /// JSON, `dem calibrate` writes one, run with instead of the specimen's own
+    /// micro-parameters; its `flat_joint` record is kept, --flat-joint wins over it), the
+    /// safety factor of the time step (`--dt-factor`, default 0.3), and `--out` (the output
+    /// folder: cutting.inputs.json, cutting.scene.json, the run's outputs, cutting.forces.csv,
+    /// cutting.result.json), `--threads`, `--force`, `--strict`: those of every lab test.
+    #[command(
+        flatten,
+        next_help_heading = "Specimen, model and run (every lab test's flags)"
+    )]
+    pub lab: LabArgs,
 }
 
 /// The files of a generated specimen, as `<out>/` holds them and the cache keeps them.
@@ -259,7 +194,7 @@ impl CuttingArgs {
         if let Some(v) = self.tool_friction {
             t.tool_friction = v;
         }
-        if let Some(v) = self.dt_factor {
+        if let Some(v) = self.lab.dt_factor {
             t.dt_factor = v;
         }
         if let Some(v) = self.local_damping {
@@ -328,7 +263,7 @@ impl CuttingArgs {
     /// The `--model` file, if given, as it is (its `flat_joint` record checked, not yet
     /// overridden by --flat-joint: see [`CuttingArgs::with_joints`]).
     pub fn model_file(&self) -> Result<Option<LabModel>, String> {
-        self.model.as_deref().map(read_model).transpose()
+        self.lab.model.as_deref().map(read_model).transpose()
     }
 
     /// `m` with the flat-joint flags applied ([`FlatJointArgs::apply`]): with --flat-joint
@@ -336,79 +271,52 @@ impl CuttingArgs {
     /// --model, or of the specimen's scene: [`cutting::model_from_specimen`]); without it the
     /// model's own choice stays. Every path to the cut's model goes through here.
     pub fn with_joints(&self, mut m: LabModel) -> Result<LabModel, String> {
-        self.joints.apply(&mut m)?;
+        self.lab.joints.apply(&mut m)?;
         Ok(m)
-    }
-
-    /// The shared lab-test flags of the specimen to generate (density, E and σ_t from
-    /// `model` with --specimen-from-model).
-    fn lab_args(&self, model: Option<&LabModel>) -> Result<LabArgs, String> {
-        let need = |v: &Option<String>, f: &str| {
-            v.clone()
-                .ok_or_else(|| format!("give --specimen, or {f} (and the other specimen flags)"))
-        };
-        let mut lab = LabArgs {
-            method: self.method.clone(),
-            r_min: need(&self.r_min, "--r-min")?,
-            r_max: need(&self.r_max, "--r-max")?,
-            dist: "normal".into(),
-            seed: self.seed,
-            material: self.material.clone(),
-            density: self.density,
-            youngs: self.youngs.clone(),
-            tensile: self.tensile.clone(),
-            iso_stress: None,
-            porosity: 0.16,
-            grain_size: self.grain_size.clone(),
-            template_r_min: self.template_r_min.clone(),
-            max_discs: 9,
-            irregular: self.irregular.clone(),
-            irregular_count: self.irregular_count,
-            irregular_size: self.irregular_size.clone(),
-            insertion: self.insertion.clone(),
-            model: self.model.clone(),
-            joints: self.joints.clone(),
-            out: self.out.clone(),
-            threads: self.threads,
-            dt_factor: self.dt_factor,
-            force: self.force,
-            strict: self.strict,
-        };
-        if self.specimen_from_model {
-            let m = model.ok_or("--specimen-from-model needs --model")?;
-            for (given, flag) in [
-                (self.material.is_some(), "--material"),
-                (self.density.is_some(), "--density"),
-                (self.youngs.is_some(), "--youngs"),
-                (self.tensile.is_some(), "--tensile"),
-            ] {
-                if given {
-                    return Err(format!(
-                        "{flag}: --specimen-from-model takes the density and moduli from \
-                         --model; leave {flag} out"
-                    ));
-                }
-            }
-            // Shortest round-trip text: parsed back to the same f64.
-            lab.density = Some(m.density);
-            lab.youngs = Some(format!("{}Pa", m.micro.contact_modulus));
-            lab.tensile = Some(format!("{}Pa", m.micro.boundary_tensile));
-        }
-        Ok(lab)
     }
 
     /// The parameters of the specimen to generate (without --specimen): the specimen flags,
     /// `--irregular` (a traditional specimen keeps the default grain mode: it has no irregular
     /// grains) and, with --specimen-from-model, the model's micro-parameters.
     pub fn specimen_params(&self, model: Option<&LabModel>) -> Result<SpecimenParams, String> {
-        let lab = self.lab_args(model)?;
+        let lab = &self.lab;
+        for (v, f) in [(&lab.r_min, "--r-min"), (&lab.r_max, "--r-max")] {
+            if v.is_none() {
+                return Err(format!(
+                    "give --specimen, or {f} (and the other specimen flags)"
+                ));
+            }
+        }
+        // With --specimen-from-model, the model's density and moduli, as typed values.
+        let from_model = match (self.specimen_from_model, model) {
+            (false, _) => None,
+            (true, None) => return Err("--specimen-from-model needs --model".to_string()),
+            (true, Some(m)) => {
+                for (given, flag) in [
+                    (lab.material.is_some(), "--material"),
+                    (lab.density.is_some(), "--density"),
+                    (lab.youngs.is_some(), "--youngs"),
+                    (lab.tensile.is_some(), "--tensile"),
+                ] {
+                    if given {
+                        return Err(format!(
+                            "{flag}: --specimen-from-model takes the density and moduli from \
+                             --model; leave {flag} out"
+                        ));
+                    }
+                }
+                Some(Elastic {
+                    density: m.density,
+                    youngs: m.micro.contact_modulus,
+                    tensile: m.micro.boundary_tensile,
+                })
+            }
+        };
         let w = parse_length(&self.width, "--width")?;
         let h = parse_length(&self.height, "--height")?;
-        let mut p = lab.specimen_params(w, h)?;
-        if self.specimen_from_model {
-            if let Some(m) = model {
-                p.micro = m.micro.clone();
-            }
+        let mut p = lab.specimen_params_of(w, h, from_model)?;
+        if let (true, Some(m)) = (self.specimen_from_model, model) {
+            p.micro = m.micro.clone();
         }
         p.validate().map_err(|e| e.to_string())?;
         crate::specimen::check_resolution(&p, &self.width, &self.height)?;
@@ -418,12 +326,13 @@ impl CuttingArgs {
     /// Generates the specimen of `p` into `<out>/specimen.json`, with its summary and scene
     /// beside it as `dem specimen` writes them.
     fn generate(&self, p: &SpecimenParams) -> Result<PathBuf, String> {
-        let name = match (&self.material, self.specimen_from_model) {
+        let name = match (&self.lab.material, self.specimen_from_model) {
             (Some(m), false) => read_material(m)?.0,
             _ => dem_lab::specimen::DEFAULT_MATERIAL.to_string(),
         };
-        std::fs::create_dir_all(&self.out).map_err(|e| format!("{}: {e}", self.out.display()))?;
-        let path = self.out.join("specimen.json");
+        std::fs::create_dir_all(&self.lab.out)
+            .map_err(|e| format!("{}: {e}", self.lab.out.display()))?;
+        let path = self.lab.out.join("specimen.json");
         let cached = self.specimen_cache.as_ref().map(|c| {
             let key = crate::run_lock::inputs_hash(&(p, &name));
             c.join(&key[..24])
@@ -443,7 +352,7 @@ impl CuttingArgs {
         );
         let bar = progress_bar();
         let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(self.threads.unwrap_or(0))
+            .num_threads(self.lab.threads.unwrap_or(0))
             .build()
             .map_err(|e| e.to_string())?;
         let s = pool.install(|| {
@@ -462,7 +371,7 @@ impl CuttingArgs {
         io::save(&s, &name, &path).map_err(|e| e.to_string())?;
         let scene = io::example_scene(&s, &name, "specimen.json", 1000);
         let text = serde_json::to_string_pretty(&scene).map_err(|e| e.to_string())?;
-        io::write_atomic(&self.out.join("specimen.scene.json"), &text)
+        io::write_atomic(&self.lab.out.join("specimen.scene.json"), &text)
             .map_err(|e| e.to_string())?;
         if let Some(c) = &cached {
             self.keep_in_cache(c)?;
@@ -484,7 +393,7 @@ impl CuttingArgs {
             let src = c.join(f);
             let text = clumpgen::io::read_input_string(&src)
                 .map_err(|e| format!("{}: {e}", src.display()))?;
-            io::write_atomic(&self.out.join(f), &text).map_err(|e| e.to_string())?;
+            io::write_atomic(&self.lab.out.join(f), &text).map_err(|e| e.to_string())?;
             if f == SPECIMEN_FILES[1] {
                 let s: dem_lab::specimen::Summary =
                     serde_json::from_str(&text).map_err(|e| format!("{}: {e}", src.display()))?;
@@ -506,7 +415,7 @@ impl CuttingArgs {
         below: &[dem_lab::specimen::improved::GrainCover],
         not_done: &str,
     ) -> Result<(), String> {
-        if self.strict && !below.is_empty() {
+        if self.lab.strict && !below.is_empty() {
             return Err(format!(
                 "--strict: {} grains of the specimen are below their cover target; {not_done} \
                  (leave out --strict to run it with a warning):\n  {}",
@@ -534,7 +443,7 @@ impl CuttingArgs {
         let _ = std::fs::remove_dir_all(&tmp);
         std::fs::create_dir_all(&tmp).map_err(|e| format!("{}: {e}", tmp.display()))?;
         for f in SPECIMEN_FILES {
-            std::fs::copy(self.out.join(f), tmp.join(f))
+            std::fs::copy(self.lab.out.join(f), tmp.join(f))
                 .map_err(|e| format!("{}: {e}", tmp.join(f).display()))?;
         }
         if std::fs::rename(&tmp, c).is_err() {
@@ -549,7 +458,7 @@ impl CuttingArgs {
     /// test. The model is --model with the flat-joint flags applied ([`Self::with_joints`]).
     pub fn inputs(&self) -> Result<Inputs, String> {
         let test = self.test()?;
-        let flat_joint = self.joints.option()?;
+        let flat_joint = self.lab.joints.option()?;
         let mut model = self
             .model_file()?
             .map(|m| self.with_joints(m))
@@ -624,15 +533,15 @@ pub fn run(a: CuttingArgs) -> Result<ExitCode, String> {
     // inputs as resolved from the flags, so a rerun (or the run after a --dry-run) of the same
     // cut is the same run.
     let _lock = crate::run_lock::acquire_noted(
-        &a.out,
+        &a.lab.out,
         crate::run_lock::Claim {
             command: "dem test cutting",
-            scene: &a.out.join(cutting::SCENE_FILE),
+            scene: &a.lab.out.join(cutting::SCENE_FILE),
             hash: &crate::run_lock::inputs_hash(&inputs),
         },
-        a.force,
+        a.lab.force,
     )?;
-    let text = write_inputs(&a.out, &inputs)?;
+    let text = write_inputs(&a.lab.out, &inputs)?;
     if a.dry_run {
         print!("{text}");
         return Ok(ExitCode::SUCCESS);
@@ -656,12 +565,12 @@ pub fn run(a: CuttingArgs) -> Result<ExitCode, String> {
             let m = cutting::model_from_specimen(&specimen).map_err(|e| e.to_string())?;
             let m = a.with_joints(m)?;
             inputs.model = Some(m.clone());
-            write_inputs(&a.out, &inputs)?;
+            write_inputs(&a.lab.out, &inputs)?;
             m
         }
     };
     let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(a.threads.unwrap_or(0))
+        .num_threads(a.lab.threads.unwrap_or(0))
         .build()
         .map_err(|e| e.to_string())?;
     println!(
@@ -712,10 +621,17 @@ pub fn run(a: CuttingArgs) -> Result<ExitCode, String> {
             }),
             ..cutting::CuttingRunOptions::default()
         };
-        cutting::run_with(&test, &model, &specimen, &a.out, &ro, &mut |done, total| {
-            bar.set_length(total.max(1));
-            bar.set_position(done);
-        })
+        cutting::run_with(
+            &test,
+            &model,
+            &specimen,
+            &a.lab.out,
+            &ro,
+            &mut |done, total| {
+                bar.set_length(total.max(1));
+                bar.set_position(done);
+            },
+        )
     });
     bar.finish_and_clear();
     let r = r.map_err(|e| e.to_string())?;

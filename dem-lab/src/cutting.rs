@@ -523,34 +523,36 @@ impl SpecimenInfo {
 /// `dem test cutting --flat-joint` puts its option on the model read here (the command line
 /// wins, `CuttingArgs::with_joints` in dem-cli).
 pub fn model_from_specimen(path: &Path) -> Result<LabModel, LabError> {
-    let read = |p: &Path| -> Result<Value, LabError> {
+    /// A JSON file read as `T`; an error names the file and the field (serde_path_to_error).
+    fn read<T: serde::de::DeserializeOwned>(p: &Path) -> Result<T, LabError> {
         let text = clumpgen::io::read_input_string(p).map_err(|source| LabError::Io {
             file: p.display().to_string(),
             source,
         })?;
-        serde_json::from_str(&text).map_err(|e| LabError::Param {
-            field: p.display().to_string(),
-            reason: e.to_string(),
+        let de = &mut serde_json::Deserializer::from_str(&text);
+        serde_path_to_error::deserialize(de).map_err(|e| LabError::Param {
+            field: format!("{}: {}", p.display(), e.path()),
+            reason: e.inner().to_string(),
         })
-    };
+    }
     let sp = crate::specimen::io::summary_path(path);
-    let summary: crate::specimen::Summary =
-        serde_json::from_value(read(&sp)?).map_err(|e| LabError::Param {
-            field: sp.display().to_string(),
-            reason: e.to_string(),
-        })?;
+    let summary: crate::specimen::Summary = read(&sp)?;
     let name = sp.to_string_lossy().replace(".summary.json", ".scene.json");
     let scene_path = PathBuf::from(name);
-    let scene = read(&scene_path)?;
+    let scene: SceneFile = read(&scene_path)?;
     let field = |what: &str| LabError::Param {
-        field: scene_path.display().to_string(),
-        reason: format!("no {what}"),
+        field: format!("{}: {what}", scene_path.display()),
+        reason: "missing: the scene `dem specimen` writes has it".to_string(),
     };
-    let density = scene["materials"][0]["density"]
-        .as_f64()
+    let density = scene
+        .materials
+        .first()
+        .and_then(|m| m.density)
         .ok_or_else(|| field("materials[0].density"))?;
-    let bond_kn = scene["bond_groups"][0]["kn"]
-        .as_f64()
+    let bond_kn = scene
+        .bond_groups
+        .first()
+        .and_then(|g| g.kn)
         .ok_or_else(|| field("bond_groups[0].kn"))?;
     Ok(LabModel {
         density,
@@ -562,30 +564,28 @@ pub fn model_from_specimen(path: &Path) -> Result<LabModel, LabError> {
 }
 
 /// The flat-joint choice of a scene's bond groups (`None`: none is a flat joint). Each
-/// flat-joint group is read as the scene loader reads it (defaults, ranges); the model has one choice for both
-/// groups, so groups of flat joints that differ in elements, friction or bonded fraction, or
-/// flat joints beside other bonds, are an error naming the scene's `bond_groups`.
+/// flat-joint group is read as the scene loader reads it (defaults, ranges); the model has one
+/// choice for both groups, so groups of flat joints that differ in elements, friction or bonded
+/// fraction, or flat joints beside other bonds, are an error naming the scene's `bond_groups`.
 fn scene_flat_joint(
-    scene: &Value,
+    scene: &SceneFile,
     file: &Path,
 ) -> Result<Option<super::model::FlatJointOption>, LabError> {
     use dem_core::bond::BondModel;
+    use dem_core::scene::schema::BondModelName;
     let name = file.display().to_string();
     let err = |reason: String| LabError::Param {
         field: format!("{name}: bond_groups"),
         reason,
     };
-    let groups = scene["bond_groups"].as_array().cloned().unwrap_or_default();
     let mut found: Vec<Option<super::model::FlatJointOption>> = Vec::new();
-    for (k, g) in groups.into_iter().enumerate() {
-        if g["model"] != "flat_joint_potyondy2012" {
+    for (k, spec) in scene.bond_groups.iter().enumerate() {
+        if spec.model != BondModelName::FlatJointPotyondy2012 {
             // (Other bonds are not read: the scene as the specimen wrote it.)
             found.push(None);
             continue;
         }
-        let spec: dem_core::scene::schema::BondGroupSpec =
-            serde_json::from_value(g).map_err(|e| err(format!("[{k}]: {e}")))?;
-        let group = dem_core::scene::bond_group(&name, k, &spec)?;
+        let group = dem_core::scene::bond_group(&name, k, spec)?;
         found.push(match group.model {
             BondModel::FlatJoint(p) => Some(super::model::FlatJointOption {
                 elements: p.elements,
@@ -1656,6 +1656,19 @@ mod tests {
         write(&scene);
         let e = model_from_specimen(&path).unwrap_err().to_string();
         assert!(e.contains("elements"), "{e}");
+        // The scene is read as a typed scene file (issue 49: it was read field by field from
+        // untyped JSON, so a misspelt key was ignored): the error names the file and the key.
+        let mut typo =
+            serde_json::to_value(specimen::io::example_scene(&s, "si3n4", "s.json", 10)).unwrap();
+        let kn = typo["bond_groups"][0]["kn"].take();
+        typo["bond_groups"][0].as_object_mut().unwrap().remove("kn");
+        typo["bond_groups"][0]["k_n"] = kn;
+        write(&typo);
+        let e = model_from_specimen(&path).unwrap_err().to_string();
+        assert!(
+            e.contains("s.scene.json: bond_groups[0]") && e.contains("k_n"),
+            "{e}"
+        );
         let _ = std::fs::remove_dir_all(&dir);
     }
 }
