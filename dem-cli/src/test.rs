@@ -227,14 +227,15 @@ fn lock_test(
 
 /// Generates (or reuses) the test's specimen `<out>/<test>.specimen.json` and runs `body` on it
 /// in the thread pool, with a progress bar for both, holding the test's run lock
-/// ([`lock_test`], keyed on `inputs`).
+/// ([`lock_test`], keyed on `inputs`); with --strict a specimen with grains below their cover
+/// target stops before the test ([`strict_cover`]), else they are printed as warnings.
 fn with_specimen<T>(
     lab: &LabArgs,
     p: &SpecimenParams,
     shape: Shape,
     (test, inputs): (&str, serde_json::Value),
     body: impl FnOnce(&TestSpecimen, &mut dyn FnMut(u64, u64)) -> Result<T, LabError> + Send,
-) -> Result<(TestSpecimen, T), String>
+) -> Result<T, String>
 where
     T: Send,
 {
@@ -258,6 +259,7 @@ where
         })?;
         bar.set_prefix(test.to_string());
         bar.set_message(format!("{} discs", spec.discs));
+        strict_cover(lab, &spec)?;
         let r = body(&spec, &mut |done, total| {
             bar.set_position((done * 1000).checked_div(total).unwrap_or(0));
         })?;
@@ -275,7 +277,8 @@ where
             ""
         }
     );
-    Ok((spec, r))
+    print_cover(&spec.file, &spec.below_cover);
+    Ok(r)
 }
 
 /// A quasi-static test's typed inputs as one JSON value (their hash keys its run lock).
@@ -311,17 +314,13 @@ fn ucs(a: UcsArgs) -> Result<ExitCode, String> {
     test.validate().map_err(|e| e.to_string())?;
     test.check_geometry([w, h], nominal_r_mean(&p))
         .map_err(|e| size_message(e, "ucs", &a.width, &a.height))?;
-    let (spec, o) = with_specimen(
+    let o = with_specimen(
         &a.lab,
         &p,
         test.shape(),
         ("ucs", inputs(&p, &model, &test)?),
-        |spec, pr| {
-            strict_cover(&a.lab, spec)?;
-            lab::ucs::run(&test, &model, spec, pr)
-        },
+        |spec, pr| lab::ucs::run(&test, &model, spec, pr),
     )?;
-    print_cover(&spec.file, &spec.below_cover);
     let r = &o.result;
     println!(
         "E = {:.2} GPa, ν = {:.3} ({:.0}-{:.0} % pre-peak band, {} rows), UCS = {:.1} MPa at axial strain {:.3e}",
@@ -356,17 +355,13 @@ fn biaxial(a: BiaxialArgs) -> Result<ExitCode, String> {
     test.validate().map_err(|e| e.to_string())?;
     test.check_geometry([w, h], nominal_r_mean(&p))
         .map_err(|e| size_message(e, "biaxial", &a.width, &a.height))?;
-    let (spec, s) = with_specimen(
+    let s = with_specimen(
         &a.lab,
         &p,
         test.shape(),
         ("biaxial", inputs(&p, &model, &(&test, &confinements))?),
-        |spec, pr| {
-            strict_cover(&a.lab, spec)?;
-            lab::biaxial::run_series(&test, &confinements, &model, spec, pr)
-        },
+        |spec, pr| lab::biaxial::run_series(&test, &confinements, &model, spec, pr),
     )?;
-    print_cover(&spec.file, &spec.below_cover);
     for (k, r) in s.results.iter().enumerate() {
         println!(
             "biaxial-{k}: σ3 = {:.1} MPa (asked {:.1}, held within {:.1} %), peak σ1 = {:.1} MPa, deviator {:.1} MPa, E = {:.2} GPa, ν = {:.3}, {:.1} transit times to peak",
@@ -415,17 +410,13 @@ fn brazilian(a: BrazilianArgs) -> Result<ExitCode, String> {
     test.validate().map_err(|e| e.to_string())?;
     test.check_geometry(d, nominal_r_mean(&p))
         .map_err(|e| flag_message(e, &[("brazilian.diameter", "--diameter", &a.diameter)]))?;
-    let (spec, o) = with_specimen(
+    let o = with_specimen(
         &a.lab,
         &p,
         test.shape(),
         ("brazilian", inputs(&p, &model, &test)?),
-        |spec, pr| {
-            strict_cover(&a.lab, spec)?;
-            lab::brazilian::run(&test, &model, spec, pr)
-        },
+        |spec, pr| lab::brazilian::run(&test, &model, spec, pr),
     )?;
-    print_cover(&spec.file, &spec.below_cover);
     let r = &o.result;
     println!(
         "σ_t = 2F/(πDt) = {:.1} MPa (peak load {:.4e} N, D = {:.3} mm, t = {} m)",
@@ -466,17 +457,13 @@ fn bending(a: BendingArgs) -> Result<ExitCode, String> {
                 ],
             )
         })?;
-    let (spec, o) = with_specimen(
+    let o = with_specimen(
         &a.lab,
         &p,
         test.shape(),
         ("bending", inputs(&p, &model, &test)?),
-        |spec, pr| {
-            strict_cover(&a.lab, spec)?;
-            lab::bending::run(&test, &model, spec, pr)
-        },
+        |spec, pr| lab::bending::run(&test, &model, spec, pr),
     )?;
-    print_cover(&spec.file, &spec.below_cover);
     let r = &o.result;
     println!(
         "σ_f = 3FL/(2bh²) = {:.1} MPa (peak load {:.4e} N, L = {:.3} mm, h = {:.3} mm, b = t = {} m)",
@@ -522,17 +509,13 @@ fn senb(a: SenbArgs) -> Result<ExitCode, String> {
     test.validate().map_err(|e| flag_message(e, &flags))?;
     test.check_geometry(nominal_r_mean(&p))
         .map_err(|e| flag_message(e, &flags))?;
-    let (spec, o) = with_specimen(
+    let o = with_specimen(
         &a.lab,
         &p,
         test.shape(),
         ("senb", inputs(&p, &model, &test)?),
-        |spec, pr| {
-            strict_cover(&a.lab, spec)?;
-            lab::senb::run(&test, &model, spec, pr)
-        },
+        |spec, pr| lab::senb::run(&test, &model, spec, pr),
     )?;
-    print_cover(&spec.file, &spec.below_cover);
     let r = &o.result;
     println!(
         "K_IC = P S f(a/W) / (B W^1.5) = {:.3} MPa·m^½ (ASTM E399 SE(B): peak load {:.4e} N, S = {:.3} mm, W = {:.3} mm, a/W = {:.3}, f = {:.3}, B = t = {} m)",

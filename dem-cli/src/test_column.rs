@@ -3,7 +3,6 @@
 //! box of rigid walls, a top platen moving down; stress–strain, gradings at stress levels,
 //! Hardin's relative breakage.
 
-use crate::lab_args::progress_bar;
 use crate::specimen::{parse_length, parse_speed, parse_stress};
 use crate::test_crush::{criterion_of, CriterionFlags};
 use clap::Args;
@@ -188,32 +187,17 @@ pub fn run(a: ColumnArgs) -> Result<ExitCode, String> {
         return Err("--outlines: no outline files (csv, txt, xy, dat, json) found".into());
     }
     std::fs::create_dir_all(&a.out).map_err(|e| format!("{}: {e}", a.out.display()))?;
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(a.threads.unwrap_or(0))
-        .build()
-        .map_err(|e| e.to_string())?;
-    // The folder the scene runs into is locked to this test's inputs (run_lock.rs).
-    let command = "dem test column";
-    let _lock = crate::run_lock::acquire_noted(
-        &a.out.join(format!("{}.out", test.name)),
-        crate::run_lock::Claim {
-            command,
-            scene: &a.out.join(format!("{}.json", test.name)),
-            hash: &crate::run_lock::inputs_hash(&(&test, &outlines)),
-        },
-        a.force,
-    )?;
-    let bar = progress_bar();
-    bar.set_prefix("column");
-    let o = pool
-        .install(|| {
-            column::run(&test, &outlines, &a.out, &mut |done, total| {
-                bar.set_position((done * 1000).checked_div(total).unwrap_or(0));
-            })
-        })
-        .map_err(message);
-    bar.finish_and_clear();
-    let o = o?;
+    let locked = crate::test_crush::Locked {
+        out: &a.out,
+        name: &test.name,
+        command: "dem test column",
+        hash: crate::run_lock::inputs_hash(&(&test, &outlines)),
+        force: a.force,
+        threads: a.threads,
+    };
+    let o = locked.run("column", |pr| {
+        column::run(&test, &outlines, &a.out, pr).map_err(message)
+    })?;
     let r = &o.result;
     println!(
         "{} grains ({} outlines x {} sizes), {} nodes, {} links; box {:.3} mm wide; deposit {:.3} mm high (solid fraction {:.3}), seated (rigid, {} steps, {:.1} s) {:.3} mm ({:.3}); platen {:.4e} m/s{}",

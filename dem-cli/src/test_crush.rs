@@ -212,6 +212,51 @@ pub fn criterion_of(a: &CriterionFlags) -> Result<LinkCriterion, String> {
     }
 }
 
+/// A grain test's run (crush, column): the folder `<out>/<name>.out` its scene runs into locked
+/// to its inputs (`hash`; run_lock.rs), so two runs never mix their outputs there, the work in
+/// a pool of `threads`, with a progress bar.
+pub(crate) struct Locked<'a> {
+    pub out: &'a std::path::Path,
+    pub name: &'a str,
+    pub command: &'a str,
+    pub hash: String,
+    pub force: bool,
+    pub threads: Option<usize>,
+}
+
+impl Locked<'_> {
+    /// Runs `body` (given a progress callback: steps done, steps in all) under the lock, with
+    /// the bar's prefix `what`.
+    pub fn run<T: Send>(
+        &self,
+        what: &str,
+        body: impl FnOnce(&mut dyn FnMut(u64, u64)) -> Result<T, String> + Send,
+    ) -> Result<T, String> {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(self.threads.unwrap_or(0))
+            .build()
+            .map_err(|e| e.to_string())?;
+        let _lock = crate::run_lock::acquire_noted(
+            &self.out.join(format!("{}.out", self.name)),
+            crate::run_lock::Claim {
+                command: self.command,
+                scene: &self.out.join(format!("{}.json", self.name)),
+                hash: &self.hash,
+            },
+            self.force,
+        )?;
+        let bar = progress_bar();
+        bar.set_prefix(what.to_string());
+        let o = pool.install(|| {
+            body(&mut |done, total| {
+                bar.set_position((done * 1000).checked_div(total).unwrap_or(0));
+            })
+        });
+        bar.finish_and_clear();
+        o
+    }
+}
+
 fn message(e: LabError) -> String {
     match e {
         LabError::Param { field, reason } => {
@@ -304,34 +349,20 @@ pub fn run(a: CrushArgs) -> Result<ExitCode, String> {
             file
         }
     };
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(a.threads.unwrap_or(0))
-        .build()
-        .map_err(|e| e.to_string())?;
-    // The folder stage 1's scene runs into is locked to this test's inputs (run_lock.rs), so
-    // two runs never mix their outputs there; the grain is part of the inputs.
+    // The grain is part of the inputs the run lock is keyed on.
     let grain =
         clumpgen::io::read_input(&template).map_err(|e| format!("{}: {e}", template.display()))?;
-    let _lock = crate::run_lock::acquire_noted(
-        &a.out.join(format!("{}.out", test.name)),
-        crate::run_lock::Claim {
-            command: "dem test crush",
-            scene: &a.out.join(format!("{}.json", test.name)),
-            hash: &crate::run_lock::inputs_hash(&(&test, crate::run_lock::inputs_hash(&grain))),
-        },
-        a.force,
-    )?;
-    let bar = progress_bar();
-    bar.set_prefix("crush");
-    let o = pool
-        .install(|| {
-            crush::run(&test, &template, &a.out, &mut |done, total| {
-                bar.set_position((done * 1000).checked_div(total).unwrap_or(0));
-            })
-        })
-        .map_err(message);
-    bar.finish_and_clear();
-    let o = o?;
+    let locked = Locked {
+        out: &a.out,
+        name: &test.name,
+        command: "dem test crush",
+        hash: crate::run_lock::inputs_hash(&(&test, crate::run_lock::inputs_hash(&grain))),
+        force: a.force,
+        threads: a.threads,
+    };
+    let o = locked.run("crush", |pr| {
+        crush::run(&test, &template, &a.out, pr).map_err(message)
+    })?;
     let r = &o.result;
     let g = &r.grain;
     println!(

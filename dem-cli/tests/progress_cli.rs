@@ -7,7 +7,7 @@
 use std::process::{Command, Output};
 
 mod common;
-use common::{material, text, tmp};
+use common::{text, tmp};
 
 /// `dem` with `args` and `DEM_PROGRESS_SECS` set to `secs` (unset for `None`), stderr a pipe.
 fn dem_with(secs: Option<&str>, args: &[&str]) -> Output {
@@ -82,26 +82,9 @@ fn a_batch_of_grains_says_how_far_it_is_off_a_terminal() {
 fn a_specimen_generation_says_its_stage_off_a_terminal() {
     let dir = tmp("specimen");
     let out = dir.join("s.json");
-    let o = dem_with(
-        Some("1e-6"),
-        &[
-            "specimen",
-            "--width",
-            "3mm",
-            "--height",
-            "1.5mm",
-            "--r-min",
-            "0.1mm",
-            "--r-max",
-            "0.16mm",
-            "--seed",
-            "5",
-            "--material",
-            &material(),
-            "--out",
-            out.to_str().unwrap(),
-        ],
-    );
+    let args = common::small_specimen_args(5, &out);
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let o = dem_with(Some("1e-6"), &args);
     assert!(o.status.success(), "{}", text(&o));
     let lines = progress_lines(&o);
     for stage in ["grow", "relax"] {

@@ -10,25 +10,8 @@ use common::{dem, material, text, tmp};
 fn specimen_writes_file_summary_and_a_scene_that_runs() {
     let dir = tmp("ok");
     let out = dir.join("trad.json");
-    let o = dem(&[
-        "specimen",
-        "--method",
-        "traditional",
-        "--width",
-        "3mm",
-        "--height",
-        "1.5mm",
-        "--r-min",
-        "0.1mm",
-        "--r-max",
-        "0.16mm",
-        "--seed",
-        "5",
-        "--material",
-        &material(),
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    // (traditional: the default method)
+    let o = dem(&common::small_specimen_args(5, &out));
     assert!(o.status.success(), "{}", text(&o));
     let t = text(&o);
     assert!(
