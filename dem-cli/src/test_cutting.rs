@@ -8,12 +8,10 @@ use crate::lab_args::{progress_bar, read_model, Elastic, LabArgs};
 use crate::progress::Progress;
 use crate::specimen::{parse_length, read_material};
 use clap::Args;
-use dem_lab::cutting::{self, CuttingResult, CuttingTest};
-use dem_lab::model::FlatJointOption;
+use dem_lab::cutting::{self, CuttingResult, CuttingTest, Inputs, INPUTS_FILE};
 use dem_lab::specimen::{io, SpecimenParams};
 use dem_lab::tool::ToolModel;
 use dem_lab::LabModel;
-use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -485,30 +483,6 @@ impl CuttingArgs {
     }
 }
 
-/// The inputs of a cut, `<out>/cutting.inputs.json` ([`INPUTS_FILE`]): written before the
-/// specimen is generated (and again once its model is known), so a sweep's case folder says
-/// what it runs (validation matches cases to its own runs by it).
-#[derive(Clone, Debug, Serialize, Deserialize)]
-pub struct Inputs {
-    /// The parameters of the generated specimen; `null` with --specimen.
-    pub specimen: Option<SpecimenParams>,
-    /// The --specimen file, if given.
-    pub specimen_file: Option<String>,
-    /// The material model the cut runs with; `null` until a generated specimen's own is known
-    /// (no --model).
-    pub model: Option<LabModel>,
-    /// The flat joints of --flat-joint (with --joint-friction, --joint-bonded-fraction), which
-    /// the model gets whichever way it is found: recorded here too so a cut whose model is not
-    /// known yet says (and its run lock's key holds) that it runs with flat joints. Absent
-    /// without --flat-joint, so the inputs of parallel-bond cuts are as before.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub flat_joint: Option<FlatJointOption>,
-    pub test: CuttingTest,
-}
-
-/// File name of [`Inputs`] in the output folder.
-pub const INPUTS_FILE: &str = "cutting.inputs.json";
-
 fn write_inputs(out: &std::path::Path, i: &Inputs) -> Result<String, String> {
     let text = serde_json::to_string_pretty(i).map_err(|e| e.to_string())? + "\n";
     std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
@@ -800,6 +774,7 @@ pub fn report(r: &CuttingResult) -> String {
 mod tests {
     use super::*;
     use clap::Parser;
+    use dem_lab::model::FlatJointOption;
 
     #[derive(Parser)]
     struct Cmd {

@@ -37,6 +37,29 @@ pub const TOOL_MATERIAL: &str = "tool";
 pub const SCENE_FILE: &str = "cutting.scene.json";
 pub const RESULT_FILE: &str = "cutting.result.json";
 pub const FORCES_FILE: &str = "cutting.forces.csv";
+/// File name of [`Inputs`] in a cut's output folder.
+pub const INPUTS_FILE: &str = "cutting.inputs.json";
+
+/// The inputs of a cut, `<out>/cutting.inputs.json` ([`INPUTS_FILE`]): written before the
+/// specimen is generated (and again once its model is known), so a sweep's case folder says
+/// what it runs (validation matches cases to its own runs by it).
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Inputs {
+    /// The parameters of the generated specimen; `null` with `--specimen`.
+    pub specimen: Option<crate::specimen::SpecimenParams>,
+    /// The `--specimen` file, if given.
+    pub specimen_file: Option<String>,
+    /// The material model the cut runs with; `null` until a generated specimen's own is known
+    /// (no `--model`).
+    pub model: Option<LabModel>,
+    /// The flat joints of `--flat-joint` (with `--joint-friction`, `--joint-bonded-fraction`), which
+    /// the model gets whichever way it is found: recorded here too so a cut whose model is not
+    /// known yet says (and its run lock's key holds) that it runs with flat joints. Absent
+    /// without `--flat-joint`, so the inputs of parallel-bond cuts are as before.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub flat_joint: Option<crate::model::FlatJointOption>,
+    pub test: CuttingTest,
+}
 
 /// A cutting test. SI units (m, m/s, rad); the `× a_p` fields are multiples of the depth of
 /// cut. Defaults: [`CuttingTest::default`].

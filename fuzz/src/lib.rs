@@ -229,14 +229,8 @@ pub fn study(data: &[u8]) {
     }
 }
 
-// `dem sweep`'s study reader lives in the `dem` binary, which no crate can depend on: its file
-// (self-contained: serde, schemars) is compiled in here.
-#[allow(dead_code)]
-#[path = "../../dem-cli/src/sweep/study.rs"]
-mod sweep_study;
-
 /// `dem sweep`'s study file (examples/studies, data/studies/*.sweep.json) → checked study →
 /// its axes' values (the plan's own checks against the test's flags are not reached).
 pub fn sweep(data: &[u8]) {
-    let _ = sweep_study::parse(data, Path::new("fuzz.sweep.json"));
+    let _ = dem_run::study::parse(data, Path::new("fuzz.sweep.json"));
 }

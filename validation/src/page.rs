@@ -165,7 +165,7 @@ mod tests {
         assert_eq!(fixed(-0.0, 1), "0.0");
         assert_eq!(fixed(-0.006, 2), "-0.01");
         assert_eq!(fixed(-12.5, 0), "-12");
-        assert_eq!(fixed(3.14159, 3), "3.142");
+        assert_eq!(fixed(1.23456, 3), "1.235");
     }
 
     #[test]

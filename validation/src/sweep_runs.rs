@@ -15,9 +15,7 @@
 
 use crate::cutting_runs::{finished, key_of, key_text, run_jobs, Job, Missing, Outcome};
 use crate::error::{Error, Result};
-use dem_lab::cutting::{CuttingResult, CuttingTest, RESULT_FILE};
-use dem_lab::specimen::SpecimenParams;
-use dem_lab::LabModel;
+use dem_lab::cutting::{CuttingResult, Inputs, RESULT_FILE};
 use serde::Deserialize;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -45,13 +43,10 @@ pub fn outcome(
     }
 }
 
-/// The inputs file `dem test cutting` writes into its output folder.
-pub const INPUTS_FILE: &str = "cutting.inputs.json";
-/// A sweep folder's case list, one JSON object per line.
-pub const CASES_FILE: &str = "cases.jsonl";
-/// A case's record files (`dem sweep run`).
-pub const DONE_FILE: &str = "done.json";
-pub const FAILED_FILE: &str = "failed.json";
+/// The sweep's file names and the cut's inputs file, as `dem sweep` and `dem test cutting`
+/// write them.
+pub use dem_lab::cutting::INPUTS_FILE;
+pub use dem_run::case::{CASES_FILE, DONE_FILE, FAILED_FILE};
 
 /// One line of `cases.jsonl` (the fields read here).
 #[derive(Deserialize)]
@@ -59,15 +54,6 @@ struct CaseLine {
     index: usize,
     key: String,
     test: String,
-}
-
-/// `cutting.inputs.json`: `specimen` is `null` for a cut of a given specimen file, `model`
-/// until a generated specimen's own model is known.
-#[derive(Deserialize)]
-struct Inputs {
-    specimen: Option<SpecimenParams>,
-    model: Option<LabModel>,
-    test: CuttingTest,
 }
 
 /// What a case's folder says.
@@ -127,6 +113,7 @@ pub fn read(jobs: &[Job], sweep: &Path, progress: &(dyn Fn(&str) + Sync)) -> Res
                 specimen: Some(sp),
                 model: Some(m),
                 test,
+                ..
             }) => key_text(&sp, &m, &test)?,
             Ok(_) => {
                 // A cut of a given specimen file, or a model not known yet: no job's.

@@ -289,7 +289,14 @@ fn crates(root: &Path) -> Vec<String> {
 fn no_new_import_circle_across_modules() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
     let found = crates(&root);
-    for k in ["clumpgen", "dem-core", "dem-lab", "dem-cli", "validation"] {
+    for k in [
+        "clumpgen",
+        "dem-core",
+        "dem-lab",
+        "dem-run",
+        "dem-cli",
+        "validation",
+    ] {
         assert!(
             found.iter().any(|c| c == k),
             "crate {k} not found: {found:?}"

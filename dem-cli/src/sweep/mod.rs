@@ -2,16 +2,16 @@
 //! a time) or as a Slurm job array (`slurm.sbatch`, one task per case), then collected into one
 //! table with aggregates over seeds (docs/sweep.md).
 //!
-//! Modules, each using only those listed before it: [`study`] (the study file), [`claim`]
-//! (which process runs a case), [`case`] (a planned case and its folder's files), [`plan`],
-//! [`mod@run`], [`timing`] (the time a sweep took), [`collect`] (also `status`).
+//! The files come from the run layer, [`dem_run`]: [`study`] (the study file), [`claim`]
+//! (which process runs a case), [`case`] (a planned case and its folder's files). Here, each
+//! using only those listed before it: [`plan`], [`mod@run`], [`timing`] (the time a sweep
+//! took), [`collect`] (also `status`).
 
-mod case;
-mod claim;
+pub(crate) use dem_run::{case, claim, study};
+
 mod collect;
 mod plan;
 mod run;
-pub(crate) mod study;
 mod timing;
 
 use clap::Subcommand;

@@ -1,6 +1,6 @@
 //! A planned case (one line of `DIR/cases.jsonl`) and the files of its folder
 //! `DIR/cases/<key>/`: `done.json` and `failed.json` (written atomically by `dem sweep run`),
-//! `log.txt`, the claims (`claim.<g>`, [`super::claim`]) and the test's own outputs.
+//! `log.txt`, the claims (`claim.<g>`, [`crate::claim`]) and the test's own outputs.
 
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
@@ -141,7 +141,7 @@ pub fn state(c: &Case, sweep: &Path) -> State {
             return State::Done(r);
         }
     }
-    if let Some(h) = super::claim::live_holder(&dir) {
+    if let Some(h) = crate::claim::live_holder(&dir) {
         return State::Running(h);
     }
     if let Some(r) = read_record(&dir.join(FAILED_FILE)) {

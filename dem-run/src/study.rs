@@ -212,7 +212,7 @@ impl Parsed {
 }
 
 /// Reads `path` and checks its structure (fields, test, axes, ranges, collect); the flags are
-/// checked by [`super::plan`] against the test's command line.
+/// checked by `dem sweep plan` (dem-cli's `sweep::plan`) against the test's command line.
 pub fn read(path: &Path) -> Result<(Vec<u8>, Parsed), String> {
     let bytes = clumpgen::io::read_input(path)
         .map_err(|e| format!("{}: cannot read: {e}", path.display()))?;

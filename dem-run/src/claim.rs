@@ -41,7 +41,7 @@ impl Claim {
         let mut h = me();
         h.released = true;
         if let Ok(text) = serde_json::to_string(&h) {
-            let _ = dem_core::output::write_atomic(&self.path, text.as_bytes());
+            let _ = clumpgen::io::write_atomic(&self.path, text.as_bytes());
         }
     }
 
