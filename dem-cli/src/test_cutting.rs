@@ -264,10 +264,11 @@ impl CuttingArgs {
         self.lab.model.as_deref().map(read_model).transpose()
     }
 
-    /// `m` with the flat-joint flags applied ([`FlatJointArgs::apply`]): with --flat-joint
-    /// the cut runs with those flat joints whatever the model said (a `flat_joint` record of
-    /// --model, or of the specimen's scene: [`cutting::model_from_specimen`]); without it the
-    /// model's own choice stays. Every path to the cut's model goes through here.
+    /// `m` with the flat-joint flags applied ([`crate::lab_args::FlatJointArgs::apply`]):
+    /// with --flat-joint the cut runs with those flat joints whatever the model said (a
+    /// `flat_joint` record of --model, or of the specimen's scene:
+    /// [`cutting::model_from_specimen`]); without it the model's own choice stays. Every path
+    /// to the cut's model goes through here.
     pub fn with_joints(&self, mut m: LabModel) -> Result<LabModel, String> {
         self.lab.joints.apply(&mut m)?;
         Ok(m)
