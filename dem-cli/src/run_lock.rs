@@ -317,65 +317,14 @@ pub fn acquire(
     Ok((lock, notes))
 }
 
-/// This machine's host name (`unknown-host` if it cannot be read).
-fn host_name() -> String {
-    #[cfg(unix)]
-    {
-        let mut buf = [0u8; 256];
-        // SAFETY: writes at most `buf.len()` bytes into `buf`.
-        let r = unsafe { libc::gethostname(buf.as_mut_ptr().cast(), buf.len()) };
-        if r == 0 {
-            let end = buf.iter().position(|&b| b == 0).unwrap_or(buf.len());
-            let name = String::from_utf8_lossy(&buf[..end]).trim().to_string();
-            if !name.is_empty() {
-                return name;
-            }
-        }
-    }
-    std::env::var("HOSTNAME")
-        .ok()
-        .filter(|h| !h.is_empty())
-        .unwrap_or_else(|| "unknown-host".into())
-}
+use dem_run::process::host as host_name;
+#[cfg(test)]
+use dem_run::process::zombie;
 
-/// Whether process `pid` of this host exists (this process's own pid: the recorded one has
-/// ended, since the id is ours now).
+/// Whether process `pid` of this host still runs ([`dem_run::process::alive`]); this
+/// process's own pid: no, since the recorded process has ended if the id is ours now.
 fn process_alive(pid: u32) -> bool {
-    if pid == std::process::id() {
-        return false;
-    }
-    #[cfg(unix)]
-    {
-        let Ok(p) = libc::pid_t::try_from(pid) else {
-            return false;
-        };
-        // SAFETY: signal 0 sends nothing; it only checks that the process exists.
-        if unsafe { libc::kill(p, 0) } == 0 {
-            // A killed run whose parent died too stays a zombie until init reaps it (a `dem
-            // sweep` runner killed with its case): it exists, but runs no more.
-            return !zombie(pid);
-        }
-        std::io::Error::last_os_error().raw_os_error() == Some(libc::EPERM)
-    }
-    #[cfg(not(unix))]
-    {
-        true
-    }
-}
-
-/// Whether process `pid` has ended but not been reaped (state `Z` or `X` in
-/// `/proc/<pid>/stat`; false where there is no /proc).
-fn zombie(pid: u32) -> bool {
-    std::fs::read_to_string(format!("/proc/{pid}/stat"))
-        .ok()
-        .and_then(|s| {
-            // `pid (comm) state ...`: the command may hold spaces and parentheses.
-            let rest = &s[s.rfind(')')? + 1..];
-            rest.split_whitespace()
-                .next()
-                .map(|st| st == "Z" || st == "X")
-        })
-        .unwrap_or(false)
+    pid != std::process::id() && dem_run::process::alive(pid)
 }
 
 #[cfg(test)]

@@ -58,21 +58,8 @@ impl Claim {
     }
 }
 
-/// This machine's host name.
-pub fn host() -> String {
-    #[cfg(unix)]
-    {
-        let mut buf = [0u8; 256];
-        // SAFETY: the buffer is valid for its length; gethostname NUL-terminates within it
-        // or truncates, and we stop at the first NUL or the end.
-        let r = unsafe { libc::gethostname(buf.as_mut_ptr().cast(), buf.len()) };
-        if r == 0 {
-            let n = buf.iter().position(|b| *b == 0).unwrap_or(buf.len());
-            return String::from_utf8_lossy(&buf[..n]).into_owned();
-        }
-    }
-    std::env::var("HOSTNAME").unwrap_or_else(|_| "unknown-host".into())
-}
+/// This machine's host name ([`crate::process::host`]).
+pub use crate::process::host;
 
 /// Start time of process `pid` (Linux: `/proc/<pid>/stat` field 22), `None` elsewhere or if gone.
 fn start_time(pid: u32) -> Option<u64> {
@@ -80,24 +67,6 @@ fn start_time(pid: u32) -> Option<u64> {
     // Fields after the command name, which is in parentheses and may hold spaces.
     let rest = &s[s.rfind(')')? + 1..];
     rest.split_whitespace().nth(19)?.parse().ok()
-}
-
-/// Whether `pid` is a live process (of this host).
-fn pid_alive(pid: u32) -> bool {
-    #[cfg(unix)]
-    {
-        let Ok(p) = libc::pid_t::try_from(pid) else {
-            return false;
-        };
-        // SAFETY: signal 0 only checks that the process exists and may be signalled.
-        let r = unsafe { libc::kill(p, 0) };
-        r == 0 || std::io::Error::last_os_error().raw_os_error() == Some(libc::EPERM)
-    }
-    #[cfg(not(unix))]
-    {
-        let _ = pid;
-        true
-    }
 }
 
 fn me() -> Holder {
@@ -138,7 +107,8 @@ fn live(path: &Path) -> Option<String> {
     match holder {
         Some(h) if h.released => None,
         Some(h) if h.host == host() => {
-            let alive = pid_alive(h.pid) && (h.start.is_none() || start_time(h.pid) == h.start);
+            let alive =
+                crate::process::alive(h.pid) && (h.start.is_none() || start_time(h.pid) == h.start);
             alive.then(|| format!("{}:{}", h.host, h.pid))
         }
         Some(h) => (age < STALE_AFTER).then(|| format!("{}:{}", h.host, h.pid)),
@@ -240,6 +210,34 @@ mod tests {
             .unwrap()
             .expect("stale claim of another host");
         assert!(c.path.ends_with("claim.4"));
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    /// A claim whose process ended but was not reaped (a zombie: a case killed with its
+    /// runner) is stale. Before [`crate::process`], `kill(pid, 0)` alone counted it as live,
+    /// so its case read as running until init reaped it.
+    #[cfg(target_os = "linux")]
+    #[test]
+    fn a_zombie_holds_no_claim() {
+        let dir = std::env::temp_dir().join(format!("dem-claim-z-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        // A child that exits at once and is not waited for: a zombie until `wait`.
+        let mut child = std::process::Command::new("true").spawn().unwrap();
+        let pid = child.id();
+        while !crate::process::zombie(pid) {
+            std::thread::sleep(Duration::from_millis(5));
+        }
+        let z = Holder {
+            host: host(),
+            pid,
+            start: start_time(pid),
+            released: false,
+        };
+        std::fs::write(dir.join("claim.0"), serde_json::to_string(&z).unwrap()).unwrap();
+        assert!(live_holder(&dir).is_none(), "a zombie's claim is stale");
+        assert!(try_claim(&dir).unwrap().is_some());
+        child.wait().unwrap();
         let _ = std::fs::remove_dir_all(&dir);
     }
 }
