@@ -90,13 +90,30 @@ fn identity(v: &[(String, Resolved)]) -> String {
         .filter(|(_, r)| r.arg.is_some())
         .map(|(f, r)| {
             let k = match &r.key {
-                Value::String(t) => json!(physical(t)),
+                Value::String(t) => json!(physical_of(f, t)),
+                // A bare number given as a JSON number: a speed's is m/s too.
+                Value::Number(n) if is_speed(f) => json!(physical_of(f, &n.to_string())),
                 k => k.clone(),
             };
             (f.as_str(), k)
         })
         .collect();
     serde_json::to_string(&keyed).unwrap_or_default()
+}
+
+/// A speed flag (`speed`, `seat-speed`, …): one parser reads them all, a bare number in m/s
+/// (`specimen::parse_speed`).
+fn is_speed(flag: &str) -> bool {
+    flag == "speed" || flag.ends_with("-speed")
+}
+
+/// [`physical`] for flag `flag`: a speed flag's bare number is a speed in m/s, as its parser
+/// reads it (`--speed 2` and `--speed 2m/s` are one value).
+fn physical_of(flag: &str, text: &str) -> String {
+    match text.trim().parse::<f64>() {
+        Ok(v) if is_speed(flag) && v.is_finite() => format!("{v:.11e} m/s"),
+        _ => physical(text),
+    }
 }
 
 /// A flag value's physical identity for the duplicate check: a number with a length, speed or
@@ -702,6 +719,8 @@ mod tests {
         for (flag, spellings) in [
             ("depth", ["1mm", "1.0mm", "0.001m", "1000um"]),
             ("speed", ["2m/s", "2000mm/s", "2.0m/s", "2e3mm/s"]),
+            // A bare speed is m/s (one parser for every speed flag).
+            ("speed", ["2", "2m/s", "2000mm/s", "2.0"]),
         ] {
             for k in 1..spellings.len() {
                 let e = plan(&format!(
