@@ -8,9 +8,9 @@ use crate::lab_args::{progress_bar, read_model, Elastic, LabArgs};
 use crate::progress::Progress;
 use crate::specimen::{parse_length, read_material};
 use clap::Args;
+use dem_lab::cutting::tool::ToolModel;
 use dem_lab::cutting::{self, CuttingResult, CuttingTest, Inputs, INPUTS_FILE};
 use dem_lab::specimen::{io, SpecimenParams};
-use dem_lab::tool::ToolModel;
 use dem_lab::LabModel;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -675,7 +675,7 @@ pub fn report(r: &CuttingResult) -> String {
             "  removal mode       {:.0} % of chip discs in single-grain chips, {:.0} % in chips of ≤ {} grains (largest {}); chip speed mean {:.3} m/s, max {:.3} m/s (tool {} m/s)",
             100.0 * m.single_grain_share,
             100.0 * m.small_chip_share,
-            dem_lab::removal::SMALL_CHIP_GRAINS,
+            dem_lab::cutting::removal::SMALL_CHIP_GRAINS,
             m.largest_chip_grains,
             m.chip_speed_mean,
             m.chip_speed_max,
@@ -707,7 +707,7 @@ pub fn report(r: &CuttingResult) -> String {
     if let Some(f) = &r.surface {
         // Depth and roughness apart (issue 48: Ra was measured from the nominal line, so a
         // uniform undercut read as roughness): the depth against the cut line, then Ra and Rz
-        // on the profile's mean line (ISO 4287; dem-lab/src/surface.rs).
+        // on the profile's mean line (ISO 4287; dem-lab/src/cutting/surface.rs).
         let _ = write!(
             s,
             "  surface            {:+.1} µm from the nominal cut line (mean; {:+.1} to {:+.1})",

@@ -20,7 +20,9 @@
 //! brazilian Brazilian disc: σ_t
 //! bending   three-point bending: σ_f, elastic stiffness (vs Timoshenko)
 //! senb      single-edge-notched beam (ASTM E399 SE(B)): K_IC, measured β of β σ̄_c √(πR̄)
-//! cutting   the cutting test (tool.rs geometry, chips.rs fragments, surface.rs roughness)
+//! cutting/  the cutting test (mod.rs) and its parts: tool (geometry), chips (fragments,
+//!           residual cracks), debris (deleting fragments), surface (roughness), removal
+//!           (the removal mode)
 //! calibrate micro-parameters from target properties (Potyondy & Cundall 2004 procedure)
 //! crush     crushable grains (a lattice inside each outline) between platens; column: many of
 //!           them in a column, weibull: the strength statistics
@@ -54,22 +56,17 @@ pub mod bending;
 pub mod biaxial;
 pub mod brazilian;
 pub mod calibrate;
-pub mod chips;
 pub mod column;
 pub mod common;
 pub mod crush;
 pub mod cutting;
-pub mod debris;
 pub mod force_stats;
 pub mod history;
 pub mod model;
-pub mod removal;
 pub mod run;
 pub mod senb;
 pub mod specimen;
 pub mod specimens;
-pub mod surface;
-pub mod tool;
 pub mod ucs;
 pub mod virtual_lab;
 pub mod weibull;

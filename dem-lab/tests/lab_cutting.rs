@@ -4,10 +4,10 @@
 //! contact, PFC's series stiffness).
 
 use dem_core::output::history::{Record, WallSeries};
+use dem_lab::cutting::tool::{segment_polygon_distance, CutGeometry, ToolModel};
 use dem_lab::cutting::{self, CuttingTest, ForceHistory, SpecimenInfo};
 use dem_lab::model::series_wall_stiffness;
 use dem_lab::specimen::{Method, SpecimenParams};
-use dem_lab::tool::{segment_polygon_distance, CutGeometry, ToolModel};
 use dem_lab::LabModel;
 use std::path::PathBuf;
 

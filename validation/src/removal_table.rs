@@ -56,7 +56,7 @@ pub struct RemovalCell {
     pub chip_speed_over_v: Option<MeanSe>,
     pub chip_speed_max_over_v: Option<MeanSe>,
     /// Machined surface: mean deviation from the nominal surface (mm, negative below) and
-    /// Ra on the profile's mean line (µm; ISO 4287, `dem_lab::surface::Roughness`).
+    /// Ra on the profile's mean line (µm; ISO 4287, `dem_lab::cutting::surface::Roughness`).
     pub surface_dev_mm: Option<MeanSe>,
     pub ra_um: Option<MeanSe>,
     /// Residual cracks below the machined surface: count and deepest (mm).

@@ -39,7 +39,7 @@ pub struct Row {
     pub residual_cracks: usize,
     pub deepest_crack_m: f64,
     /// Removal mode: share of chip discs in single-grain chips, chips' mean and largest
-    /// mass-centre speed (m/s) ([`dem_lab::removal`]).
+    /// mass-centre speed (m/s) ([`dem_lab::cutting::removal`]).
     pub single_grain_share: Option<f64>,
     pub chip_speed_mean: Option<f64>,
     pub chip_speed_max: Option<f64>,

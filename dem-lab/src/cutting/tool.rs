@@ -28,7 +28,7 @@
 //! the edge touches both).
 //!
 //! This module knows shapes, not tests: [`CutGeometry::new`], which reads a
-//! [`super::cutting::CuttingTest`], lives beside the test in `cutting.rs` (so the geometry does
+//! [`super::CuttingTest`], lives beside the test in `cutting/mod.rs` (so the geometry does
 //! not import the test that imports it).
 
 use serde::{Deserialize, Serialize};
@@ -70,7 +70,7 @@ impl Segment {
 pub enum ToolModel {
     /// One rigid polyline wall `tool` (one contact per disc, with the nearest feature); the
     /// tool–disc and slot-wall–disc contact stiffnesses are PFC's: the wall's and the disc's
-    /// stiffness in series ([`super::model::series_wall_stiffness`]).
+    /// stiffness in series ([`crate::model::series_wall_stiffness`]).
     #[default]
     Rigid,
     /// The earlier model (the Table 2 runs of 2026-11-25): two separate wall segments `rake`

@@ -8,8 +8,8 @@
 //! chips' speeds (mass-centre speed, mass-weighted mean and largest) against the tool's.
 //!
 //! ```
-//! use dem_lab::chips::fragments;
-//! use dem_lab::removal::removal_mode;
+//! use dem_lab::cutting::chips::fragments;
+//! use dem_lab::cutting::removal::removal_mode;
 //! use dem_core::State;
 //! let mut st = State::default();
 //! st.discs.push_uniform(0.0, 0.0, 1.0, 1.0, 1.0, 0); // the workpiece (the heaviest)
@@ -104,7 +104,7 @@ pub fn removal_mode(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::chips::fragments;
+    use crate::cutting::chips::fragments;
     use dem_core::bond::{BondGroup, BondModel, Bonds, Criterion, ParallelBondParams};
 
     /// A workpiece of 6 bonded discs, a one-disc chip, a chip of two discs of one grain, a

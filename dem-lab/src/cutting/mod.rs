@@ -13,13 +13,19 @@
 //!          cracks; broken bonds by group and mode
 //! ```
 
-use super::chips::{self, ChipReport, ResidualCracks};
+pub mod chips;
+pub mod debris;
+pub mod removal;
+pub mod surface;
+pub mod tool;
+
+use self::chips::{ChipReport, ResidualCracks};
+use self::removal::{removal_mode, RemovalMode};
+use self::surface::Surface;
+use self::tool::{edge_arc, CutGeometry, Segment, ToolModel, CLEARANCE, RAKE, TOOL};
 use super::model::series_wall_stiffness;
 use super::model::{DISC_MATERIAL, WALL_MATERIAL};
-use super::removal::{removal_mode, RemovalMode};
 use super::run::run_built;
-use super::surface::{self, Surface};
-use super::tool::{edge_arc, CutGeometry, Segment, ToolModel, CLEARANCE, RAKE, TOOL};
 use super::{analysis, LabError, LabModel};
 use dem_core::output::driver::RunOptions;
 use dem_core::output::history::Record;
@@ -175,7 +181,7 @@ pub struct CuttingTest {
     #[serde(default, skip_serializing_if = "is_zero")]
     pub contact_damping: f64,
     /// Delete detached fragments once they are above the nominal surface and clear of the
-    /// tool (rules in [`super::debris`], checked on every history row; docs/cutting.md,
+    /// tool (rules in [`self::debris`], checked on every history row; docs/cutting.md,
     /// "Deleting fragments"). Default false. Left out of the serialised test (and so of the
     /// run keys) when false.
     #[serde(default, skip_serializing_if = "is_false")]
@@ -986,7 +992,7 @@ pub struct CuttingResult {
     /// Fragments deleted during the run ([`CuttingTest::delete_fragments`]); absent when
     /// deletion was off.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub deleted: Option<super::debris::DeletedFragments>,
+    pub deleted: Option<self::debris::DeletedFragments>,
 }
 
 /// Schema tag of [`CuttingResult`].
@@ -1130,7 +1136,7 @@ pub fn analyze(
         removal: Some(removal),
         deleted: test
             .delete_fragments
-            .then(|| super::debris::DeletedFragments::from_totals(world.removal_totals(), 0)),
+            .then(|| self::debris::DeletedFragments::from_totals(world.removal_totals(), 0)),
     };
     Ok((result, f))
 }
@@ -1150,7 +1156,7 @@ pub struct CuttingScene {
     pub steps: u64,
     /// A history row every `every` steps.
     pub every: u64,
-    debris: Option<super::debris::DebrisRule>,
+    debris: Option<self::debris::DebrisRule>,
     /// The world built from `scene` (until [`CuttingScene::take_world`] takes it).
     world: Option<World>,
 }
@@ -1179,7 +1185,7 @@ impl CuttingScene {
         let steps = (g.duration / dt).ceil().max(1.0) as u64;
         let every = steps.div_ceil(test.history_rows).max(1);
         let mut s = scene(test, model, &spec, every)?;
-        let debris = test.delete_fragments.then_some(super::debris::DebrisRule {
+        let debris = test.delete_fragments.then_some(self::debris::DebrisRule {
             nominal_y: g.nominal_y,
             top_y: spec.extent[3],
         });
@@ -1214,7 +1220,7 @@ impl CuttingScene {
     /// The step hook the run sets: fragment deletion on every history row when the test asks
     /// for it.
     pub fn hook(&self) -> Option<dem_core::output::driver::StepHook> {
-        self.debris.map(|r| super::debris::hook(self.every, r))
+        self.debris.map(|r| self::debris::hook(self.every, r))
     }
 }
 
