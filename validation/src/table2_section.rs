@@ -248,7 +248,7 @@ pub fn section(
          run time.\n\n",
         match (quick, partial) {
             (true, _) => "quick: coarse specimens, short cut — not comparable with the paper",
-            (false, true) => "full set-up, **part of the runs** (methods and seeds below)",
+            (false, true) => "full set-up, **part of the runs**, methods and seeds below",
             (false, false) => "full",
         },
         plan.specimen.width * 1e3,
