@@ -4,7 +4,8 @@
 //! (`dem_lab::calibrate`). Writes the calibrated model (`model.json`, usable with
 //! `dem test ... --model`), the calibration record and the table (target vs achieved).
 
-use crate::lab_args::{progress_bar, LabArgs};
+use crate::lab_args::LabArgs;
+use crate::progress::Progress;
 use clap::Args;
 use dem_lab as lab;
 use dem_lab::bending::BendingTest;
@@ -197,7 +198,7 @@ pub fn run(a: CalibrateArgs) -> Result<ExitCode, String> {
         },
         a.lab.force,
     )?;
-    let bar = progress_bar();
+    let bar = Progress::stages();
     bar.set_prefix("calibrate");
     let pool = a.lab.pool()?;
     let (cal, measured, confined, runs, lab_time, seeds, last) = pool.install(|| {

@@ -1,8 +1,6 @@
 //! The specimen, material-model and output flags every lab test shares ([`LabArgs`], used with
-//! `#[command(flatten)]` by `dem test ucs|brazilian|bending|senb|cutting` and `dem calibrate`),
-//! and the progress the lab commands draw.
+//! `#[command(flatten)]` by `dem test ucs|brazilian|bending|senb|cutting` and `dem calibrate`).
 
-use crate::progress::Progress;
 use crate::specimen::{cover_lines, material_values, method_and_dist, parse_length, parse_stress};
 use clap::Args;
 use dem_lab::model::FlatJointOption;
@@ -290,9 +288,4 @@ pub fn strict_cover(lab: &LabArgs, spec: &TestSpecimen) -> Result<(), LabError> 
             cover_lines(&spec.file, &spec.below_cover).join("\n  ")
         ),
     })
-}
-
-/// Progress of a specimen generation and a lab test on stderr ([`Progress::stages`]).
-pub fn progress_bar() -> Progress {
-    Progress::stages()
 }

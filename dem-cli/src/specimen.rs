@@ -121,13 +121,10 @@ pub fn parse_speed(s: &str, what: &str) -> Result<f64, String> {
     match s.trim().parse::<f64>() {
         Ok(v) if v.is_finite() && v > 0.0 => Ok(v),
         Ok(_) => Err(format!("{what}: {s:?} must be positive (m/s)")),
-        Err(_) => parse_unit(s, what, &units).map_err(|e| {
-            if e.ends_with(')') && e.contains("needs a unit") {
-                format!("{e}, or a number in m/s")
-            } else {
-                e
-            }
-        }),
+        Err(_) if units.iter().any(|(u, _)| s.trim().ends_with(u)) => parse_unit(s, what, &units),
+        Err(_) => Err(format!(
+            "{what}: {s:?} needs a unit (mm/s, um/s, µm/s, m/s), or a number in m/s"
+        )),
     }
 }
 

@@ -6,7 +6,8 @@
 //! [`LabArgs`] (`#[command(flatten)]`, in `lab_args.rs`), so another test (cutting) adds only
 //! its own variant.
 
-use crate::lab_args::{progress_bar, strict_cover, LabArgs};
+use crate::lab_args::{strict_cover, LabArgs};
+use crate::progress::Progress as Bar;
 use crate::specimen::{parse_length, parse_speed, print_cover};
 use clap::{Args, Subcommand};
 use dem_lab::bending::BendingTest;
@@ -250,7 +251,7 @@ where
         p.seed,
         file.display()
     );
-    let bar = progress_bar();
+    let bar = Bar::stages();
     let out = pool.install(|| -> Result<(TestSpecimen, T), LabError> {
         let spec = specimens::prepare(p, shape, &file, &mut |pr: Progress| {
             bar.set_prefix(pr.stage);

@@ -2,7 +2,7 @@
 //! `dem_lab::crush`). The grain is a lattice template (`--template`) or an outline made
 //! into one here (`--outline` with `--spacing`, as `dem clump --method lattice`).
 
-use crate::lab_args::progress_bar;
+use crate::progress::Progress;
 use crate::specimen::{parse_length, parse_stress};
 use clap::Args;
 use clumpgen::clump::LatticeParams;
@@ -245,7 +245,7 @@ impl Locked<'_> {
             },
             self.force,
         )?;
-        let bar = progress_bar();
+        let bar = Progress::stages();
         bar.set_prefix(what.to_string());
         let o = pool.install(|| {
             body(&mut |done, total| {

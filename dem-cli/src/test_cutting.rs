@@ -4,7 +4,7 @@
 //! analysed: peak and mean main and vertical force over the steady window, chips, broken
 //! bonds, machined surface, residual cracks.
 
-use crate::lab_args::{progress_bar, read_model, Elastic, LabArgs};
+use crate::lab_args::{read_model, Elastic, LabArgs};
 use crate::progress::Progress;
 use crate::specimen::{parse_length, read_material};
 use clap::Args;
@@ -349,7 +349,7 @@ impl CuttingArgs {
             p.height * 1e3,
             path.display()
         );
-        let bar = progress_bar();
+        let bar = Progress::stages();
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(self.lab.threads.unwrap_or(0))
             .build()

@@ -127,18 +127,7 @@ impl MaterialFile {
     /// Reads a material file without requiring calibration targets (E may be absent);
     /// errors name the file and the field.
     pub fn read_unchecked(path: &Path) -> Result<MaterialFile, LabError> {
-        let file = path.display().to_string();
-        let text = clumpgen::io::read_input_string(path).map_err(|source| LabError::Io {
-            file: file.clone(),
-            source,
-        })?;
-        let de = &mut serde_json::Deserializer::from_str(&text);
-        let m: MaterialFile =
-            serde_path_to_error::deserialize(de).map_err(|e| LabError::Param {
-                field: format!("{file}: {}", e.path()),
-                reason: e.inner().to_string(),
-            })?;
-        Ok(m)
+        crate::read_json(path)
     }
 
     /// The calibration targets: measured values, else the file's assumed ones (E must be one of

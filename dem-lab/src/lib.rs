@@ -73,6 +73,23 @@ pub mod weibull;
 
 pub use model::LabModel;
 
+/// A JSON file of the lab's (a material, a specimen's summary or scene) read as `T` through the
+/// bounded reader; an error names the file and the JSON path of the offending field.
+pub(crate) fn read_json<T: serde::de::DeserializeOwned>(
+    path: &std::path::Path,
+) -> Result<T, LabError> {
+    let file = path.display().to_string();
+    let text = clumpgen::io::read_input_string(path).map_err(|source| LabError::Io {
+        file: file.clone(),
+        source,
+    })?;
+    let de = &mut serde_json::Deserializer::from_str(&text);
+    serde_path_to_error::deserialize(de).map_err(|e| LabError::Param {
+        field: format!("{file}: {}", e.path()),
+        reason: e.inner().to_string(),
+    })
+}
+
 /// Errors of the lab tests; each names the file or field at fault.
 #[derive(Debug, thiserror::Error)]
 pub enum LabError {

@@ -9,6 +9,7 @@
 //! claim g + 1, with the same exclusivity. Released claims are kept (the case's run history); a claim taken for a case found finished
 //! is removed.
 
+use crate::process::host;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, SystemTime};
@@ -57,9 +58,6 @@ impl Claim {
         }
     }
 }
-
-/// This machine's host name ([`crate::process::host`]).
-pub use crate::process::host;
 
 /// Start time of process `pid` (Linux: `/proc/<pid>/stat` field 22), `None` elsewhere or if gone.
 fn start_time(pid: u32) -> Option<u64> {

@@ -63,13 +63,18 @@ pub struct ReportArgs {
 pub fn run(mut a: ReportArgs) -> ExitCode {
     let data = crate::project_path(a.data.take(), "data");
     let pictures = crate::project_path(a.pictures.take(), "docs/pictures");
+    // Runs not finished: run them, or (--finished-only) list them as not run.
+    let missing = if a.finished_only {
+        crate::cutting_runs::Missing::List
+    } else {
+        crate::cutting_runs::Missing::Run
+    };
     if let Some(f) = &a.study {
         let progress = |m: &str| eprintln!("{m}");
         let r = crate::study::StudySpec::read(f).and_then(|s| {
-            let source = match (&a.sweep, a.finished_only) {
-                (Some(d), _) => crate::sweep_runs::Source::Sweep(d),
-                (None, true) => crate::sweep_runs::Source::Here(crate::cutting_runs::Missing::List),
-                (None, false) => crate::sweep_runs::Source::Here(crate::cutting_runs::Missing::Run),
+            let source = match &a.sweep {
+                Some(d) => crate::sweep_runs::Source::Sweep(d),
+                None => crate::sweep_runs::Source::Here(missing),
             };
             crate::study::run(&s, &data, &a.out, source, &progress).map(|r| (s, r))
         });
@@ -119,11 +124,7 @@ pub fn run(mut a: ReportArgs) -> ExitCode {
             methods,
             seeds: a.seeds,
         },
-        missing: if a.finished_only {
-            crate::cutting_runs::Missing::List
-        } else {
-            crate::cutting_runs::Missing::Run
-        },
+        missing,
         sweep: a.sweep,
         pictures,
     };

@@ -272,8 +272,10 @@ pub fn section(
         );
     }
     md += &t.markdown().replacen("## Table 2", "### Table 2", 1);
-    if let Some((file, full)) = quick.then(committed_full).flatten() {
-        md += &beside_full(&t, &file, &full);
+    // The committed full table, read once for the section and its summary line.
+    let full = quick.then(committed_full).flatten();
+    if let Some((file, full)) = &full {
+        md += &beside_full(&t, file, full);
     }
     // The removal mode against S0's description, and its picture.
     let (removal, removal_checks) = match crate::removal_table::cells(&names) {
@@ -384,9 +386,9 @@ pub fn section(
             ""
         },
     )];
-    if let Some((file, full)) = quick.then(committed_full).flatten() {
+    if let Some((file, full)) = &full {
         summary.push(summary_line(
-            &full,
+            full,
             &format!(", the committed full report `{}`", file.display()),
         ));
     }
@@ -443,12 +445,11 @@ fn beside_full(quick: &table2::Table2, file: &Path, full: &table2::Table2) -> St
             continue;
         };
         md += &format!(
-            "| {} | {} | {} | {:.2} | {} | {} | {} |\n",
+            "| {} | {} | {} | {} | {} | {} | {} |\n",
             c.depth_mm,
             c.speed_m_s,
             c.method,
-            // + 0.0: a mean that rounds to zero prints as 0.00, not -0.00.
-            (c.mean_kN * 100.0).round() / 100.0 + 0.0,
+            crate::page::fixed(c.mean_kN, 2),
             crate::page::pm(f.mean_kN, f.mean_se_kN.unwrap_or(f64::NAN), None),
             f.seeds,
             f.paper_mean_kN

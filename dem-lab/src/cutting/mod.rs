@@ -552,23 +552,11 @@ impl SpecimenInfo {
 /// `dem test cutting --flat-joint` puts its option on the model read here (the command line
 /// wins, `CuttingArgs::with_joints` in dem-cli).
 pub fn model_from_specimen(path: &Path) -> Result<LabModel, LabError> {
-    /// A JSON file read as `T`; an error names the file and the field (serde_path_to_error).
-    fn read<T: serde::de::DeserializeOwned>(p: &Path) -> Result<T, LabError> {
-        let text = clumpgen::io::read_input_string(p).map_err(|source| LabError::Io {
-            file: p.display().to_string(),
-            source,
-        })?;
-        let de = &mut serde_json::Deserializer::from_str(&text);
-        serde_path_to_error::deserialize(de).map_err(|e| LabError::Param {
-            field: format!("{}: {}", p.display(), e.path()),
-            reason: e.inner().to_string(),
-        })
-    }
     let sp = crate::specimen::io::summary_path(path);
-    let summary: crate::specimen::Summary = read(&sp)?;
+    let summary: crate::specimen::Summary = crate::read_json(&sp)?;
     let name = sp.to_string_lossy().replace(".summary.json", ".scene.json");
     let scene_path = PathBuf::from(name);
-    let scene: SceneFile = read(&scene_path)?;
+    let scene: SceneFile = crate::read_json(&scene_path)?;
     let field = |what: &str| LabError::Param {
         field: format!("{}: {what}", scene_path.display()),
         reason: "missing: the scene `dem specimen` writes has it".to_string(),
