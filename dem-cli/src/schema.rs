@@ -90,7 +90,7 @@ pub fn schema(kind: Kind) -> Schema {
         Kind::Scene => of::<dem_core::scene::schema::SceneFile>(),
         Kind::Template => of::<clumpgen::Template>(),
         Kind::Specimen => of::<dem_core::scene::schema::SpecimenFile>(),
-        Kind::Study => of::<crate::sweep::study::Study>(),
+        Kind::Study => of::<dem_run::study::Study>(),
         Kind::CuttingParams => of::<dem_lab::cutting::CuttingTest>(),
     };
     s.insert("title".into(), kind.title().into());

@@ -2,6 +2,7 @@
 //! `DIR/cases/<key>/`: `done.json` and `failed.json` (written atomically by `dem sweep run`),
 //! `log.txt`, the claims (`claim.<g>`, [`crate::claim`]) and the test's own outputs.
 
+use crate::error::{Error, Result};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
@@ -72,13 +73,15 @@ pub struct Record {
 }
 
 /// Reads `DIR/cases.jsonl`, naming the line of a bad one.
-pub fn read_cases(sweep: &Path) -> Result<Vec<Case>, String> {
+pub fn read_cases(sweep: &Path) -> Result<Vec<Case>> {
     let file = sweep.join(CASES_FILE);
     let text = clumpgen::io::read_input_string(&file).map_err(|e| {
-        format!(
-            "{}: {e} (plan the sweep first: dem sweep plan STUDY --out {})",
-            file.display(),
-            sweep.display()
+        Error::io(
+            &file,
+            format!(
+                "{e} (plan the sweep first: dem sweep plan STUDY --out {})",
+                sweep.display()
+            ),
         )
     })?;
     let mut cases = Vec::new();
@@ -89,13 +92,13 @@ pub fn read_cases(sweep: &Path) -> Result<Vec<Case>, String> {
         let c: Case = serde_json::from_str(line)
             .map_err(|e| format!("{}: line {}: {e}", file.display(), i + 1))?;
         if c.index != cases.len() || !valid_key(&c.key) {
-            return Err(format!(
+            return Err(Error::input(format!(
                 "{}: line {}: index {} or key {:?} out of order or malformed",
                 file.display(),
                 i + 1,
                 c.index,
                 c.key
-            ));
+            )));
         }
         cases.push(c);
     }

@@ -9,6 +9,7 @@
 //! claim g + 1, with the same exclusivity. Released claims are kept (the case's run history); a claim taken for a case found finished
 //! is removed.
 
+use crate::error::{Error, Result};
 use crate::process::host;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
@@ -123,16 +124,16 @@ pub fn live_holder(dir: &Path) -> Option<String> {
 
 /// Claims the case in `dir` (created if needed) for this process: `Ok(Some)` if this process
 /// now holds it, `Ok(None)` if a live process does.
-pub fn try_claim(dir: &Path) -> Result<Option<Claim>, String> {
-    std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+pub fn try_claim(dir: &Path) -> Result<Option<Claim>> {
+    std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
     let me = me();
-    let text = serde_json::to_string(&me).map_err(|e| e.to_string())?;
+    let text = serde_json::to_string(&me).map_err(|e| Error::io(dir, e))?;
     let nanos = SystemTime::now()
         .duration_since(SystemTime::UNIX_EPOCH)
         .map(|d| d.as_nanos())
         .unwrap_or(0);
     let tmp = dir.join(format!(".claim.tmp.{}.{nanos}", me.pid));
-    std::fs::write(&tmp, &text).map_err(|e| format!("{}: {e}", tmp.display()))?;
+    std::fs::write(&tmp, &text).map_err(|e| Error::io(&tmp, e))?;
     let result = (|| {
         // Bounded: each failed link means another process made progress.
         for _ in 0..1000 {
@@ -149,10 +150,10 @@ pub fn try_claim(dir: &Path) -> Result<Option<Claim>, String> {
             match std::fs::hard_link(&tmp, &path) {
                 Ok(()) => return Ok(Some(Claim { path })),
                 Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => continue,
-                Err(e) => return Err(format!("{}: cannot claim: {e}", path.display())),
+                Err(e) => return Err(Error::io(&path, format!("cannot claim: {e}"))),
             }
         }
-        Err(format!("{}: claim contended 1000 times", dir.display()))
+        Err(Error::io(dir, "claim contended 1000 times"))
     })();
     let _ = std::fs::remove_file(&tmp);
     result

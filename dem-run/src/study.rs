@@ -5,6 +5,7 @@
 //! Range axes: `steps` values `from + (to − from)·i/(steps − 1)`, i = 0 … steps − 1, each
 //! rounded to 12 significant digits (so `0.1` steps print as `0.3`, not `0.30000000000000004`).
 
+use crate::error::{Error, Result};
 use schemars::{json_schema, JsonSchema, Schema, SchemaGenerator};
 use serde::Deserialize;
 use serde_json::Value;
@@ -212,16 +213,20 @@ impl Parsed {
 }
 
 /// Reads `path` and checks its structure (fields, test, axes, ranges, collect); the flags are
-/// checked by `dem sweep plan` (dem-cli's `sweep::plan`) against the test's command line.
-pub fn read(path: &Path) -> Result<(Vec<u8>, Parsed), String> {
-    let bytes = clumpgen::io::read_input(path)
-        .map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
+/// checked by `dem sweep plan` ([`crate::plan`]) against the test's command line.
+pub fn read(path: &Path) -> Result<(Vec<u8>, Parsed)> {
+    let bytes =
+        clumpgen::io::read_input(path).map_err(|e| Error::io(path, format!("cannot read: {e}")))?;
     let parsed = parse(&bytes, path)?;
     Ok((bytes, parsed))
 }
 
 /// Parses the bytes of the study file `path` (named in errors).
-pub fn parse(bytes: &[u8], path: &Path) -> Result<Parsed, String> {
+pub fn parse(bytes: &[u8], path: &Path) -> Result<Parsed> {
+    parse_text(bytes, path).map_err(Error::input)
+}
+
+fn parse_text(bytes: &[u8], path: &Path) -> Result<Parsed, String> {
     let file = path.display();
     let text = std::str::from_utf8(bytes).map_err(|e| format!("{file}: not UTF-8: {e}"))?;
     let de = &mut serde_json::Deserializer::from_str(text);
@@ -548,7 +553,7 @@ mod tests {
     use super::*;
 
     fn p(text: &str) -> Result<Parsed, String> {
-        parse(text.as_bytes(), Path::new("s.json"))
+        parse_text(text.as_bytes(), Path::new("s.json"))
     }
 
     #[test]

@@ -1,8 +1,8 @@
-//! `dem sweep run DIR [--jobs N] [--threads T] [--index I]`: runs the cases not yet finished,
-//! N at a time, each as a child process `dem <argv> --out DIR/cases/<key> --threads T` of this
-//! executable (RAYON_NUM_THREADS = T too), its stdout and stderr appended to the case's
-//! `log.txt`. A case is claimed first ([`super::claim`]), so processes sharing DIR (several
-//! `run`s, Slurm array tasks) never run one case twice.
+//! The runner (`dem sweep run DIR [--jobs N] [--threads T] [--index I]`): runs the cases not
+//! yet finished, N at a time, each as a child process `dem <argv> --out DIR/cases/<key>
+//! --threads T` of the `dem` executable (RAYON_NUM_THREADS = T too), its stdout and stderr
+//! appended to the case's `log.txt`. A case is claimed first ([`crate::claim`]), so processes
+//! sharing DIR (several `run`s, Slurm array tasks) never run one case twice.
 //!
 //! Ends of a case: exit code 0 with `<test>.result.json` present → `done.json`; anything else
 //! → `failed.json` with the reason and the log's last lines; either written atomically, with
@@ -12,34 +12,57 @@
 //! rerun takes over their (stale) claims; `dem test cutting` then resumes from the checkpoints
 //! in the case folder (bit-identical results, docs/cutting.md), the other tests start again.
 
-use super::case::{self, read_cases, Case, Record, State, DONE_FILE, FAILED_FILE, LOG_FILE};
-use super::claim::{self, Claim, HEARTBEAT};
-use clap::Args;
-use indicatif::{ProgressBar, ProgressStyle};
+use crate::case::{self, read_cases, Case, Record, State, DONE_FILE, FAILED_FILE, LOG_FILE};
+use crate::claim::{self, Claim, HEARTBEAT};
+use crate::error::{refuse, Error, Result};
+use crate::plan::TestCommands;
 use std::collections::VecDeque;
-use std::io::{IsTerminal, Write};
+use std::io::Write;
 use std::path::{Path, PathBuf};
-use std::process::{Child, Command, ExitCode, Stdio};
+use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant, SystemTime};
 
-/// `dem sweep run` flags.
-#[derive(Args)]
-pub struct RunArgs {
+/// What to run (`dem sweep run` flags).
+#[derive(Clone, Debug)]
+pub struct RunOptions {
     /// The sweep folder (`dem sweep plan --out DIR`).
     pub dir: PathBuf,
-    /// Cases at once.
-    #[arg(long, default_value_t = 1, value_parser = crate::parse_threads)]
+    /// Cases at once (at least 1).
     pub jobs: usize,
     /// Worker threads of each case (small specimens scale best one thread each).
-    #[arg(long, default_value_t = 1, value_parser = crate::parse_threads)]
     pub threads: usize,
-    /// Run case I alone (a Slurm array task: --index $SLURM_ARRAY_TASK_ID); a failed case I
-    /// is run again.
-    #[arg(long)]
+    /// Run case I alone (a Slurm array task); a failed case I is run again.
     pub index: Option<usize>,
     /// Run the failed cases again too (without it they are listed and skipped).
-    #[arg(long)]
     pub retry_failed: bool,
+    /// The `dem` executable each case runs.
+    pub exe: PathBuf,
+}
+
+/// What the runner tells as it goes (the CLI draws a bar, or prints the lines).
+pub trait Report {
+    /// A line: the run's plan, a case done or failed.
+    fn line(&mut self, line: String);
+    /// `done` of the `total` chosen cases finished; `message`: failed, running, time left.
+    fn progress(&mut self, done: usize, total: usize, message: &str);
+}
+
+/// The folder's state after a run (other processes may have run some of its cases).
+#[derive(Clone, Debug)]
+pub struct Summary {
+    /// The cases chosen (all, or `--index`'s).
+    pub chosen: usize,
+    pub done: usize,
+    pub failed: usize,
+    /// Claimed by a live process elsewhere.
+    pub running: usize,
+    pub pending: usize,
+    /// This run's wall time (s).
+    pub wall_s: f64,
+    /// A line per case running elsewhere.
+    pub elsewhere: Vec<String>,
+    /// Two lines per failed case: the reason, and its log.
+    pub failures: Vec<String>,
 }
 
 /// A case running as a child process.
@@ -58,7 +81,7 @@ struct Ended {
 }
 
 #[cfg(unix)]
-fn poll(r: &mut Running) -> Result<Option<Ended>, String> {
+fn poll(r: &mut Running) -> Result<Option<Ended>> {
     let pid = r.child.id() as libc::pid_t;
     let mut status: libc::c_int = 0;
     // SAFETY: rusage is plain data, zeroed is a valid value; wait4 writes both outputs.
@@ -69,11 +92,11 @@ fn poll(r: &mut Running) -> Result<Option<Ended>, String> {
         return Ok(None);
     }
     if got < 0 {
-        return Err(format!(
+        return Err(Error::process(format!(
             "wait4 of case {} (pid {pid}): {}",
             r.index,
             std::io::Error::last_os_error()
-        ));
+        )));
     }
     let t = |v: libc::timeval| v.tv_sec as f64 + v.tv_usec as f64 * 1e-6;
     let cpu = t(ru.ru_utime) + t(ru.ru_stime);
@@ -85,7 +108,7 @@ fn poll(r: &mut Running) -> Result<Option<Ended>, String> {
 }
 
 #[cfg(not(unix))]
-fn poll(r: &mut Running) -> Result<Option<Ended>, String> {
+fn poll(r: &mut Running) -> Result<Option<Ended>> {
     match r.child.try_wait() {
         Ok(None) => Ok(None),
         Ok(Some(s)) => Ok(Some(Ended {
@@ -93,7 +116,7 @@ fn poll(r: &mut Running) -> Result<Option<Ended>, String> {
             signal: None,
             cpu_s: None,
         })),
-        Err(e) => Err(format!("case {}: {e}", r.index)),
+        Err(e) => Err(Error::process(format!("case {}: {e}", r.index))),
     }
 }
 
@@ -127,7 +150,7 @@ pub const SPECIMEN_CACHE: &str = "specimens";
 pub const HEADER: &str = "=== dem sweep run: attempt";
 
 /// Starts case `c` (claimed) as a child process.
-fn start(c: &Case, dir: &Path, exe: &Path, threads: usize) -> Result<Child, String> {
+fn start(c: &Case, dir: &Path, exe: &Path, threads: usize) -> Result<Child> {
     let cdir = c.dir(dir);
     let _ = std::fs::remove_file(cdir.join(DONE_FILE));
     let _ = std::fs::remove_file(cdir.join(FAILED_FILE));
@@ -136,21 +159,19 @@ fn start(c: &Case, dir: &Path, exe: &Path, threads: usize) -> Result<Child, Stri
         .create(true)
         .append(true)
         .open(&log_path)
-        .map_err(|e| format!("{}: {e}", log_path.display()))?;
+        .map_err(|e| Error::io(&log_path, e))?;
     writeln!(
         log,
         "{HEADER} by pid {} on {}, unix time {}, {} threads: dem {} --out {} ===",
         std::process::id(),
-        dem_run::process::host(),
+        crate::process::host(),
         unix_now(),
         threads,
         c.argv.join(" "),
         cdir.display()
     )
     .map_err(|e| format!("{}: {e}", log_path.display()))?;
-    let err = log
-        .try_clone()
-        .map_err(|e| format!("{}: {e}", log_path.display()))?;
+    let err = log.try_clone().map_err(|e| Error::io(&log_path, e))?;
     let mut cmd = Command::new(exe);
     cmd.args(&c.argv);
     if matches!(c.argv.as_slice(), [t, k, ..] if t == "test" && k == "cutting")
@@ -187,21 +208,26 @@ fn start(c: &Case, dir: &Path, exe: &Path, threads: usize) -> Result<Child, Stri
         }
     }
     cmd.spawn()
-        .map_err(|e| format!("cannot start {}: {e}", exe.display()))
+        .map_err(|e| Error::process(format!("cannot start {}: {e}", exe.display())))
 }
 
 /// Refuses the run when a case's command line does not give its key
-/// ([`super::plan::key_of_argv`]): cases.jsonl was edited, or a file it names changed after
+/// ([`crate::plan::key_of_argv`]): cases.jsonl was edited, or a file it names changed after
 /// planning. `index`: only that case is checked.
-fn verify_keys(dir: &Path, cases: &[Case], index: Option<usize>) -> Result<(), String> {
-    let file = dir.join(super::case::CASES_FILE);
+fn verify_keys(
+    dir: &Path,
+    cases: &[Case],
+    index: Option<usize>,
+    tests: &dyn TestCommands,
+) -> Result<()> {
+    let file = dir.join(crate::case::CASES_FILE);
     for c in cases.iter().filter(|c| index.is_none_or(|i| i == c.index)) {
-        let why = match super::plan::key_of_argv(c) {
+        let why = match crate::plan::key_of_argv(c, tests) {
             Ok(k) if k == c.key => continue,
             Ok(_) => "its command line does not give its key".to_string(),
-            Err(e) => e,
+            Err(e) => e.to_string(),
         };
-        return Err(format!(
+        return Err(refuse!(
             "{}: line {}: case {} ({}): {why}: the line was edited, or a file it names changed \
              after planning; only what the study plans runs: plan the study again (into a new \
              folder if the inputs changed)",
@@ -230,7 +256,7 @@ fn finish(
     started: Instant,
     end: &Ended,
     not_started: Option<&str>,
-) -> Result<Option<String>, String> {
+) -> Result<Option<String>> {
     let cdir = c.dir(dir);
     let result = c.result_file(dir);
     let error = match (end.code, end.signal) {
@@ -253,7 +279,7 @@ fn finish(
         signal: end.signal,
         wall_s: started.elapsed().as_secs_f64(),
         cpu_s: end.cpu_s,
-        host: dem_run::process::host(),
+        host: crate::process::host(),
         finished_unix: unix_now(),
         error: error.clone(),
         log_tail: tail,
@@ -263,29 +289,17 @@ fn finish(
     } else {
         FAILED_FILE
     };
-    let text = serde_json::to_string_pretty(&rec).map_err(|e| e.to_string())?;
-    dem_core::output::write_atomic(&cdir.join(name), text.as_bytes()).map_err(|e| e.to_string())?;
+    let path = cdir.join(name);
+    let text = serde_json::to_string_pretty(&rec).map_err(|e| Error::io(&path, e))?;
+    crate::write_atomic(&path, text.as_bytes())?;
     Ok(error.map(|e| match reason_line(&rec.log_tail) {
         Some(l) => format!("{e}: {l}"),
         None => e,
     }))
 }
 
-fn bar(total: usize, done: usize) -> ProgressBar {
-    if !std::io::stderr().is_terminal() {
-        return ProgressBar::hidden();
-    }
-    let b = ProgressBar::new(total as u64);
-    if let Ok(s) =
-        ProgressStyle::with_template("{elapsed:>5} sweep {bar:30} {pos}/{len} done, {msg}")
-    {
-        b.set_style(s);
-    }
-    b.set_position(done as u64);
-    b
-}
-
-fn fmt_secs(s: f64) -> String {
+/// A duration as `4.2s`, `35s`, `12m05s`, `3h07m`.
+pub fn fmt_secs(s: f64) -> String {
     if s < 10.0 {
         return format!("{:.1}s", s.max(0.0));
     }
@@ -299,13 +313,16 @@ fn fmt_secs(s: f64) -> String {
     }
 }
 
-pub fn run(a: RunArgs) -> Result<ExitCode, String> {
+/// Runs the sweep's cases (module docs) and returns the folder's state at the end. An error:
+/// the folder cannot be read, `index` is out of range, or a case's command line does not give
+/// its key; a case that fails is recorded (`failed.json`) and counted, not an error.
+pub fn run(a: &RunOptions, tests: &dyn TestCommands, report: &mut dyn Report) -> Result<Summary> {
     let t_run = Instant::now();
     let dir = a.dir.clone();
     let cases = read_cases(&dir)?;
     if let Some(i) = a.index {
         if i >= cases.len() {
-            return Err(format!(
+            return Err(refuse!(
                 "--index {i}: {} has {} cases (0-{})",
                 dir.display(),
                 cases.len(),
@@ -313,10 +330,10 @@ pub fn run(a: RunArgs) -> Result<ExitCode, String> {
             ));
         }
     }
-    let exe = std::env::current_exe().map_err(|e| format!("the dem executable: {e}"))?;
+    let exe = &a.exe;
     let retry = a.retry_failed || a.index.is_some();
     // Only what was planned runs: each case to run gives its key again from its command line.
-    verify_keys(&dir, &cases, a.index)?;
+    verify_keys(&dir, &cases, a.index, tests)?;
     let chosen: Vec<usize> = match a.index {
         Some(i) => vec![i],
         None => (0..cases.len()).collect(),
@@ -334,7 +351,7 @@ pub fn run(a: RunArgs) -> Result<ExitCode, String> {
         .iter()
         .filter(|&&i| matches!(case::state(&cases[i], &dir), State::Done(_)))
         .count();
-    eprintln!(
+    report.line(format!(
         "sweep {}: {} cases, {} done, {} to run, {} at a time, {} thread(s) each",
         dir.display(),
         chosen.len(),
@@ -342,15 +359,8 @@ pub fn run(a: RunArgs) -> Result<ExitCode, String> {
         queue.len(),
         a.jobs,
         a.threads
-    );
-    let pb = bar(chosen.len(), done0);
-    let say = |s: String| {
-        if pb.is_hidden() {
-            eprintln!("{s}");
-        } else {
-            pb.println(s);
-        }
-    };
+    ));
+    report.progress(done0, chosen.len(), "");
     let (mut done, mut failed, mut walls) = (done0, 0usize, Vec::<f64>::new());
     let mut running: Vec<Running> = Vec::new();
     let mut beat = Instant::now();
@@ -362,7 +372,7 @@ pub fn run(a: RunArgs) -> Result<ExitCode, String> {
                 Ok(Some(cl)) => cl,
                 Ok(None) => continue, // another process runs it
                 Err(e) => {
-                    say(format!("case {i} ({}): {e}", c.label()));
+                    report.line(format!("case {i} ({}): {e}", c.label()));
                     failed += 1;
                     continue;
                 }
@@ -380,7 +390,7 @@ pub fn run(a: RunArgs) -> Result<ExitCode, String> {
                 _ => {}
             }
             let started = Instant::now();
-            match start(c, &dir, &exe, a.threads) {
+            match start(c, &dir, exe, a.threads) {
                 Ok(child) => running.push(Running {
                     index: i,
                     claim,
@@ -394,9 +404,9 @@ pub fn run(a: RunArgs) -> Result<ExitCode, String> {
                         signal: None,
                         cpu_s: None,
                     };
-                    let _ = finish(c, &dir, started, &end, Some(&e));
+                    let _ = finish(c, &dir, started, &end, Some(&e.to_string()));
                     claim.release();
-                    say(format!("case {i} ({}): {e}", c.label()));
+                    report.line(format!("case {i} ({}): {e}", c.label()));
                     failed += 1;
                 }
             }
@@ -420,12 +430,12 @@ pub fn run(a: RunArgs) -> Result<ExitCode, String> {
                 // (A record that cannot be written, a full disk say, fails this case only.)
                 Err(e) => {
                     failed += 1;
-                    say(format!("case {} ({}): {e}", c.index, c.label()));
+                    report.line(format!("case {} ({}): {e}", c.index, c.label()));
                 }
                 Ok(None) => {
                     done += 1;
                     walls.push(wall);
-                    say(format!(
+                    report.line(format!(
                         "case {} ({}) done in {}{}",
                         c.index,
                         c.label(),
@@ -437,7 +447,7 @@ pub fn run(a: RunArgs) -> Result<ExitCode, String> {
                 }
                 Ok(Some(e)) => {
                     failed += 1;
-                    say(format!("case {} ({}) failed: {e}", c.index, c.label()));
+                    report.line(format!("case {} ({}) failed: {e}", c.index, c.label()));
                 }
             }
         }
@@ -451,13 +461,9 @@ pub fn run(a: RunArgs) -> Result<ExitCode, String> {
             let mean = walls.iter().sum::<f64>() / walls.len() as f64;
             fmt_secs(mean * (queue.len() + running.len()) as f64 / a.jobs as f64)
         };
-        pb.set_position(done as u64);
-        pb.set_message(format!(
-            "{failed} failed, {} running, eta {eta}",
-            running.len()
-        ));
+        let message = format!("{failed} failed, {} running, eta {eta}", running.len());
+        report.progress(done, chosen.len(), &message);
     }
-    pb.finish_and_clear();
     // The final word is the folder's state (other processes may have run some cases).
     let mut counts = [0usize; 4];
     let mut failures = Vec::new();
@@ -486,30 +492,16 @@ pub fn run(a: RunArgs) -> Result<ExitCode, String> {
             State::Pending => counts[3] += 1,
         }
     }
-    println!(
-        "sweep {}: {} cases: {} done, {} failed, {} running elsewhere, {} pending; this run {}",
-        dir.display(),
-        chosen.len(),
-        counts[0],
-        counts[1],
-        counts[2],
-        counts[3],
-        fmt_secs(t_run.elapsed().as_secs_f64())
-    );
-    for l in elsewhere {
-        println!("{l}");
-    }
-    if !failures.is_empty() {
-        println!("failed cases (rerun with --retry-failed after a fix):");
-        for f in failures {
-            println!("{f}");
-        }
-        return Ok(ExitCode::from(1));
-    }
-    if a.index.is_some() && counts[0] < chosen.len() {
-        return Ok(ExitCode::from(1));
-    }
-    Ok(ExitCode::SUCCESS)
+    Ok(Summary {
+        chosen: chosen.len(),
+        done: counts[0],
+        failed: counts[1],
+        running: counts[2],
+        pending: counts[3],
+        wall_s: t_run.elapsed().as_secs_f64(),
+        elsewhere,
+        failures,
+    })
 }
 
 #[cfg(test)]

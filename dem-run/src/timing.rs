@@ -20,7 +20,7 @@
 //! busy = (120 − 0) + (230 − 200) = 150 s, span = 230 s, case wall = 100 + 70 + 30 = 200 s
 //! ```
 
-use super::case::{Case, Record};
+use crate::case::{Case, Record};
 
 /// Time summed over a set of finished cases.
 #[derive(Debug, Clone, Default, PartialEq)]

@@ -1,4 +1,5 @@
-//! `dem sweep status DIR` and `dem sweep collect DIR --out table.csv|table.json`.
+//! The collector: `dem sweep status DIR` ([`status`]) and `dem sweep collect DIR --out
+//! table.csv|table.json` ([`write()`]).
 //!
 //! The table has one row per case: index, key, the axis values, status, the collected outputs
 //! (the JSON values at the study's pointers in `<test>.result.json`, done cases only), exit
@@ -8,36 +9,15 @@
 //! SE = sd/√n and the median (the middle value, or the mean of the two middle ones). sd and SE
 //! need n ≥ 2; a figure that does not exist is null in JSON and an empty cell in CSV, never
 //! NaN. CSV writes the aggregates beside the table as `<stem>.aggregates.csv`. With the timing
-//! columns, JSON also holds the sweep's time, overall and per axis value ([`super::timing`]),
+//! columns, JSON also holds the sweep's time, overall and per axis value ([`crate::timing`]),
 //! which `status` prints. Files are written atomically.
 
-use super::case::{self, read_cases, State, STUDY_FILE};
-use super::study;
-use super::timing::{self, Sum, Timing};
-use clap::Args;
+use crate::case::{self, read_cases, State, STUDY_FILE};
+use crate::error::{refuse, Error, Result};
+use crate::study;
+use crate::timing::{self, Sum, Timing};
 use serde_json::{json, Map, Value};
-use std::path::{Path, PathBuf};
-use std::process::ExitCode;
-
-/// `dem sweep status` flags.
-#[derive(Args)]
-pub struct StatusArgs {
-    /// The sweep folder.
-    pub dir: PathBuf,
-}
-
-/// `dem sweep collect` flags.
-#[derive(Args)]
-pub struct CollectArgs {
-    /// The sweep folder.
-    pub dir: PathBuf,
-    /// table.csv (and table.aggregates.csv beside it) or table.json.
-    #[arg(long)]
-    pub out: PathBuf,
-    /// Leave out the wall and CPU time columns (for comparing tables of two runs).
-    #[arg(long)]
-    pub no_timing: bool,
-}
+use std::path::Path;
 
 /// n, mean, sd (n − 1), SE and median of `x`; `None` where undefined.
 #[derive(Debug, PartialEq)]
@@ -96,9 +76,9 @@ fn seed_axis(dir: &Path) -> Option<String> {
 }
 
 /// The table as JSON (see the module doc).
-pub fn table(dir: &Path, timing: bool) -> Result<Value, String> {
+pub fn table(dir: &Path, timing: bool) -> Result<Value> {
     let file = dir.join(STUDY_FILE);
-    let bytes = clumpgen::io::read_input(&file).map_err(|e| format!("{}: {e}", file.display()))?;
+    let bytes = clumpgen::io::read_input(&file).map_err(|e| Error::io(&file, e))?;
     let p = study::parse(&bytes, &file)?;
     let cases = read_cases(dir)?;
     let seed = p.seed_axis();
@@ -328,57 +308,62 @@ fn to_csv(t: &Value, timing: bool) -> (String, String) {
     (csv(&h, &rows), csv(&ah, &arows))
 }
 
-pub fn collect(a: CollectArgs) -> Result<ExitCode, String> {
-    let t = table(&a.dir, !a.no_timing)?;
-    let write = |p: &Path, s: &str| {
-        dem_core::output::write_atomic(p, s.as_bytes()).map_err(|e| e.to_string())
-    };
-    let ext = a.out.extension().and_then(|e| e.to_str()).unwrap_or("");
-    let written = match ext {
+/// What [`write()`] wrote.
+pub struct Written {
+    /// The files, as `table.csv and table.aggregates.csv`.
+    pub files: String,
+    pub cases: usize,
+    pub done: usize,
+    pub groups: usize,
+    /// The seed axis, if the study has one.
+    pub seed_axis: Option<String>,
+}
+
+/// Writes the table of the sweep in `dir` to `out` (`.json`, or `.csv` with
+/// `<stem>.aggregates.csv` beside it), with the timing columns if `timing`.
+pub fn write(dir: &Path, out: &Path, timing: bool) -> Result<Written> {
+    let t = table(dir, timing)?;
+    let ext = out.extension().and_then(|e| e.to_str()).unwrap_or("");
+    let files = match ext {
         "json" => {
-            let mut s = serde_json::to_string_pretty(&t).map_err(|e| e.to_string())?;
+            let mut s = serde_json::to_string_pretty(&t).map_err(|e| Error::io(out, e))?;
             s.push('\n');
-            write(&a.out, &s)?;
-            a.out.display().to_string()
+            crate::write_atomic(out, s.as_bytes())?;
+            out.display().to_string()
         }
         "csv" => {
-            let (cases, aggs) = to_csv(&t, !a.no_timing);
-            let stem = a
-                .out
-                .file_stem()
-                .and_then(|s| s.to_str())
-                .unwrap_or("table");
-            let agg = a.out.with_file_name(format!("{stem}.aggregates.csv"));
-            write(&a.out, &cases)?;
-            write(&agg, &aggs)?;
-            format!("{} and {}", a.out.display(), agg.display())
+            let (cases, aggs) = to_csv(&t, timing);
+            let stem = out.file_stem().and_then(|s| s.to_str()).unwrap_or("table");
+            let agg = out.with_file_name(format!("{stem}.aggregates.csv"));
+            crate::write_atomic(out, cases.as_bytes())?;
+            crate::write_atomic(&agg, aggs.as_bytes())?;
+            format!("{} and {}", out.display(), agg.display())
         }
         _ => {
-            return Err(format!(
+            return Err(refuse!(
                 "--out {}: give a .csv or .json file",
-                a.out.display()
+                out.display()
             ))
         }
     };
-    let n = t["cases"].as_array().map_or(0, Vec::len);
-    let done = t["cases"]
-        .as_array()
-        .map_or(0, |c| c.iter().filter(|r| r["status"] == "done").count());
-    println!(
-        "{n} cases ({done} done), {} groups over {} -> {written}",
-        t["aggregates"].as_array().map_or(0, Vec::len),
-        t["seed_axis"].as_str().unwrap_or("(no seed axis)")
-    );
-    Ok(ExitCode::SUCCESS)
+    let rows = t["cases"].as_array();
+    Ok(Written {
+        files,
+        cases: rows.map_or(0, Vec::len),
+        done: rows.map_or(0, |c| c.iter().filter(|r| r["status"] == "done").count()),
+        groups: t["aggregates"].as_array().map_or(0, Vec::len),
+        seed_axis: t["seed_axis"].as_str().map(String::from),
+    })
 }
 
-pub fn status(a: StatusArgs) -> Result<ExitCode, String> {
-    let cases = read_cases(&a.dir)?;
+/// The lines `dem sweep status` prints: the counts, a line per case, the time taken.
+pub fn status(dir: &Path) -> Result<Vec<String>> {
+    let cases = read_cases(dir)?;
     let mut counts = std::collections::BTreeMap::<&str, usize>::new();
     let mut lines = Vec::new();
     let mut records = Vec::new();
     for c in &cases {
-        let st = case::state(c, &a.dir);
+        let st = case::state(c, dir);
         records.push(match &st {
             State::Done(r) | State::Failed(r) => Some(r.clone()),
             _ => None,
@@ -404,24 +389,21 @@ pub fn status(a: StatusArgs) -> Result<ExitCode, String> {
             c.label()
         ));
     }
-    println!(
+    let count = |k: &str| counts.get(k).copied().unwrap_or(0);
+    let mut out = vec![format!(
         "{}: {} cases: {} done, {} failed, {} running, {} pending",
-        a.dir.display(),
+        dir.display(),
         cases.len(),
-        counts.get("done").unwrap_or(&0),
-        counts.get("failed").unwrap_or(&0),
-        counts.get("running").unwrap_or(&0),
-        counts.get("pending").unwrap_or(&0)
-    );
-    for l in lines {
-        println!("{l}");
+        count("done"),
+        count("failed"),
+        count("running"),
+        count("pending")
+    )];
+    out.extend(lines);
+    if let Some(t) = timing::timing(&cases, &records, seed_axis(dir).as_deref()) {
+        out.extend(timing::lines(&t));
     }
-    if let Some(t) = timing::timing(&cases, &records, seed_axis(&a.dir).as_deref()) {
-        for l in timing::lines(&t) {
-            println!("{l}");
-        }
-    }
-    Ok(ExitCode::SUCCESS)
+    Ok(out)
 }
 
 #[cfg(test)]

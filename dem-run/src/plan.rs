@@ -1,6 +1,7 @@
-//! `dem sweep plan STUDY --out DIR`: the study's cases, each checked against the `dem test
-//! <kind>` command line, with its key; writes `DIR/study.json` (the study file's bytes),
-//! `DIR/cases.jsonl` and `DIR/slurm.sbatch`.
+//! The planner (`dem sweep plan STUDY --out DIR`): the study's cases, each checked against the
+//! `dem test <kind>` command line ([`TestCommands`], which the CLI gives), with its key;
+//! [`write()`] writes `DIR/study.json` (the study file's bytes), `DIR/cases.jsonl` and
+//! `DIR/slurm.sbatch`.
 //!
 //! Case order: `product` varies the last axis fastest (case i of axes with n_1 … n_k values
 //! takes value ⌊i / (n_{j+1}·…·n_k)⌋ mod n_j of axis j); `zip` takes the i-th value of every
@@ -8,69 +9,45 @@
 //! (keys sorted; a file flag's value is `{"sha256": <hex SHA-256 of the file's bytes>}`, so the
 //! key follows the file's content, not where it lies; `--out` and `--threads` are not inputs).
 
-use super::case::{Case, CASES_FILE, SBATCH_FILE, STUDY_FILE};
-use super::study::{self, canonical_flag, scalar_text, Combine, Parsed, RESERVED};
-use clap::Args;
+use crate::case::{Case, CASES_FILE, SBATCH_FILE, STUDY_FILE};
+use crate::error::{refuse, Error, Result};
+use crate::study::{self, canonical_flag, scalar_text, Combine, Parsed, RESERVED};
 use serde_json::{json, Value};
 use sha2::{Digest, Sha256};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-use std::process::ExitCode;
-
-/// `dem sweep plan` flags.
-#[derive(Args)]
-pub struct PlanArgs {
-    /// The study file (JSON, docs/sweep.md).
-    pub study: PathBuf,
-    /// The sweep folder: study.json, cases.jsonl, slurm.sbatch; cases/ and logs/ below it.
-    #[arg(long)]
-    pub out: PathBuf,
-    /// Slurm: at most this many array tasks at once (`--array=0-N%T`).
-    #[arg(long)]
-    pub throttle: Option<usize>,
-    /// Slurm: CPUs per task, also each case's worker threads.
-    #[arg(long, default_value_t = 1, value_parser = crate::parse_threads)]
-    pub cpus_per_task: usize,
-    /// Slurm: time limit per task (`MM`, `HH:MM:SS`, `D-HH:MM:SS`).
-    #[arg(long, default_value = "01:00:00")]
-    pub time: String,
-    /// Slurm: partition (default: the cluster's).
-    #[arg(long)]
-    pub partition: Option<String>,
-    /// Slurm: memory per task (`2G`; default: the cluster's).
-    #[arg(long)]
-    pub mem: Option<String>,
-}
 
 /// What the test's command line says of one flag.
-struct FlagInfo {
-    takes_value: bool,
-    is_file: bool,
+#[derive(Clone, Copy, Debug)]
+pub struct FlagInfo {
+    /// It takes a value (`--depth 1mm`); `false`: a switch (`--delete-fragments`).
+    pub takes_value: bool,
+    /// Its value is a file (keyed by the file's content).
+    pub is_file: bool,
 }
 
-/// The `dem test <kind>` flags (long name → info).
-fn test_flags(kind: &str) -> Result<(clap::Command, BTreeMap<String, FlagInfo>), String> {
-    use clap::Subcommand;
-    let test = crate::negative_values(crate::test::TestKind::augment_subcommands(
-        clap::Command::new("test"),
-    ));
-    let sub = test
-        .find_subcommand(kind)
-        .cloned()
-        .ok_or_else(|| format!("`dem test {kind}` does not exist"))?;
-    let mut flags = BTreeMap::new();
-    for a in sub.get_arguments() {
-        if let Some(long) = a.get_long() {
-            flags.insert(
-                long.to_string(),
-                FlagInfo {
-                    takes_value: a.get_action().takes_values(),
-                    is_file: a.get_value_parser().type_id() == std::any::TypeId::of::<PathBuf>(),
-                },
-            );
-        }
-    }
-    Ok((sub, flags))
+/// The `dem test <kind>` command lines the planner checks cases against (the CLI's parser).
+pub trait TestCommands {
+    /// The flags of `dem test <kind>` (long name → info); an error if there is no such test.
+    fn flags(&self, kind: &str) -> Result<BTreeMap<String, FlagInfo>>;
+    /// Whether `dem test <kind>` accepts `args` (the flags after the kind); the error is the
+    /// parser's first line (a flag's type, a required flag missing).
+    fn check(&self, kind: &str, args: &[String]) -> Result<()>;
+}
+
+/// The Slurm resources of the batch script (`dem sweep plan` flags).
+#[derive(Clone, Debug)]
+pub struct Slurm {
+    /// At most this many array tasks at once (`--array=0-N%T`).
+    pub throttle: Option<usize>,
+    /// CPUs per task, also each case's worker threads.
+    pub cpus_per_task: usize,
+    /// Time limit per task (`MM`, `HH:MM:SS`, `D-HH:MM:SS`).
+    pub time: String,
+    /// Partition (default: the cluster's).
+    pub partition: Option<String>,
+    /// Memory per task (`2G`; default: the cluster's).
+    pub mem: Option<String>,
 }
 
 /// A flag value resolved: command-line text (`None`: a switch left off) and key value.
@@ -152,13 +129,7 @@ fn physical(text: &str) -> String {
 }
 
 /// Checks and resolves one flag value; `field` names it in errors.
-fn resolve(
-    file: &Path,
-    field: &str,
-    flag: &str,
-    text: &str,
-    info: &FlagInfo,
-) -> Result<Resolved, String> {
+fn resolve(file: &Path, field: &str, flag: &str, text: &str, info: &FlagInfo) -> Result<Resolved> {
     let here = || format!("{}: field {field}", file.display());
     if !info.takes_value {
         return match text {
@@ -170,7 +141,7 @@ fn resolve(
                 arg: None,
                 key: Value::Null,
             }),
-            _ => Err(format!(
+            _ => Err(refuse!(
                 "{}: --{flag} is a switch: true or false, not {text:?}",
                 here()
             )),
@@ -192,7 +163,7 @@ fn resolve(
     })?;
     let abs = path
         .canonicalize()
-        .map_err(|e| format!("{}: {}: {e}", here(), path.display()))?;
+        .map_err(|e| refuse!("{}: {}: {e}", here(), path.display()))?;
     Ok(Resolved {
         arg: Some(abs.display().to_string()),
         key: file_key(&bytes),
@@ -219,12 +190,12 @@ pub fn hex(bytes: &[u8]) -> String {
 }
 
 /// The study's cases, checked (flags, files, the test's parser) and keyed.
-pub fn cases(file: &Path, p: &Parsed) -> Result<Vec<Case>, String> {
+pub fn cases(file: &Path, p: &Parsed, tests: &dyn TestCommands) -> Result<Vec<Case>> {
     let kind = p.study.base.test.as_str();
-    let (cmd, flags) = test_flags(kind)?;
-    let lookup = |flag: &str, field: &str| -> Result<&FlagInfo, String> {
+    let flags = tests.flags(kind)?;
+    let lookup = |flag: &str, field: &str| -> Result<&FlagInfo> {
         if RESERVED.contains(&flag) {
-            return Err(format!(
+            return Err(refuse!(
                 "{}: field {field}: --{flag} is set by dem sweep run for each case",
                 file.display()
             ));
@@ -235,7 +206,7 @@ pub fn cases(file: &Path, p: &Parsed) -> Result<Vec<Case>, String> {
                 .map(String::as_str)
                 .filter(|f| !RESERVED.contains(f) && *f != "help")
                 .collect();
-            format!(
+            refuse!(
                 "{}: field {field}: {flag:?} is not a flag of `dem test {kind}` (its flags: {})",
                 file.display(),
                 known.join(", ")
@@ -288,7 +259,7 @@ pub fn cases(file: &Path, p: &Parsed) -> Result<Vec<Case>, String> {
                         format!("axes[{i}].sets[{j}]")
                     }
                 };
-                return Err(format!(
+                return Err(refuse!(
                     "{}: field {}: {:?} gives the same inputs as {} ({:?}): the case would run \
                      once and count twice; list each value once",
                     file.display(),
@@ -353,10 +324,9 @@ pub fn cases(file: &Path, p: &Parsed) -> Result<Vec<Case>, String> {
             argv,
         };
         // The test's own parser: types (a seed must be a whole number) and required flags.
-        let mut check = case.argv.clone();
-        check.remove(0);
+        let mut check = case.argv[2..].to_vec();
         check.extend(["--out".to_string(), "sweep-check".to_string()]);
-        if let Err(e) = cmd.clone().try_get_matches_from(&check) {
+        if let Err(e) = tests.check(kind, &check) {
             let msg = e.to_string();
             let first = msg.lines().next().unwrap_or_default();
             let field = if p.axes.is_empty() {
@@ -364,7 +334,7 @@ pub fn cases(file: &Path, p: &Parsed) -> Result<Vec<Case>, String> {
             } else {
                 "axes"
             };
-            return Err(format!(
+            return Err(refuse!(
                 "{}: field {field}: case {index} ({}): `dem test {kind}` refuses it: {}",
                 file.display(),
                 case.label(),
@@ -380,34 +350,34 @@ pub fn cases(file: &Path, p: &Parsed) -> Result<Vec<Case>, String> {
 /// command line is not a planned one. `dem sweep run` runs a case only when this is its key
 /// (issue 48: any argv placed in an edited cases.jsonl ran): an edited line, or a file it names
 /// that changed since planning, is refused.
-pub fn key_of_argv(c: &Case) -> Result<String, String> {
+pub fn key_of_argv(c: &Case, tests: &dyn TestCommands) -> Result<String> {
     let (kind, rest) = match c.argv.as_slice() {
         [t, k, rest @ ..] if t == "test" && *k == c.test => (k.as_str(), rest),
         _ => {
-            return Err(format!(
+            return Err(refuse!(
                 "its command line does not start with `test {}`",
                 c.test
             ))
         }
     };
-    let (_, flags) = test_flags(kind)?;
+    let flags = tests.flags(kind)?;
     let mut key_flags: BTreeMap<String, Value> = BTreeMap::new();
     let mut it = rest.iter();
     while let Some(tok) = it.next() {
         let flag = tok
             .strip_prefix("--")
-            .ok_or_else(|| format!("{tok:?} is not a flag"))?;
+            .ok_or_else(|| refuse!("{tok:?} is not a flag"))?;
         let info = flags
             .get(flag)
             .filter(|_| !RESERVED.contains(&flag))
-            .ok_or_else(|| format!("--{flag} is not a flag a study can set"))?;
+            .ok_or_else(|| refuse!("--{flag} is not a flag a study can set"))?;
         let key = if !info.takes_value {
             json!(true)
         } else {
-            let v = it.next().ok_or_else(|| format!("--{flag} has no value"))?;
+            let v = it.next().ok_or_else(|| refuse!("--{flag} has no value"))?;
             if info.is_file {
                 let bytes = clumpgen::io::read_input(Path::new(v))
-                    .map_err(|e| format!("--{flag} file {v}: {e}"))?;
+                    .map_err(|e| refuse!("--{flag} file {v}: {e}"))?;
                 file_key(&bytes)
             } else {
                 json!(v)
@@ -419,7 +389,7 @@ pub fn key_of_argv(c: &Case) -> Result<String, String> {
 }
 
 /// The Slurm batch script of `n` cases.
-fn sbatch(a: &PlanArgs, name: &str, n: usize, dir: &Path, exe: &Path) -> String {
+fn sbatch(a: &Slurm, name: &str, n: usize, dir: &Path, exe: &Path) -> String {
     let job: String = name
         .chars()
         .map(|c| {
@@ -478,269 +448,171 @@ fn valid_time(t: &str) -> bool {
         && t.ends_with(|c: char| c.is_ascii_digit())
 }
 
-pub fn run(a: PlanArgs) -> Result<ExitCode, String> {
-    if !valid_time(&a.time) {
-        return Err(format!(
+/// A plan written ([`write()`]): the sweep folder (canonical), the study and its cases.
+pub struct Planned {
+    pub dir: PathBuf,
+    pub study: Parsed,
+    pub cases: Vec<Case>,
+}
+
+impl Planned {
+    /// The axes as `2 × depth, 3 × seed` (`zipped with` for a zip study).
+    pub fn axes_line(&self) -> String {
+        self.study
+            .axes
+            .iter()
+            .map(|x| format!("{} × {}", x.values.len(), x.flag))
+            .collect::<Vec<_>>()
+            .join(if self.study.study.combine == Combine::Zip {
+                " zipped with "
+            } else {
+                ", "
+            })
+    }
+}
+
+/// Plans the study file `study` into the folder `out`: its cases, and the Slurm script whose
+/// tasks run `exe sweep run`. Another study in the folder is refused, never overwritten; the
+/// files are written atomically.
+pub fn write(
+    study: &Path,
+    out: &Path,
+    slurm: &Slurm,
+    tests: &dyn TestCommands,
+    exe: &Path,
+) -> Result<Planned> {
+    if !valid_time(&slurm.time) {
+        return Err(refuse!(
             "--time {:?}: a Slurm time limit (MM, HH:MM:SS or D-HH:MM:SS)",
-            a.time
+            slurm.time
         ));
     }
-    if a.throttle == Some(0) {
-        return Err("--throttle: at least 1".into());
+    if slurm.throttle == Some(0) {
+        return Err(refuse!("--throttle: at least 1"));
     }
-    let (bytes, parsed) = study::read(&a.study)?;
-    let cases = cases(&a.study, &parsed)?;
+    let (bytes, parsed) = study::read(study)?;
+    let cases = cases(study, &parsed, tests)?;
     let mut lines = String::new();
     for c in &cases {
-        lines += &serde_json::to_string(c).map_err(|e| e.to_string())?;
+        lines += &serde_json::to_string(c).map_err(|e| Error::io(&out.join(CASES_FILE), e))?;
         lines.push('\n');
     }
     // Another study in the folder is refused, never overwritten.
     for (name, new) in [(STUDY_FILE, &bytes[..]), (CASES_FILE, lines.as_bytes())] {
-        let path = a.out.join(name);
+        let path = out.join(name);
         if let Ok(old) = std::fs::read(&path) {
             if old != new {
-                return Err(format!(
+                return Err(refuse!(
                     "{}: the folder holds another plan ({name} differs: another study, or \
                      files it names have changed); plan into a new folder, or remove this one",
-                    a.out.display()
+                    out.display()
                 ));
             }
         }
     }
     for sub in ["cases", "logs"] {
-        std::fs::create_dir_all(a.out.join(sub))
-            .map_err(|e| format!("{}: {e}", a.out.join(sub).display()))?;
+        std::fs::create_dir_all(out.join(sub)).map_err(|e| Error::io(&out.join(sub), e))?;
     }
-    let dir = a
-        .out
+    let dir = out.canonicalize().map_err(|e| Error::io(out, e))?;
+    let exe = exe
         .canonicalize()
-        .map_err(|e| format!("{}: {e}", a.out.display()))?;
-    let exe = std::env::current_exe()
-        .and_then(|p| p.canonicalize())
-        .map_err(|e| format!("the dem executable's path: {e}"))?;
-    let write = |name: &str, b: &[u8]| {
-        dem_core::output::write_atomic(&dir.join(name), b).map_err(|e| e.to_string())
-    };
+        .map_err(|e| Error::io(exe, format!("the dem executable's path: {e}")))?;
+    let write = |name: &str, b: &[u8]| crate::write_atomic(&dir.join(name), b);
     write(STUDY_FILE, &bytes)?;
     write(CASES_FILE, lines.as_bytes())?;
-    let script = sbatch(&a, &parsed.study.name, cases.len(), &dir, &exe);
+    let script = sbatch(slurm, &parsed.study.name, cases.len(), &dir, &exe);
     write(SBATCH_FILE, script.as_bytes())?;
-    println!(
-        "planned {} cases of `dem test {}` ({}) into {}",
-        cases.len(),
-        parsed.study.base.test,
-        parsed
-            .axes
-            .iter()
-            .map(|x| format!("{} × {}", x.values.len(), x.flag))
-            .collect::<Vec<_>>()
-            .join(if parsed.study.combine == Combine::Zip {
-                " zipped with "
-            } else {
-                ", "
-            }),
-        dir.display()
-    );
-    println!(
-        "run here: dem sweep run {0} --jobs N; on Slurm: sbatch {0}/{SBATCH_FILE}",
-        dir.display()
-    );
-    Ok(ExitCode::SUCCESS)
+    Ok(Planned {
+        dir,
+        study: parsed,
+        cases,
+    })
 }
 
 #[cfg(test)]
 mod tests {
+    //! The planner with a command line of its own (dem-cli's tests use `dem test`'s).
     use super::*;
 
-    fn plan(text: &str) -> Result<Vec<Case>, String> {
+    /// `dem test ucs` with `--width` (a value, required), `--strict` (a switch) and `--seed`
+    /// (a whole number).
+    struct Fake;
+
+    impl TestCommands for Fake {
+        fn flags(&self, kind: &str) -> Result<BTreeMap<String, FlagInfo>> {
+            if kind != "ucs" {
+                return Err(refuse!("`dem test {kind}` does not exist"));
+            }
+            let v = FlagInfo {
+                takes_value: true,
+                is_file: false,
+            };
+            let s = FlagInfo {
+                takes_value: false,
+                is_file: false,
+            };
+            Ok([("width", v), ("seed", v), ("strict", s), ("out", v)]
+                .map(|(k, f)| (k.to_string(), f))
+                .into())
+        }
+
+        fn check(&self, _kind: &str, args: &[String]) -> Result<()> {
+            if !args.iter().any(|a| a == "--width") {
+                return Err(refuse!(
+                    "the following required arguments were not provided"
+                ));
+            }
+            match args.iter().position(|a| a == "--seed") {
+                Some(i) if args[i + 1].parse::<u64>().is_err() => {
+                    Err(refuse!("invalid value '{}' for '--seed'", args[i + 1]))
+                }
+                _ => Ok(()),
+            }
+        }
+    }
+
+    fn plan(text: &str) -> Result<Vec<Case>> {
         let f = Path::new("s.json");
-        cases(f, &study::parse(text.as_bytes(), f)?)
+        cases(f, &study::parse(text.as_bytes(), f)?, &Fake)
     }
 
     #[test]
-    fn zip_switches_and_keys() {
-        let z =
-            plan(r#"{"name":"z","base":{"test":"cutting","flags":{"specimen-x":1}}}"#).unwrap_err();
-        assert!(
-            z.contains("base.flags.specimen-x") && z.contains("not a flag"),
-            "{z}"
-        );
+    fn cases_argv_keys_and_the_parser_s_word() {
         let c = plan(
-            r#"{"name":"z","base":{"test":"cutting","flags":{"r_min":"0.1mm","r-max":"0.2mm"}},
-                "combine":"zip","axes":[{"flag":"depth","values":["1mm","2mm"]},
-                {"flag":"delete-fragments","values":[true,false]}]}"#,
+            r#"{"name":"u","base":{"test":"ucs","flags":{"width":"2mm","strict":true}},
+                "axes":[{"seeds":[1,2]}]}"#,
         )
         .unwrap();
         assert_eq!(c.len(), 2);
-        let a: Vec<String> = ["test", "cutting", "--r-max", "0.2mm", "--r-min", "0.1mm"]
-            .map(String::from)
-            .to_vec();
-        let mut a0 = a.clone();
-        a0.extend(["--depth", "1mm", "--delete-fragments"].map(String::from));
-        let mut a1 = a.clone();
-        a1.extend(["--depth", "2mm"].map(String::from));
-        assert_eq!((c[0].argv.clone(), c[1].argv.clone()), (a0, a1));
-        assert_eq!(c[1].axes[1], ("delete-fragments".into(), "false".into()));
-        // The key is the inputs': the same flags given in another order or spelling agree.
-        let d = plan(
-            r#"{"name":"other","base":{"test":"cutting","flags":{"r-max":"0.2mm"}},
-                "axes":[{"flag":"r-min","values":["0.1mm"]},{"flag":"depth","values":["2mm"]}]}"#,
-        )
-        .unwrap();
-        assert_eq!(d[0].key, c[1].key);
+        assert_eq!(
+            c[1].argv,
+            ["test", "ucs", "--strict", "--width", "2mm", "--seed", "2"].map(String::from)
+        );
         assert_ne!(c[0].key, c[1].key);
-        let e = plan(
-            r#"{"name":"z","base":{"test":"cutting"},"axes":[{"flag":"delete-fragments","values":["yes"]}]}"#,
-        )
-        .unwrap_err();
+        // The key follows the inputs: the same case planned again has the same key, and its
+        // command line gives it back.
+        assert_eq!(key_of_argv(&c[1], &Fake).unwrap(), c[1].key);
+        let e = plan(r#"{"name":"u","base":{"test":"ucs","flags":{"seed":1}}}"#).unwrap_err();
+        assert_eq!(e.kind(), crate::ErrorKind::Input);
         assert!(
-            e.contains("axes[0].values[0]") && e.contains("switch"),
+            e.to_string().contains("refuses it: the following required"),
             "{e}"
         );
-    }
-
-    #[test]
-    fn sets_axes_give_several_flags_per_value() {
-        let c = plan(
-            r#"{"name":"s","base":{"test":"cutting","flags":{"r-min":"0.1mm","r-max":"0.2mm"}},
-                "axes":[{"name":"damping","sets":[
-                    {"name":"local","flags":{"local-damping":0.7}},
-                    {"name":"viscous","flags":{"local_damping":0,"contact-damping":0.2}},
-                    {"name":"none"}]},
-                  {"flag":"depth","values":["1mm","2mm"]}]}"#,
-        )
-        .unwrap();
-        assert_eq!(c.len(), 6);
-        assert_eq!(
-            c[2].axes,
-            vec![
-                ("damping".to_string(), "viscous".to_string()),
-                ("depth".to_string(), "1mm".to_string())
-            ]
-        );
-        let tail: Vec<&str> = c[2].argv[6..].iter().map(String::as_str).collect();
-        assert_eq!(
-            tail,
-            [
-                "--contact-damping",
-                "0.2",
-                "--local-damping",
-                "0",
-                "--depth",
-                "1mm"
-            ]
-        );
-        assert_eq!(c[4].argv[6..], ["--depth", "1mm"].map(String::from));
-        // The key is the flags': a set giving the base's flags is the same case.
-        let d = plan(
-            r#"{"name":"t","base":{"test":"cutting","flags":{"r-min":"0.1mm","r-max":"0.2mm",
-                "depth":"1mm"}},"axes":[{"name":"x","sets":[{"name":"a","flags":{
-                "contact-damping":0.2,"local-damping":0}}]}]}"#,
-        )
-        .unwrap();
-        assert_eq!(d[0].key, c[2].key);
-        let bad = |axes: &str, want: &[&str]| {
-            let e = plan(&format!(
-                r#"{{"name":"s","base":{{"test":"cutting","flags":{{"depth":"1mm"}}}},"axes":{axes}}}"#
-            ))
+        let e = plan(r#"{"name":"u","base":{"test":"ucs","flags":{"out":"x","width":"1mm"}}}"#)
             .unwrap_err();
-            for w in want {
-                assert!(e.contains(w), "{axes}: {e}");
-            }
-        };
-        bad(
-            r#"[{"name":"d","sets":[{"name":"a","flags":{"depth":"2mm"}}]}]"#,
-            &["axes[0].sets[0].flags.depth", "base.flags"],
-        );
-        bad(
-            r#"[{"flag":"speed","values":[1]},{"name":"d","sets":[{"name":"a","flags":{"speed":2}}]}]"#,
-            &["axes[1].sets[0].flags.speed", "axes[0]"],
-        );
-        bad(
-            r#"[{"name":"d","sets":[{"name":"a","flags":{"tool-friction":0.1}}]},
-                {"name":"e","sets":[{"name":"b","flags":{"tool-friction":0.2}}]}]"#,
-            &["axes[0].sets[0].flags.tool-friction", "axes[1]"],
-        );
-        bad(
-            r#"[{"flag":"d","sets":[{"name":"a"}]}]"#,
-            &["axes[0].flag", "name"],
-        );
-        bad(r#"[{"sets":[{"name":"a"}]}]"#, &["axes[0].name", "missing"]);
-        bad(r#"[{"name":"d","sets":[]}]"#, &["axes[0].sets", "empty"]);
-        bad(
-            r#"[{"name":"d","sets":[{"name":"a"},{"name":"a"}]}]"#,
-            &["axes[0].sets[1].name", "twice"],
-        );
-        bad(
-            r#"[{"name":"d","sets":[{"name":"a","flags":{"speeed":2}}]}]"#,
-            &["axes[0].sets[0].flags.speeed", "not a flag"],
-        );
-        bad(
-            r#"[{"name":"d","sets":[{"name":"a","flags":{"speed":[2]}}]}]"#,
-            &["axes[0].sets[0].flags.speed", "not a string"],
-        );
-        bad(
-            r#"[{"name":"d","values":[1]}]"#,
-            &["axes[0].name", "only a sets axis"],
-        );
-    }
-
-    /// Issue 48 D5: a value listed twice in an axis (seeds, values, or sets giving the same
-    /// flags) is refused, naming both places, instead of planning two cases of one key.
-    #[test]
-    fn a_value_listed_twice_is_refused() {
-        let base = r#"{"name":"d","base":{"test":"cutting","flags":{"r-min":"0.1mm"}},"axes":"#;
-        let e = plan(&format!(r#"{base}[{{"seeds":[1,1,2]}}]}}"#)).unwrap_err();
         assert!(
-            e.contains("axes[0].values[1]") && e.contains("axes[0].values[0]"),
+            e.to_string()
+                .contains("field base.flags.out: --out is set by"),
             "{e}"
         );
-        assert!(e.contains("count twice"), "{e}");
-        let e = plan(&format!(
-            r#"{base}[{{"flag":"depth","values":["1mm","2mm","1mm"]}}]}}"#
-        ))
+        let e = plan(
+            r#"{"name":"u","base":{"test":"ucs","flags":{"width":"1mm"}},
+                "axes":[{"flag":"seed","values":["x"]}]}"#,
+        )
         .unwrap_err();
         assert!(
-            e.contains("axes[0].values[2]") && e.contains("axes[0].values[0]"),
+            e.to_string().contains("invalid value 'x' for '--seed'"),
             "{e}"
         );
-        let e = plan(&format!(
-            r#"{base}[{{"flag":"depth","values":["1mm"]}},{{"name":"damping","sets":[
-                {{"name":"a","flags":{{"local-damping":0.7}}}},
-                {{"name":"b","flags":{{"local-damping":0.7}}}}]}}]}}"#
-        ))
-        .unwrap_err();
-        assert!(
-            e.contains("axes[1].sets[1]") && e.contains("axes[1].sets[0]"),
-            "{e}"
-        );
-        // One depth spelt four ways is one value; a speed in two units likewise.
-        for (flag, spellings) in [
-            ("depth", ["1mm", "1.0mm", "0.001m", "1000um"]),
-            ("speed", ["2m/s", "2000mm/s", "2.0m/s", "2e3mm/s"]),
-            // A bare speed is m/s (one parser for every speed flag).
-            ("speed", ["2", "2m/s", "2000mm/s", "2.0"]),
-        ] {
-            for k in 1..spellings.len() {
-                let e = plan(&format!(
-                    r#"{base}[{{"flag":"{flag}","values":["{}","{}"]}}]}}"#,
-                    spellings[0], spellings[k]
-                ))
-                .unwrap_err();
-                assert!(
-                    e.contains("axes[0].values[1]") && e.contains("count twice"),
-                    "{e}"
-                );
-            }
-        }
-        // Distinct values plan as before.
-        let ok = plan(&format!(r#"{base}[{{"seeds":[1,2,3]}}]}}"#)).unwrap();
-        assert_eq!(ok.len(), 3);
-        let ok = plan(&format!(
-            r#"{base}[{{"flag":"depth","values":["1mm","1.5mm","1m"]}}]}}"#
-        ))
-        .unwrap();
-        assert_eq!(ok.len(), 3);
     }
 }
