@@ -1,18 +1,11 @@
 //! `dem render`: a PNG picture of a checkpoint, a `last-good-state.json`, a specimen file, a
 //! clump template (the kind is read from the file's `schema` field) or a VTK snapshot
-//! (`snap-*.vtp`), and animations of a `.pvd` series. Loading is in [`load`] and [`vtk`],
-//! drawing in [`draw`], animations in [`anim`]; this module holds the flags, the output path
-//! and the messages.
-
-pub mod anim;
-pub mod draw;
-pub mod load;
-pub mod picture;
-pub mod vtk;
+//! (`snap-*.vtp`), and animations of a `.pvd` series. The flags and the messages are here; the
+//! loading, drawing and writing are the `dem-render` crate's ([`dem_render::run`]).
 
 use clap::Args;
-use draw::{ColorBy, Options};
-use std::path::{Path, PathBuf};
+use dem_render::{ColorBy, Job, Options, Written};
+use std::path::PathBuf;
 use std::process::ExitCode;
 
 /// Flags of `dem render`.
@@ -103,10 +96,10 @@ pub struct RenderArgs {
 
 fn parse_width(s: &str) -> Result<u32, String> {
     match s.trim().parse::<u32>() {
-        Ok(w) if (1..=draw::MAX_WIDTH).contains(&w) => Ok(w),
+        Ok(w) if (1..=dem_render::MAX_WIDTH).contains(&w) => Ok(w),
         Ok(w) => Err(format!(
             "{w} px: the width must be 1 to {} pixels",
-            draw::MAX_WIDTH
+            dem_render::MAX_WIDTH
         )),
         Err(e) => Err(format!("{e} (a width in pixels, e.g. 1200)")),
     }
@@ -150,190 +143,77 @@ fn parse_view(s: &str) -> Result<[f64; 4], String> {
     Ok([x0 * 1e-3, x1 * 1e-3, y0 * 1e-3, y1 * 1e-3])
 }
 
-/// `x.json` → `x.png` beside it; a series `x.pvd` → `x.gif`.
-fn default_out(input: &Path) -> PathBuf {
-    if is_series(input) {
-        input.with_extension("gif")
-    } else {
-        input.with_extension("png")
-    }
-}
-
-fn has_ext(p: &Path, ext: &str) -> bool {
-    p.extension().is_some_and(|e| e.eq_ignore_ascii_case(ext))
-}
-
-fn is_series(p: &Path) -> bool {
-    has_ext(p, "pvd")
-}
-
-/// The path with its folder made absolute and canonical (the file itself need not exist), to
-/// tell whether two names are one file.
-fn canonical(p: &Path) -> PathBuf {
-    if let Ok(c) = p.canonicalize() {
-        return c;
-    }
-    let dir = match p.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
-        _ => PathBuf::from("."),
-    };
-    match (dir.canonicalize(), p.file_name()) {
-        (Ok(d), Some(n)) => d.join(n),
-        _ => p.to_path_buf(),
-    }
-}
-
 /// Runs `dem render`.
 pub fn run(a: RenderArgs) -> Result<ExitCode, String> {
-    let out = a.out.clone().unwrap_or_else(|| default_out(&a.input));
-    let out_c = canonical(&out);
-    let mut inputs = vec![("the input", a.input.as_path())];
-    if let Some(o) = &a.outline {
-        inputs.push(("the outline (--outline)", o.as_path()));
-    }
-    for (what, p) in inputs {
-        if canonical(p) == out_c {
-            return Err(format!(
-                "--out {}: is {what} {}; give another output file",
-                out.display(),
-                p.display()
-            ));
-        }
-    }
-    let opts = Options {
-        width: a.width,
-        color: a.color,
-        bonds: a.bonds,
-        broken: a.broken,
-        view: a.view,
-        speed_max: a.speed_max,
-        rgb: a.rgb,
+    let job = Job {
+        input: a.input,
+        out: a.out,
+        outline: a.outline,
+        fps: a.fps,
+        options: Options {
+            width: a.width,
+            color: a.color,
+            bonds: a.bonds,
+            broken: a.broken,
+            view: a.view,
+            speed_max: a.speed_max,
+            rgb: a.rgb,
+        },
     };
-    let format = if has_ext(&out, "gif") {
-        Some(anim::Format::Gif)
-    } else if has_ext(&out, "mp4") {
-        Some(anim::Format::Mp4)
-    } else {
-        None
-    };
-    if is_series(&a.input) {
-        let Some(format) = format else {
-            return Err(format!(
-                "--out {}: a series ({}) is an animation: give a .gif (or .mp4 with ffmpeg)",
+    let written =
+        dem_render::run(&job, &mut |n| eprintln!("note: {n}")).map_err(|e| e.to_string())?;
+    match written {
+        Written::Picture {
+            out,
+            width,
+            height,
+            discs,
+            frame: f,
+            read_s,
+            draw_s,
+            encode_s,
+        } => {
+            println!(
+                "wrote {}: {} x {} px, {} discs; {:.4} px/mm, (0, 0) mm at column {:.2}, row {:.2}",
                 out.display(),
-                a.input.display()
-            ));
-        };
-        return animate(&a, &out, opts, format);
-    }
-    if format.is_some() {
-        return Err(format!(
-            "--out {}: animations are made from a series (snapshots.pvd); one picture is a .png",
-            out.display()
-        ));
-    }
-    let t0 = std::time::Instant::now();
-    let picture = load::load(&a.input, a.outline.as_deref())?;
-    let t1 = std::time::Instant::now();
-    for n in &picture.notes {
-        eprintln!("note: {n}");
-    }
-    let r = draw::render(&picture, &opts).map_err(|e| format!("{}: {e}", a.input.display()))?;
-    let t2 = std::time::Instant::now();
-    clumpgen::io::write_atomic(&out, &r.png)
-        .map_err(|e| format!("--out {}: cannot write: {e}", out.display()))?;
-    let f = r.frame;
-    println!(
-        "wrote {}: {} x {} px, {} discs; {:.4} px/mm, (0, 0) mm at column {:.2}, row {:.2}",
-        out.display(),
-        r.width,
-        r.height,
-        picture.discs.len(),
-        f.s * 1e-3,
-        f.c0,
-        f.r0
-    );
-    println!(
-        "read in {:.0} ms, drawn in {:.0} ms, PNG encoded in {:.0} ms",
-        (t1 - t0).as_secs_f64() * 1e3,
-        ((t2 - t1).as_secs_f64() - r.encode_s) * 1e3,
-        r.encode_s * 1e3
-    );
-    Ok(ExitCode::SUCCESS)
-}
-
-/// `dem render SERIES.pvd --out FILE.gif|mp4`: every disc snapshot a frame, one view and one
-/// speed scale for all.
-fn animate(
-    a: &RenderArgs,
-    out: &Path,
-    mut opts: Options,
-    format: anim::Format,
-) -> Result<ExitCode, String> {
-    if format == anim::Format::Mp4 && anim::ffmpeg().is_none() {
-        return Err(format!(
-            "--out {}: an MP4 is made by ffmpeg, which is not on PATH; install it or write a .gif",
-            out.display()
-        ));
-    }
-    let t0 = std::time::Instant::now();
-    let series = vtk::read_pvd(&a.input)?;
-    let out_c = canonical(out);
-    let mut pics = Vec::with_capacity(series.len());
-    for (t, file) in &series {
-        if canonical(file) == out_c {
-            return Err(format!(
-                "--out {}: is a file of the series {}; give another output file",
+                width,
+                height,
+                discs,
+                f.s * 1e-3,
+                f.c0,
+                f.r0
+            );
+            println!(
+                "read in {:.0} ms, drawn in {:.0} ms, PNG encoded in {:.0} ms",
+                read_s * 1e3,
+                draw_s * 1e3,
+                encode_s * 1e3
+            );
+        }
+        Written::Animation {
+            out,
+            frames,
+            width,
+            height,
+            fps,
+            read_s,
+            draw_s,
+        } => {
+            println!(
+                "wrote {}: {} frames of {} x {} px at {} fps ({:.2} s)",
                 out.display(),
-                a.input.display()
-            ));
+                frames,
+                width,
+                height,
+                fps,
+                frames as f64 / fps as f64
+            );
+            println!(
+                "read in {:.0} ms, drawn and encoded in {:.0} ms",
+                read_s * 1e3,
+                draw_s * 1e3
+            );
         }
-        if !file.is_file() {
-            return Err(format!(
-                "{}: names {}, which does not exist",
-                a.input.display(),
-                file.display()
-            ));
-        }
-        let p = vtk::load_vtp(file, Some(*t)).map_err(|e| format!("{}: {e}", a.input.display()))?;
-        pics.push(p);
     }
-    let first_notes: Vec<String> = pics.first().map(|p| p.notes.clone()).unwrap_or_default();
-    for n in first_notes {
-        eprintln!("note: {n}");
-    }
-    if opts.view.is_none() {
-        opts.view = Some(anim::union_view(&pics).ok_or_else(|| {
-            format!(
-                "{}: nothing to draw: no disc or wall in any snapshot",
-                a.input.display()
-            )
-        })?);
-    }
-    if opts.speed_max.is_none() {
-        let top = pics
-            .iter()
-            .flat_map(|p| p.discs.iter().map(|d| d.speed))
-            .filter(|v| v.is_finite())
-            .fold(0.0, f64::max);
-        opts.speed_max = (top > 0.0).then_some(top);
-    }
-    let t1 = std::time::Instant::now();
-    let (w, h) = anim::animate(&pics, &opts, a.fps, format, out)
-        .map_err(|e| format!("{}: {e}", a.input.display()))?;
-    println!(
-        "wrote {}: {} frames of {} x {} px at {} fps ({:.2} s)",
-        out.display(),
-        pics.len(),
-        w,
-        h,
-        a.fps,
-        pics.len() as f64 / a.fps as f64
-    );
-    println!(
-        "read in {:.0} ms, drawn and encoded in {:.0} ms",
-        (t1 - t0).as_secs_f64() * 1e3,
-        t1.elapsed().as_secs_f64() * 1e3
-    );
     Ok(ExitCode::SUCCESS)
 }

@@ -6,7 +6,8 @@
 //! scale in x and y, and is at most twice as tall as wide (a taller one is scaled down and
 //! centred); below it a footer holds the scale bar, the legend and the caption lines.
 
-use super::load::{sig, Disc, Kind, Picture};
+use crate::error::RenderError;
+use crate::picture::{sig, Disc, Kind, Picture};
 use std::collections::{BTreeMap, HashMap};
 use tiny_skia::{
     Color, FillRule, LineCap, LineJoin, Paint, PathBuilder, Pixmap, PixmapPaint, Rect, Stroke,
@@ -326,7 +327,7 @@ pub fn grain_colours(discs: &[Disc]) -> Vec<usize> {
 }
 
 /// Draws `p` as a PNG.
-pub fn render(p: &Picture, o: &Options) -> Result<Rendered, String> {
+pub fn render(p: &Picture, o: &Options) -> Result<Rendered, RenderError> {
     let (out, frame) = draw(p, o)?;
     let t = std::time::Instant::now();
     let png = encode_png(&out, o.rgb)?;
@@ -340,51 +341,135 @@ pub fn render(p: &Picture, o: &Options) -> Result<Rendered, String> {
     })
 }
 
-/// Draws `p` into an opaque RGBA image (a frame of an animation, or a PNG's pixels).
-pub fn draw(p: &Picture, o: &Options) -> Result<(Pixmap, Frame), String> {
+/// Draws `p` into an opaque RGBA image (a frame of an animation, or a PNG's pixels): the
+/// content area (the layers below, in this order) and the footer under it.
+pub fn draw(p: &Picture, o: &Options) -> Result<(Pixmap, Frame), RenderError> {
+    let l = Layout::new(p, o)?;
     let w = o.width;
-    if w == 0 || w > MAX_WIDTH {
-        return Err(format!("--width: {w} px is not in 1..={MAX_WIDTH}"));
-    }
-    let view = match o.view {
-        Some(v) => v,
-        None => content_box(p).ok_or("nothing to draw: no disc, wall or outline")?,
-    };
-    let wf = w as f64;
-    // Font pixel size: 8 px text up to 700 px wide, 16 px up to 1400, …
-    let k = (wf / 700.0).ceil().max(1.0);
-    let pad = (wf / 50.0).round().max(6.0);
-    let (bw, bh) = (
-        (view[1] - view[0]).max(1e-12),
-        (view[3] - view[2]).max(1e-12),
-    );
-    let mut s = (wf - 2.0 * pad).max(1.0) / bw;
-    if bh * s > 2.0 * wf {
-        s = 2.0 * wf / bh;
-    }
-    let ch = (bh * s + 2.0 * pad).ceil().max(1.0);
-    let frame = Frame {
-        s,
-        c0: 0.5 * (wf - bw * s) - view[0] * s,
-        r0: pad + view[3] * s,
-    };
-    let col = |x: f64| (frame.c0 + frame.s * x) as f32;
-    let row = |y: f64| (frame.r0 - frame.s * y) as f32;
-    let mut pm = Pixmap::new(w, ch as u32)
-        .ok_or_else(|| format!("cannot allocate a {w} x {ch} px image"))?;
+    let ch = l.ch;
+    let mut pm = Pixmap::new(w, ch as u32).ok_or(RenderError::Alloc {
+        width: w,
+        height: ch as u32,
+    })?;
     pm.fill(background());
-    let id = Transform::identity();
 
-    // Radii on screen: median, for line widths.
-    let mut radii: Vec<f64> = p
-        .discs
-        .iter()
-        .map(|d| d.r * s)
-        .filter(|r| r.is_finite())
-        .collect();
-    radii.sort_by(f64::total_cmp);
-    let r_med = radii.get(radii.len() / 2).copied().unwrap_or(4.0);
-    let visible = |d: &Disc| {
+    // The grain under a template's discs.
+    let outline_path = outline_path(p, &l);
+    if let Some(path) = &outline_path {
+        let id = Transform::identity();
+        pm.fill_path(path, &paint(GRAIN_FILL, 255), FillRule::EvenOdd, id, None);
+    }
+    let speed_top = o.speed_max.unwrap_or_else(|| {
+        p.discs
+            .iter()
+            .map(|d| d.speed)
+            .filter(|v| v.is_finite())
+            .fold(0.0, f64::max)
+    });
+    if p.kind == Kind::Template {
+        draw_template_discs(&mut pm, p, &l);
+    } else {
+        draw_discs(&mut pm, p, &l, &DiscColours::new(p, o, speed_top));
+    }
+    // Bonds: intact (dark, or by group), broken (red, over them).
+    let draw_bonds = o.bonds || o.color == ColorBy::Group;
+    if draw_bonds {
+        draw_intact_bonds(&mut pm, p, o, &l);
+    }
+    if o.broken {
+        draw_cracks(&mut pm, p, &l);
+    }
+    draw_walls(&mut pm, p, &l);
+    draw_marks(&mut pm, p, &l, outline_path.as_ref());
+    let out = footer(&pm, p, o, &l, speed_top)?;
+    Ok((out, l.frame))
+}
+
+/// Where the content lands in the image: the region drawn, the model-to-pixel map, the font
+/// and margin sizes, and the discs' median radius on screen (line widths follow from it).
+struct Layout {
+    /// Region drawn `[xmin, xmax, ymin, ymax]` (m).
+    view: [f64; 4],
+    /// The model-to-pixel map.
+    frame: Frame,
+    /// Font pixel size (image pixels per font pixel).
+    k: f64,
+    /// Margin round the content (px).
+    pad: f64,
+    /// The view's width (m, at least 1e-12).
+    bw: f64,
+    /// Height of the content area (px).
+    ch: f64,
+    /// Median disc radius on screen (px), 4 without discs.
+    r_med: f64,
+}
+
+impl Layout {
+    /// The content (its bounding box, or `o.view`) fills the width less a margin, at one scale
+    /// in x and y, at most twice as tall as wide.
+    fn new(p: &Picture, o: &Options) -> Result<Layout, RenderError> {
+        let w = o.width;
+        if w == 0 || w > MAX_WIDTH {
+            return Err(RenderError::Width {
+                width: w,
+                max: MAX_WIDTH,
+            });
+        }
+        let view = match o.view {
+            Some(v) => v,
+            None => content_box(p).ok_or(RenderError::Empty)?,
+        };
+        let wf = w as f64;
+        // Font pixel size: 8 px text up to 700 px wide, 16 px up to 1400, …
+        let k = (wf / 700.0).ceil().max(1.0);
+        let pad = (wf / 50.0).round().max(6.0);
+        let (bw, bh) = (
+            (view[1] - view[0]).max(1e-12),
+            (view[3] - view[2]).max(1e-12),
+        );
+        let mut s = (wf - 2.0 * pad).max(1.0) / bw;
+        if bh * s > 2.0 * wf {
+            s = 2.0 * wf / bh;
+        }
+        let ch = (bh * s + 2.0 * pad).ceil().max(1.0);
+        let frame = Frame {
+            s,
+            c0: 0.5 * (wf - bw * s) - view[0] * s,
+            r0: pad + view[3] * s,
+        };
+        // Radii on screen: median, for line widths.
+        let mut radii: Vec<f64> = p
+            .discs
+            .iter()
+            .map(|d| d.r * s)
+            .filter(|r| r.is_finite())
+            .collect();
+        radii.sort_by(f64::total_cmp);
+        let r_med = radii.get(radii.len() / 2).copied().unwrap_or(4.0);
+        Ok(Layout {
+            view,
+            frame,
+            k,
+            pad,
+            bw,
+            ch,
+            r_med,
+        })
+    }
+
+    /// Pixel column of x (m).
+    fn col(&self, x: f64) -> f32 {
+        (self.frame.c0 + self.frame.s * x) as f32
+    }
+
+    /// Pixel row of y (m).
+    fn row(&self, y: f64) -> f32 {
+        (self.frame.r0 - self.frame.s * y) as f32
+    }
+
+    /// A finite disc of positive radius that reaches into the view.
+    fn visible(&self, d: &Disc) -> bool {
+        let view = self.view;
         d.x.is_finite()
             && d.y.is_finite()
             && d.r.is_finite()
@@ -393,48 +478,83 @@ pub fn draw(p: &Picture, o: &Options) -> Result<(Pixmap, Frame), String> {
             && d.x - d.r <= view[1]
             && d.y + d.r >= view[2]
             && d.y - d.r <= view[3]
-    };
-
-    // The grain under a template's discs.
-    let outline_path = p.outline.as_ref().and_then(|pts| {
-        let mut pb = PathBuilder::new();
-        for (i, q) in pts.iter().enumerate() {
-            if i == 0 {
-                pb.move_to(col(q[0]), row(q[1]));
-            } else {
-                pb.line_to(col(q[0]), row(q[1]));
-            }
-        }
-        pb.close();
-        pb.finish()
-    });
-    if let Some(path) = &outline_path {
-        pm.fill_path(path, &paint(GRAIN_FILL, 255), FillRule::EvenOdd, id, None);
     }
 
-    // Disc colours.
-    let intact_of: Vec<bool> = {
-        let mut v = vec![false; p.discs.len()];
-        for b in p.bonds.iter().filter(|b| b.intact) {
-            v[b.i] = true;
-            v[b.j] = true;
+    /// Width of a bond line (px).
+    fn bond_width(&self) -> f32 {
+        (0.12 * self.r_med).clamp(0.8, 3.0 * self.k) as f32
+    }
+}
+
+/// A round-capped, round-joined stroke `width` px wide.
+fn line(width: f32) -> Stroke {
+    Stroke {
+        width,
+        line_cap: LineCap::Round,
+        line_join: LineJoin::Round,
+        ..Stroke::default()
+    }
+}
+
+/// A polyline through `pts` (m) in pixels (open; the caller may close it).
+fn polyline(l: &Layout, pts: &[[f64; 2]]) -> PathBuilder {
+    let mut pb = PathBuilder::new();
+    for (i, q) in pts.iter().enumerate() {
+        if i == 0 {
+            pb.move_to(l.col(q[0]), l.row(q[1]));
+        } else {
+            pb.line_to(l.col(q[0]), l.row(q[1]));
         }
-        v
-    };
-    let speed_top = o.speed_max.unwrap_or_else(|| {
-        p.discs
-            .iter()
-            .map(|d| d.speed)
-            .filter(|v| v.is_finite())
-            .fold(0.0, f64::max)
-    });
-    let grain = (o.color == ColorBy::Grain).then(|| grain_colours(&p.discs));
-    let colour_of = |i: usize, d: &Disc| -> [u8; 3] {
-        match o.color {
-            ColorBy::Grain => grain_colour(grain.as_ref().map_or(0, |g| g[i])),
+    }
+    pb
+}
+
+/// A template's grain outline as a closed path, if it has one.
+fn outline_path(p: &Picture, l: &Layout) -> Option<tiny_skia::Path> {
+    p.outline.as_ref().and_then(|pts| {
+        let mut pb = polyline(l, pts);
+        pb.close();
+        pb.finish()
+    })
+}
+
+/// Disc colours for [`Options::color`] (not for templates: each of their discs has its own).
+struct DiscColours {
+    color: ColorBy,
+    /// [`grain_colours`] where colouring by grain.
+    grain: Option<Vec<usize>>,
+    /// Whether each disc has an intact bond.
+    intact_of: Vec<bool>,
+    /// Top of the speed scale (m/s).
+    speed_top: f64,
+}
+
+impl DiscColours {
+    fn new(p: &Picture, o: &Options, speed_top: f64) -> DiscColours {
+        let intact_of: Vec<bool> = {
+            let mut v = vec![false; p.discs.len()];
+            for b in p.bonds.iter().filter(|b| b.intact) {
+                v[b.i] = true;
+                v[b.j] = true;
+            }
+            v
+        };
+        let grain = (o.color == ColorBy::Grain).then(|| grain_colours(&p.discs));
+        DiscColours {
+            color: o.color,
+            grain,
+            intact_of,
+            speed_top,
+        }
+    }
+
+    /// The colour of disc `i`, `d`.
+    fn of(&self, i: usize, d: &Disc) -> [u8; 3] {
+        match self.color {
+            ColorBy::Grain => grain_colour(self.grain.as_ref().map_or(0, |g| g[i])),
             ColorBy::Material => PALETTE[d.material as usize % PALETTE.len()],
             ColorBy::Group => {
-                if intact_of[i] {
+                if self.intact_of[i] {
                     BONDED_DISC
                 } else {
                     LOOSE_DISC
@@ -442,157 +562,171 @@ pub fn draw(p: &Picture, o: &Options) -> Result<(Pixmap, Frame), String> {
             }
             ColorBy::Speed => {
                 // 64 steps, so discs of one step are drawn as one path.
-                let f = if speed_top > 0.0 {
-                    d.speed / speed_top
+                let f = if self.speed_top > 0.0 {
+                    d.speed / self.speed_top
                 } else {
                     0.0
                 };
                 viridis((f.clamp(0.0, 1.0) * 63.0).round() / 63.0)
             }
         }
-    };
+    }
+}
 
-    if p.kind == Kind::Template {
-        // Few discs that overlap by design: each translucent with its edge and a centre dot.
-        let edge = Stroke {
-            width: (1.5 * k) as f32,
-            ..Stroke::default()
-        };
-        for (i, d) in p.discs.iter().enumerate().filter(|(_, d)| visible(d)) {
-            let c = PALETTE[i % PALETTE.len()];
-            if let Some(path) = PathBuilder::from_circle(col(d.x), row(d.y), (d.r * s) as f32) {
-                pm.fill_path(&path, &paint(c, 120), FillRule::Winding, id, None);
-                pm.stroke_path(&path, &paint(shade(c, 0.7), 255), &edge, id, None);
+/// A template's discs: few, and overlapping by design, so each is translucent with its edge and
+/// a centre dot.
+fn draw_template_discs(pm: &mut Pixmap, p: &Picture, l: &Layout) {
+    let (k, s, id) = (l.k, l.frame.s, Transform::identity());
+    let edge = Stroke {
+        width: (1.5 * k) as f32,
+        ..Stroke::default()
+    };
+    for (i, d) in p.discs.iter().enumerate().filter(|(_, d)| l.visible(d)) {
+        let c = PALETTE[i % PALETTE.len()];
+        if let Some(path) = PathBuilder::from_circle(l.col(d.x), l.row(d.y), (d.r * s) as f32) {
+            pm.fill_path(&path, &paint(c, 120), FillRule::Winding, id, None);
+            pm.stroke_path(&path, &paint(shade(c, 0.7), 255), &edge, id, None);
+        }
+        if let Some(dot) = PathBuilder::from_circle(l.col(d.x), l.row(d.y), (1.5 * k) as f32) {
+            pm.fill_path(
+                &dot,
+                &paint(shade(c, 0.6), 255),
+                FillRule::Winding,
+                id,
+                None,
+            );
+        }
+    }
+}
+
+/// Discs of one colour as one path (touching discs of a grain merge cleanly). Where discs are
+/// big enough, each has a thin darker rim: all discs are first filled in the rim colour, then
+/// all again with the rim width less (two fills cost less than half of stroking the circles).
+fn draw_discs(pm: &mut Pixmap, p: &Picture, l: &Layout, colours: &DiscColours) {
+    let (r_med, s) = (l.r_med, l.frame.s);
+    let rim = if r_med >= 4.0 {
+        (0.07 * r_med).clamp(0.5, 1.5)
+    } else {
+        0.0
+    };
+    let passes: &[(f64, f64)] = if rim > 0.0 {
+        &[(0.0, 0.72), (rim, 1.0)]
+    } else {
+        &[(0.0, 1.0)]
+    };
+    for &(inset, tone) in passes {
+        let mut by_colour: BTreeMap<[u8; 3], PathBuilder> = BTreeMap::new();
+        for (i, d) in p.discs.iter().enumerate().filter(|(_, d)| l.visible(d)) {
+            let r = d.r * s - inset;
+            if r > 0.0 {
+                by_colour.entry(colours.of(i, d)).or_default().push_circle(
+                    l.col(d.x),
+                    l.row(d.y),
+                    r as f32,
+                );
             }
-            if let Some(dot) = PathBuilder::from_circle(col(d.x), row(d.y), (1.5 * k) as f32) {
+        }
+        for (c, pb) in by_colour {
+            if let Some(path) = pb.finish() {
+                let c = shade(c, tone);
                 pm.fill_path(
-                    &dot,
-                    &paint(shade(c, 0.6), 255),
+                    &path,
+                    &paint(c, 255),
                     FillRule::Winding,
-                    id,
+                    Transform::identity(),
                     None,
                 );
             }
         }
-    } else {
-        // Discs of one colour as one path (touching discs of a grain merge cleanly). Where
-        // discs are big enough, each has a thin darker rim: all discs are first filled in the
-        // rim colour, then all again with the rim width less (two fills cost less than half
-        // of stroking the circles).
-        let rim = if r_med >= 4.0 {
-            (0.07 * r_med).clamp(0.5, 1.5)
-        } else {
-            0.0
-        };
-        let passes: &[(f64, f64)] = if rim > 0.0 {
-            &[(0.0, 0.72), (rim, 1.0)]
-        } else {
-            &[(0.0, 1.0)]
-        };
-        for &(inset, tone) in passes {
-            let mut by_colour: BTreeMap<[u8; 3], PathBuilder> = BTreeMap::new();
-            for (i, d) in p.discs.iter().enumerate().filter(|(_, d)| visible(d)) {
-                let r = d.r * s - inset;
-                if r > 0.0 {
-                    by_colour.entry(colour_of(i, d)).or_default().push_circle(
-                        col(d.x),
-                        row(d.y),
-                        r as f32,
-                    );
-                }
-            }
-            for (c, pb) in by_colour {
-                if let Some(path) = pb.finish() {
-                    let c = shade(c, tone);
-                    pm.fill_path(&path, &paint(c, 255), FillRule::Winding, id, None);
-                }
-            }
-        }
     }
+}
 
-    // Bonds: intact (dark, or by group), broken (red, over them).
-    let bond_w = (0.12 * r_med).clamp(0.8, 3.0 * k) as f32;
-    let line = |width: f32| Stroke {
-        width,
-        line_cap: LineCap::Round,
-        line_join: LineJoin::Round,
-        ..Stroke::default()
-    };
-    let draw_bonds = o.bonds || o.color == ColorBy::Group;
-    if draw_bonds {
-        let mut by_group: BTreeMap<u16, PathBuilder> = BTreeMap::new();
-        for b in p.bonds.iter().filter(|b| b.intact) {
-            let (a, c) = (&p.discs[b.i], &p.discs[b.j]);
-            // Both ends finite (a non-finite point would void the whole path), one in view.
-            let finite = |d: &Disc| d.x.is_finite() && d.y.is_finite();
-            if !(finite(a) && finite(c) && (visible(a) || visible(c))) {
-                continue;
-            }
-            let key = if o.color == ColorBy::Group {
-                b.group
-            } else {
-                0
-            };
-            let pb = by_group.entry(key).or_default();
-            pb.move_to(col(a.x), row(a.y));
-            pb.line_to(col(c.x), row(c.y));
+/// Intact bonds as lines between the disc centres: dark, or in their group's colour (wider)
+/// with `--color group`.
+fn draw_intact_bonds(pm: &mut Pixmap, p: &Picture, o: &Options, l: &Layout) {
+    let bond_w = l.bond_width();
+    let mut by_group: BTreeMap<u16, PathBuilder> = BTreeMap::new();
+    for b in p.bonds.iter().filter(|b| b.intact) {
+        let (a, c) = (&p.discs[b.i], &p.discs[b.j]);
+        // Both ends finite (a non-finite point would void the whole path), one in view.
+        let finite = |d: &Disc| d.x.is_finite() && d.y.is_finite();
+        if !(finite(a) && finite(c) && (l.visible(a) || l.visible(c))) {
+            continue;
         }
-        for (g, pb) in by_group {
-            let (c, width) = if o.color == ColorBy::Group {
-                (
-                    shade(PALETTE[g as usize % PALETTE.len()], 0.9),
-                    1.6 * bond_w,
-                )
-            } else {
-                (INK, bond_w)
-            };
-            if let Some(path) = pb.finish() {
-                pm.stroke_path(&path, &paint(c, 230), &line(width), id, None);
-            }
-        }
+        let key = if o.color == ColorBy::Group {
+            b.group
+        } else {
+            0
+        };
+        let pb = by_group.entry(key).or_default();
+        pb.move_to(l.col(a.x), l.row(a.y));
+        pb.line_to(l.col(c.x), l.row(c.y));
     }
-    if o.broken {
-        // A crack mark where each bond broke: across the line of the two discs' centres (as
-        // they are now), as long as the bond was wide; at the bond's middle now where the
-        // break point is not known.
-        let mut pb = PathBuilder::new();
-        for b in p.bonds.iter().filter(|b| !b.intact) {
-            let (a, c) = (&p.discs[b.i], &p.discs[b.j]);
-            let (dx, dy) = (c.x - a.x, c.y - a.y);
-            let len = dx.hypot(dy);
-            if !(len > 0.0 && len.is_finite()) {
-                continue;
-            }
-            let [mx, my] = b.broke_at.unwrap_or([0.5 * (a.x + c.x), 0.5 * (a.y + c.y)]);
-            if !(mx >= view[0] && mx <= view[1] && my >= view[2] && my <= view[3]) {
-                continue;
-            }
-            let half = 0.5
-                * if b.width > 0.0 {
-                    b.width
-                } else {
-                    a.r.min(c.r) * 2.0
-                };
-            let (nx, ny) = (-dy / len * half, dx / len * half);
-            pb.move_to(col(mx - nx), row(my - ny));
-            pb.line_to(col(mx + nx), row(my + ny));
-        }
+    for (g, pb) in by_group {
+        let (c, width) = if o.color == ColorBy::Group {
+            (
+                shade(PALETTE[g as usize % PALETTE.len()], 0.9),
+                1.6 * bond_w,
+            )
+        } else {
+            (INK, bond_w)
+        };
         if let Some(path) = pb.finish() {
-            pm.stroke_path(&path, &paint(BROKEN, 255), &line(2.0 * bond_w), id, None);
+            pm.stroke_path(
+                &path,
+                &paint(c, 230),
+                &line(width),
+                Transform::identity(),
+                None,
+            );
         }
     }
+}
 
-    // Walls, and the tool (a wall named `tool`, as `dem test cutting` names it) darker.
-    let wall_w = (0.45 * r_med).clamp(2.0, 5.0 * k) as f32;
-    for wall in &p.walls {
-        let mut pb = PathBuilder::new();
-        for (i, q) in wall.points.iter().enumerate() {
-            if i == 0 {
-                pb.move_to(col(q[0]), row(q[1]));
-            } else {
-                pb.line_to(col(q[0]), row(q[1]));
-            }
+/// A crack mark where each bond broke: across the line of the two discs' centres (as they are
+/// now), as long as the bond was wide; at the bond's middle now where the break point is not
+/// known.
+fn draw_cracks(pm: &mut Pixmap, p: &Picture, l: &Layout) {
+    let view = l.view;
+    let mut pb = PathBuilder::new();
+    for b in p.bonds.iter().filter(|b| !b.intact) {
+        let (a, c) = (&p.discs[b.i], &p.discs[b.j]);
+        let (dx, dy) = (c.x - a.x, c.y - a.y);
+        let len = dx.hypot(dy);
+        if !(len > 0.0 && len.is_finite()) {
+            continue;
         }
+        let [mx, my] = b.broke_at.unwrap_or([0.5 * (a.x + c.x), 0.5 * (a.y + c.y)]);
+        if !(mx >= view[0] && mx <= view[1] && my >= view[2] && my <= view[3]) {
+            continue;
+        }
+        let half = 0.5
+            * if b.width > 0.0 {
+                b.width
+            } else {
+                a.r.min(c.r) * 2.0
+            };
+        let (nx, ny) = (-dy / len * half, dx / len * half);
+        pb.move_to(l.col(mx - nx), l.row(my - ny));
+        pb.line_to(l.col(mx + nx), l.row(my + ny));
+    }
+    if let Some(path) = pb.finish() {
+        pm.stroke_path(
+            &path,
+            &paint(BROKEN, 255),
+            &line(2.0 * l.bond_width()),
+            Transform::identity(),
+            None,
+        );
+    }
+}
+
+/// Walls, and the tool (a wall named `tool`, as `dem test cutting` names it) darker.
+fn draw_walls(pm: &mut Pixmap, p: &Picture, l: &Layout) {
+    let id = Transform::identity();
+    let wall_w = (0.45 * l.r_med).clamp(2.0, 5.0 * l.k) as f32;
+    for wall in &p.walls {
+        let mut pb = polyline(l, &wall.points);
         let tool = wall.name == "tool";
         // The tool's faces (clearance, rake) enclose a wedge of its body: filled.
         if tool && wall.points.len() >= 3 {
@@ -606,14 +740,18 @@ pub fn draw(p: &Picture, o: &Options) -> Result<(Pixmap, Frame), String> {
             pm.stroke_path(&path, &paint(c, 255), &line(wall_w), id, None);
         }
     }
+}
 
-    // A template's outline on top, and its centroid marks.
-    if let Some(path) = &outline_path {
+/// A template's outline on top, and its centroid marks: `+` for the grain's, `x` for the
+/// clump's.
+fn draw_marks(pm: &mut Pixmap, p: &Picture, l: &Layout, outline: Option<&tiny_skia::Path>) {
+    let (k, id) = (l.k, Transform::identity());
+    if let Some(path) = outline {
         pm.stroke_path(path, &paint(INK, 255), &line((1.5 * k) as f32), id, None);
     }
     let arm = (5.0 * k) as f32;
     if let Some(c) = p.centroid {
-        let (x, y) = (col(c[0]), row(c[1]));
+        let (x, y) = (l.col(c[0]), l.row(c[1]));
         let mut pb = PathBuilder::new();
         pb.move_to(x - arm, y);
         pb.line_to(x + arm, y);
@@ -624,7 +762,7 @@ pub fn draw(p: &Picture, o: &Options) -> Result<(Pixmap, Frame), String> {
         }
     }
     if let Some(c) = p.clump_centroid {
-        let (x, y, a) = (col(c[0]), row(c[1]), 0.75 * arm);
+        let (x, y, a) = (l.col(c[0]), l.row(c[1]), 0.75 * arm);
         let mut pb = PathBuilder::new();
         pb.move_to(x - a, y - a);
         pb.line_to(x + a, y + a);
@@ -634,14 +772,24 @@ pub fn draw(p: &Picture, o: &Options) -> Result<(Pixmap, Frame), String> {
             pm.stroke_path(&path, &paint(BROKEN, 255), &line(k as f32), id, None);
         }
     }
+}
 
-    // Footer: the scale bar, the legend at the right (on a row of its own where it does not
-    // fit beside the bar), the caption lines below, wrapped to the width.
-    let kf = k as f32;
+/// The content `pm` with the footer below it: the scale bar, the legend at the right (on a
+/// row of its own where it does not fit beside the bar), the caption lines below, wrapped to
+/// the width.
+fn footer(
+    pm: &Pixmap,
+    p: &Picture,
+    o: &Options,
+    l: &Layout,
+    speed_top: f64,
+) -> Result<Pixmap, RenderError> {
+    let (w, pad, ch) = (o.width, l.pad, l.ch);
+    let kf = l.k as f32;
     let lh = 11.0 * kf;
     let x0 = pad as f32;
-    let len = nice_length(0.25 * bw);
-    let bar_px = (len * s) as f32;
+    let len = nice_length(0.25 * l.bw);
+    let bar_px = (len * l.frame.s) as f32;
     let bar_label = format!("{} mm", sig(len * 1e3));
     let bar_end = x0 + bar_px + 8.0 * kf * (1 + bar_label.len()) as f32;
     let legend = Legend::new(p, o, speed_top);
@@ -649,17 +797,26 @@ pub fn draw(p: &Picture, o: &Options) -> Result<(Pixmap, Frame), String> {
     let right = w as f32 - x0;
     let legend_own_row = legend_w > 0.0 && right - legend_w < bar_end + 16.0 * kf;
     let max_chars = ((w as f32 - 2.0 * x0) / (8.0 * kf)).max(4.0) as usize;
-    let caption: Vec<String> = p.caption.iter().flat_map(|l| wrap(l, max_chars)).collect();
+    let caption: Vec<String> = p.caption.iter().flat_map(|t| wrap(t, max_chars)).collect();
     let bar_row = 2.0 * lh;
     let legend_row = if legend_own_row { 1.5 * lh } else { 0.0 };
     let fh =
         (0.5 * pad as f32 + bar_row + legend_row + lh * caption.len() as f32 + 0.5 * pad as f32)
             .ceil();
     let total_h = ch as u32 + fh as u32;
-    let mut out = Pixmap::new(w, total_h)
-        .ok_or_else(|| format!("cannot allocate a {w} x {total_h} px image"))?;
+    let mut out = Pixmap::new(w, total_h).ok_or(RenderError::Alloc {
+        width: w,
+        height: total_h,
+    })?;
     out.fill(background());
-    out.draw_pixmap(0, 0, pm.as_ref(), &PixmapPaint::default(), id, None);
+    out.draw_pixmap(
+        0,
+        0,
+        pm.as_ref(),
+        &PixmapPaint::default(),
+        Transform::identity(),
+        None,
+    );
     let y0 = (ch as f32 + 0.25 * pad as f32).round();
     block(&mut out, x0, y0 + 0.5 * lh, bar_px, 3.0 * kf, INK);
     for tick in [x0, x0 + bar_px - kf] {
@@ -683,7 +840,7 @@ pub fn draw(p: &Picture, o: &Options) -> Result<(Pixmap, Frame), String> {
         let y = y0 + bar_row + legend_row + lh * n as f32;
         text(&mut out, x0, y, line, kf, INK);
     }
-    Ok((out, frame))
+    Ok(out)
 }
 
 /// The legend: swatches for materials, bond groups, bonds and cracks as drawn, and for speed
@@ -803,7 +960,7 @@ fn wrap(line: &str, max: usize) -> Vec<String> {
 /// other pixel (anti-aliased edges) takes the nearest kept colour. That makes a picture about
 /// a third of its RGB size (a 1,583-disc cut at 1200 px: 270 kB instead of 810 kB) with no
 /// visible change.
-pub fn encode_png(pm: &Pixmap, rgb: bool) -> Result<Vec<u8>, String> {
+pub fn encode_png(pm: &Pixmap, rgb: bool) -> Result<Vec<u8>, RenderError> {
     // Everything is drawn over an opaque background, so premultiplied RGBA is plain RGBA.
     let pixels: Vec<[u8; 3]> = pm
         .data()
@@ -811,7 +968,6 @@ pub fn encode_png(pm: &Pixmap, rgb: bool) -> Result<Vec<u8>, String> {
         .map(|p| [p[0], p[1], p[2]])
         .collect();
     let mut bytes = Vec::new();
-    let fail = |e: png::EncodingError| format!("PNG encoding: {e}");
     let mut e = png::Encoder::new(&mut bytes, pm.width(), pm.height());
     e.set_depth(png::BitDepth::Eight);
     let data: Vec<u8> = if rgb {
@@ -826,9 +982,9 @@ pub fn encode_png(pm: &Pixmap, rgb: bool) -> Result<Vec<u8>, String> {
         index
     };
     e.set_compression(png::Compression::Default);
-    let mut wr = e.write_header().map_err(fail)?;
-    wr.write_image_data(&data).map_err(fail)?;
-    wr.finish().map_err(fail)?;
+    let mut wr = e.write_header()?;
+    wr.write_image_data(&data)?;
+    wr.finish()?;
     Ok(bytes)
 }
 

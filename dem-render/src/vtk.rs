@@ -6,12 +6,45 @@
 //! `format="binary"` base64 arrays are read too). A small hand parser; compressed, raw-binary
 //! or other VTK flavours are refused with a message.
 
-use super::picture::{
+use crate::error::RenderError;
+use crate::picture::{
     counts, grain_keys, short_name, step_time, Bond, Disc, Kind, Picture, WallLine,
 };
 use base64::Engine as _;
 use dem_core::state::FREE;
 use std::path::{Path, PathBuf};
+
+/// [`RenderError::File`] for `$file` with a `format!` reason.
+macro_rules! ferr {
+    ($file:expr, $($arg:tt)*) => {
+        RenderError::file(&$file, format!($($arg)*))
+    };
+}
+
+/// [`RenderError::Array`] for the array `$at` ([`ArrayAt`]) with a `format!` reason.
+macro_rules! aerr {
+    ($at:expr, $($arg:tt)*) => {
+        $at.err(format!($($arg)*))
+    };
+}
+
+/// Which `<DataArray>` of which file, for messages.
+struct ArrayAt<'a> {
+    file: &'a str,
+    name: &'a str,
+    section: &'a str,
+}
+
+impl ArrayAt<'_> {
+    fn err(&self, reason: String) -> RenderError {
+        RenderError::Array {
+            file: self.file.to_string(),
+            name: self.name.to_string(),
+            section: self.section.to_string(),
+            reason,
+        }
+    }
+}
 
 /// One `<DataArray>`: its section (`PointData`, `CellData`, `Points`, `Lines`, …), name,
 /// components and values (as text tokens are parsed to f64: ids up to 2^53 stay exact).
@@ -46,55 +79,58 @@ impl PolyData {
 }
 
 /// Parses the ASCII PolyData in `text` (from `file`, for messages).
-fn parse_polydata(text: &str, file: &str) -> Result<PolyData, String> {
+fn parse_polydata(text: &str, file: &str) -> Result<PolyData, RenderError> {
     let head = text
         .find("<VTKFile")
         .map(|i| &text[i..i + text[i..].find('>').unwrap_or(text.len() - i)])
-        .ok_or_else(|| format!("{file}: not a VTK XML file (no <VTKFile> element)"))?;
+        .ok_or_else(|| ferr!(file, "not a VTK XML file (no <VTKFile> element)"))?;
     match attr(head, "type") {
         Some("PolyData") => {}
         Some(other) => {
-            return Err(format!(
-                "{file}: VTK type {other:?}; dem render reads the PolyData snapshots (snap-*.vtp) \
+            return Err(ferr!(
+                file,
+                "VTK type {other:?}; dem render reads the PolyData snapshots (snap-*.vtp) \
                  dem run writes"
             ))
         }
-        None => return Err(format!("{file}: <VTKFile> has no type attribute")),
+        None => return Err(ferr!(file, "<VTKFile> has no type attribute")),
     }
     if !text.contains("</VTKFile>") {
-        return Err(format!("{file}: truncated (no closing </VTKFile>)"));
+        return Err(ferr!(file, "truncated (no closing </VTKFile>)"));
     }
     if attr(head, "compressor").is_some() {
-        return Err(format!(
-            "{file}: compressed VTK data; dem render reads the uncompressed ASCII or base64 \
+        return Err(ferr!(
+            file,
+            "compressed VTK data; dem render reads the uncompressed ASCII or base64 \
              snapshots dem run writes"
         ));
     }
     let header = match attr(head, "header_type").unwrap_or("UInt32") {
         "UInt32" => 4,
         "UInt64" => 8,
-        h => return Err(format!("{file}: <VTKFile> header_type={h:?}")),
+        h => return Err(ferr!(file, "<VTKFile> header_type={h:?}")),
     };
     let (arrays_end, appended) = appended_data(text, file)?;
     let piece = text
         .find("<Piece")
         .map(|i| &text[i..i + text[i..].find('>').unwrap_or(0)])
-        .ok_or_else(|| format!("{file}: no <Piece> element"))?;
-    let count = |key: &str| -> Result<usize, String> {
+        .ok_or_else(|| ferr!(file, "no <Piece> element"))?;
+    let count = |key: &str| -> Result<usize, RenderError> {
         match attr(piece, key) {
             None => Ok(0),
             Some(v) => v
                 .trim()
                 .parse()
-                .map_err(|e| format!("{file}: <Piece> {key}={v:?}: {e}")),
+                .map_err(|e| ferr!(file, "<Piece> {key}={v:?}: {e}")),
         }
     };
     let points = count("NumberOfPoints")?;
     let lines = count("NumberOfLines")?;
     for key in ["NumberOfVerts", "NumberOfStrips", "NumberOfPolys"] {
         if count(key)? != 0 {
-            return Err(format!(
-                "{file}: <Piece> {key} is not 0; dem render reads the disc and wall snapshots \
+            return Err(ferr!(
+                file,
+                "<Piece> {key} is not 0; dem render reads the disc and wall snapshots \
                  dem run writes (points and lines only)"
             ));
         }
@@ -121,18 +157,22 @@ fn parse_polydata(text: &str, file: &str) -> Result<PolyData, String> {
         let tag_end = text[start..]
             .find('>')
             .map(|k| start + k)
-            .ok_or_else(|| format!("{file}: truncated inside a <DataArray> tag"))?;
+            .ok_or_else(|| ferr!(file, "truncated inside a <DataArray> tag"))?;
         let tag = &text[start..tag_end];
         let name = attr(tag, "Name").unwrap_or("").to_string();
-        let what = format!("{file}: array {name:?} ({section})");
-        let format = attr(tag, "format").ok_or_else(|| format!("{what}: no format attribute"))?;
+        let what = ArrayAt {
+            file,
+            name: &name,
+            section: &section,
+        };
+        let format = attr(tag, "format").ok_or_else(|| aerr!(what, "no format attribute"))?;
         let comps = match attr(tag, "NumberOfComponents") {
             None => 1,
             Some(c) => c
                 .parse::<usize>()
                 .ok()
                 .filter(|&c| c >= 1)
-                .ok_or_else(|| format!("{what}: NumberOfComponents={c:?}"))?,
+                .ok_or_else(|| aerr!(what, "NumberOfComponents={c:?}"))?,
         };
         let body_end = if tag.ends_with('/') {
             tag_end
@@ -140,7 +180,7 @@ fn parse_polydata(text: &str, file: &str) -> Result<PolyData, String> {
             text[tag_end..]
                 .find("</DataArray>")
                 .map(|k| tag_end + k)
-                .ok_or_else(|| format!("{what}: truncated (no closing </DataArray>)"))?
+                .ok_or_else(|| aerr!(what, "truncated (no closing </DataArray>)"))?
         };
         let ty = attr(tag, "type").unwrap_or("");
         let body = text.get(tag_end + 1..body_end).unwrap_or("");
@@ -150,25 +190,26 @@ fn parse_polydata(text: &str, file: &str) -> Result<PolyData, String> {
                 .enumerate()
                 .map(|(k, t)| {
                     t.parse::<f64>()
-                        .map_err(|_| format!("{what}: value {k} is {t:?}, not a number"))
+                        .map_err(|_| aerr!(what, "value {k} is {t:?}, not a number"))
                 })
-                .collect::<Result<Vec<f64>, String>>()?,
+                .collect::<Result<Vec<f64>, RenderError>>()?,
             "binary" => {
                 let bytes = decode_run(body.trim().as_bytes(), header, &what)?;
                 binary_values(&bytes, ty, &what)?
             }
             "appended" => {
                 let data = appended
-                    .ok_or_else(|| format!("{what}: format \"appended\" but no <AppendedData>"))?;
+                    .ok_or_else(|| aerr!(what, "format \"appended\" but no <AppendedData>"))?;
                 let offset: usize = attr(tag, "offset")
                     .and_then(|o| o.trim().parse().ok())
-                    .ok_or_else(|| format!("{what}: appended array without a valid offset"))?;
+                    .ok_or_else(|| aerr!(what, "appended array without a valid offset"))?;
                 let run = data
                     .get(offset..)
                     .filter(|r| !r.is_empty())
                     .ok_or_else(|| {
-                        format!(
-                            "{what}: offset {offset} is past the appended data ({} characters)",
+                        aerr!(
+                            what,
+                            "offset {offset} is past the appended data ({} characters)",
                             data.len()
                         )
                     })?;
@@ -176,15 +217,17 @@ fn parse_polydata(text: &str, file: &str) -> Result<PolyData, String> {
                 binary_values(&bytes, ty, &what)?
             }
             f => {
-                return Err(format!(
-                    "{what}: format {f:?}; dem render reads ASCII, base64 binary and appended \
+                return Err(aerr!(
+                    what,
+                    "format {f:?}; dem render reads ASCII, base64 binary and appended \
                      base64 VTK arrays"
                 ))
             }
         };
         if values.len() % comps != 0 {
-            return Err(format!(
-                "{what}: {} values are not whole tuples of {comps}",
+            return Err(aerr!(
+                what,
+                "{} values are not whole tuples of {comps}",
                 values.len()
             ));
         }
@@ -205,19 +248,20 @@ fn parse_polydata(text: &str, file: &str) -> Result<PolyData, String> {
 
 /// Where the `<DataArray>` elements end (the start of `<AppendedData>`, else the text's end)
 /// and the appended base64 text after its `_` marker, if the file has one.
-fn appended_data<'a>(text: &'a str, file: &str) -> Result<(usize, Option<&'a [u8]>), String> {
+fn appended_data<'a>(text: &'a str, file: &str) -> Result<(usize, Option<&'a [u8]>), RenderError> {
     let Some(start) = text.find("<AppendedData") else {
         return Ok((text.len(), None));
     };
     let tag_end = text[start..]
         .find('>')
         .map(|k| start + k)
-        .ok_or_else(|| format!("{file}: truncated inside the <AppendedData> tag"))?;
+        .ok_or_else(|| ferr!(file, "truncated inside the <AppendedData> tag"))?;
     match attr(&text[start..tag_end], "encoding") {
         Some("base64") => {}
         e => {
-            return Err(format!(
-                "{file}: <AppendedData> encoding {e:?}; dem render reads the base64 appended data \
+            return Err(ferr!(
+                file,
+                "<AppendedData> encoding {e:?}; dem render reads the base64 appended data \
                  dem run writes, not raw"
             ))
         }
@@ -225,23 +269,23 @@ fn appended_data<'a>(text: &'a str, file: &str) -> Result<(usize, Option<&'a [u8
     let end = text[tag_end..]
         .find("</AppendedData>")
         .map(|k| tag_end + k)
-        .ok_or_else(|| format!("{file}: truncated (no closing </AppendedData>)"))?;
+        .ok_or_else(|| ferr!(file, "truncated (no closing </AppendedData>)"))?;
     let body = text[tag_end + 1..end].trim();
     let data = body
         .strip_prefix('_')
-        .ok_or_else(|| format!("{file}: <AppendedData> does not start with the `_` marker"))?;
+        .ok_or_else(|| ferr!(file, "<AppendedData> does not start with the `_` marker"))?;
     Ok((start, Some(data.as_bytes())))
 }
 
 /// Decodes one base64 run that starts with its byte count (`header` bytes, little-endian) and
 /// returns the data bytes after it. `b64` may run on past the run (appended data).
-fn decode_run(b64: &[u8], header: usize, what: &str) -> Result<Vec<u8>, String> {
+fn decode_run(b64: &[u8], header: usize, what: &ArrayAt) -> Result<Vec<u8>, RenderError> {
     let engine = &base64::engine::general_purpose::STANDARD;
     let chars = |bytes: usize| bytes.div_ceil(3) * 4;
-    let bad = |e: base64::DecodeError| format!("{what}: bad base64 data: {e}");
+    let bad = |e: base64::DecodeError| aerr!(what, "bad base64 data: {e}");
     let head = b64
         .get(..chars(header))
-        .ok_or_else(|| format!("{what}: base64 data ends inside its byte count"))?;
+        .ok_or_else(|| aerr!(what, "base64 data ends inside its byte count"))?;
     let head = engine.decode(head).map_err(bad)?;
     let mut count = [0u8; 8];
     count[..header].copy_from_slice(&head[..header]);
@@ -249,10 +293,13 @@ fn decode_run(b64: &[u8], header: usize, what: &str) -> Result<Vec<u8>, String> 
     let n = usize::try_from(count)
         .ok()
         .filter(|&n| n <= b64.len())
-        .ok_or_else(|| format!("{what}: byte count {count} is larger than the data"))?;
-    let run = b64
-        .get(..chars(header + n))
-        .ok_or_else(|| format!("{what}: the data ends before its {n} bytes (truncated base64)"))?;
+        .ok_or_else(|| aerr!(what, "byte count {count} is larger than the data"))?;
+    let run = b64.get(..chars(header + n)).ok_or_else(|| {
+        aerr!(
+            what,
+            "the data ends before its {n} bytes (truncated base64)"
+        )
+    })?;
     let mut bytes = engine.decode(run).map_err(bad)?;
     bytes.drain(..header);
     bytes.truncate(n);
@@ -260,7 +307,7 @@ fn decode_run(b64: &[u8], header: usize, what: &str) -> Result<Vec<u8>, String> 
 }
 
 /// Little-endian values of VTK type `ty` as f64 (integers up to 2^53 exactly).
-fn binary_values(bytes: &[u8], ty: &str, what: &str) -> Result<Vec<f64>, String> {
+fn binary_values(bytes: &[u8], ty: &str, what: &ArrayAt) -> Result<Vec<f64>, RenderError> {
     macro_rules! each {
         ($t:ty) => {
             bytes
@@ -274,11 +321,12 @@ fn binary_values(bytes: &[u8], ty: &str, what: &str) -> Result<Vec<f64>, String>
         "Int16" | "UInt16" => 2,
         "Int32" | "UInt32" | "Float32" => 4,
         "Int64" | "UInt64" | "Float64" => 8,
-        t => return Err(format!("{what}: VTK type {t:?} is not read")),
+        t => return Err(aerr!(what, "VTK type {t:?} is not read")),
     };
     if !bytes.len().is_multiple_of(size) {
-        return Err(format!(
-            "{what}: {} bytes are not whole {ty} values",
+        return Err(aerr!(
+            what,
+            "{} bytes are not whole {ty} values",
             bytes.len()
         ));
     }
@@ -304,13 +352,14 @@ fn sized<'a>(
     name: &str,
     comps: usize,
     n: usize,
-) -> Result<Option<&'a [f64]>, String> {
+) -> Result<Option<&'a [f64]>, RenderError> {
     let Some(a) = pd.get(section, name) else {
         return Ok(None);
     };
     if a.comps != comps || a.values.len() != n * comps {
-        return Err(format!(
-            "{file}: array {name:?} ({section}) has {} values in tuples of {}; expected {n} \
+        return Err(ferr!(
+            file,
+            "array {name:?} ({section}) has {} values in tuples of {}; expected {n} \
              tuples of {comps}",
             a.values.len(),
             a.comps
@@ -320,11 +369,11 @@ fn sized<'a>(
 }
 
 /// Line cells as index lists (connectivity split at the offsets), checked against `points`.
-fn line_cells(pd: &PolyData, file: &str) -> Result<Vec<Vec<usize>>, String> {
+fn line_cells(pd: &PolyData, file: &str) -> Result<Vec<Vec<usize>>, RenderError> {
     if pd.lines == 0 {
         return Ok(Vec::new());
     }
-    let missing = |n: &str| format!("{file}: {} lines but no {n:?} array in <Lines>", pd.lines);
+    let missing = |n: &str| ferr!(file, "{} lines but no {n:?} array in <Lines>", pd.lines);
     let conn = pd
         .get("Lines", "connectivity")
         .ok_or_else(|| missing("connectivity"))?;
@@ -332,8 +381,9 @@ fn line_cells(pd: &PolyData, file: &str) -> Result<Vec<Vec<usize>>, String> {
         .get("Lines", "offsets")
         .ok_or_else(|| missing("offsets"))?;
     if offs.values.len() != pd.lines {
-        return Err(format!(
-            "{file}: {} line offsets for {} lines",
+        return Err(ferr!(
+            file,
+            "{} line offsets for {} lines",
             offs.values.len(),
             pd.lines
         ));
@@ -343,15 +393,17 @@ fn line_cells(pd: &PolyData, file: &str) -> Result<Vec<Vec<usize>>, String> {
     for (k, &end) in offs.values.iter().enumerate() {
         let end = end as usize;
         if end < from || end > conn.values.len() {
-            return Err(format!(
-                "{file}: line {k}: offset {end} is outside the connectivity (0..={})",
+            return Err(ferr!(
+                file,
+                "line {k}: offset {end} is outside the connectivity (0..={})",
                 conn.values.len()
             ));
         }
         let cell: Vec<usize> = conn.values[from..end].iter().map(|&v| v as usize).collect();
         if let Some(&bad) = cell.iter().find(|&&v| v >= pd.points) {
-            return Err(format!(
-                "{file}: line {k} names point {bad}; the file has {} points",
+            return Err(ferr!(
+                file,
+                "line {k} names point {bad}; the file has {} points",
                 pd.points
             ));
         }
@@ -383,36 +435,38 @@ fn time_beside(path: &Path) -> Option<f64> {
 
 /// Reads a disc snapshot `snap-*.vtp` (with `walls-*.vtp` beside it when present); `time`
 /// (s) from the collection, else looked up in `snapshots.pvd` beside the file.
-pub fn load_vtp(path: &Path, time: Option<f64>) -> Result<Picture, String> {
+pub fn load_vtp(path: &Path, time: Option<f64>) -> Result<Picture, RenderError> {
     let file = path.display().to_string();
-    let text =
-        clumpgen::io::read_input_string(path).map_err(|e| format!("{file}: cannot read: {e}"))?;
+    let text = clumpgen::io::read_input_string(path).map_err(|e| RenderError::read(&file, e))?;
     let pd = parse_polydata(&text, &file)?;
     let n = pd.points;
     let pts = sized(&pd, &file, "Points", "points", 3, n)?
-        .ok_or_else(|| format!("{file}: no <Points> array (the disc centres)"))?;
+        .ok_or_else(|| ferr!(file, "no <Points> array (the disc centres)"))?;
     let r = sized(&pd, &file, "PointData", "radius", 1, n)?.ok_or_else(|| {
-        format!(
-            "{file}: no point array \"radius\"; dem render reads the disc snapshots dem run \
+        ferr!(
+            file,
+            "no point array \"radius\"; dem render reads the disc snapshots dem run \
              writes (snap-*.vtp)"
         )
     })?;
     finite_points(pts, &file, "disc centre")?;
     if let Some(k) = r.iter().position(|v| !(v.is_finite() && *v > 0.0)) {
-        return Err(format!(
-            "{file}: point array \"radius\", value {k}: {}; a disc radius is a positive finite \
+        return Err(ferr!(
+            file,
+            "point array \"radius\", value {k}: {}; a disc radius is a positive finite \
              number",
             r[k]
         ));
     }
     let vel = sized(&pd, &file, "PointData", "velocity", 3, n)?;
     if let Some(k) = vel.and_then(|v| v.iter().position(|x| !x.is_finite())) {
-        return Err(format!(
-            "{file}: point array \"velocity\", component {k} (disc {}): not finite",
+        return Err(ferr!(
+            file,
+            "point array \"velocity\", component {k} (disc {}): not finite",
             k / 3
         ));
     }
-    let int = |name: &str| -> Result<Option<Vec<u32>>, String> {
+    let int = |name: &str| -> Result<Option<Vec<u32>>, RenderError> {
         Ok(sized(&pd, &file, "PointData", name, 1, n)?.map(|v| {
             v.iter()
                 .map(|&x| if x < 0.0 { FREE } else { x as u32 })
@@ -440,8 +494,9 @@ pub fn load_vtp(path: &Path, time: Option<f64>) -> Result<Picture, String> {
     let mut bonds = Vec::with_capacity(cells.len());
     for (k, c) in cells.iter().enumerate() {
         let [i, j] = c[..] else {
-            return Err(format!(
-                "{file}: line {k} has {} points; a bond joins two discs",
+            return Err(ferr!(
+                file,
+                "line {k} has {} points; a bond joins two discs",
                 c.len()
             ));
         };
@@ -512,13 +567,12 @@ fn walls_beside(path: &Path) -> Option<PathBuf> {
 }
 
 /// The walls of a `walls-*.vtp` (one polyline per line cell; the file does not keep names).
-fn load_walls(path: &Path) -> Result<Vec<WallLine>, String> {
+fn load_walls(path: &Path) -> Result<Vec<WallLine>, RenderError> {
     let file = path.display().to_string();
-    let text =
-        clumpgen::io::read_input_string(path).map_err(|e| format!("{file}: cannot read: {e}"))?;
+    let text = clumpgen::io::read_input_string(path).map_err(|e| RenderError::read(&file, e))?;
     let pd = parse_polydata(&text, &file)?;
     let pts = sized(&pd, &file, "Points", "points", 3, pd.points)?
-        .ok_or_else(|| format!("{file}: no <Points> array (the wall vertices)"))?;
+        .ok_or_else(|| ferr!(file, "no <Points> array (the wall vertices)"))?;
     finite_points(pts, &file, "wall vertex")?;
     Ok(line_cells(&pd, &file)?
         .into_iter()
@@ -533,10 +587,11 @@ fn load_walls(path: &Path) -> Result<Vec<WallLine>, String> {
 
 /// Refuses a NaN or infinite coordinate of `<Points>` (issue 48 D17: a snapshot with a NaN
 /// coordinate drew with exit 0), naming the point.
-fn finite_points(pts: &[f64], file: &str, what: &str) -> Result<(), String> {
+fn finite_points(pts: &[f64], file: &str, what: &str) -> Result<(), RenderError> {
     match pts.iter().position(|v| !v.is_finite()) {
-        Some(k) => Err(format!(
-            "{file}: <Points>, point {} ({what}): coordinate {} is {}; not a finite number",
+        Some(k) => Err(ferr!(
+            file,
+            "<Points>, point {} ({what}): coordinate {} is {}; not a finite number",
             k / 3,
             ["x", "y", "z"][k % 3],
             pts[k]
@@ -547,17 +602,17 @@ fn finite_points(pts: &[f64], file: &str, what: &str) -> Result<(), String> {
 
 /// The disc snapshots of a `.pvd` collection in time order: (time in s, path). Wall files
 /// (part 1) are skipped: each snapshot finds its own beside it.
-pub fn read_pvd(path: &Path) -> Result<Vec<(f64, PathBuf)>, String> {
+pub fn read_pvd(path: &Path) -> Result<Vec<(f64, PathBuf)>, RenderError> {
     let file = path.display().to_string();
-    let text =
-        clumpgen::io::read_input_string(path).map_err(|e| format!("{file}: cannot read: {e}"))?;
+    let text = clumpgen::io::read_input_string(path).map_err(|e| RenderError::read(&file, e))?;
     if !text.contains("type=\"Collection\"") {
-        return Err(format!(
-            "{file}: not a VTK collection (no <VTKFile type=\"Collection\">)"
+        return Err(ferr!(
+            file,
+            "not a VTK collection (no <VTKFile type=\"Collection\">)"
         ));
     }
     if !text.contains("</VTKFile>") {
-        return Err(format!("{file}: truncated (no closing </VTKFile>)"));
+        return Err(ferr!(file, "truncated (no closing </VTKFile>)"));
     }
     let dir = path.parent().unwrap_or(Path::new("."));
     let mut out = Vec::new();
@@ -567,10 +622,10 @@ pub fn read_pvd(path: &Path) -> Result<Vec<(f64, PathBuf)>, String> {
         let end = text[start..]
             .find('>')
             .map(|k| start + k)
-            .ok_or_else(|| format!("{file}: truncated inside a <DataSet> tag"))?;
+            .ok_or_else(|| ferr!(file, "truncated inside a <DataSet> tag"))?;
         let tag = &text[start..end];
         let f = attr(tag, "file")
-            .ok_or_else(|| format!("{file}: a <DataSet> has no file attribute"))?
+            .ok_or_else(|| ferr!(file, "a <DataSet> has no file attribute"))?
             .replace("&quot;", "\"")
             .replace("&lt;", "<")
             .replace("&gt;", ">")
@@ -578,7 +633,7 @@ pub fn read_pvd(path: &Path) -> Result<Vec<(f64, PathBuf)>, String> {
         let t: f64 = attr(tag, "timestep")
             .unwrap_or("0")
             .parse()
-            .map_err(|e| format!("{file}: <DataSet file=\"{f}\"> timestep: {e}"))?;
+            .map_err(|e| ferr!(file, "<DataSet file=\"{f}\"> timestep: {e}"))?;
         pos = end;
         let part = attr(tag, "part").unwrap_or("0");
         let is_walls = Path::new(&f)
@@ -591,7 +646,7 @@ pub fn read_pvd(path: &Path) -> Result<Vec<(f64, PathBuf)>, String> {
         out.push((t, dir.join(&f)));
     }
     if out.is_empty() {
-        return Err(format!("{file}: the collection lists no disc snapshot"));
+        return Err(ferr!(file, "the collection lists no disc snapshot"));
     }
     out.sort_by(|a, b| a.0.total_cmp(&b.0));
     Ok(out)
@@ -612,7 +667,7 @@ mod tests {
         assert_eq!(pd.get("PointData", "radius").unwrap().values, [0.5, 0.25]);
         assert_eq!(pd.get("Points", "points").unwrap().comps, 3);
         let b = t.replace("format=\"ascii\"", "format=\"binary\"");
-        let e = parse_polydata(&b, "f.vtp").err().unwrap();
+        let e = parse_polydata(&b, "f.vtp").err().unwrap().to_string();
         assert!(
             e.contains("f.vtp") && e.contains("\"radius\"") && e.contains("base64"),
             "{e}"
@@ -621,9 +676,12 @@ mod tests {
             "type=\"PolyData\">",
             "type=\"PolyData\" compressor=\"vtkZLibDataCompressor\">",
         );
-        let e = parse_polydata(&c, "f.vtp").err().unwrap();
+        let e = parse_polydata(&c, "f.vtp").err().unwrap().to_string();
         assert!(e.contains("compressed"), "{e}");
-        let e = parse_polydata(&t[..t.len() / 2], "f.vtp").err().unwrap();
+        let e = parse_polydata(&t[..t.len() / 2], "f.vtp")
+            .err()
+            .unwrap()
+            .to_string();
         assert!(e.contains("truncated"), "{e}");
     }
 
@@ -666,7 +724,7 @@ mod tests {
                 "\"velocity\", component 4 (disc 1)",
             ),
         ] {
-            let e = load(bad).err().unwrap();
+            let e = load(bad).err().unwrap().to_string();
             assert!(e.contains("snap-000000000.vtp") && e.contains(want), "{e}");
         }
         // The walls file beside it: a NaN vertex is refused naming that file.
@@ -679,7 +737,7 @@ mod tests {
              </Piece></PolyData></VTKFile>\n",
         )
         .unwrap();
-        let e = load(snap(p, r, v)).err().unwrap();
+        let e = load(snap(p, r, v)).err().unwrap().to_string();
         assert!(
             e.contains("walls-000000000.vtp") && e.contains("point 1 (wall vertex)"),
             "{e}"
@@ -744,7 +802,7 @@ mod tests {
         let text = std::fs::read_to_string(&f).unwrap();
         let end = text.find("\n  </AppendedData>").unwrap();
         let short = format!("{}{}", &text[..end - 10], &text[end..]);
-        let e = parse_polydata(&short, "s.vtp").err().unwrap();
+        let e = parse_polydata(&short, "s.vtp").err().unwrap().to_string();
         assert!(
             e.contains("s.vtp: array \"offsets\"") && e.contains("truncated"),
             "{e}"

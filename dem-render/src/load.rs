@@ -3,6 +3,10 @@
 //! or a clump template (`clumpgen.template/1`, or `/2` with a lattice), told apart by the file's
 //! `schema` field. Every kind becomes one [`Picture`]: discs, bonds, walls, an outline, caption lines, in metres.
 
+use crate::error::RenderError;
+use crate::picture::{
+    counts, grain_keys, short_name, sig, step_time, Bond, Disc, Kind, Picture, WallLine,
+};
 use clumpgen::template::Template;
 use dem_core::bond::BondStatus;
 use dem_core::scene::schema::{SpecimenFile, SPECIMEN_SCHEMA};
@@ -12,10 +16,6 @@ use serde::Deserialize;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
-pub use super::picture::{
-    counts, grain_keys, short_name, sig, step_time, Bond, Disc, Kind, Picture, WallLine,
-};
-
 /// The kinds of file `dem render` reads, for messages.
 pub const KINDS: &str = "a checkpoint (dem.checkpoint/1, ckpt-*.json), a last-good-state.json, \
                          a specimen file (dem.specimen/1), a clump template \
@@ -24,24 +24,32 @@ pub const KINDS: &str = "a checkpoint (dem.checkpoint/1, ckpt-*.json), a last-go
 
 /// Reads `path` and turns it into a [`Picture`]; `outline` overrides a template's outline file.
 /// Errors name the file and say why.
-pub fn load(path: &Path, outline: Option<&Path>) -> Result<Picture, String> {
+pub fn load(path: &Path, outline: Option<&Path>) -> Result<Picture, RenderError> {
     let file = path.display().to_string();
     if path
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("vtp"))
     {
-        return super::vtk::load_vtp(path, None);
+        return crate::vtk::load_vtp(path, None);
     }
-    let bytes = clumpgen::io::read_input(path).map_err(|e| format!("{file}: cannot read: {e}"))?;
+    let bytes = clumpgen::io::read_input(path).map_err(|e| RenderError::read(&file, e))?;
     if bytes.starts_with(&dem_core::checkpoint::MAGIC) {
-        let c = dem_core::checkpoint::parse_bytes(&bytes, &file).map_err(|e| e.to_string())?;
+        let c = dem_core::checkpoint::parse_bytes(&bytes, &file)?;
         return Ok(from_checkpoint(c, path));
     }
-    let text = String::from_utf8(bytes).map_err(|e| format!("{file}: cannot read: {e}"))?;
+    let text = String::from_utf8(bytes).map_err(|e| {
+        RenderError::read(
+            &file,
+            std::io::Error::new(std::io::ErrorKind::InvalidData, e),
+        )
+    })?;
     if text.trim_start().starts_with('<') {
-        return Err(format!(
-            "{file}: an XML file; dem render reads VTK snapshots by their name (snap-*.vtp, or a \
-             .pvd series), else {KINDS}"
+        return Err(RenderError::file(
+            &file,
+            format!(
+                "an XML file; dem render reads VTK snapshots by their name (snap-*.vtp, or a \
+                 .pvd series), else {KINDS}"
+            ),
         ));
     }
     /// Only the fields that tell the kinds apart (the rest is skipped, not stored).
@@ -52,33 +60,45 @@ pub fn load(path: &Path, outline: Option<&Path>) -> Result<Picture, String> {
         walls: Option<IgnoredAny>,
         step: Option<IgnoredAny>,
     }
-    let peek: Peek = serde_json::from_str(&text)
-        .map_err(|e| format!("{file}: not a JSON object ({e}); dem render reads {KINDS}"))?;
+    let peek: Peek = serde_json::from_str(&text).map_err(|e| {
+        RenderError::file(
+            &file,
+            format!("not a JSON object ({e}); dem render reads {KINDS}"),
+        )
+    })?;
     let label = short_name(path);
     match peek.schema.as_deref() {
         Some(dem_core::checkpoint::SCHEMA) => {
-            let c = dem_core::checkpoint::parse(&text, &file).map_err(|e| e.to_string())?;
+            let c = dem_core::checkpoint::parse(&text, &file)?;
             Ok(from_checkpoint(c, path))
         }
         Some(SPECIMEN_SCHEMA) => {
             let s: SpecimenFile = serde_json::from_str(&text)
-                .map_err(|e| format!("{file}: not a specimen file: {e}"))?;
+                .map_err(|e| RenderError::file(&file, format!("not a specimen file: {e}")))?;
             from_specimen(&s, path)
         }
         Some(clumpgen::template::SCHEMA | clumpgen::template::SCHEMA_LATTICE) => {
-            let t = Template::from_json(&text, &file).map_err(|e| e.to_string())?;
+            let t = Template::from_json(&text, &file)?;
             Ok(from_template(&t, path, outline))
         }
-        Some(dem_core::scene::schema::SCHEMA) => Err(format!(
-            "{file}: a scene file (dem.scene/1): run it (`dem run {file}`) and render one of \
-             its checkpoints (ckpt-*.json in the output folder); dem render reads {KINDS}"
+        Some(dem_core::scene::schema::SCHEMA) => Err(RenderError::file(
+            &file,
+            format!(
+                "a scene file (dem.scene/1): run it (`dem run {file}`) and render one of its \
+                 checkpoints (ckpt-*.json in the output folder); dem render reads {KINDS}"
+            ),
         )),
-        Some(other) => Err(format!(
-            "{file}: schema {other:?} is not one dem render draws; it reads {KINDS}"
+        Some(other) => Err(RenderError::file(
+            &file,
+            format!("schema {other:?} is not one dem render draws; it reads {KINDS}"),
         )),
         None if peek.discs.is_some() && peek.walls.is_some() && peek.step.is_some() => {
-            let st: State = serde_json::from_str(&text)
-                .map_err(|e| format!("{file}: not a solver state (last-good-state.json): {e}"))?;
+            let st: State = serde_json::from_str(&text).map_err(|e| {
+                RenderError::file(
+                    &file,
+                    format!("not a solver state (last-good-state.json): {e}"),
+                )
+            })?;
             let mut p = from_state(&st, Kind::State);
             p.caption = vec![
                 format!(
@@ -89,9 +109,12 @@ pub fn load(path: &Path, outline: Option<&Path>) -> Result<Picture, String> {
             ];
             Ok(p)
         }
-        None => Err(format!(
-            "{file}: no `schema` field, and not a last-good-state.json either; dem render \
-             reads {KINDS}"
+        None => Err(RenderError::file(
+            &file,
+            format!(
+                "no `schema` field, and not a last-good-state.json either; dem render reads \
+                 {KINDS}"
+            ),
         )),
     }
 }
@@ -168,7 +191,7 @@ fn from_state(st: &State, kind: Kind) -> Picture {
 
 /// A specimen file: its disc sets (grain ids from `groups`), rigid clumps, bonds and any clump
 /// placements (templates relative to the file).
-fn from_specimen(s: &SpecimenFile, path: &Path) -> Result<Picture, String> {
+fn from_specimen(s: &SpecimenFile, path: &Path) -> Result<Picture, RenderError> {
     let file = path.display().to_string();
     let u = s.units.metres();
     let mut materials: Vec<String> = Vec::new();
@@ -186,11 +209,11 @@ fn from_specimen(s: &SpecimenFile, path: &Path) -> Result<Picture, String> {
     for (k, set) in s.discs.iter().enumerate() {
         if let Some(g) = &set.groups {
             if g.len() != set.discs.len() {
-                return Err(format!(
-                    "{file}: field discs[{k}].groups: {} entries for {} discs",
-                    g.len(),
-                    set.discs.len()
-                ));
+                return Err(RenderError::Field {
+                    file,
+                    field: format!("discs[{k}].groups"),
+                    reason: format!("{} entries for {} discs", g.len(), set.discs.len()),
+                });
             }
         }
         let m = material_index(&set.material);
@@ -208,8 +231,10 @@ fn from_specimen(s: &SpecimenFile, path: &Path) -> Result<Picture, String> {
     let mut body = vec![FREE; n];
     for (c, members) in s.rigid_clumps.iter().enumerate() {
         for (q, &i) in members.iter().enumerate() {
-            let slot = body.get_mut(i as usize).ok_or_else(|| {
-                format!("{file}: field rigid_clumps[{c}][{q}]: disc {i} does not exist (the file has {n})")
+            let slot = body.get_mut(i as usize).ok_or_else(|| RenderError::Field {
+                file: file.clone(),
+                field: format!("rigid_clumps[{c}][{q}]"),
+                reason: format!("disc {i} does not exist (the file has {n})"),
             })?;
             *slot = c as u32;
         }
@@ -232,8 +257,11 @@ fn from_specimen(s: &SpecimenFile, path: &Path) -> Result<Picture, String> {
     let mut placement = 0u64;
     for (k, set) in s.clumps.iter().enumerate() {
         if !cache.contains_key(&set.template) {
-            let t = Template::load(&dir.join(&set.template))
-                .map_err(|e| format!("{file}: field clumps[{k}].template: {e}"))?;
+            let t = Template::load(&dir.join(&set.template)).map_err(|e| RenderError::Field {
+                file: file.clone(),
+                field: format!("clumps[{k}].template"),
+                reason: e.to_string(),
+            })?;
             cache.insert(set.template.clone(), t);
         }
         let t = &cache[&set.template];
@@ -266,10 +294,11 @@ fn from_specimen(s: &SpecimenFile, path: &Path) -> Result<Picture, String> {
         };
         for (q, &[a, b]) in list.pairs.iter().enumerate() {
             if a as usize >= n || b as usize >= n {
-                return Err(format!(
-                    "{file}: field bonds[{k}].pairs[{q}]: disc {} does not exist (the file has {n})",
-                    a.max(b)
-                ));
+                return Err(RenderError::Field {
+                    file,
+                    field: format!("bonds[{k}].pairs[{q}]"),
+                    reason: format!("disc {} does not exist (the file has {n})", a.max(b)),
+                });
             }
             bonds.push(Bond {
                 i: a as usize,
@@ -399,7 +428,7 @@ fn template_outline(
     t: &Template,
     path: &Path,
     over: Option<&Path>,
-) -> Result<(Vec<[f64; 2]>, Option<String>), String> {
+) -> Result<(Vec<[f64; 2]>, Option<String>), RenderError> {
     let tfile = path.display().to_string();
     let src = PathBuf::from(&t.source.file);
     let candidates: Vec<PathBuf> = match over {
@@ -418,10 +447,13 @@ fn template_outline(
     };
     let Some(found) = candidates.iter().find(|p| p.is_file()) else {
         let looked: Vec<String> = candidates.iter().map(|p| p.display().to_string()).collect();
-        return Err(format!(
-            "{tfile}: the grain outline {} is not found (looked at {}); give it with --outline FILE",
-            t.source.file,
-            looked.join(", ")
+        return Err(RenderError::file(
+            &tfile,
+            format!(
+                "the grain outline {} is not found (looked at {}); give it with --outline FILE",
+                t.source.file,
+                looked.join(", ")
+            ),
         ));
     };
     let opts = clumpgen::ReadOptions {
@@ -453,22 +485,20 @@ fn template_outline(
                     resample: None,
                 },
                 &g,
-            )
-            .map_err(|e| e.to_string())?;
+            )?;
             all.grains
                 .into_iter()
                 .find(|x| &x.label == grain)
-                .ok_or_else(|| format!("{}: no grain {grain}", found.display()))?
-                .outline
-                .map_err(|e| e.to_string())?
+                .ok_or_else(|| RenderError::file(found.display(), format!("no grain {grain}")))?
+                .outline?
         }
-        _ => clumpgen::read_outline(found, &opts).map_err(|e| e.to_string())?,
+        _ => clumpgen::read_outline(found, &opts)?,
     };
     let props = clumpgen::polygon_props(&o.points);
     if !(props.area > 0.0 && t.shape.area > 0.0) {
-        return Err(format!(
-            "{}: the outline has no area to scale to the template's",
-            found.display()
+        return Err(RenderError::file(
+            found.display(),
+            "the outline has no area to scale to the template's",
         ));
     }
     let f = (t.shape.area / props.area).sqrt();

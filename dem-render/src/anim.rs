@@ -2,8 +2,9 @@
 //! written as an animated GIF (`image`'s GIF encoder) or, when `ffmpeg` is on PATH, an MP4
 //! (PNG frames piped to it).
 
-use super::draw::{self, Options};
-use super::load::Picture;
+use crate::draw::{self, Options};
+use crate::error::RenderError;
+use crate::picture::Picture;
 use image::codecs::gif::{GifEncoder, Repeat};
 use image::{Delay, Frame as GifFrame, RgbaImage};
 use std::io::Write;
@@ -49,7 +50,7 @@ pub fn animate(
     fps: u32,
     format: Format,
     out: &Path,
-) -> Result<(u32, u32), String> {
+) -> Result<(u32, u32), RenderError> {
     let mut frames = Vec::with_capacity(pics.len());
     for p in pics {
         let (pm, _) = draw::draw(p, o)?;
@@ -70,26 +71,25 @@ pub fn animate(
             img
         })
         .collect();
-    let outs = out.display().to_string();
     match format {
         Format::Gif => {
             let mut bytes = Vec::new();
             {
                 let mut e = GifEncoder::new_with_speed(&mut bytes, 10);
                 e.set_repeat(Repeat::Infinite)
-                    .map_err(|e| format!("--out {outs}: GIF encoding: {e}"))?;
+                    .map_err(|e| RenderError::output(out, format!("GIF encoding: {e}")))?;
                 let delay = Delay::from_numer_denom_ms(1000, fps);
                 for img in images {
                     e.encode_frame(GifFrame::from_parts(img, 0, 0, delay))
-                        .map_err(|e| format!("--out {outs}: GIF encoding: {e}"))?;
+                        .map_err(|e| RenderError::output(out, format!("GIF encoding: {e}")))?;
                 }
             }
             clumpgen::io::write_atomic(out, &bytes)
-                .map_err(|e| format!("--out {outs}: cannot write: {e}"))?;
+                .map_err(|e| RenderError::output(out, format!("cannot write: {e}")))?;
         }
         Format::Mp4 => {
             let ff = ffmpeg().ok_or_else(|| {
-                format!("--out {outs}: an MP4 needs ffmpeg on PATH (not found); write a .gif")
+                RenderError::output(out, "an MP4 needs ffmpeg on PATH (not found); write a .gif")
             })?;
             let tmp = out.with_extension(format!("tmp-{}.mp4", std::process::id()));
             let mut child = Command::new(&ff)
@@ -104,15 +104,19 @@ pub fn animate(
                 .stdout(Stdio::null())
                 .stderr(Stdio::piped())
                 .spawn()
-                .map_err(|e| format!("{}: cannot start: {e}", ff.display()))?;
+                .map_err(|e| RenderError::Program {
+                    program: ff.display().to_string(),
+                    reason: format!("cannot start: {e}"),
+                })?;
             let mut fed = Ok(());
             if let Some(mut stdin) = child.stdin.take() {
                 for img in &images {
                     let pm = tiny_skia::Pixmap::from_vec(
                         img.as_raw().clone(),
-                        tiny_skia::IntSize::from_wh(w, h).ok_or("empty frame")?,
+                        tiny_skia::IntSize::from_wh(w, h)
+                            .ok_or(RenderError::Frame("empty frame"))?,
                     )
-                    .ok_or("cannot make a frame")?;
+                    .ok_or(RenderError::Frame("cannot make a frame"))?;
                     let png = draw::encode_png(&pm, true)?;
                     if let Err(e) = stdin.write_all(&png) {
                         fed = Err(e);
@@ -120,20 +124,24 @@ pub fn animate(
                     }
                 }
             }
-            let res = child
-                .wait_with_output()
-                .map_err(|e| format!("{}: {e}", ff.display()))?;
+            let res = child.wait_with_output().map_err(|e| RenderError::Program {
+                program: ff.display().to_string(),
+                reason: e.to_string(),
+            })?;
             if !res.status.success() || fed.is_err() {
                 let _ = std::fs::remove_file(&tmp);
-                return Err(format!(
-                    "--out {outs}: ffmpeg failed ({}): {}",
-                    res.status,
-                    String::from_utf8_lossy(&res.stderr).trim()
+                return Err(RenderError::output(
+                    out,
+                    format!(
+                        "ffmpeg failed ({}): {}",
+                        res.status,
+                        String::from_utf8_lossy(&res.stderr).trim()
+                    ),
                 ));
             }
             std::fs::rename(&tmp, out).map_err(|e| {
                 let _ = std::fs::remove_file(&tmp);
-                format!("--out {outs}: cannot write: {e}")
+                RenderError::output(out, format!("cannot write: {e}"))
             })?;
         }
     }
