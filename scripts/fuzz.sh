@@ -1,7 +1,7 @@
 #!/bin/bash
 # Fuzz one reader with libFuzzer (cargo fuzz, nightly Rust): scripts/fuzz.sh TARGET [SECONDS]
 # TARGET: outline | grains | template | scene | specimen | checkpoint | history | study | sweep
-# (fuzz/src/lib.rs).
+# (their bodies: validation/src/fuzz_targets.rs).
 # New inputs go to fuzz/work/TARGET (not committed); crashes to fuzz/work/crashes-TARGET/.
 # Keep a crash, after its fix, as fuzz/regressions/TARGET/<what>.json: CI replays it
 # (validation/tests/fuzz_regressions.rs). docs/reliability.md, "Fuzzing".

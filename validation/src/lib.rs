@@ -1,6 +1,7 @@
 //! validation: reproduces the published tables (Ye & Xu 2010) from the project's data and writes
 //! the reproducibility report. Each case is one module; `report` runs them and writes Markdown
-//! and JSON.
+//! and JSON. It also holds the fuzz targets' bodies (`fuzz_targets`: every reader of a user's
+//! file fed any bytes), which the fuzz crate hands to libFuzzer and a test replays in CI.
 
 /// The repository this crate was built in (its data, pictures and git history): the report's
 /// defaults when it runs outside it.
@@ -31,6 +32,7 @@ pub mod damping_studies;
 pub mod environment;
 pub mod error;
 pub mod force_statistics;
+pub mod fuzz_targets;
 pub mod page;
 pub mod pictures;
 pub mod plot;

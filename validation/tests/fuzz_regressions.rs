@@ -1,11 +1,10 @@
 //! Replays the fuzz targets' seeds (the project's own files, `SEEDS`, and `fuzz/corpus/<target>/`)
 //! and every input a fuzzer
 //! once crashed on (`fuzz/regressions/<target>/`, kept after the fix) through the targets'
-//! own bodies (`fuzz/src/lib.rs`, included here so stable `cargo test` runs them in CI
-//! without libFuzzer): none may panic. docs/reliability.md, "Fuzzing".
+//! own bodies (`validation::fuzz_targets`, which the fuzz crate re-exports, so stable `cargo
+//! test` runs them in CI without libFuzzer): none may panic. docs/reliability.md, "Fuzzing".
 
-#[path = "../../fuzz/src/lib.rs"]
-mod targets;
+use validation::fuzz_targets as targets;
 
 use std::path::Path;
 
