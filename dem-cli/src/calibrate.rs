@@ -8,13 +8,13 @@ use crate::lab_args::LabArgs;
 use crate::progress::Progress;
 use clap::Args;
 use dem_lab as lab;
-use dem_lab::bending::BendingTest;
-use dem_lab::biaxial::BiaxialTest;
-use dem_lab::brazilian::BrazilianTest;
+use dem_lab::calibrate::virtual_lab::{self, VirtualLab};
 use dem_lab::calibrate::{self, MaterialFile, Options};
-use dem_lab::senb::SenbTest;
-use dem_lab::ucs::UcsTest;
-use dem_lab::virtual_lab::{self, VirtualLab};
+use dem_lab::tests::bending::BendingTest;
+use dem_lab::tests::biaxial::BiaxialTest;
+use dem_lab::tests::brazilian::BrazilianTest;
+use dem_lab::tests::senb::SenbTest;
+use dem_lab::tests::ucs::UcsTest;
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
@@ -237,7 +237,7 @@ pub fn run(a: CalibrateArgs) -> Result<ExitCode, String> {
                     name: virtual_lab::test_name(&t.name, k, seed),
                     ..t.clone()
                 };
-                let o = lab::senb::run(&t, &c.model, spec, &mut |_, _| {})
+                let o = lab::tests::run(&t, &c.model, spec, &mut |_, _| {})
                     .map_err(|e| format!("seed {seed}: {e}"))?;
                 all.push(o.result);
             }
@@ -252,8 +252,14 @@ pub fn run(a: CalibrateArgs) -> Result<ExitCode, String> {
                     name: virtual_lab::test_name(&biaxial.name, k, seed),
                     ..biaxial.clone()
                 };
-                let s = lab::biaxial::run_series(&t, &confinements, &c.model, spec, &mut |_, _| {})
-                    .map_err(|e| format!("seed {seed}: {e}"))?;
+                let s = lab::tests::biaxial::run_series(
+                    &t,
+                    &confinements,
+                    &c.model,
+                    spec,
+                    &mut |_, _| {},
+                )
+                .map_err(|e| format!("seed {seed}: {e}"))?;
                 all.push(s);
             }
             Ok::<_, String>(all)
@@ -393,10 +399,10 @@ fn pretty(r: Result<String, serde_json::Error>) -> Result<String, String> {
 
 /// The SENB report whose toughness, peak load, β and crack-mouth opening are the means over
 /// the seeds' reports (the geometry is the same beam on every seed).
-fn mean_senb(all: &[lab::senb::SenbReport]) -> lab::senb::SenbReport {
+fn mean_senb(all: &[lab::tests::senb::SenbReport]) -> lab::tests::senb::SenbReport {
     let n = all.len() as f64;
-    let m = |f: fn(&lab::senb::SenbReport) -> f64| all.iter().map(f).sum::<f64>() / n;
-    lab::senb::SenbReport {
+    let m = |f: fn(&lab::tests::senb::SenbReport) -> f64| all.iter().map(f).sum::<f64>() / n;
+    lab::tests::senb::SenbReport {
         fracture_toughness: m(|r| r.fracture_toughness),
         peak_load: m(|r| r.peak_load),
         beta: m(|r| r.beta),

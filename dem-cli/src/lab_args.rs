@@ -4,8 +4,8 @@
 use crate::specimen::{cover_lines, material_values, method_and_dist, parse_length, parse_stress};
 use clap::Args;
 use dem_lab::model::FlatJointOption;
+use dem_lab::specimen::cache::TestSpecimen;
 use dem_lab::specimen::{GrainMode, Method, SpecimenParams};
-use dem_lab::specimens::TestSpecimen;
 use dem_lab::{LabError, LabModel};
 use std::path::{Path, PathBuf};
 

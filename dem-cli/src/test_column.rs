@@ -1,12 +1,12 @@
 //! `dem test column`: a crushable granular column under one-dimensional compression
-//! (docs/lattice.md §7, `dem_lab::column`): 200+ lattice grains from outline files in a
+//! (docs/lattice.md §7, `dem_lab::crushing::column`): 200+ lattice grains from outline files in a
 //! box of rigid walls, a top platen moving down; stress–strain, gradings at stress levels,
 //! Hardin's relative breakage.
 
 use crate::specimen::{parse_length, parse_speed, parse_stress};
-use crate::test_crush::{criterion_of, CriterionFlags};
+use crate::test_crush::{criterion_of, CriterionFlags, GrainMaterialArgs, RunFolderArgs};
 use clap::Args;
-use dem_lab::column::{self, ColumnTest};
+use dem_lab::crushing::column::{self, ColumnTest};
 use dem_lab::LabError;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -38,15 +38,8 @@ pub struct ColumnArgs {
     /// Node radius as a fraction of S/2, in (0, 1].
     #[arg(long, default_value_t = 0.9)]
     pub node_radius: f64,
-    /// Young's modulus E of the grain material, with unit.
-    #[arg(long, default_value = "70GPa")]
-    pub young: String,
-    /// Poisson's ratio ν, 0 ≤ ν < 1/3.
-    #[arg(long, default_value_t = 0.2)]
-    pub poisson: f64,
-    /// Density (kg/m³).
-    #[arg(long, default_value_t = 2650.0)]
-    pub density: f64,
+    #[command(flatten)]
+    pub material: GrainMaterialArgs,
     /// Link breakage criterion: force, stress, strain or energy (each needs its parameter
     /// flag).
     #[arg(long, default_value = "energy")]
@@ -101,15 +94,8 @@ pub struct ColumnArgs {
     /// The run's cap: platen travel over the initial height.
     #[arg(long, default_value_t = 0.5)]
     pub max_strain: f64,
-    /// Output folder: templates, scene, run output, CSVs, `column.result.json`.
-    #[arg(long)]
-    pub out: PathBuf,
-    /// Take the output folder even if another run holds or held it.
-    #[arg(long)]
-    pub force: bool,
-    /// Worker threads, at least 1 (default: all cores).
-    #[arg(long, value_parser = crate::parse_threads)]
-    pub threads: Option<usize>,
+    #[command(flatten)]
+    pub folder: RunFolderArgs,
 }
 
 fn message(e: LabError) -> String {
@@ -151,13 +137,13 @@ pub fn run(a: ColumnArgs) -> Result<ExitCode, String> {
         size_classes: a.size_classes,
         spacing: parse_length(&a.spacing, "--spacing")?,
         node_radius: a.node_radius,
-        young: parse_stress(&a.young, "--young")?,
-        poisson: a.poisson,
-        density: a.density,
-        criterion: crit,
+        young: a.material.young()?,
+        poisson: a.material.poisson,
+        density: a.material.density,
         friction: a.friction,
         platen_friction: a.platen_friction,
         wall_friction: a.wall_friction,
+        criterion: crit,
         seed: a.seed,
         stress_levels: levels,
         inertial_number: a.inertial_number,
@@ -186,17 +172,10 @@ pub fn run(a: ColumnArgs) -> Result<ExitCode, String> {
     if outlines.is_empty() {
         return Err("--outlines: no outline files (csv, txt, xy, dat, json) found".into());
     }
-    std::fs::create_dir_all(&a.out).map_err(|e| format!("{}: {e}", a.out.display()))?;
-    let locked = crate::test_crush::Locked {
-        out: &a.out,
-        name: &test.name,
-        command: "dem test column",
-        hash: crate::run_lock::inputs_hash(&(&test, &outlines)),
-        force: a.force,
-        threads: a.threads,
-    };
+    let hash = crate::run_lock::inputs_hash(&(&test, &outlines));
+    let locked = a.folder.locked(&test.name, "dem test column", hash);
     let o = locked.run("column", |pr| {
-        column::run(&test, &outlines, &a.out, pr).map_err(message)
+        column::run(&test, &outlines, &a.folder.out, pr).map_err(message)
     })?;
     let r = &o.result;
     println!(
@@ -250,9 +229,5 @@ pub fn run(a: ColumnArgs) -> Result<ExitCode, String> {
         "energy: work {:.4e} J, balance error {:.2e}; {} steps in {:.1} s, {:.3e} particle-steps/s",
         r.work, r.balance_error, o.run.steps, o.run.wall_time_s, r.particle_steps_per_s
     );
-    println!(
-        "result:  {}",
-        a.out.join(format!("{}.result.json", test.name)).display()
-    );
-    Ok(ExitCode::SUCCESS)
+    Ok(locked.print_result())
 }

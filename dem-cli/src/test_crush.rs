@@ -1,5 +1,5 @@
 //! `dem test crush`: one lattice grain crushed between two platens (docs/lattice.md §4,
-//! `dem_lab::crush`). The grain is a lattice template (`--template`) or an outline made
+//! `dem_lab::crushing::grain`). The grain is a lattice template (`--template`) or an outline made
 //! into one here (`--outline` with `--spacing`, as `dem clump --method lattice`).
 
 use crate::progress::Progress;
@@ -7,7 +7,7 @@ use crate::specimen::{parse_length, parse_stress};
 use clap::Args;
 use clumpgen::clump::LatticeParams;
 use clumpgen::{make_template, ClumpParams, Method, ReadOptions};
-use dem_lab::crush::{self, CrushTest, LinkCriterion};
+use dem_lab::crushing::grain::{self, CrushTest, LinkCriterion};
 use dem_lab::LabError;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -32,15 +32,8 @@ pub struct CrushArgs {
     /// Disc thickness t for --outline, with unit (a template keeps its own).
     #[arg(long, default_value = "1m")]
     pub thickness: String,
-    /// Young's modulus E of the grain material, with unit (`70GPa`).
-    #[arg(long, default_value = "70GPa")]
-    pub young: String,
-    /// Poisson's ratio ν, 0 ≤ ν < 1/3 (the lattice's range).
-    #[arg(long, default_value_t = 0.2)]
-    pub poisson: f64,
-    /// Density (kg/m³).
-    #[arg(long, default_value_t = 2650.0)]
-    pub density: f64,
+    #[command(flatten)]
+    pub material: GrainMaterialArgs,
     /// Link breakage criterion: force, stress, strain or energy (each needs its parameter
     /// flag).
     #[arg(long)]
@@ -87,17 +80,66 @@ pub struct CrushArgs {
     /// Safety factor of the automatic time step.
     #[arg(long)]
     pub dt_factor: Option<f64>,
-    /// Output folder: the grain template, the scenes, run outputs, `crush.force.csv`,
-    /// `crush.breaks.csv`, `crush.result.json`.
+    #[command(flatten)]
+    pub folder: RunFolderArgs,
+}
+
+/// The run-folder flags of `dem test crush` and `dem test column`.
+#[derive(Args)]
+pub struct RunFolderArgs {
+    /// Output folder: the grain template(s), the scenes, run outputs, the CSVs (crush:
+    /// `crush.force.csv`, `crush.breaks.csv`; column: `column.stress_strain.csv`,
+    /// `column.gradings.csv`, `column.breaks.csv`) and `<name>.result.json`.
     #[arg(long)]
     pub out: PathBuf,
     /// Take the output folder even if another run holds it or held it for other inputs
-    /// (`<out>/crush.out/run.lock`).
+    /// (`<out>/<name>.out/run.lock`).
     #[arg(long)]
     pub force: bool,
     /// Worker threads, at least 1 (default: all cores); results do not depend on it.
     #[arg(long, value_parser = crate::parse_threads)]
     pub threads: Option<usize>,
+}
+
+impl RunFolderArgs {
+    /// The run of test `name` (`command`, e.g. `dem test crush`) in this folder, locked to the
+    /// inputs of `hash`.
+    pub(crate) fn locked<'a>(
+        &'a self,
+        name: &'a str,
+        command: &'a str,
+        hash: String,
+    ) -> Locked<'a> {
+        Locked {
+            out: &self.out,
+            name,
+            command,
+            hash,
+            force: self.force,
+            threads: self.threads,
+        }
+    }
+}
+
+/// The grain material's flags, `dem test crush` and `dem test column` alike.
+#[derive(Args)]
+pub struct GrainMaterialArgs {
+    /// Young's modulus E of the grain material, with unit (`70GPa`).
+    #[arg(long, default_value = "70GPa")]
+    pub young: String,
+    /// Poisson's ratio ν, 0 ≤ ν < 1/3 (the lattice's range).
+    #[arg(long, default_value_t = 0.2)]
+    pub poisson: f64,
+    /// Density (kg/m³).
+    #[arg(long, default_value_t = 2650.0)]
+    pub density: f64,
+}
+
+impl GrainMaterialArgs {
+    /// E (Pa) from `--young`.
+    pub fn young(&self) -> Result<f64, String> {
+        parse_stress(&self.young, "--young")
+    }
 }
 
 /// The criterion from the flags; errors name the flag.
@@ -232,6 +274,7 @@ impl Locked<'_> {
         what: &str,
         body: impl FnOnce(&mut dyn FnMut(u64, u64)) -> Result<T, String> + Send,
     ) -> Result<T, String> {
+        std::fs::create_dir_all(self.out).map_err(|e| format!("{}: {e}", self.out.display()))?;
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(self.threads.unwrap_or(0))
             .build()
@@ -254,6 +297,17 @@ impl Locked<'_> {
         });
         bar.finish_and_clear();
         o
+    }
+
+    /// Prints where the result file `<out>/<name>.result.json` is.
+    pub fn print_result(&self) -> ExitCode {
+        println!(
+            "result:  {}",
+            self.out
+                .join(format!("{}.result.json", self.name))
+                .display()
+        );
+        ExitCode::SUCCESS
     }
 }
 
@@ -281,11 +335,12 @@ fn message(e: LabError) -> String {
 }
 
 pub fn run(a: CrushArgs) -> Result<ExitCode, String> {
+    let out = &a.folder.out;
     let crit = criterion(&a)?;
     let mut test = CrushTest {
-        young: parse_stress(&a.young, "--young")?,
-        poisson: a.poisson,
-        density: a.density,
+        young: a.material.young()?,
+        poisson: a.material.poisson,
+        density: a.material.density,
         criterion: crit,
         friction: a.friction,
         platen_friction: a.platen_friction,
@@ -305,7 +360,7 @@ pub fn run(a: CrushArgs) -> Result<ExitCode, String> {
         test.dt_factor = f;
     }
     test.validate().map_err(message)?;
-    std::fs::create_dir_all(&a.out).map_err(|e| format!("{}: {e}", a.out.display()))?;
+    std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
     let template = match (&a.template, &a.outline) {
         (Some(_), Some(_)) => return Err("give --template or --outline, not both".into()),
         (None, None) => return Err(
@@ -326,7 +381,7 @@ pub fn run(a: CrushArgs) -> Result<ExitCode, String> {
             let thickness = parse_length(&a.thickness, "--thickness")?;
             let p = ClumpParams {
                 method: Method::Lattice,
-                density: a.density,
+                density: a.material.density,
                 thickness,
                 lattice: Some(LatticeParams {
                     spacing,
@@ -344,7 +399,7 @@ pub fn run(a: CrushArgs) -> Result<ExitCode, String> {
             let ol =
                 clumpgen::read_outline(o, &ReadOptions::default()).map_err(|e| e.to_string())?;
             let tpl = make_template(&ol, &p).map_err(|e| e.to_string())?;
-            let file = a.out.join(format!("{}.grain.json", test.name));
+            let file = out.join(format!("{}.grain.json", test.name));
             tpl.save(&file).map_err(|e| e.to_string())?;
             file
         }
@@ -352,16 +407,10 @@ pub fn run(a: CrushArgs) -> Result<ExitCode, String> {
     // The grain is part of the inputs the run lock is keyed on.
     let grain =
         clumpgen::io::read_input(&template).map_err(|e| format!("{}: {e}", template.display()))?;
-    let locked = Locked {
-        out: &a.out,
-        name: &test.name,
-        command: "dem test crush",
-        hash: crate::run_lock::inputs_hash(&(&test, crate::run_lock::inputs_hash(&grain))),
-        force: a.force,
-        threads: a.threads,
-    };
+    let hash = crate::run_lock::inputs_hash(&(&test, crate::run_lock::inputs_hash(&grain)));
+    let locked = a.folder.locked(&test.name, "dem test crush", hash);
     let o = locked.run("crush", |pr| {
-        crush::run(&test, &template, &a.out, pr).map_err(message)
+        grain::run(&test, &template, out, pr).map_err(message)
     })?;
     let r = &o.result;
     let g = &r.grain;
@@ -402,9 +451,5 @@ pub fn run(a: CrushArgs) -> Result<ExitCode, String> {
         "energy: work {:.4e} J = strain {:.4e} + kinetic {:.4e} + damping {:.4e} + friction {:.4e} + released {:.4e} (balance error {:.2e}); {:.3e} particle-steps/s",
         r.work, r.strain_energy, r.kinetic_energy, r.damping, r.friction, r.released, r.balance_error, r.particle_steps_per_s
     );
-    println!(
-        "result:  {}",
-        a.out.join(format!("{}.result.json", o.test.name)).display()
-    );
-    Ok(ExitCode::SUCCESS)
+    Ok(locked.print_result())
 }

@@ -5,27 +5,26 @@
 //! and validation use it.
 //!
 //! ```text
-//! specimen  the three specimens (traditional, ORC, improved ORC) and the dem.specimen/1 file
-//! model     LabModel: density, thickness, micro-parameters → scene materials and bond groups
-//! run       write the test's scene file (plain, editable, `dem run` runs it), run the same
-//!           value in memory; analyses read the run's history as numbers (`history::Record`)
-//! history   a finished run's history.csv read back as named columns (files of earlier runs)
-//! analysis  the standard formulas: E, ν, UCS; σ_t = 2F/(πDt); σ_f = 3FL/(2bh²); K_IC (S4, E399);
-//!           force stats
-//! force_stats cutting-force statistics: resampled histories, seed-averaged moving-mean peak
-//! specimens test specimens (the user's parameters, the test's shape; Brazilian disc carved),
-//!           saved beside the scene and reused when their key file matches
-//! common    quasi-static loading rule and run settings shared by the tests, result files
-//! ucs       uniaxial compression: E, ν (10–50 % pre-peak band), UCS
-//! brazilian Brazilian disc: σ_t
-//! bending   three-point bending: σ_f, elastic stiffness (vs Timoshenko)
-//! senb      single-edge-notched beam (ASTM E399 SE(B)): K_IC, measured β of β σ̄_c √(πR̄)
-//! cutting/  the cutting test (mod.rs) and its parts: tool (geometry), chips (fragments,
-//!           residual cracks), debris (deleting fragments), surface (roughness), removal
-//!           (the removal mode)
-//! calibrate micro-parameters from target properties (Potyondy & Cundall 2004 procedure)
-//! crush     crushable grains (a lattice inside each outline) between platens; column: many of
-//!           them in a column, weibull: the strength statistics
+//! specimen/       the specimens (traditional, ORC, improved ORC), the dem.specimen/1 file;
+//!   cache         a test's specimen (the user's parameters, the test's shape; the Brazilian
+//!                 disc carved, the SENB notch cut), saved beside the scene, reused by key
+//! model           LabModel: density, thickness, micro-parameters → materials, bond groups
+//! run, history    the scene written as a plain file (`dem run` runs it again) and run as the
+//!                 same value in memory; the history read as numbers (history.csv of old runs)
+//! tests/          the quasi-static tests on a specimen, one shared harness (loading rule,
+//!                 platens, run, result file): ucs (E, ν, UCS), biaxial (σ1 at σ3, φ, c),
+//!                 brazilian (σ_t = 2F/(πDt)), bending (σ_f = 3FL/(2bh²)), senb (K_IC, E399)
+//! cutting/        the cutting test and its parts: tool, chips, debris, surface, removal mode
+//! crushing/       lattice grains that break: grain (one between platens), column (many in a
+//!                 box), lattice (what they share), weibull (strength statistics)
+//! analysis/       the standard formulas (E, ν, UCS, σ_t, σ_f, K_IC, Mohr–Coulomb), force
+//!                 stats of cutting histories (force_stats: seed-averaged moving-mean peak)
+//! calibrate/      micro-parameters from target properties (Potyondy & Cundall 2004), on the
+//!                 virtual_lab of UCS, bending and Brazilian tests
+//!
+//! pipeline: SpecimenParams ─specimen::cache::prepare→ TestSpecimen ─┐
+//!           LabModel ─────────────────────────────────────────────┴─ tests::run(&UcsTest…)
+//!           → scene <name>.json → run → Record → analyze → <name>.result.json (Outcome)
 //! ```
 //!
 //! Docs: `docs/lab-tests.md`. A UCS test, as `dem test ucs` runs it: a small bonded specimen
@@ -33,17 +32,16 @@
 //! platens until it fails (a fraction of a second):
 //!
 //! ```
-//! use dem_lab::{specimens, ucs::{self, UcsTest}, LabModel};
-//! use dem_lab::specimen::{Method, SpecimenParams};
+//! use dem_lab::{specimen::cache, tests, LabModel, Method, SpecimenParams, UcsTest};
 //!
 //! let dir = std::env::temp_dir().join(format!("dem-doc-ucs-{}", std::process::id()));
 //! // 2.5 x 5 mm, radii 0.10-0.15 mm, Si3N4-like: 3200 kg/m³, E = 300 GPa, σ_t = 500 MPa, seed 1.
 //! let p = SpecimenParams::new(Method::Traditional, 2.5e-3, 5e-3, 0.1e-3, 0.15e-3,
 //!                             3200.0, 300e9, 500e6, 1);
 //! let test = UcsTest { width: 2.5e-3, height: 5e-3, ..UcsTest::default() };
-//! let spec = specimens::prepare(&p, test.shape(), &dir.join("ucs.specimen.json"), &mut |_| {})?;
+//! let spec = cache::prepare(&p, test.shape(), &dir.join("ucs.specimen.json"), &mut |_| {})?;
 //! let model = LabModel::from_params(&p);
-//! let o = ucs::run(&test, &model, &spec, &mut |_done, _total| {})?;
+//! let o = tests::run(&test, &model, &spec, &mut |_done, _total| {})?;
 //! let r = &o.result;
 //! assert!(r.young > 0.0 && r.ucs > 0.0 && r.poisson.is_finite());
 //! assert!(dir.join("ucs.json").is_file()); // the scene, which `dem run` runs again
@@ -52,26 +50,28 @@
 //! ```
 
 pub mod analysis;
-pub mod bending;
-pub mod biaxial;
-pub mod brazilian;
 pub mod calibrate;
-pub mod column;
-pub mod common;
-pub mod crush;
+pub mod crushing;
 pub mod cutting;
-pub mod force_stats;
 pub mod history;
 pub mod model;
 pub mod run;
-pub mod senb;
 pub mod specimen;
-pub mod specimens;
-pub mod ucs;
-pub mod virtual_lab;
-pub mod weibull;
+pub mod tests;
 
+pub use calibrate::{calibrate, Calibration, MaterialFile, Targets};
+pub use crushing::column::ColumnTest;
+pub use crushing::grain::{CrushTest, LinkCriterion};
+pub use cutting::CuttingTest;
 pub use model::LabModel;
+pub use specimen::cache::{Shape, TestSpecimen};
+pub use specimen::{Method, SpecimenParams};
+pub use tests::bending::BendingTest;
+pub use tests::biaxial::BiaxialTest;
+pub use tests::brazilian::BrazilianTest;
+pub use tests::senb::SenbTest;
+pub use tests::ucs::UcsTest;
+pub use tests::{Loading, Outcome, RunFacts};
 
 /// A JSON file of the lab's (a material, a specimen's summary or scene) read as `T` through the
 /// bounded reader; an error names the file and the JSON path of the offending field.

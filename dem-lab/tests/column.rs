@@ -1,4 +1,4 @@
-//! The crushable column (`dem_lab::column`, docs/lattice.md §7) on a small
+//! The crushable column (`dem_lab::crushing::column`, docs/lattice.md §7) on a small
 //! configuration: 16 grains of three outlines, a coarse lattice, two stress levels.
 //!
 //! - a grading is recorded at each level, when both platens carry it; with inertial loading
@@ -12,7 +12,7 @@
 //!   released at breaks) within 1 % of the work;
 //! - the outputs are written and hold no NaN; a bad value is refused naming its field.
 
-use dem_lab::column::{self, ColumnTest, Loading};
+use dem_lab::crushing::column::{self, ColumnTest, Loading};
 use dem_lab::LabError;
 use std::path::PathBuf;
 

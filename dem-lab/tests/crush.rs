@@ -1,4 +1,4 @@
-//! Single-grain crushing (`dem_lab::crush`, docs/lattice.md §4) and its parts:
+//! Single-grain crushing (`dem_lab::crushing::grain`, docs/lattice.md §4) and its parts:
 //!
 //! - one lattice link pulled apart breaks at the force its criterion gives in closed form
 //!   (force: F_t; strain: k_n ε_t S; energy: √(2 k_n G_c (S/√3) t), the energy criterion's
@@ -15,7 +15,7 @@ use clumpgen::{make_template, ClumpParams, Length, Method, ReadOptions};
 use dem_core::bond::{BondGroup, BondModel, BondStatus, Bonds, ContactBondParams};
 use dem_core::fragments::lattice_components;
 use dem_core::State;
-use dem_lab::crush::{self, CrushTest, LinkCriterion};
+use dem_lab::crushing::grain::{self, CrushTest, LinkCriterion};
 
 /// Two nodes of radius f·S/2, S apart, one link; the right node pulled along +x at a small
 /// constant speed; the link's normal force in the step before it breaks (N, tension > 0).
@@ -151,7 +151,7 @@ fn a_crushed_disc_breaks_in_two_stages_with_its_energy_balanced() {
         },
         ..CrushTest::default()
     };
-    let o = crush::run(&test, &file, &dir, &mut |_, _| {}).unwrap();
+    let o = grain::run(&test, &file, &dir, &mut |_, _| {}).unwrap();
     let r = &o.result;
     assert!(r.strength > 0.0 && r.strength.is_finite());
     assert_eq!(r.grain.nodes, tpl.discs.len());

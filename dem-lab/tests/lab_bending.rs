@@ -5,8 +5,8 @@
 
 mod lab_common;
 
-use dem_lab::bending::{self, timoshenko_stiffness, BendingOutcome, BendingTest};
-use dem_lab::ucs::{self, UcsTest};
+use dem_lab::tests::bending::{timoshenko_stiffness, BendingOutcome, BendingTest};
+use dem_lab::tests::ucs::UcsTest;
 use dem_lab::{LabError, LabModel};
 use lab_common::{dir, model, specimen};
 
@@ -23,7 +23,8 @@ fn run(name: &str, m: &LabModel) -> BendingOutcome {
     let t = test();
     let d = dir(name);
     let s = specimen(t.shape(), "bending-specimen", &d);
-    let o = bending::run(&t, m, &s, &mut |_, _| {}).unwrap_or_else(|e| panic!("{name}: {e}"));
+    let o =
+        dem_lab::tests::run(&t, m, &s, &mut |_, _| {}).unwrap_or_else(|e| panic!("{name}: {e}"));
     let r = &o.result;
     eprintln!(
         "{name}: σ_f {:.1} MPa, F {:.4e} N, k {:.4e} N/m, h {:.4} mm, {} discs, {} steps, {:.2} s, time to peak {:.1} periods",
@@ -53,7 +54,9 @@ fn stiffness_against_timoshenko_and_strength_scaling() {
     };
     let d = dir("ucs-for-bending");
     let us = specimen(ut.shape(), "ucs-specimen", &d);
-    let u = ucs::run(&ut, &m, &us, &mut |_, _| {}).unwrap().result;
+    let u = dem_lab::tests::run(&ut, &m, &us, &mut |_, _| {})
+        .unwrap()
+        .result;
     let kt = timoshenko_stiffness(u.young, u.poisson, r.span, m.thickness, r.height, true);
     let ke = timoshenko_stiffness(u.young, u.poisson, r.span, m.thickness, r.height, false);
     eprintln!(

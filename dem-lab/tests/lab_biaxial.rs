@@ -6,8 +6,8 @@
 mod lab_common;
 
 use dem_lab::analysis::mohr_coulomb;
-use dem_lab::biaxial::{self, BiaxialReport, BiaxialTest};
-use dem_lab::ucs::{self, UcsTest};
+use dem_lab::tests::biaxial::{BiaxialReport, BiaxialTest};
+use dem_lab::tests::ucs::UcsTest;
 use dem_lab::LabError;
 use lab_common::{dir, model, specimen};
 
@@ -23,8 +23,8 @@ fn test(confining: f64, name: &str) -> BiaxialTest {
 
 fn run(d: &std::path::Path, t: &BiaxialTest) -> BiaxialReport {
     let s = specimen(t.shape(), "ucs-specimen", d);
-    let o =
-        biaxial::run(t, &model(), &s, &mut |_, _| {}).unwrap_or_else(|e| panic!("{}: {e}", t.name));
+    let o = dem_lab::tests::run(t, &model(), &s, &mut |_, _| {})
+        .unwrap_or_else(|e| panic!("{}: {e}", t.name));
     let r = o.result;
     eprintln!(
         "{}: σ3 {:.1} MPa (asked {:.1}, off ≤ {:.2} %), σ1 {:.1} MPa, E {:.1} GPa, ν {:.3}, {} steps, {:.2} s",
@@ -55,7 +55,9 @@ fn confinement_is_held_and_raises_the_strength() {
         ..UcsTest::default()
     };
     let s = specimen(ut.shape(), "ucs-specimen", &d);
-    let u = ucs::run(&ut, &model(), &s, &mut |_, _| {}).unwrap().result;
+    let u = dem_lab::tests::run(&ut, &model(), &s, &mut |_, _| {})
+        .unwrap()
+        .result;
     eprintln!("ucs: {:.1} MPa, E {:.1} GPa", u.ucs * 1e-6, u.young * 1e-9);
     assert!(
         (free.sigma1 / u.ucs - 1.0).abs() < 0.1,

@@ -3,7 +3,7 @@
 
 mod lab_common;
 
-use dem_lab::brazilian::{self, BrazilianOutcome, BrazilianTest};
+use dem_lab::tests::brazilian::{BrazilianOutcome, BrazilianTest};
 use dem_lab::{LabError, LabModel};
 use lab_common::{dir, model, specimen};
 
@@ -18,7 +18,8 @@ fn run(name: &str, m: &LabModel) -> BrazilianOutcome {
     let t = test();
     let d = dir(name);
     let s = specimen(t.shape(), "brazilian-specimen", &d);
-    let o = brazilian::run(&t, m, &s, &mut |_, _| {}).unwrap_or_else(|e| panic!("{name}: {e}"));
+    let o =
+        dem_lab::tests::run(&t, m, &s, &mut |_, _| {}).unwrap_or_else(|e| panic!("{name}: {e}"));
     eprintln!(
         "{name}: σ_t {:.1} MPa, F {:.4e} N, D {:.4} mm, {} discs, {} steps, {:.2} s, time to peak {:.1} transits",
         o.result.tensile_strength * 1e-6,

@@ -10,12 +10,12 @@
 //! Tolerances: E within 3 % and σ_f within 4 % (the calibration's 2 % plus the one E rescale
 //! that follows the strength search), ν within 0.015 (the calibration's 0.01 plus the same).
 
-use dem_lab::bending::{self, BendingTest};
-use dem_lab::brazilian::{self, BrazilianTest};
+use dem_lab::calibrate::virtual_lab::VirtualLab;
 use dem_lab::calibrate::{calibrate, Options, Targets};
 use dem_lab::specimen::{Method, SpecimenParams};
-use dem_lab::ucs::{self, UcsTest};
-use dem_lab::virtual_lab::VirtualLab;
+use dem_lab::tests::bending::BendingTest;
+use dem_lab::tests::brazilian::BrazilianTest;
+use dem_lab::tests::ucs::UcsTest;
 use dem_lab::LabModel;
 
 /// The coarse traditional SiC specimen of these tests (radii 0.4–0.6 mm, 10 × 20 mm).
@@ -71,9 +71,10 @@ fn calibrated_specimen_gives_the_targets() {
 
     // Independent runs of the three tests with the calibrated model.
     let m = &c.model;
-    let u = ucs::run(&lab.ucs[0], m, &lab.ucs_specimen[0], &mut |_, _| {}).unwrap();
-    let b = bending::run(&lab.bending[0], m, &lab.bending_specimen[0], &mut |_, _| {}).unwrap();
-    let z = brazilian::run(
+    let u = dem_lab::tests::run(&lab.ucs[0], m, &lab.ucs_specimen[0], &mut |_, _| {}).unwrap();
+    let b =
+        dem_lab::tests::run(&lab.bending[0], m, &lab.bending_specimen[0], &mut |_, _| {}).unwrap();
+    let z = dem_lab::tests::run(
         &lab.brazilian[0],
         m,
         &lab.brazilian_specimen[0],
@@ -146,7 +147,7 @@ fn two_seeds_are_two_specimens_and_the_lab_returns_their_mean() {
     assert_ne!(lab.last.bending[0], lab.last.bending[1]);
     assert_eq!(f, 0.5 * (lab.last.bending[0] + lab.last.bending[1]));
     // The first seed's run is the one-seed lab's run (same specimen file, same test).
-    let one = bending::run(
+    let one = dem_lab::tests::run(
         &lab.bending[0],
         &m,
         &lab.bending_specimen[0],

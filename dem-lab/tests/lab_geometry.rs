@@ -4,11 +4,11 @@
 //! errors naming the field, the value and the bound; valid defaults and the coarse regression
 //! geometries still pass. Before, every case below was accepted.
 
-use dem_lab::bending::BendingTest;
-use dem_lab::brazilian::BrazilianTest;
-use dem_lab::common::MIN_DIAMETERS_ACROSS;
 use dem_lab::specimen::{Method, SpecimenError, SpecimenParams};
-use dem_lab::ucs::UcsTest;
+use dem_lab::tests::bending::BendingTest;
+use dem_lab::tests::brazilian::BrazilianTest;
+use dem_lab::tests::harness::MIN_DIAMETERS_ACROSS;
+use dem_lab::tests::ucs::UcsTest;
 use dem_lab::LabError;
 
 /// Mean radius of the coarse regression specimens (0.10–0.16 mm).

@@ -5,8 +5,8 @@
 
 mod lab_common;
 
-use dem_lab::bending::{self, BendingTest};
-use dem_lab::senb::{self, SenbOutcome, SenbTest};
+use dem_lab::tests::bending::BendingTest;
+use dem_lab::tests::senb::{SenbOutcome, SenbTest};
 use dem_lab::{LabError, LabModel};
 use lab_common::{dir, model, specimen};
 
@@ -24,7 +24,8 @@ fn run(name: &str, m: &LabModel) -> SenbOutcome {
     let t = test();
     let d = dir(name);
     let s = specimen(t.shape(), "senb-specimen", &d);
-    let o = senb::run(&t, m, &s, &mut |_, _| {}).unwrap_or_else(|e| panic!("{name}: {e}"));
+    let o =
+        dem_lab::tests::run(&t, m, &s, &mut |_, _| {}).unwrap_or_else(|e| panic!("{name}: {e}"));
     let r = &o.result;
     eprintln!(
         "{name}: K_IC {:.3} MPa·m^½ (β {:.3} of σ̄c√(πR̄) = {:.3}), P {:.4e} N, a/W {:.3}, \
@@ -72,7 +73,7 @@ fn notch_lowers_the_peak_and_toughness_follows_bond_strength() {
     };
     let d = dir("senb-plain");
     let ps = specimen(plain.shape(), "senb-plain-specimen", &d);
-    let p = bending::run(&plain, &m, &ps, &mut |_, _| {})
+    let p = dem_lab::tests::run(&plain, &m, &ps, &mut |_, _| {})
         .unwrap()
         .result;
     eprintln!(

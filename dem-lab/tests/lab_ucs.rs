@@ -4,7 +4,7 @@
 
 mod lab_common;
 
-use dem_lab::ucs::{self, UcsOutcome, UcsTest};
+use dem_lab::tests::ucs::{UcsOutcome, UcsTest};
 use dem_lab::{LabError, LabModel};
 use lab_common::{dir, model, specimen};
 
@@ -19,7 +19,7 @@ fn test() -> UcsTest {
 fn run(name: &str, t: &UcsTest, m: &LabModel) -> UcsOutcome {
     let d = dir(name);
     let s = specimen(t.shape(), "ucs-specimen", &d);
-    let o = ucs::run(t, m, &s, &mut |_, _| {}).unwrap_or_else(|e| panic!("{name}: {e}"));
+    let o = dem_lab::tests::run(t, m, &s, &mut |_, _| {}).unwrap_or_else(|e| panic!("{name}: {e}"));
     let r = &o.result;
     eprintln!(
         "{name}: E {:.2} GPa ν {:.3} UCS {:.1} MPa (peak strain {:.3e}, {} band rows, time to peak {:.1} transits, {} steps, {:.2} s)",

@@ -1,7 +1,7 @@
 //! The report's "Crushable grains" section (issue 25 item 5): single-grain crushing
-//! (`dem_lab::crush`) of the synthetic outlines of `data/outlines` scaled to three sizes,
+//! (`dem_lab::crushing::grain`) of the synthetic outlines of `data/outlines` scaled to three sizes,
 //! with a Weibull fit of the strengths per size (Weibull 1951) and the size-effect exponent of
-//! the characteristic strength (`dem_lab::weibull`).
+//! the characteristic strength (`dem_lab::crushing::weibull`).
 //!
 //! The lattice spacing is a constant fraction of the grain's equivalent radius (S = 0.18 R_eq,
 //! R_eq/S = 5.6, about 90–100 nodes a grain), so each grain's lattice is the same at every size,
@@ -22,8 +22,8 @@ use crate::page::{json, Figure, Section};
 use crate::plot::{self, Series};
 use clumpgen::clump::LatticeParams;
 use clumpgen::{make_template, ClumpParams, Length, Method, ReadOptions};
-use dem_lab::crush::{self, CrushTest, LinkCriterion};
-use dem_lab::weibull::{power_law_fit, ranks, weibull_fit, PowerLaw, WeibullFit};
+use dem_lab::crushing::grain::{self, CrushTest, LinkCriterion};
+use dem_lab::crushing::weibull::{power_law_fit, ranks, weibull_fit, PowerLaw, WeibullFit};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
@@ -215,12 +215,12 @@ fn run_one(
     let mut test = plan.test.clone();
     if half {
         // The rule's speed for this grain, halved.
-        let probe = crush::speed_of(&test, &tpl)?;
+        let probe = grain::speed_of(&test, &tpl)?;
         test.speed = Some(0.5 * probe);
     }
-    let o = crush::run(&test, &file, &dir, &mut |_, _| {}).map_err(|e| Error::within(grain, e))?;
+    let o = grain::run(&test, &file, &dir, &mut |_, _| {}).map_err(|e| Error::within(grain, e))?;
     let r = &o.result;
-    let pieces = |s: &crush::StageFacts| Pieces {
+    let pieces = |s: &grain::StageFacts| Pieces {
         broken_links: s.broken_links,
         fragments: s.fragments.fragments,
         fines: s.fragments.fines,

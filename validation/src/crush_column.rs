@@ -1,5 +1,5 @@
 //! The crushable column of the "Crushable grains" section (`dem test column`,
-//! `dem_lab::column`, docs/lattice.md §7): read from the committed run
+//! `dem_lab::crushing::column`, docs/lattice.md §7): read from the committed run
 //! (`<out>/crush/column/column.result.json` and a thinned `column.stress_strain.csv`), never run
 //! here (the run takes tens of minutes of one core); the section says so and how to make it
 //! when the files are missing.
@@ -7,7 +7,7 @@
 use crate::error::{Error, Result};
 use crate::page::Figure;
 use crate::plot::{self, Series};
-use dem_lab::column::{ColumnOutcome, Loading};
+use dem_lab::crushing::column::{ColumnOutcome, Loading};
 use std::path::Path;
 
 /// The command that made the committed run (docs/lattice.md §7).

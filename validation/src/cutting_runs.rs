@@ -486,7 +486,7 @@ struct HistoryStats {
     peak_avg_n: Option<f64>,
     /// Travel-weighted mean, median, raw and moving-mean peak, top-5 % work share on the
     /// [`crate::force_statistics`] grid and width.
-    run: Option<dem_lab::force_stats::RunStats>,
+    run: Option<dem_lab::analysis::force_stats::RunStats>,
 }
 
 impl HistoryStats {
@@ -498,7 +498,7 @@ impl HistoryStats {
         let [from, to] = res.window;
         HistoryStats {
             peak_avg_n: dem_lab::analysis::moving_mean_peak(&x, &f, from, to, grain),
-            run: dem_lab::force_stats::run_stats(
+            run: dem_lab::analysis::force_stats::run_stats(
                 (&x, &f),
                 res.window,
                 crate::force_statistics::GRID_STEP_M,

@@ -115,7 +115,7 @@ pub enum Error {
     #[error("{what}: {source}")]
     ForceStats {
         what: String,
-        source: dem_lab::force_stats::ForceStatsError,
+        source: dem_lab::analysis::force_stats::ForceStatsError,
     },
     /// A cell of force statistics given no runs.
     #[error("a cell without runs")]

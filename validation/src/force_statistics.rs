@@ -2,7 +2,7 @@
 //! 3). S0 reports a peak and a mean main cutting force per case, "the mean of 5 runs", and
 //! never defines its peak. Beside the raw peak (the largest sample of each run, averaged over
 //! the seeds: 14–26× the mean in our runs, 1.5–1.9× in the paper) we give the **seed-averaged
-//! moving-mean peak** of [`dem_lab::force_stats::seed_averaged_peak`]:
+//! moving-mean peak** of [`dem_lab::analysis::force_stats::seed_averaged_peak`]:
 //!
 //! - main force = the horizontal force on the tool opposing its motion (as before);
 //! - window = the run's steady window [2 a_p, L] (the tool's entry, the first impact on the
@@ -18,7 +18,7 @@
 
 use crate::error::Error;
 use crate::table2::PaperTable2;
-use dem_lab::force_stats::{self, ForceStatsError, History};
+use dem_lab::analysis::force_stats::{self, ForceStatsError, History};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 

@@ -90,7 +90,7 @@ pub struct RunRecord {
     pub broken_intra_grain: Option<u64>,
     /// Travel-weighted median of the main force over the window (N) and the share of the
     /// window's work done over its top 5 % of travel
-    /// ([`dem_lab::force_stats::RunStats`]); `None` in records written before them.
+    /// ([`dem_lab::analysis::force_stats::RunStats`]); `None` in records written before them.
     #[serde(default)]
     pub median_n: Option<f64>,
     #[serde(default)]

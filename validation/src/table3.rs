@@ -3,7 +3,7 @@
 //! paper's models, the experiment and the handbook.
 //!
 //! Set-up (chosen where S0 is silent; the paper gives only its real beams, 170 × 15 × 10 mm and
-//! 350 × 30 × 20 mm, not its model's): the calibration's beam (`dem_lab::bending`, 20 × 5 mm on a
+//! 350 × 30 × 20 mm, not its model's): the calibration's beam (`dem_lab::tests::bending`, 20 × 5 mm on a
 //! 16 mm span, radii 0.175–0.285 mm, the cutting resolution) and each granite's calibrated
 //! model (`data/models/granite-*.model.json`, fitted to the measured σ_f on a traditional beam of
 //! seed 1: the table's one calibration, made before and outside this table). The ORC and
@@ -27,10 +27,10 @@ use crate::cutting_runs::Missing;
 use crate::error::{Error, Result};
 use crate::page::{json, Figure, Section};
 use crate::plot;
-use dem_lab::bending::{self, BendingTest};
 use dem_lab::calibrate::MaterialFile;
+use dem_lab::specimen::cache;
 use dem_lab::specimen::{FewGrains, GrainMode, Insertion, Method, SpecimenParams};
-use dem_lab::specimens;
+use dem_lab::tests::bending::{self, BendingTest};
 use dem_lab::LabModel;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
@@ -218,7 +218,7 @@ fn one(
         reused,
     };
     let key_matches = || {
-        let key = std::fs::read_to_string(specimens::key_path(&file)).ok()?;
+        let key = std::fs::read_to_string(cache::key_path(&file)).ok()?;
         let v: serde_json::Value = serde_json::from_str(&key).ok()?;
         (v.get("params")? == &serde_json::to_value(&p).ok()?).then_some(())
     };
@@ -246,8 +246,13 @@ fn one(
     }
     let go = || -> Result<bending::BendingOutcome> {
         std::fs::create_dir_all(dir).map_err(Error::io(dir))?;
-        let spec = specimens::prepare(&p, plan.test.shape(), &file, &mut |_| {})?;
-        Ok(bending::run(&plan.test, &g.model, &spec, &mut |_, _| {})?)
+        let spec = cache::prepare(&p, plan.test.shape(), &file, &mut |_| {})?;
+        Ok(dem_lab::tests::run(
+            &plan.test,
+            &g.model,
+            &spec,
+            &mut |_, _| {},
+        )?)
     };
     match go() {
         Ok(o) => {

@@ -50,8 +50,8 @@ pub struct StepHook {
     pub run: HookFn,
     /// Asked after `run`, at the same steps: `true` ends the run there as at failure
     /// ([`Ending::Failure`], summary status `failure`, a history row and the final checkpoint
-    /// written), e.g. a crushed grain's first major breakage (`dem_lab::crush`). A function of
-    /// the world alone, as `run`.
+    /// written), e.g. a crushed grain's first major breakage (`dem_lab::crushing::grain`). A
+    /// function of the world alone, as `run`.
     #[allow(clippy::type_complexity)]
     pub stop: Option<Box<dyn FnMut(&World) -> bool>>,
 }

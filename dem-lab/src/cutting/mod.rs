@@ -709,7 +709,7 @@ pub fn scene(
     };
     let wall = |w: &Segment| WallSpec {
         via: w.via.clone(),
-        ..super::common::wall(&w.name, w.a, w.b, frame_v)
+        ..crate::tests::harness::wall(&w.name, w.a, w.b, frame_v)
     };
     s.walls = g.slot.iter().map(wall).collect();
     for w in &g.tool {
@@ -780,7 +780,7 @@ impl ForceHistory {
     /// From a run's history: the tool walls' reactions.
     pub fn from_record(h: &Record, g: &CutGeometry) -> Result<ForceHistory, LabError> {
         let time = h.time.clone();
-        let wall = |w: &str| super::common::wall_series(h, w, "cutting");
+        let wall = |w: &str| crate::tests::harness::wall_series(h, w, "cutting");
         // The tool's force: the one rigid tool wall, or the two faces of the earlier model.
         let (fx, fy) = if g.tool.len() == 1 {
             let t = wall(TOOL)?;
@@ -788,8 +788,8 @@ impl ForceHistory {
         } else {
             let (r, c) = (wall(RAKE)?, wall(CLEARANCE)?);
             (
-                super::common::sum2(&r.fx, &c.fx),
-                super::common::sum2(&r.fy, &c.fy),
+                crate::tests::harness::sum2(&r.fx, &c.fx),
+                crate::tests::harness::sum2(&r.fy, &c.fy),
             )
         };
         let v = g.velocity;

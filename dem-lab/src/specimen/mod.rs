@@ -24,6 +24,7 @@
 //! Everything is deterministic per seed (own RNG, [`rng`]; the engine is bit-identical for any
 //! thread count).
 
+pub mod cache;
 pub mod few;
 pub mod generator;
 pub mod grains;

@@ -5,8 +5,8 @@
 
 #![allow(dead_code)]
 
+use dem_lab::specimen::cache::{self, Shape, TestSpecimen};
 use dem_lab::specimen::{Method, SpecimenParams};
-use dem_lab::specimens::{self, Shape, TestSpecimen};
 use dem_lab::LabModel;
 use std::path::PathBuf;
 use std::sync::Mutex;
@@ -45,7 +45,7 @@ pub fn specimen(shape: Shape, stem: &str, dir: &std::path::Path) -> TestSpecimen
     let cached = {
         let _g = LOCK.lock().unwrap_or_else(|e| e.into_inner());
         let cache = std::env::temp_dir().join("dem-lab-test-specimens");
-        specimens::prepare(
+        cache::prepare(
             &params(),
             shape,
             &cache.join(format!("{stem}.json")),

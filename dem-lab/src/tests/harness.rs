@@ -1,10 +1,13 @@
-//! What the compression, Brazilian and bending tests share: the quasi-static loading rule, the
-//! run settings of a damped quasi-static scene, the facts of a finished run, and the atomic
-//! result file.
+//! The run harness of the quasi-static lab tests (compression, biaxial, Brazilian, bending,
+//! SENB): the quasi-static loading rule, the run settings of a damped quasi-static scene, the
+//! platens and gauges, the checks of the parameters every test has (name, band, friction),
+//! the run itself ([`QuasiStatic`], [`run`]: scene beside the specimen, run, history analysed),
+//! the facts of a finished run, and the atomic result file. The crushing and cutting tests use
+//! its walls, series readers and result file too.
 
-use super::run::{run_scene, LabRun};
-use super::specimens::TestSpecimen;
-use super::{LabError, LabModel};
+use crate::run::{run_scene, LabRun};
+use crate::specimen::cache::TestSpecimen;
+use crate::{LabError, LabModel};
 use dem_core::output::driver::RunOptions;
 use dem_core::output::history::{GaugeSeries, GroupSeries, Record, WallSeries};
 use dem_core::output::write_atomic;
@@ -146,7 +149,7 @@ pub fn wall(name: &str, a: [f64; 2], b: [f64; 2], velocity: [f64; 2]) -> WallSpe
         a,
         b,
         via: Vec::new(),
-        material: super::model::WALL_MATERIAL.into(),
+        material: crate::model::WALL_MATERIAL.into(),
         velocity,
         angular_velocity: 0.0,
         center: None,
@@ -228,6 +231,76 @@ pub struct Outcome<T, R> {
     pub specimen: TestSpecimen,
     pub result: R,
     pub run: RunFacts,
+}
+
+/// A quasi-static lab test: its own scene and analysis; [`run`] does the rest.
+pub trait QuasiStatic: Clone + Serialize {
+    /// What the analysis measured.
+    type Report: Serialize;
+    /// The file stem: scene `<name>.json`, outputs `<name>.out/`, result `<name>.result.json`.
+    fn name(&self) -> &str;
+    /// The specimen's shape.
+    fn shape(&self) -> crate::specimen::cache::Shape;
+    /// The test's scene (`dem.scene/1`) on `spec`, checked first.
+    fn scene(&self, model: &LabModel, spec: &TestSpecimen) -> Result<SceneFile, LabError>;
+    /// What the history `t` of [`QuasiStatic::scene`] measured.
+    fn analyze(
+        &self,
+        t: &Record,
+        model: &LabModel,
+        spec: &TestSpecimen,
+    ) -> Result<Self::Report, LabError>;
+}
+
+/// Implements [`QuasiStatic`] for `$test` (a struct with a `name` field) with the module's own
+/// `scene(test, model, spec)` and `analyze(history, test, model, spec)` functions, and names
+/// its result file's type `$outcome`.
+macro_rules! quasi_static {
+    ($test:ident, $report:ident, $outcome:ident) => {
+        /// The result file `<name>.result.json`.
+        pub type $outcome = $crate::tests::harness::Outcome<$test, $report>;
+
+        impl $crate::tests::harness::QuasiStatic for $test {
+            type Report = $report;
+            fn name(&self) -> &str {
+                &self.name
+            }
+            fn shape(&self) -> $crate::specimen::cache::Shape {
+                <$test>::shape(self)
+            }
+            fn scene(
+                &self,
+                model: &$crate::LabModel,
+                spec: &$crate::specimen::cache::TestSpecimen,
+            ) -> Result<dem_core::scene::schema::SceneFile, $crate::LabError> {
+                scene(self, model, spec)
+            }
+            fn analyze(
+                &self,
+                t: &dem_core::output::history::Record,
+                model: &$crate::LabModel,
+                spec: &$crate::specimen::cache::TestSpecimen,
+            ) -> Result<$report, $crate::LabError> {
+                analyze(t, self, model, spec)
+            }
+        }
+    };
+}
+pub(crate) use quasi_static;
+
+/// Runs a quasi-static test: writes its scene `<name>.json` beside the specimen file, runs it
+/// (outputs `<name>.out/`), analyses the history and writes `<name>.result.json` there
+/// (atomically); `progress(done, total)` now and then.
+pub fn run<T: QuasiStatic>(
+    test: &T,
+    model: &LabModel,
+    spec: &TestSpecimen,
+    progress: &mut dyn FnMut(u64, u64),
+) -> Result<Outcome<T, T::Report>, LabError> {
+    let s = test.scene(model, spec)?;
+    run_test(test.name(), test, s, model, spec, progress, |h| {
+        test.analyze(h, model, spec)
+    })
 }
 
 /// What every quasi-static test's `run` does: writes `scene` as `<name>.json` beside the
@@ -376,4 +449,246 @@ pub fn sum2(a: &[f64], b: &[f64]) -> Vec<f64> {
 /// A count series (broken bonds) as numbers.
 pub fn counts(v: &[u64]) -> Vec<f64> {
     v.iter().map(|&c| c as f64).collect()
+}
+
+/// A parameter error of `test`'s `field` (`<test>.<field>`).
+pub fn param(test: &str, field: &str, reason: impl Into<String>) -> LabError {
+    LabError::Param {
+        field: format!("{test}.{field}"),
+        reason: reason.into(),
+    }
+}
+
+/// `<test>.name`: a plain file stem (no folder).
+pub fn plain_name(test: &str, name: &str) -> Result<(), LabError> {
+    if name.is_empty() || name.contains(['/', '\\']) {
+        return Err(LabError::Param {
+            field: format!("{test}.name"),
+            reason: "must be a plain file stem".into(),
+        });
+    }
+    Ok(())
+}
+
+/// The checks every quasi-static test ends with: `<test>.name` a plain file stem, and the
+/// loading (`<test>.loading.<field>`).
+pub fn name_and_loading(test: &str, name: &str, loading: &Loading) -> Result<(), LabError> {
+    plain_name(test, name)?;
+    loading.validate(&format!("{test}.loading"))
+}
+
+/// `<test>.band`: a pre-peak band [lo, hi] of fractions of the peak, 0 ≤ lo < hi < 1.
+pub fn prepeak_band(test: &str, [lo, hi]: [f64; 2]) -> Result<(), LabError> {
+    if !(lo >= 0.0 && lo < hi && hi < 1.0) {
+        return Err(LabError::Param {
+            field: format!("{test}.band"),
+            reason: format!("needs 0 ≤ lo < hi < 1 (got [{lo}, {hi}])"),
+        });
+    }
+    Ok(())
+}
+
+/// `<test>.load_friction`: a finite coefficient ≥ 0 when given.
+pub fn load_friction(test: &str, mu: Option<f64>) -> Result<(), LabError> {
+    match mu {
+        Some(mu) if !(mu.is_finite() && mu >= 0.0) => Err(LabError::Param {
+            field: format!("{test}.load_friction"),
+            reason: format!("{mu} must be a finite coefficient ≥ 0"),
+        }),
+        _ => Ok(()),
+    }
+}
+
+/// Each platen's travel to the estimated failure of a specimen `length` long (m) along the
+/// loading axis, both platens closing: ε_f L/2 ([`failure_strain_estimate`]).
+pub fn platen_failure_travel(model: &LabModel, length: f64) -> f64 {
+    0.5 * length * failure_strain_estimate(model)
+}
+
+/// Platen speed (each, m/s) on a specimen `length` long (m) along the loading axis: the given
+/// one, else the quasi-static rule over the travel [`platen_failure_travel`] and the P-wave
+/// transit time of `length` ([`transit_time`]).
+pub fn platen_speed(loading: &Loading, model: &LabModel, length: f64) -> f64 {
+    loading.speed_for(
+        platen_failure_travel(model, length),
+        transit_time(model, length),
+    )
+}
+
+/// Two flat platens `bottom` (at `y0`) and `top` (at `y1`) from x = `xa` to `xb` (m), closing
+/// at `v` (m/s) each.
+pub fn platens(xa: f64, xb: f64, y0: f64, y1: f64, v: f64) -> Vec<WallSpec> {
+    vec![
+        wall("bottom", [xa, y0], [xb, y0], [0.0, v]),
+        wall("top", [xa, y1], [xb, y1], [0.0, -v]),
+    ]
+}
+
+impl Loading {
+    /// [`Loading::scene_fields`] of the two-platen tests: stop after the peak of the `top`
+    /// platen's y force.
+    pub fn platen_fields(
+        &self,
+        scene: &mut SceneFile,
+        speed: f64,
+        u_fail: f64,
+        min_load: f64,
+        gauges: Vec<GaugeSpec>,
+    ) {
+        self.scene_fields(
+            scene,
+            speed,
+            u_fail,
+            &["top".into()],
+            AxisName::Y,
+            min_load,
+            gauges,
+        );
+    }
+}
+
+/// The mean platen force per history row, 0.5 (F_top − F_bottom) (N): discs push the top platen
+/// up (+y) and the bottom one down. Errors name `test`.
+pub fn platen_load(t: &Record, test: &str) -> Result<Vec<f64>, LabError> {
+    let top = &wall_series(t, "top", test)?.fy;
+    let bottom = &wall_series(t, "bottom", test)?.fy;
+    Ok(top.iter().zip(bottom).map(|(a, b)| 0.5 * (a - b)).collect())
+}
+
+/// At least 10 history rows, else an analysis error of `test`.
+pub fn enough_rows(t: &Record, test: &str) -> Result<(), LabError> {
+    if t.time.len() < 10 {
+        return Err(analysis_error(
+            test,
+            format!("{} history rows: too few", t.time.len()),
+        ));
+    }
+    Ok(())
+}
+
+/// The row and value of the peak of `load` (the `what` of `test`: `load`, `axial load`) if the
+/// specimen failed: the peak is positive and the load fell below 95 % of it by the end. `none`:
+/// the error when `load` has no peak.
+pub fn failure_peak(
+    test: &str,
+    load: &[f64],
+    what: &str,
+    none: &str,
+) -> Result<(usize, f64), LabError> {
+    let (ip, f) = crate::analysis::peak(load).ok_or_else(|| analysis_error(test, none))?;
+    let last = *load.last().unwrap_or(&0.0);
+    if f <= 0.0 || last > 0.95 * f {
+        return Err(analysis_error(
+            test,
+            format!(
+                "no failure: the {what} was still {:.3} of its peak at the end; raise loading.max_travel_factor",
+                last / f
+            ),
+        ));
+    }
+    Ok((ip, f))
+}
+
+/// The rows of `series` in its pre-peak `band` ([`crate::analysis::prepeak_band`]), at least 5,
+/// else an analysis error of `test` (`named`: the band's bounds in the message).
+pub fn band_rows(
+    test: &str,
+    series: &[f64],
+    [lo, hi]: [f64; 2],
+    named: bool,
+) -> Result<Vec<usize>, LabError> {
+    let band = crate::analysis::prepeak_band(series, lo, hi);
+    if band.len() < 5 {
+        let which = if named {
+            format!(" {lo}-{hi}")
+        } else {
+            String::new()
+        };
+        return Err(analysis_error(
+            test,
+            format!(
+                "{} history rows in the{which} pre-peak band: lower loading.history_every or the speed",
+                band.len()
+            ),
+        ));
+    }
+    Ok(band)
+}
+
+/// The compression tests' (UCS, biaxial) strains per row: axial ε_a = 2 v t / h from the platen
+/// gap (platens at `v` each, specimen height `h`), lateral ε_l = Δs/s₀ from the mean-centre
+/// spacing s of the `left` and `right` gauges. Errors name `test`.
+pub fn compression_strains(
+    t: &Record,
+    test: &str,
+    v: f64,
+    h: f64,
+) -> Result<(Vec<f64>, Vec<f64>), LabError> {
+    let left = &gauge_series(t, "left", test)?.x;
+    let right = &gauge_series(t, "right", test)?.x;
+    let axial: Vec<f64> = t.time.iter().map(|t| 2.0 * v * t / h).collect();
+    let s0 = right[0] - left[0];
+    let lateral: Vec<f64> = (left.iter().zip(right))
+        .map(|(l, r)| (r - l - s0) / s0)
+        .collect();
+    Ok((axial, lateral))
+}
+
+/// The lateral gauges `left` and `right` of the compression tests: bands of half-width `g` (m)
+/// about the sides x0 and x1 of the specimen's extent [x0, y0, x1, y1].
+pub fn side_gauges([x0, y0, x1, y1]: [f64; 4], g: f64) -> Vec<GaugeSpec> {
+    vec![
+        gauge("left", [x0 - g, y0 - g, x0 + g, y1 + g]),
+        gauge("right", [x1 - g, y0 - g, x1 + g, y1 + g]),
+    ]
+}
+
+/// `e` with its field renamed by `rename` if it is a parameter error (a test that checks
+/// another's parameters names its own fields: `ucs.width` → `biaxial.width`).
+pub fn renamed(e: LabError, rename: impl Fn(&str) -> String) -> LabError {
+    match e {
+        LabError::Param { field, reason } => LabError::Param {
+            field: rename(&field),
+            reason,
+        },
+        e => e,
+    }
+}
+
+/// Fixtures of the tests' unit tests: a Si3N4-like model and a specimen record.
+#[cfg(test)]
+pub(crate) mod fixtures {
+    use crate::specimen::cache::TestSpecimen;
+    use crate::specimen::{Method, SpecimenParams};
+    use crate::LabModel;
+
+    /// The model of a traditional `w` × `h` (m) specimen, radii 0.10–0.15 mm, 3200 kg/m³,
+    /// E = 310 GPa, σ_t = 800 MPa, seed 1.
+    pub fn model(w: f64, h: f64) -> LabModel {
+        let p = SpecimenParams::new(
+            Method::Traditional,
+            w,
+            h,
+            0.1e-3,
+            0.15e-3,
+            3200.0,
+            310e9,
+            800e6,
+            1,
+        );
+        LabModel::from_params(&p)
+    }
+
+    /// A specimen `file` of `w` × `h` (m) at the origin, mean radius 0.125 mm.
+    pub fn specimen(file: &str, w: f64, h: f64, discs: usize, bonds: usize) -> TestSpecimen {
+        TestSpecimen {
+            file: file.into(),
+            extent: [0.0, 0.0, w, h],
+            discs,
+            bonds,
+            r_mean: 0.125e-3,
+            reused: false,
+            below_cover: vec![],
+        }
+    }
 }

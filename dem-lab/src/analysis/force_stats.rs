@@ -191,7 +191,7 @@ fn width_cells(width: f64, step: f64) -> usize {
 /// decreasing travel, a step or width that is not finite and positive.
 ///
 /// ```
-/// use dem_lab::force_stats::seed_averaged_peak;
+/// use dem_lab::analysis::force_stats::seed_averaged_peak;
 /// let s = [0.0, 1.0, 2.0, 3.0, 4.0];
 /// let (a, b) = ([1.0, 1.0, 5.0, 1.0, 1.0], [1.0, 1.0, 1.0, 1.0, 1.0]);
 /// let p = seed_averaged_peak(&[(&s[..], &a[..]), (&s[..], &b[..])], [0.0, 4.0], 0.5, 0.5)

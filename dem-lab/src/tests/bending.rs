@@ -8,7 +8,7 @@
 //! and the measured load is still what the beam feels).
 //!
 //! Measured: the load F on the loading roller (N), the flexural strength
-//! σ_f = 3FL/(2bh²) from its peak ([`super::analysis::flexural_strength`]), and the elastic
+//! σ_f = 3FL/(2bh²) from its peak ([`crate::analysis::flexural_strength`]), and the elastic
 //! stiffness k = dF/dδ over the 10–50 % pre-peak band, δ the mid-span deflection of the beam's
 //! bottom fibre relative to the supports (position gauges at the bottom at mid-span and above
 //! each support, so roller indentation and the initial settling are excluded). Compare k with
@@ -19,9 +19,9 @@
 //! `quasi_static_factor` (default 10) fundamental periods of the simply supported beam,
 //! T₁ = 2π/ω₁ with ω₁ = (π/L)² √(EI/(ρA)) = (π/L)² h √(E/(12ρ)) (Euler-Bernoulli), E = E_c.
 
-use super::common::{self, positive, Loading};
-use super::specimens::{Shape, TestSpecimen};
-use super::{analysis, LabError, LabModel};
+use super::harness::{self, positive, Loading};
+use crate::specimen::cache::{Shape, TestSpecimen};
+use crate::{analysis, LabError, LabModel};
 use dem_core::output::history::Record;
 use dem_core::scene::schema::{AxisName, MaterialSpec, PairSpec, SceneFile, WallSpec};
 use serde::{Deserialize, Serialize};
@@ -102,9 +102,6 @@ pub struct BendingReport {
     pub quasi_static_ratio: f64,
 }
 
-/// The result file `<name>.result.json`.
-pub type BendingOutcome = common::Outcome<BendingTest, BendingReport>;
-
 /// Mid-span stiffness F/δ of a simply supported beam of span L under a central load,
 /// Timoshenko: δ = FL³/(48EI) + FL/(4κGA), I = bh³/12, A = bh, G = E/(2(1+ν)), κ = 5/6
 /// (rectangular section; Timoshenko & Gere, Mechanics of Materials). `shear = false` gives
@@ -128,57 +125,38 @@ impl BendingTest {
         positive(TEST, "height", self.height)?;
         positive(TEST, "span", self.span)?;
         if self.span >= self.length {
-            return Err(LabError::Param {
-                field: "bending.span".into(),
-                reason: format!(
-                    "{} m must be below the beam length {} m",
-                    self.span, self.length
-                ),
-            });
+            let why = format!(
+                "{} m must be below the beam length {} m",
+                self.span, self.length
+            );
+            return Err(harness::param(TEST, "span", why));
         }
         if let Some(r) = self.roller_radius {
             positive(TEST, "roller_radius", r)?;
         }
         if self.roller_segments == 0 || self.roller_segments > 64 {
-            return Err(LabError::Param {
-                field: "bending.roller_segments".into(),
-                reason: "must lie in 1..=64".into(),
-            });
+            return Err(harness::param(
+                TEST,
+                "roller_segments",
+                "must lie in 1..=64",
+            ));
         }
         if !(self.roller_angle > 0.0 && self.roller_angle < 0.5 * PI) {
-            return Err(LabError::Param {
-                field: "bending.roller_angle".into(),
-                reason: "must lie in (0, π/2) rad".into(),
-            });
+            return Err(harness::param(
+                TEST,
+                "roller_angle",
+                "must lie in (0, π/2) rad",
+            ));
         }
         positive(TEST, "gauge_width", self.gauge_width)?;
-        if let Some(mu) = self.load_friction {
-            if !(mu.is_finite() && mu >= 0.0) {
-                return Err(LabError::Param {
-                    field: "bending.load_friction".into(),
-                    reason: format!("{mu} must be a finite coefficient ≥ 0"),
-                });
-            }
-        }
-        let [lo, hi] = self.band;
-        if !(lo >= 0.0 && lo < hi && hi < 1.0) {
-            return Err(LabError::Param {
-                field: "bending.band".into(),
-                reason: format!("needs 0 ≤ lo < hi < 1 (got [{lo}, {hi}])"),
-            });
-        }
-        if self.name.is_empty() || self.name.contains(['/', '\\']) {
-            return Err(LabError::Param {
-                field: "bending.name".into(),
-                reason: "must be a plain file stem".into(),
-            });
-        }
-        self.loading.validate(&format!("{TEST}.loading"))
+        harness::load_friction(TEST, self.load_friction)?;
+        harness::prepeak_band(TEST, self.band)?;
+        harness::name_and_loading(TEST, &self.name, &self.loading)
     }
 
     /// The geometry against the particle size, for a beam of `size` = [ℓ, h] (m) made of
     /// discs of mean radius `r_mean` (m): the height must span
-    /// [`common::MIN_DIAMETERS_ACROSS`] mean disc diameters (`bending.height`); the beam must
+    /// [`harness::MIN_DIAMETERS_ACROSS`] mean disc diameters (`bending.height`); the beam must
     /// overhang each support by at least one mean disc diameter, so the supports bear on discs
     /// inside the beam and not on its end discs (`bending.span`); the deflection gauges (bands
     /// of half-width `gauge_width` r̄ at the bottom fibre) must hold a disc (`gauge_width` ≥ 1),
@@ -189,7 +167,7 @@ impl BendingTest {
     pub fn check_geometry(&self, size: [f64; 2], r_mean: f64) -> Result<(), LabError> {
         let [l, h] = size;
         let d = 2.0 * r_mean;
-        common::diameters_across(
+        harness::diameters_across(
             TEST,
             "height",
             h,
@@ -198,9 +176,10 @@ impl BendingTest {
         )?;
         let overhang = 0.5 * (l - self.span);
         if overhang.is_nan() || overhang < d {
-            return Err(LabError::Param {
-                field: "bending.span".into(),
-                reason: format!(
+            return Err(harness::param(
+                TEST,
+                "span",
+                format!(
                     "{:.4} mm on a {:.4} mm beam leaves {:.4} mm ({:.1} mean disc diameters) \
                      beyond each support; at least one mean disc diameter ({:.4} mm) is needed \
                      so the supports bear on discs inside the beam, not on its end discs: \
@@ -212,14 +191,15 @@ impl BendingTest {
                     d * 1e3,
                     (l - 2.0 * d) * 1e3
                 ),
-            });
+            ));
         }
-        common::gauge_holds_a_disc(TEST, self.gauge_width, r_mean)?;
+        harness::gauge_holds_a_disc(TEST, self.gauge_width, r_mean)?;
         let g = self.gauge_width * r_mean;
         if g > 0.5 * h {
-            return Err(LabError::Param {
-                field: "bending.gauge_width".into(),
-                reason: format!(
+            return Err(harness::param(
+                TEST,
+                "gauge_width",
+                format!(
                     "{} mean radii: the deflection gauges reach {:.4} mm up into a {:.4} mm \
                      high beam, past its neutral axis; at most {:.2} (half the height)",
                     self.gauge_width,
@@ -227,12 +207,13 @@ impl BendingTest {
                     h * 1e3,
                     0.5 * h / r_mean
                 ),
-            });
+            ));
         }
         if self.span < 4.0 * g {
-            return Err(LabError::Param {
-                field: "bending.span".into(),
-                reason: format!(
+            return Err(harness::param(
+                TEST,
+                "span",
+                format!(
                     "{:.4} mm: the mid-span and support gauges (bands of ±{:.4} mm, \
                      gauge_width {} mean radii) overlap below a span of {:.4} mm and would \
                      average the same discs; lengthen the span or lower gauge_width",
@@ -241,7 +222,7 @@ impl BendingTest {
                     self.gauge_width,
                     4.0 * g * 1e3
                 ),
-            });
+            ));
         }
         Ok(())
     }
@@ -262,7 +243,7 @@ impl BendingTest {
 
     /// δ_f = ε_f L²/(6h).
     fn failure_deflection(&self, model: &LabModel, h: f64) -> f64 {
-        common::failure_strain_estimate(model) * self.span * self.span / (6.0 * h)
+        harness::failure_strain_estimate(model) * self.span * self.span / (6.0 * h)
     }
 
     /// Fundamental period of the simply supported beam of height `h` (s):
@@ -305,7 +286,7 @@ fn roller(
 ) -> Vec<WallSpec> {
     let p = roller_points(centre, r, up, test);
     (0..test.roller_segments)
-        .map(|k| common::wall(&format!("{name}_{k}"), p[k], p[k + 1], velocity))
+        .map(|k| harness::wall(&format!("{name}_{k}"), p[k], p[k + 1], velocity))
         .collect()
 }
 
@@ -319,8 +300,8 @@ fn load_roller_material(
     walls: &mut [WallSpec],
     mu: f64,
 ) -> Result<(), LabError> {
-    let wall = super::model::WALL_MATERIAL;
-    let layout = || common::analysis_error(TEST, "the lab scene's materials changed layout");
+    let wall = crate::model::WALL_MATERIAL;
+    let layout = || harness::analysis_error(TEST, "the lab scene's materials changed layout");
     let roller = MaterialSpec {
         name: LOAD_MATERIAL.into(),
         friction: mu,
@@ -329,7 +310,7 @@ fn load_roller_material(
             .ok_or_else(layout)?
     };
     let pair = PairSpec {
-        materials: [super::model::DISC_MATERIAL.into(), LOAD_MATERIAL.into()],
+        materials: [crate::model::DISC_MATERIAL.into(), LOAD_MATERIAL.into()],
         friction: Some(mu),
         ..s.contact.pairs.first().cloned().ok_or_else(layout)?
     };
@@ -353,19 +334,10 @@ fn bonds_broken(t: &Record) -> f64 {
 /// element) broken (a drop with none is a sliding or ringing beam, or a roller pressing a loose
 /// grain). Errors name `test`.
 pub fn fracture_peak(t: &Record, load: &[f64], test: &str) -> Result<(usize, f64), LabError> {
-    let (ip, f) = analysis::peak(load).ok_or_else(|| common::analysis_error(test, "no load"))?;
+    let (ip, f) = harness::failure_peak(test, load, "load", "no load")?;
     let last = *load.last().unwrap_or(&0.0);
-    if f <= 0.0 || last > 0.95 * f {
-        return Err(common::analysis_error(
-            test,
-            format!(
-                "no failure: the load was still {:.3} of its peak at the end; raise loading.max_travel_factor",
-                last / f
-            ),
-        ));
-    }
     if bonds_broken(t) < 1.0 {
-        return Err(common::analysis_error(
+        return Err(harness::analysis_error(
             test,
             format!(
                 "the load fell to {:.3} of its peak with no bond broken: not a fracture (the beam \
@@ -389,10 +361,11 @@ pub fn scene(
     let [x0, y0, x1, y1] = spec.extent;
     let (l, h) = (x1 - x0, y1 - y0);
     if test.span >= l {
-        return Err(LabError::Param {
-            field: "bending.span".into(),
-            reason: format!("{} m must be below the specimen's length {l} m", test.span),
-        });
+        return Err(harness::param(
+            TEST,
+            "span",
+            format!("{} m must be below the specimen's length {l} m", test.span),
+        ));
     }
     test.check_geometry([l, h], spec.r_mean)?;
     let xc = 0.5 * (x0 + x1);
@@ -416,10 +389,11 @@ pub fn scene(
             .fold(f64::NEG_INFINITY, f64::max)
             * side;
         if !circle.is_finite() {
-            return Err(LabError::Param {
-                field: "bending.span".into(),
-                reason: format!("no disc under the roller at x = {x} m"),
-            });
+            return Err(harness::param(
+                TEST,
+                "span",
+                format!("no disc under the roller at x = {x} m"),
+            ));
         }
         let gap = |yc: f64| {
             let pts = roller_points([x, yc], r, -side, test);
@@ -466,9 +440,9 @@ pub fn scene(
     let g = test.gauge_width * spec.r_mean;
     let band = |x: f64| [x - g, y0 - g, x + g, y0 + g];
     let gauges = vec![
-        common::gauge("mid", band(xc)),
-        common::gauge("sup_left", band(xl)),
-        common::gauge("sup_right", band(xr)),
+        harness::gauge("mid", band(xc)),
+        harness::gauge("sup_left", band(xl)),
+        harness::gauge("sup_right", band(xr)),
     ];
     let m = &model.micro;
     // F at σ_f = σ̄_c would be 2σ̄_c t h²/(3L); arm the stop at 15 % of it (the start-up
@@ -495,7 +469,7 @@ pub fn roller_load(t: &Record, segments: usize, test: &str) -> Result<Vec<f64>, 
     for k in 0..segments {
         for (f, v) in load
             .iter_mut()
-            .zip(&common::wall_series(t, &format!("load_{k}"), test)?.fy)
+            .zip(&harness::wall_series(t, &format!("load_{k}"), test)?.fy)
         {
             *f += v;
         }
@@ -512,9 +486,9 @@ pub fn analyze(
 ) -> Result<BendingReport, LabError> {
     let time = t.time.clone();
     let load = roller_load(t, test.roller_segments, TEST)?;
-    let mid = common::gauge_series(t, "mid", TEST)?.y.clone();
-    let sl = common::gauge_series(t, "sup_left", TEST)?.y.clone();
-    let sr = common::gauge_series(t, "sup_right", TEST)?.y.clone();
+    let mid = harness::gauge_series(t, "mid", TEST)?.y.clone();
+    let sl = harness::gauge_series(t, "sup_left", TEST)?.y.clone();
+    let sr = harness::gauge_series(t, "sup_right", TEST)?.y.clone();
     let defl: Vec<f64> = (0..time.len())
         .map(|i| {
             let d = |k: usize| 0.5 * (sl[k] + sr[k]) - mid[k];
@@ -522,21 +496,11 @@ pub fn analyze(
         })
         .collect();
     let (ip, f) = fracture_peak(t, &load, TEST)?;
-    let [lo, hi] = test.band;
-    let band = analysis::prepeak_band(&load, lo, hi);
-    if band.len() < 5 {
-        return Err(common::analysis_error(
-            TEST,
-            format!(
-                "{} history rows in the pre-peak band: lower loading.history_every or the speed",
-                band.len()
-            ),
-        ));
-    }
+    let band = harness::band_rows(TEST, &load, test.band, false)?;
     let bx: Vec<f64> = band.iter().map(|&i| defl[i]).collect();
     let by: Vec<f64> = band.iter().map(|&i| load[i]).collect();
     let (k, _) = analysis::linear_fit(&bx, &by)
-        .ok_or_else(|| common::analysis_error(TEST, "cannot fit the pre-peak band"))?;
+        .ok_or_else(|| harness::analysis_error(TEST, "cannot fit the pre-peak band"))?;
     let h = spec.size()[1];
     Ok(BendingReport {
         flexural_strength: analysis::flexural_strength(f, test.span, model.thickness, h),
@@ -552,23 +516,12 @@ pub fn analyze(
     })
 }
 
-/// Scene beside the specimen file, run, analysis, `<name>.result.json` (atomic).
-pub fn run(
-    test: &BendingTest,
-    model: &LabModel,
-    spec: &TestSpecimen,
-    progress: &mut dyn FnMut(u64, u64),
-) -> Result<BendingOutcome, LabError> {
-    let s = scene(test, model, spec)?;
-    common::run_test(&test.name, test, s, model, spec, progress, |h| {
-        analyze(h, test, model, spec)
-    })
-}
+harness::quasi_static!(BendingTest, BendingReport, BendingOutcome);
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::specimen::{Method, SpecimenParams};
+    use crate::tests::harness::fixtures;
     use dem_core::output::history::{GaugeSeries, GroupSeries, WallSeries};
 
     #[test]
@@ -605,27 +558,8 @@ mod tests {
             }],
             ..Record::default()
         };
-        let p = SpecimenParams::new(
-            Method::Traditional,
-            20e-3,
-            5e-3,
-            0.1e-3,
-            0.15e-3,
-            3200.0,
-            310e9,
-            800e6,
-            1,
-        );
-        let spec = TestSpecimen {
-            file: "b.json".into(),
-            extent: [0.0, 0.0, 20e-3, 5e-3],
-            discs: 500,
-            bonds: 900,
-            r_mean: 0.125e-3,
-            reused: false,
-            below_cover: vec![],
-        };
-        let (t, m) = (BendingTest::default(), LabModel::from_params(&p));
+        let spec = fixtures::specimen("b.json", 20e-3, 5e-3, 500, 900);
+        let (t, m) = (BendingTest::default(), fixtures::model(20e-3, 5e-3));
         match analyze(&table(0, 0), &t, &m, &spec) {
             Err(LabError::Analysis { reason, .. }) => assert!(reason.contains("no bond broken")),
             other => panic!("{other:?}"),

@@ -11,15 +11,15 @@
 //!   σ_a ∈ [10 %, 50 %] of the peak (`band`); UCS = peak σ_a.
 //!
 //! Quasi-static rule: the platens travel the estimated failure displacement ε_f h/2 (ε_f from
-//! [`super::common::failure_strain_estimate`], a lower estimate) in 20 P-wave transit times
+//! [`crate::tests::harness::failure_strain_estimate`], a lower estimate) in 20 P-wave transit times
 //! h √(ρ/E_c); the result reports the achieved ratio of the time to peak over h √(ρ/E) with the
 //! measured E.
 
-use super::common::{self, positive, Loading};
-use super::specimens::{Shape, TestSpecimen};
-use super::{analysis, LabError, LabModel};
+use super::harness::{self, positive, Loading};
+use crate::specimen::cache::{Shape, TestSpecimen};
+use crate::{analysis, LabError, LabModel};
 use dem_core::output::history::Record;
-use dem_core::scene::schema::{AxisName, SceneFile};
+use dem_core::scene::schema::SceneFile;
 use serde::{Deserialize, Serialize};
 
 const TEST: &str = "ucs";
@@ -78,9 +78,6 @@ pub struct UcsReport {
     pub quasi_static_ratio: f64,
 }
 
-/// The result file `<name>.result.json`.
-pub type UcsOutcome = common::Outcome<UcsTest, UcsReport>;
-
 impl UcsTest {
     /// Checks every value; errors name the field (`ucs.<field>`).
     pub fn validate(&self) -> Result<(), LabError> {
@@ -88,24 +85,12 @@ impl UcsTest {
         positive(TEST, "height", self.height)?;
         positive(TEST, "platen_overhang", self.platen_overhang)?;
         positive(TEST, "gauge_width", self.gauge_width)?;
-        let [lo, hi] = self.band;
-        if !(lo >= 0.0 && lo < hi && hi < 1.0) {
-            return Err(LabError::Param {
-                field: "ucs.band".into(),
-                reason: format!("needs 0 ≤ lo < hi < 1 (got [{lo}, {hi}])"),
-            });
-        }
-        if self.name.is_empty() || self.name.contains(['/', '\\']) {
-            return Err(LabError::Param {
-                field: "ucs.name".into(),
-                reason: "must be a plain file stem".into(),
-            });
-        }
-        self.loading.validate(&format!("{TEST}.loading"))
+        harness::prepeak_band(TEST, self.band)?;
+        harness::name_and_loading(TEST, &self.name, &self.loading)
     }
 
     /// The geometry against the particle size: the specimen of `size` = [w, h] (m) made of
-    /// discs of mean radius `r_mean` (m) must span [`common::MIN_DIAMETERS_ACROSS`] mean disc
+    /// discs of mean radius `r_mean` (m) must span [`harness::MIN_DIAMETERS_ACROSS`] mean disc
     /// diameters in width and height, and each lateral gauge band (half-width `gauge_width`
     /// r̄ about a side) must hold a disc (`gauge_width` ≥ 1) and stay in its half of the
     /// specimen (`gauge_width` r̄ ≤ w/2, else the two gauges average the same discs). Errors
@@ -113,26 +98,27 @@ impl UcsTest {
     /// the specimen's extent and mean radius; `dem test ucs` also before generating.
     pub fn check_geometry(&self, size: [f64; 2], r_mean: f64) -> Result<(), LabError> {
         let [w, h] = size;
-        common::diameters_across(
+        harness::diameters_across(
             TEST,
             "width",
             w,
             r_mean,
             "across the width for an interior between the lateral gauges",
         )?;
-        common::diameters_across(
+        harness::diameters_across(
             TEST,
             "height",
             h,
             r_mean,
             "along the loading axis for a strain measured over more than a few contacts",
         )?;
-        common::gauge_holds_a_disc(TEST, self.gauge_width, r_mean)?;
+        harness::gauge_holds_a_disc(TEST, self.gauge_width, r_mean)?;
         let g = self.gauge_width * r_mean;
         if g > 0.5 * w {
-            return Err(LabError::Param {
-                field: "ucs.gauge_width".into(),
-                reason: format!(
+            return Err(harness::param(
+                TEST,
+                "gauge_width",
+                format!(
                     "{} mean radii: each lateral gauge reaches {:.4} mm into a {:.4} mm wide \
                      specimen, so the two overlap and average the same discs; at most {:.2} \
                      (half the width)",
@@ -141,7 +127,7 @@ impl UcsTest {
                     w * 1e3,
                     0.5 * w / r_mean
                 ),
-            });
+            ));
         }
         Ok(())
     }
@@ -156,10 +142,7 @@ impl UcsTest {
 
     /// Platen speed (each platen, m/s): the given one, else the quasi-static rule.
     pub fn platen_speed(&self, model: &LabModel, spec: &TestSpecimen) -> f64 {
-        let h = spec.size()[1];
-        let u_fail = 0.5 * h * common::failure_strain_estimate(model);
-        self.loading
-            .speed_for(u_fail, common::transit_time(model, h))
+        harness::platen_speed(&self.loading, model, spec.size()[1])
     }
 }
 
@@ -178,29 +161,15 @@ pub fn scene(test: &UcsTest, model: &LabModel, spec: &TestSpecimen) -> Result<Sc
         w * 1e3,
         h * 1e3
     );
-    s.walls = vec![
-        common::wall("bottom", [x0 - ov, y0], [x1 + ov, y0], [0.0, v]),
-        common::wall("top", [x0 - ov, y1], [x1 + ov, y1], [0.0, -v]),
-    ];
-    let g = test.gauge_width * spec.r_mean;
-    let gauges = vec![
-        common::gauge("left", [x0 - g, y0 - g, x0 + g, y1 + g]),
-        common::gauge("right", [x1 - g, y0 - g, x1 + g, y1 + g]),
-    ];
+    s.walls = harness::platens(x0 - ov, x1 + ov, y0, y1, v);
+    let gauges = harness::side_gauges(spec.extent, test.gauge_width * spec.r_mean);
     let m = &model.micro;
     // Arm the stop at 10 % of σ̄_c w t (the start-up transient, stress ρcv = E ε_f/N, is
     // ~2.5 % of σ̄_c).
     let min_load = 0.1 * m.boundary_tensile.min(m.boundary_cohesion) * w * model.thickness;
-    let u_fail = 0.5 * h * common::failure_strain_estimate(model);
-    test.loading.scene_fields(
-        &mut s,
-        v,
-        u_fail,
-        &["top".into()],
-        AxisName::Y,
-        min_load,
-        gauges,
-    );
+    let u_fail = harness::platen_failure_travel(model, h);
+    test.loading
+        .platen_fields(&mut s, v, u_fail, min_load, gauges);
     Ok(s)
 }
 
@@ -211,55 +180,19 @@ pub fn analyze(
     model: &LabModel,
     spec: &TestSpecimen,
 ) -> Result<UcsReport, LabError> {
-    let time = t.time.clone();
-    let top = common::wall_series(t, "top", TEST)?.fy.clone();
-    let bottom = common::wall_series(t, "bottom", TEST)?.fy.clone();
-    let left = common::gauge_series(t, "left", TEST)?.x.clone();
-    let right = common::gauge_series(t, "right", TEST)?.x.clone();
-    if time.len() < 10 {
-        return Err(common::analysis_error(
-            TEST,
-            format!("{} history rows: too few", time.len()),
-        ));
-    }
+    let time = &t.time;
+    let load = harness::platen_load(t, TEST)?;
+    harness::enough_rows(t, TEST)?;
     let [w, h] = spec.size();
     let v = test.platen_speed(model, spec);
     let area = w * model.thickness;
-    // Discs push the top platen up (+y) and the bottom one down.
-    let stress: Vec<f64> = top
-        .iter()
-        .zip(&bottom)
-        .map(|(a, b)| 0.5 * (a - b) / area)
-        .collect();
-    let axial: Vec<f64> = time.iter().map(|t| 2.0 * v * t / h).collect();
-    let s0 = right[0] - left[0];
-    let lateral: Vec<f64> = left
-        .iter()
-        .zip(&right)
-        .map(|(l, r)| (r - l - s0) / s0)
-        .collect();
-    let (ip, peak) =
-        analysis::peak(&stress).ok_or_else(|| common::analysis_error(TEST, "no stress"))?;
-    let last = *stress.last().unwrap_or(&0.0);
-    if peak <= 0.0 || last > 0.95 * peak {
-        return Err(common::analysis_error(
-            TEST,
-            format!(
-                "no failure: the load was still {:.3} of its peak at the end; raise loading.max_travel_factor",
-                last / peak
-            ),
-        ));
-    }
+    let stress: Vec<f64> = load.iter().map(|f| f / area).collect();
+    let (axial, lateral) = harness::compression_strains(t, TEST, v, h)?;
+    let (ip, _) = harness::failure_peak(TEST, &stress, "load", "no stress")?;
     let [lo, hi] = test.band;
-    let rows = analysis::prepeak_band(&stress, lo, hi).len();
-    if rows < 5 {
-        return Err(common::analysis_error(
-            TEST,
-            format!("{rows} history rows in the {lo}-{hi} pre-peak band: lower loading.history_every or the speed"),
-        ));
-    }
+    let rows = harness::band_rows(TEST, &stress, test.band, true)?.len();
     let r = analysis::uniaxial_compression(&axial, &lateral, &stress, lo, hi)
-        .ok_or_else(|| common::analysis_error(TEST, "cannot fit the pre-peak band"))?;
+        .ok_or_else(|| harness::analysis_error(TEST, "cannot fit the pre-peak band"))?;
     let transit = h * (model.density / r.young).sqrt();
     Ok(UcsReport {
         young: r.young,
@@ -276,16 +209,4 @@ pub fn analyze(
     })
 }
 
-/// Writes the scene `<name>.json` beside the specimen file, runs it (outputs `<name>.out/`),
-/// analyses it and writes `<name>.result.json` there (atomically).
-pub fn run(
-    test: &UcsTest,
-    model: &LabModel,
-    spec: &TestSpecimen,
-    progress: &mut dyn FnMut(u64, u64),
-) -> Result<UcsOutcome, LabError> {
-    let s = scene(test, model, spec)?;
-    common::run_test(&test.name, test, s, model, spec, progress, |h| {
-        analyze(h, test, model, spec)
-    })
-}
+harness::quasi_static!(UcsTest, UcsReport, UcsOutcome);

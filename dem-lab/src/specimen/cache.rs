@@ -2,7 +2,7 @@
 //! grain size, seed, micro-parameters) but the test's own shape, saved as `dem.specimen/1`
 //! files beside the test scene, and reused when a key file beside them records the same
 //! parameters. Generation takes tens of seconds for 1000 discs; a calibration generates each
-//! test's specimen once and runs its scene with many [`super::LabModel`]s.
+//! test's specimen once and runs its scene with many [`crate::LabModel`]s.
 //!
 //! The Brazilian disc is carved from a D × D square specimen: discs whose centre lies outside
 //! the circle of diameter D are dropped, with the bonds touching them; a rigid ORC grain goes
@@ -11,9 +11,9 @@
 //! from the bottom edge at mid-length dropped, and every bond crossing the slot's mid-line below
 //! its tip.
 
-use super::LabError;
 use crate::specimen::improved::GrainCover;
 use crate::specimen::{self, io, Method, Progress, SpecimenParams, DEFAULT_MATERIAL};
+use crate::LabError;
 use dem_core::scene::schema::{LengthUnit, SpecimenFile};
 use serde::{Deserialize, Serialize};
 use std::collections::HashSet;

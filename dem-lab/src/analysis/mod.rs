@@ -2,6 +2,8 @@
 //! macroscopic property with the formula of the standard test. Pure functions on slices, so they
 //! apply equally to simulated and measured curves.
 
+pub mod force_stats;
+
 /// Least-squares slope and intercept of `y` against `x` (ordinary linear regression).
 /// Returns `None` for fewer than two distinct `x`.
 pub fn linear_fit(x: &[f64], y: &[f64]) -> Option<(f64, f64)> {

@@ -19,12 +19,12 @@
 //!
 //! Friction angle φ and cohesion c follow from the strengths at two or more confinements by
 //! the Mohr–Coulomb line σ1 = 2c cos φ/(1 − sin φ) + σ3 (1 + sin φ)/(1 − sin φ)
-//! ([`super::analysis::mohr_coulomb`]).
+//! ([`crate::analysis::mohr_coulomb`]).
 
-use super::common::{self, positive, Loading};
-use super::specimens::{Shape, TestSpecimen};
+use super::harness::{self, positive, Loading};
 use super::ucs::UcsTest;
-use super::{analysis, LabError, LabModel};
+use crate::specimen::cache::{Shape, TestSpecimen};
+use crate::{analysis, LabError, LabModel};
 use dem_core::output::history::Record;
 use dem_core::scene::schema::{SceneFile, ServoSpec, WallSpec};
 use serde::{Deserialize, Serialize};
@@ -113,9 +113,6 @@ pub struct BiaxialReport {
     pub quasi_static_ratio: f64,
 }
 
-/// The result file `<name>.result.json`.
-pub type BiaxialOutcome = common::Outcome<BiaxialTest, BiaxialReport>;
-
 impl BiaxialTest {
     /// The UCS test of the same specimen, platens, band and gauges (its checks and speed rule
     /// are this test's).
@@ -133,13 +130,9 @@ impl BiaxialTest {
 
     /// Checks every value; errors name the field (`biaxial.<field>`).
     pub fn validate(&self) -> Result<(), LabError> {
-        self.ucs().validate().map_err(|e| match e {
-            LabError::Param { field, reason } => LabError::Param {
-                field: field.replacen("ucs.", "biaxial.", 1),
-                reason,
-            },
-            e => e,
-        })?;
+        self.ucs()
+            .validate()
+            .map_err(|e| harness::renamed(e, |f| f.replacen("ucs.", "biaxial.", 1)))?;
         let bad = |f: &str, r: String| {
             Err(LabError::Param {
                 field: format!("{TEST}.{f}"),
@@ -168,13 +161,7 @@ impl BiaxialTest {
     pub fn check_geometry(&self, size: [f64; 2], r_mean: f64) -> Result<(), LabError> {
         self.ucs()
             .check_geometry(size, r_mean)
-            .map_err(|e| match e {
-                LabError::Param { field, reason } => LabError::Param {
-                    field: field.replacen("ucs.", "biaxial.", 1),
-                    reason,
-                },
-                e => e,
-            })
+            .map_err(|e| harness::renamed(e, |f| f.replacen("ucs.", "biaxial.", 1)))
     }
 
     /// The specimen shape.
@@ -210,7 +197,7 @@ pub fn scene(
             alpha: test.servo_alpha,
             max_speed: test.servo_speed_factor * v,
         }),
-        ..common::wall(name, [x, y0 - oh], [x, y1 + oh], [0.0, 0.0])
+        ..harness::wall(name, [x, y0 - oh], [x, y1 + oh], [0.0, 0.0])
     };
     s.walls.push(side("side_left", x0, 1.0));
     s.walls.push(side("side_right", x1, -1.0));
@@ -230,64 +217,26 @@ pub fn analyze(
     model: &LabModel,
     spec: &TestSpecimen,
 ) -> Result<BiaxialReport, LabError> {
-    let (time, top, bottom) = (
-        t.time.clone(),
-        common::wall_series(t, "top", TEST)?.fy.clone(),
-        common::wall_series(t, "bottom", TEST)?.fy.clone(),
-    );
+    let time = &t.time;
+    let load = harness::platen_load(t, TEST)?;
     let (sl, sr) = (
-        common::wall_series(t, "side_left", TEST)?.fx.clone(),
-        common::wall_series(t, "side_right", TEST)?.fx.clone(),
+        &harness::wall_series(t, "side_left", TEST)?.fx,
+        &harness::wall_series(t, "side_right", TEST)?.fx,
     );
-    let (left, right) = (
-        common::gauge_series(t, "left", TEST)?.x.clone(),
-        common::gauge_series(t, "right", TEST)?.x.clone(),
-    );
-    if time.len() < 10 {
-        return Err(common::analysis_error(
-            TEST,
-            format!("{} history rows: too few", time.len()),
-        ));
-    }
+    harness::enough_rows(t, TEST)?;
     let [w, h] = spec.size();
     let th = model.thickness;
     let v = test.platen_speed(model, spec);
-    let sigma1: Vec<f64> = (top.iter().zip(&bottom))
-        .map(|(a, b)| 0.5 * (a - b) / (w * th))
-        .collect();
+    let sigma1: Vec<f64> = load.iter().map(|f| f / (w * th)).collect();
     // Discs push the right wall to +x and the left one to −x.
     let sigma3: Vec<f64> = (0..time.len())
         .map(|i| 0.5 * (sr[i] - sl[i]) / ((h - 2.0 * v * time[i]) * th))
         .collect();
     let q: Vec<f64> = sigma1.iter().zip(&sigma3).map(|(a, b)| a - b).collect();
-    let axial: Vec<f64> = time.iter().map(|t| 2.0 * v * t / h).collect();
-    let s0 = right[0] - left[0];
-    let lateral: Vec<f64> = (left.iter().zip(&right))
-        .map(|(l, r)| (r - l - s0) / s0)
-        .collect();
-    let (ip, peak) =
-        analysis::peak(&sigma1).ok_or_else(|| common::analysis_error(TEST, "no stress"))?;
-    let last = *sigma1.last().unwrap_or(&0.0);
-    if peak <= 0.0 || last > 0.95 * peak {
-        return Err(common::analysis_error(
-            TEST,
-            format!(
-                "no failure: the axial load was still {:.3} of its peak at the end; raise loading.max_travel_factor",
-                last / peak
-            ),
-        ));
-    }
+    let (axial, lateral) = harness::compression_strains(t, TEST, v, h)?;
+    let (ip, peak) = harness::failure_peak(TEST, &sigma1, "axial load", "no stress")?;
     let [lo, hi] = test.band;
-    let band = analysis::prepeak_band(&q, lo, hi);
-    if band.len() < 5 {
-        return Err(common::analysis_error(
-            TEST,
-            format!(
-                "{} history rows in the {lo}-{hi} pre-peak band: lower loading.history_every or the speed",
-                band.len()
-            ),
-        ));
-    }
+    let band = harness::band_rows(TEST, &q, test.band, true)?;
     let confining_error = if test.confining > 0.0 {
         (band[0]..=ip)
             .map(|i| (sigma3[i] / test.confining - 1.0).abs())
@@ -296,7 +245,7 @@ pub fn analyze(
         0.0
     };
     if confining_error > test.confining_tolerance {
-        return Err(common::analysis_error(
+        return Err(harness::analysis_error(
             TEST,
             format!(
                 "the side walls did not hold σ3 = {:.4} MPa: off by {:.1} % between the band's start and the peak (tolerance {:.0} %); lower the platen speed or raise servo_speed_factor",
@@ -307,7 +256,7 @@ pub fn analyze(
         ));
     }
     let r = analysis::uniaxial_compression(&axial, &lateral, &q, lo, hi)
-        .ok_or_else(|| common::analysis_error(TEST, "cannot fit the pre-peak band"))?;
+        .ok_or_else(|| harness::analysis_error(TEST, "cannot fit the pre-peak band"))?;
     let transit = h * (model.density / r.young).sqrt();
     Ok(BiaxialReport {
         confining: test.confining,
@@ -325,19 +274,7 @@ pub fn analyze(
     })
 }
 
-/// Writes the scene `<name>.json` beside the specimen file, runs it (outputs `<name>.out/`),
-/// analyses it and writes `<name>.result.json` there (atomically).
-pub fn run(
-    test: &BiaxialTest,
-    model: &LabModel,
-    spec: &TestSpecimen,
-    progress: &mut dyn FnMut(u64, u64),
-) -> Result<BiaxialOutcome, LabError> {
-    let s = scene(test, model, spec)?;
-    common::run_test(&test.name, test, s, model, spec, progress, |h| {
-        analyze(h, test, model, spec)
-    })
-}
+harness::quasi_static!(BiaxialTest, BiaxialReport, BiaxialOutcome);
 
 /// Biaxial tests at several confinements on one specimen, and their Mohr–Coulomb envelope.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -367,10 +304,11 @@ pub fn run_series(
     progress: &mut dyn FnMut(u64, u64),
 ) -> Result<BiaxialSeries, LabError> {
     if confinements.is_empty() {
-        return Err(LabError::Param {
-            field: "biaxial.confining".into(),
-            reason: "give at least one confinement".into(),
-        });
+        return Err(harness::param(
+            TEST,
+            "confining",
+            "give at least one confinement",
+        ));
     }
     let n = confinements.len() as u64;
     let mut results = Vec::new();
@@ -381,7 +319,7 @@ pub fn run_series(
             confining: s3,
             ..test.clone()
         };
-        let o = run(&t, model, spec, &mut |d, total| {
+        let o = harness::run(&t, model, spec, &mut |d, total| {
             progress(k as u64 * total + d, n * total)
         })?;
         steps += o.run.steps;
@@ -399,6 +337,6 @@ pub fn run_series(
         wall_time_s: wall,
     };
     let dir = spec.file.parent().unwrap_or(std::path::Path::new("."));
-    common::write_result(&dir.join(format!("{}.result.json", test.name)), &series)?;
+    harness::write_result(&dir.join(format!("{}.result.json", test.name)), &series)?;
     Ok(series)
 }

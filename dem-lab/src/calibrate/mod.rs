@@ -17,16 +17,18 @@
 //! stiffness scales the failure stresses by s. The searches are therefore one-dimensional.
 //!
 //! Toughness is not searched: S4 links it to the bond strength, K_IC = β σ̄_c √(πR̄)
-//! ([`super::analysis::fracture_toughness`]); β is not given in S4, so the report states K_IC for
-//! a chosen β (default 1). `dem test senb` ([`super::senb`]) measures β on a notched beam with
+//! ([`crate::analysis::fracture_toughness`]); β is not given in S4, so the report states K_IC for
+//! a chosen β (default 1). `dem test senb` ([`crate::tests::senb`]) measures β on a notched beam with
 //! the calibrated model (`--model model.json`).
 //!
 //! Known weakness of parallel-bond models (Potyondy & Cundall 2004 §4; Cho et al. 2007): the
 //! UCS/σ_t ratio stays far below real rock and ceramics (≈ 3–6 against 10–20); the ratio search
 //! stops at its bound and the report says so rather than hiding it.
 
-use super::analysis::{fracture_toughness, UcsResult};
-use super::{LabError, LabModel};
+pub mod virtual_lab;
+
+use crate::analysis::{fracture_toughness, UcsResult};
+use crate::{LabError, LabModel};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -471,173 +473,225 @@ fn calibrate_pass(
         field: "targets".into(),
         reason: e.to_string(),
     })?;
-    let mut m = start.clone();
-    let mut steps = Vec::new();
-    let mut notes = Vec::new();
+    let mut pass = Pass {
+        lab,
+        targets,
+        opts,
+        progress,
+        m: start.clone(),
+        steps: Vec::new(),
+        notes: Vec::new(),
+    };
+    let ucs = pass.stiffness()?;
+    pass.strengths(ucs)?;
+    pass.final_e()?;
+    pass.report()
+}
 
-    // Stage 1: stiffness. E rescaled after every run; κ searched for ν.
-    let e_ok = |r: &UcsResult| (r.young / targets.young - 1.0).abs() <= opts.rel_tol;
-    let mut kappa = m.micro.stiffness_ratio;
-    let mut hist = Vec::new();
-    let mut last = None;
-    for it in 0..opts.max_iter {
-        let r = run_ucs(lab, &m, "stiffness", &mut steps, progress)?;
-        let nu_ok = targets
-            .poisson
-            .is_none_or(|nu| (r.poisson - nu).abs() <= opts.poisson_tol);
-        let done = e_ok(&r) && nu_ok;
-        // E ∝ E_c at fixed κ.
-        let e = m.micro.contact_modulus * targets.young / r.young;
-        last = Some(r);
-        if done {
-            break;
-        }
-        if let Some(nu) = targets.poisson {
-            if !nu_ok {
-                hist.push((kappa, r.poisson - nu));
-                let next = next_point(&hist, opts.kappa_bounds);
-                if (next - kappa).abs() < 1e-9 * kappa {
-                    notes.push(format!(
-                        "ν = {nu} not reached: ν = {:.4} at the κ bound {kappa}",
-                        r.poisson
-                    ));
-                    set_stiffness(&mut m, e, kappa);
-                    last = None;
-                    break;
-                }
-                kappa = next;
-            }
-        }
-        set_stiffness(&mut m, e, kappa);
-        if it + 1 == opts.max_iter {
-            last = None;
-            notes.push(format!(
-                "stiffness search stopped after {} runs without meeting the tolerances",
-                opts.max_iter
-            ));
-        }
+/// A pass's state: the lab and what it is given, the model as searched so far, the runs
+/// logged and the notes.
+struct Pass<'a> {
+    lab: &'a mut dyn Lab,
+    targets: &'a Targets,
+    opts: &'a Options,
+    progress: &'a mut dyn FnMut(&str),
+    m: LabModel,
+    steps: Vec<Step>,
+    notes: Vec<String>,
+}
+
+impl Pass<'_> {
+    /// One UCS run of the current model, logged under `stage`.
+    fn ucs(&mut self, stage: &str) -> Result<UcsResult, LabError> {
+        run_ucs(self.lab, &self.m, stage, &mut self.steps, self.progress)
     }
-    let mut ucs = match last {
-        Some(r) => r,
-        None => run_ucs(lab, &m, "stiffness", &mut steps, progress)?,
-    };
 
-    // Stage 2: strengths. The tensile target: flexural, else Brazilian.
-    let tensile = match (targets.flexural, targets.brazilian) {
-        (Some(f), _) => Some(Tensile::Flexural(f)),
-        (None, Some(b)) => Some(Tensile::Brazilian(b)),
-        (None, None) => None,
-    };
-    match (&tensile, targets.ucs) {
-        (Some(t), ucs_target) => {
-            let t_target = match t {
-                Tensile::Flexural(v) | Tensile::Brazilian(v) => *v,
-            };
-            // Scale strengths to the tensile target at the current ratio; then, if a UCS target
-            // is given, search the ratio for UCS/σ_tensile.
-            let mut ratio = m.micro.boundary_cohesion / m.micro.boundary_tensile;
-            let mut hist = Vec::new();
-            for it in 0..opts.max_iter {
-                let v = run_tensile(lab, &m, "strength", &mut steps, progress, *t)?;
-                scale_strengths(&mut m, t_target / v);
-                let Some(u_target) = ucs_target else {
-                    // σ ∝ s: one rescale; verify on the next loop turn.
-                    if (v / t_target - 1.0).abs() <= opts.rel_tol {
+    /// One bending or Brazilian run of the current model, logged under `stage`.
+    fn tensile(&mut self, stage: &str, which: Tensile) -> Result<f64, LabError> {
+        run_tensile(
+            self.lab,
+            &self.m,
+            stage,
+            &mut self.steps,
+            self.progress,
+            which,
+        )
+    }
+
+    /// E within the tolerance of its target.
+    fn e_ok(&self, r: &UcsResult) -> bool {
+        (r.young / self.targets.young - 1.0).abs() <= self.opts.rel_tol
+    }
+
+    /// Stage 1: stiffness. E rescaled after every run; κ searched for ν. Returns the UCS run of
+    /// the model it leaves.
+    fn stiffness(&mut self) -> Result<UcsResult, LabError> {
+        let (targets, opts) = (self.targets, self.opts);
+        let mut kappa = self.m.micro.stiffness_ratio;
+        let mut hist = Vec::new();
+        let mut last = None;
+        for it in 0..opts.max_iter {
+            let r = self.ucs("stiffness")?;
+            let nu_ok = targets
+                .poisson
+                .is_none_or(|nu| (r.poisson - nu).abs() <= opts.poisson_tol);
+            let done = self.e_ok(&r) && nu_ok;
+            // E ∝ E_c at fixed κ.
+            let e = self.m.micro.contact_modulus * targets.young / r.young;
+            last = Some(r);
+            if done {
+                break;
+            }
+            if let Some(nu) = targets.poisson {
+                if !nu_ok {
+                    hist.push((kappa, r.poisson - nu));
+                    let next = next_point(&hist, opts.kappa_bounds);
+                    if (next - kappa).abs() < 1e-9 * kappa {
+                        self.notes.push(format!(
+                            "ν = {nu} not reached: ν = {:.4} at the κ bound {kappa}",
+                            r.poisson
+                        ));
+                        set_stiffness(&mut self.m, e, kappa);
+                        last = None;
                         break;
                     }
-                    continue;
-                };
-                ucs = run_ucs(lab, &m, "strength", &mut steps, progress)?;
-                // The UCS at the rescaled strengths (≈ exact by linearity).
-                let g = ucs.ucs / u_target - 1.0;
-                if g.abs() <= opts.rel_tol && (v / t_target - 1.0).abs() <= opts.rel_tol {
-                    break;
+                    kappa = next;
                 }
-                hist.push((ratio, g));
-                let next = next_point(&hist, opts.ratio_bounds);
-                if (next - ratio).abs() < 1e-9 * ratio || it + 1 == opts.max_iter {
-                    notes.push(format!(
-                        "UCS/σ_tensile = {:.3} (target {:.3}) not reached: c̄/σ̄c = {ratio:.3} at {}",
-                        ucs.ucs / t_target,
-                        u_target / t_target,
-                        if it + 1 == opts.max_iter {
-                            "the last run"
-                        } else {
-                            "its bound"
-                        }
-                    ));
-                    break;
-                }
-                ratio = next;
-                set_ratio(&mut m, ratio);
+            }
+            set_stiffness(&mut self.m, e, kappa);
+            if it + 1 == opts.max_iter {
+                last = None;
+                self.notes.push(format!(
+                    "stiffness search stopped after {} runs without meeting the tolerances",
+                    opts.max_iter
+                ));
             }
         }
-        (None, Some(u_target)) => {
-            // Only a UCS target: scale all strengths by UCS_target/UCS (∝ s).
-            for _ in 0..opts.max_iter {
-                if (ucs.ucs / u_target - 1.0).abs() <= opts.rel_tol {
+        match last {
+            Some(r) => Ok(r),
+            None => self.ucs("stiffness"),
+        }
+    }
+
+    /// Stage 2: strengths, from the UCS run `ucs` of the stiffness stage's model. The tensile
+    /// target: flexural, else Brazilian.
+    fn strengths(&mut self, mut ucs: UcsResult) -> Result<(), LabError> {
+        let (targets, opts) = (self.targets, self.opts);
+        let tensile = match (targets.flexural, targets.brazilian) {
+            (Some(f), _) => Some(Tensile::Flexural(f)),
+            (None, Some(b)) => Some(Tensile::Brazilian(b)),
+            (None, None) => None,
+        };
+        match (&tensile, targets.ucs) {
+            (Some(t), ucs_target) => self.tensile_and_ratio(*t, ucs_target)?,
+            (None, Some(u_target)) => {
+                // Only a UCS target: scale all strengths by UCS_target/UCS (∝ s).
+                for _ in 0..opts.max_iter {
+                    if (ucs.ucs / u_target - 1.0).abs() <= opts.rel_tol {
+                        break;
+                    }
+                    scale_strengths(&mut self.m, u_target / ucs.ucs);
+                    ucs = self.ucs("strength")?;
+                }
+            }
+            (None, None) => self
+                .notes
+                .push("no strength target: strengths left as given".into()),
+        }
+        Ok(())
+    }
+
+    /// Scale strengths to the tensile target `t` at the current ratio; then, if a UCS target is
+    /// given, search the ratio for UCS/σ_tensile.
+    fn tensile_and_ratio(&mut self, t: Tensile, ucs_target: Option<f64>) -> Result<(), LabError> {
+        let opts = self.opts;
+        let t_target = match t {
+            Tensile::Flexural(v) | Tensile::Brazilian(v) => v,
+        };
+        let mut ratio = self.m.micro.boundary_cohesion / self.m.micro.boundary_tensile;
+        let mut hist = Vec::new();
+        for it in 0..opts.max_iter {
+            let v = self.tensile("strength", t)?;
+            scale_strengths(&mut self.m, t_target / v);
+            let Some(u_target) = ucs_target else {
+                // σ ∝ s: one rescale; verify on the next loop turn.
+                if (v / t_target - 1.0).abs() <= opts.rel_tol {
                     break;
                 }
-                scale_strengths(&mut m, u_target / ucs.ucs);
-                ucs = run_ucs(lab, &m, "strength", &mut steps, progress)?;
+                continue;
+            };
+            let ucs = self.ucs("strength")?;
+            // The UCS at the rescaled strengths (≈ exact by linearity).
+            let g = ucs.ucs / u_target - 1.0;
+            if g.abs() <= opts.rel_tol && (v / t_target - 1.0).abs() <= opts.rel_tol {
+                break;
             }
+            hist.push((ratio, g));
+            let next = next_point(&hist, opts.ratio_bounds);
+            if (next - ratio).abs() < 1e-9 * ratio || it + 1 == opts.max_iter {
+                self.notes.push(format!(
+                    "UCS/σ_tensile = {:.3} (target {:.3}) not reached: c̄/σ̄c = {ratio:.3} at {}",
+                    ucs.ucs / t_target,
+                    u_target / t_target,
+                    if it + 1 == opts.max_iter {
+                        "the last run"
+                    } else {
+                        "its bound"
+                    }
+                ));
+                break;
+            }
+            ratio = next;
+            set_ratio(&mut self.m, ratio);
         }
-        (None, None) => notes.push("no strength target: strengths left as given".into()),
+        Ok(())
     }
 
-    // E moves a little with the strengths (the 10–50 % band sits on a slightly non-linear
-    // curve): one more rescale of E_c = Ē_c, which leaves stresses unchanged (linearity above).
-    let r = run_ucs(lab, &m, "final E", &mut steps, progress)?;
-    if !e_ok(&r) {
-        let (e, k) = (
-            m.micro.contact_modulus * targets.young / r.young,
-            m.micro.stiffness_ratio,
-        );
-        set_stiffness(&mut m, e, k);
+    /// E moves a little with the strengths (the 10–50 % band sits on a slightly non-linear
+    /// curve): one more rescale of E_c = Ē_c, which leaves stresses unchanged (linearity above).
+    fn final_e(&mut self) -> Result<(), LabError> {
+        let r = self.ucs("final E")?;
+        if !self.e_ok(&r) {
+            let (e, k) = (
+                self.m.micro.contact_modulus * self.targets.young / r.young,
+                self.m.micro.stiffness_ratio,
+            );
+            set_stiffness(&mut self.m, e, k);
+        }
+        Ok(())
     }
 
-    // Report: every test once more with the final model.
-    let ucs = run_ucs(lab, &m, "final", &mut steps, progress)?;
-    let flexural = run_tensile(
-        lab,
-        &m,
-        "final",
-        &mut steps,
-        progress,
-        Tensile::Flexural(0.0),
-    )?;
-    let brazilian = run_tensile(
-        lab,
-        &m,
-        "final",
-        &mut steps,
-        progress,
-        Tensile::Brazilian(0.0),
-    )?;
-    let kic = fracture_toughness(opts.kic_beta, m.micro.boundary_tensile, m.r_mean);
-    if let Some(k) = targets.kic {
-        notes.push(format!(
-            "K_IC is not fitted: β σ̄c √(πR̄) = {:.3} MPa·m^½ with β = {} (target {:.3}; β = {:.3} would match; `dem test senb --model model.json` measures β)",
-            kic / 1e6,
-            opts.kic_beta,
-            k / 1e6,
-            opts.kic_beta * k / kic
-        ));
+    /// Report: every test once more with the final model.
+    fn report(mut self) -> Result<Calibration, LabError> {
+        let ucs = self.ucs("final")?;
+        let flexural = self.tensile("final", Tensile::Flexural(0.0))?;
+        let brazilian = self.tensile("final", Tensile::Brazilian(0.0))?;
+        let (m, opts) = (&self.m, self.opts);
+        let kic = fracture_toughness(opts.kic_beta, m.micro.boundary_tensile, m.r_mean);
+        if let Some(k) = self.targets.kic {
+            self.notes.push(format!(
+                "K_IC is not fitted: β σ̄c √(πR̄) = {:.3} MPa·m^½ with β = {} (target {:.3}; β = {:.3} would match; `dem test senb --model model.json` measures β)",
+                kic / 1e6,
+                opts.kic_beta,
+                k / 1e6,
+                opts.kic_beta * k / kic
+            ));
+        }
+        Ok(Calibration {
+            model: self.m,
+            targets: self.targets.clone(),
+            achieved: Properties {
+                young: ucs.young,
+                poisson: ucs.poisson,
+                ucs: ucs.ucs,
+                flexural: Some(flexural),
+                brazilian: Some(brazilian),
+                kic,
+            },
+            steps: self.steps,
+            notes: self.notes,
+        })
     }
-    Ok(Calibration {
-        model: m,
-        targets: targets.clone(),
-        achieved: Properties {
-            young: ucs.young,
-            poisson: ucs.poisson,
-            ucs: ucs.ucs,
-            flexural: Some(flexural),
-            brazilian: Some(brazilian),
-            kic,
-        },
-        steps,
-        notes,
-    })
 }
 
 /// A property's spread over the seeds of a calibration (each seed one specimen), for the
@@ -815,11 +869,11 @@ pub fn table(mat: &MaterialFile, method: &str, c: &Calibration) -> Table {
 }
 
 impl Table {
-    /// Adds the friction angle and cohesion that biaxial tests ([`super::biaxial`]) with the
+    /// Adds the friction angle and cohesion that biaxial tests ([`crate::tests::biaxial`]) with the
     /// calibrated model measured (the Mohr–Coulomb envelope `fit` of their peaks), and
     /// UCS/σ_t (the achieved UCS over the flexural, else Brazilian, strength), as reported
     /// rows at the end, with a note on the confinements.
-    pub fn add_biaxial(&mut self, fit: &super::analysis::MohrCoulomb, confinements: &[f64]) {
+    pub fn add_biaxial(&mut self, fit: &crate::analysis::MohrCoulomb, confinements: &[f64]) {
         let value = |name: &str| {
             self.rows
                 .iter()
@@ -864,10 +918,10 @@ impl Table {
         ));
     }
 
-    /// Adds the K_IC a single-edge-notched beam test ([`super::senb`]) measured with the
+    /// Adds the K_IC a single-edge-notched beam test ([`crate::tests::senb`]) measured with the
     /// calibrated model, as the row `K_IC (SENB)` after the β σ̄_c √(πR̄) row (same measured and
     /// paper values), and a note with the measured β and the beam.
-    pub fn add_senb(&mut self, r: &super::senb::SenbReport) {
+    pub fn add_senb(&mut self, r: &crate::tests::senb::SenbReport) {
         let Some(at) = self.rows.iter().position(|r| r.property == "K_IC") else {
             return;
         };
@@ -1062,7 +1116,7 @@ mod tests {
     #[test]
     fn sic_table_has_measured_paper_and_ours() {
         let mat: MaterialFile =
-            serde_json::from_str(include_str!("../../data/materials/sic.json")).unwrap();
+            serde_json::from_str(include_str!("../../../data/materials/sic.json")).unwrap();
         let t = mat.targets().unwrap();
         assert_eq!(t.young, 430e9);
         assert_eq!(t.brazilian, Some(214e6));
@@ -1083,14 +1137,15 @@ mod tests {
         assert!(md.contains("| E | GPa | 430.0000 | 429.0000 |"), "{md}");
         // Granite: E and ν are assumptions of the file, marked so.
         let g: MaterialFile =
-            serde_json::from_str(include_str!("../../data/materials/granite-g603.json")).unwrap();
+            serde_json::from_str(include_str!("../../../data/materials/granite-g603.json"))
+                .unwrap();
         let tg = table(&g, "orc", &c);
         assert_eq!(tg.rows[0].basis, "assumed");
         assert!(tg.markdown().contains("(assumed)"));
 
         // A SENB's K_IC goes in after the β σ̄c √(πR̄) row, against the same measured value.
         let mut ts = tab.clone();
-        let senb = crate::senb::SenbReport {
+        let senb = crate::tests::senb::SenbReport {
             fracture_toughness: 7.0e6,
             peak_load: 1e5,
             span: 40e-3,
@@ -1258,12 +1313,14 @@ mod tests {
 
     #[test]
     fn committed_sic_models_at_the_kic_resolution_load() {
-        let pb: LabModel =
-            serde_json::from_str(include_str!("../../data/models/sic-r9.6um-pb.model.json"))
-                .unwrap();
-        let fj: LabModel =
-            serde_json::from_str(include_str!("../../data/models/sic-r9.6um-fj4.model.json"))
-                .unwrap();
+        let pb: LabModel = serde_json::from_str(include_str!(
+            "../../../data/models/sic-r9.6um-pb.model.json"
+        ))
+        .unwrap();
+        let fj: LabModel = serde_json::from_str(include_str!(
+            "../../../data/models/sic-r9.6um-fj4.model.json"
+        ))
+        .unwrap();
         for m in [&pb, &fj] {
             assert!((m.r_mean / 9.568e-6 - 1.0).abs() < 1e-9, "{}", m.r_mean);
             assert!(m.micro.stiffness_ratio < 1.0);
@@ -1272,15 +1329,16 @@ mod tests {
         // The ORC model at the cutting resolution (issue 22 item 1: parallel bonds on rigid
         // grains reach SiC's UCS/σ_f), κ below 1 too.
         let orc: LabModel =
-            serde_json::from_str(include_str!("../../data/models/sic-orc.model.json")).unwrap();
+            serde_json::from_str(include_str!("../../../data/models/sic-orc.model.json")).unwrap();
         assert!((orc.r_mean / 2.3e-4 - 1.0).abs() < 1e-9 && orc.micro.stiffness_ratio < 1.0);
         assert!(orc.flat_joint.is_none());
         let f = fj.flat_joint.as_ref().unwrap();
         assert_eq!((f.elements, f.friction, f.bonded_fraction), (4, 0.5, 1.0));
         // Si3N4 at its K_IC resolution (step 5, R̄ 7.9 µm), parallel bonds.
-        let si: LabModel =
-            serde_json::from_str(include_str!("../../data/models/si3n4-r7.9um-pb.model.json"))
-                .unwrap();
+        let si: LabModel = serde_json::from_str(include_str!(
+            "../../../data/models/si3n4-r7.9um-pb.model.json"
+        ))
+        .unwrap();
         assert!((si.r_mean / 7.9e-6 - 1.0).abs() < 1e-9, "{}", si.r_mean);
         assert!(si.flat_joint.is_none() && si.density == 3200.0);
     }

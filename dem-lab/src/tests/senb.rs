@@ -2,17 +2,17 @@
 //! the form of ASTM E399's SE(B) specimen: a beam of depth W, length ℓ, thickness B = t, on
 //! supports at span S = 4W, with a notch of depth a (a/W = 0.5 by default; E399 asks for
 //! 0.45–0.55) cut up from the bottom at mid-length, loaded at mid-span as the bending test
-//! ([`super::bending`]: polyline rollers, local damping, the run stopped after the peak).
+//! ([`crate::tests::bending`]: polyline rollers, local damping, the run stopped after the peak).
 //!
-//! The notch is a slot `notch_width` wide ([`super::specimens::carve_notch`]: discs in it
+//! The notch is a slot `notch_width` wide ([`crate::specimen::cache::carve_notch`]: discs in it
 //! dropped, bonds and rigid grains across its mid-line below the tip cut), so it ends in a
 //! crack-like cut: the flanks may touch but carry no tension across it.
 //!
 //! Measured: the peak load P and K_IC = P S / (B W^{3/2}) f(a/W) (E399, after Srawley 1976;
-//! [`super::analysis::senb_toughness`]), with W the beam's extent and a the cut depth; the crack
+//! [`crate::analysis::senb_toughness`]), with W the beam's extent and a the cut depth; the crack
 //! mouth opening displacement (CMOD) at the peak from two position gauges at the bottom on
 //! either side of the slot. Beside K_IC the result gives the bond-scale estimate S4 uses,
-//! σ̄_c √(πR̄) ([`super::analysis::fracture_toughness`] with β = 1), and their ratio: β is
+//! σ̄_c √(πR̄) ([`crate::analysis::fracture_toughness`] with β = 1), and their ratio: β is
 //! measured here, not chosen.
 //!
 //! A DEM notch is one disc-scale wide and its tip is blunt on the particle scale, so K_IC
@@ -21,9 +21,9 @@
 //! slot width and the ligament in mean disc diameters so runs can be compared.
 
 use super::bending::BendingTest;
-use super::common::{self, positive, Loading};
-use super::specimens::{Shape, TestSpecimen};
-use super::{analysis, LabError, LabModel};
+use super::harness::{self, positive, Loading};
+use crate::specimen::cache::{Shape, TestSpecimen};
+use crate::{analysis, LabError, LabModel};
 use dem_core::output::history::Record;
 use dem_core::scene::schema::SceneFile;
 use serde::{Deserialize, Serialize};
@@ -59,6 +59,11 @@ pub struct SenbTest {
 
 impl Default for SenbTest {
     fn default() -> SenbTest {
+        // Four times the plain beam's quasi-static factor (see `loading`).
+        let loading = Loading {
+            quasi_static_factor: 40.0,
+            ..Loading::default()
+        };
         SenbTest {
             name: TEST.into(),
             length: 22e-3,
@@ -67,10 +72,7 @@ impl Default for SenbTest {
             notch_width: 0.25e-3,
             gauge_width: 2.0,
             load_friction: None,
-            loading: Loading {
-                quasi_static_factor: 40.0,
-                ..Loading::default()
-            },
+            loading,
         }
     }
 }
@@ -106,59 +108,37 @@ pub struct SenbReport {
     pub quasi_static_ratio: f64,
 }
 
-/// The result file `<name>.result.json`.
-pub type SenbOutcome = common::Outcome<SenbTest, SenbReport>;
-
 impl SenbTest {
     /// Checks every value; errors name the field (`senb.<field>`).
     pub fn validate(&self) -> Result<(), LabError> {
         positive(TEST, "length", self.length)?;
         positive(TEST, "height", self.height)?;
         if 4.0 * self.height >= self.length {
-            return Err(LabError::Param {
-                field: "senb.length".into(),
-                reason: format!(
-                    "{} m must exceed the span S = 4W = {} m",
-                    self.length,
-                    4.0 * self.height
-                ),
-            });
+            let why = format!(
+                "{} m must exceed the span S = 4W = {} m",
+                self.length,
+                4.0 * self.height
+            );
+            return Err(harness::param(TEST, "length", why));
         }
         if !(self.notch_ratio >= 0.1 && self.notch_ratio <= 0.8) {
-            return Err(LabError::Param {
-                field: "senb.notch_ratio".into(),
-                reason: format!(
-                    "{} must lie in [0.1, 0.8] (ASTM E399: 0.45–0.55)",
-                    self.notch_ratio
-                ),
-            });
+            let why = format!(
+                "{} must lie in [0.1, 0.8] (ASTM E399: 0.45–0.55)",
+                self.notch_ratio
+            );
+            return Err(harness::param(TEST, "notch_ratio", why));
         }
         positive(TEST, "notch_width", self.notch_width)?;
         if self.notch_width >= self.height {
-            return Err(LabError::Param {
-                field: "senb.notch_width".into(),
-                reason: format!(
-                    "{} m: a slot must be narrower than the beam depth",
-                    self.notch_width
-                ),
-            });
+            let why = format!(
+                "{} m: a slot must be narrower than the beam depth",
+                self.notch_width
+            );
+            return Err(harness::param(TEST, "notch_width", why));
         }
         positive(TEST, "gauge_width", self.gauge_width)?;
-        if let Some(mu) = self.load_friction {
-            if !(mu.is_finite() && mu >= 0.0) {
-                return Err(LabError::Param {
-                    field: "senb.load_friction".into(),
-                    reason: format!("{mu} must be a finite coefficient ≥ 0"),
-                });
-            }
-        }
-        if self.name.is_empty() || self.name.contains(['/', '\\']) {
-            return Err(LabError::Param {
-                field: "senb.name".into(),
-                reason: "must be a plain file stem".into(),
-            });
-        }
-        self.loading.validate(&format!("{TEST}.loading"))
+        harness::load_friction(TEST, self.load_friction)?;
+        harness::name_and_loading(TEST, &self.name, &self.loading)
     }
 
     /// The notch depth a = (a/W) W (m).
@@ -182,20 +162,17 @@ impl SenbTest {
 
     /// The geometry against the particle size `r_mean` (m): the beam as the bending test checks
     /// it (depth, overhang at the supports, gauges), and a ligament W − a of at least
-    /// [`common::MIN_DIAMETERS_ACROSS`] mean disc diameters (`senb.notch_ratio`).
+    /// [`harness::MIN_DIAMETERS_ACROSS`] mean disc diameters (`senb.notch_ratio`).
     pub fn check_geometry(&self, r_mean: f64) -> Result<(), LabError> {
         self.beam(self.height)
             .check_geometry([self.length, self.height], r_mean)
-            .map_err(|e| match e {
-                LabError::Param { field, reason } => LabError::Param {
-                    field: field
-                        .replace("bending.span", "senb.length")
-                        .replace("bending.", "senb."),
-                    reason,
-                },
-                e => e,
+            .map_err(|e| {
+                harness::renamed(e, |f| {
+                    f.replace("bending.span", "senb.length")
+                        .replace("bending.", "senb.")
+                })
             })?;
-        common::diameters_across(
+        harness::diameters_across(
             TEST,
             "notch_ratio",
             self.height - self.notch_depth(),
@@ -248,15 +225,15 @@ pub fn scene(
         .filter(|&x| x > xc)
         .fold(f64::NAN, f64::min);
     if !(left.is_finite() && right.is_finite()) {
-        return Err(common::analysis_error(
+        return Err(harness::analysis_error(
             TEST,
             "no disc at the bottom on one side of the notch (is the specimen a notched beam?)",
         ));
     }
     let e = 0.25 * spec.r_mean;
     s.outputs.gauges = vec![
-        common::gauge("mouth_left", [left - 2.0 * g, y0 - g, left + e, y0 + g]),
-        common::gauge("mouth_right", [right - e, y0 - g, right + 2.0 * g, y0 + g]),
+        harness::gauge("mouth_left", [left - 2.0 * g, y0 - g, left + e, y0 + g]),
+        harness::gauge("mouth_right", [right - e, y0 - g, right + 2.0 * g, y0 + g]),
     ];
     // The plain beam's stop is armed at 15 % of its estimated peak; the notched beam's peak
     // scales with the ligament squared, (1 − a/W)².
@@ -290,8 +267,8 @@ pub fn analyze(
     let time = t.time.clone();
     let load = super::bending::roller_load(t, beam.roller_segments, TEST)?;
     let (ip, p) = super::bending::fracture_peak(t, &load, TEST)?;
-    let xl = common::gauge_series(t, "mouth_left", TEST)?.x.clone();
-    let xr = common::gauge_series(t, "mouth_right", TEST)?.x.clone();
+    let xl = harness::gauge_series(t, "mouth_left", TEST)?.x.clone();
+    let xr = harness::gauge_series(t, "mouth_right", TEST)?.x.clone();
     let cmod = (xr[ip] - xl[ip]) - (xr[0] - xl[0]);
     let (slot, a) = (test.notch_width, test.notch_depth());
     let span = beam.span;
@@ -310,30 +287,20 @@ pub fn analyze(
         bond_estimate: bond,
         beta: kic / bond,
         cmod_at_peak: cmod,
-        roller_speed: beam.roller_speed(model, spec),
         time_to_peak: time[ip],
         quasi_static_ratio: time[ip] / beam.period(model, w),
+        roller_speed: beam.roller_speed(model, spec),
     })
 }
 
-/// Scene beside the specimen file, run, analysis, `<name>.result.json` (atomic).
-pub fn run(
-    test: &SenbTest,
-    model: &LabModel,
-    spec: &TestSpecimen,
-    progress: &mut dyn FnMut(u64, u64),
-) -> Result<SenbOutcome, LabError> {
-    let s = scene(test, model, spec)?;
-    common::run_test(&test.name, test, s, model, spec, progress, |h| {
-        analyze(h, test, model, spec)
-    })
-}
+harness::quasi_static!(SenbTest, SenbReport, SenbOutcome);
 
 #[cfg(test)]
 mod tests {
-    use super::*;
-    use crate::specimen::{Method, SpecimenParams};
     use dem_core::output::history::{GaugeSeries, GroupSeries, WallSeries};
+
+    use super::*;
+    use crate::tests::harness::fixtures;
 
     /// A synthetic history: the load rises to `peak` and falls to half, the mouth opens by
     /// 1 µm at the peak, `broken` bonds at the end.
@@ -370,27 +337,8 @@ mod tests {
     }
 
     fn setup() -> (SenbTest, LabModel, TestSpecimen) {
-        let p = SpecimenParams::new(
-            Method::Traditional,
-            22e-3,
-            5e-3,
-            0.1e-3,
-            0.15e-3,
-            3200.0,
-            310e9,
-            800e6,
-            1,
-        );
-        let spec = TestSpecimen {
-            file: "senb.specimen.json".into(),
-            extent: [0.0, 0.0, 22e-3, 5e-3],
-            discs: 1800,
-            bonds: 3500,
-            r_mean: 0.125e-3,
-            reused: false,
-            below_cover: vec![],
-        };
-        (SenbTest::default(), LabModel::from_params(&p), spec)
+        let spec = fixtures::specimen("senb.specimen.json", 22e-3, 5e-3, 1800, 3500);
+        (SenbTest::default(), fixtures::model(22e-3, 5e-3), spec)
     }
 
     #[test]

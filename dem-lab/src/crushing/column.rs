@@ -7,7 +7,7 @@
 //! spaced geometrically in `[d_min, d_max]`, each filled with a lattice of one absolute spacing
 //! S (so a fragment's size means the same in every grain, and one fines cutoff serves all),
 //! links with the springs of docs/lattice.md §2 and the chosen criterion, as `dem test crush`
-//! ([`super::crush`]). Placement (seeded): each grain draws an outline and a size class and is
+//! ([`crate::crushing::grain`]). Placement (seeded): each grain draws an outline and a size class and is
 //! deposited: of 12 random (angle, x) candidates, each dropped straight down until a node
 //! disc meets a placed one or the floor (a gap of 0.1 S kept), the one resting lowest is taken
 //! (a greedy geometric deposit, no dynamics). The top platen starts just above the highest
@@ -35,25 +35,24 @@
 //! Platen speed: given, else from a target inertial number at the first stress level,
 //! `v = I·H0·√(σ_1/ρ)/d̄` (d̄ the mean grain size).
 
-use super::common::{self, RunFacts};
-use super::run::run_scene;
-use super::LabError;
+use super::lattice::{self, EndEnergy, LatticeScene, Rows};
+use crate::run::{run_scene, LabRun};
 use crate::specimen::relax;
+use crate::tests::harness::{self, RunFacts};
+use crate::LabError;
 use clumpgen::clump::LatticeParams;
 use clumpgen::synth::SplitMix64;
 use clumpgen::{make_template, ClumpParams, Length, Method, ReadOptions, Template};
 use dem_core::fragments::{self, LatticeGrain};
 use dem_core::output::driver::{RunOptions, StepHook};
-use dem_core::scene::schema::{
-    BodiesSpec, ClumpMode, ClumpSetSpec, ContactSpec, DampingSpec, OutputSpec, PlacementSpec,
-    RunSpec, SceneFile, WallSpec,
-};
+use dem_core::output::history::Record;
+use dem_core::scene::schema::{ClumpMode, ClumpSetSpec, PlacementSpec, SceneFile};
 use serde::{Deserialize, Serialize};
 use std::cell::RefCell;
 use std::path::{Path, PathBuf};
 use std::rc::Rc;
 
-use super::crush::{extent, LinkCriterion};
+use super::grain::{extent, CrushTest, LinkCriterion};
 
 const TEST: &str = "column";
 
@@ -185,6 +184,8 @@ pub enum Loading {
 
 impl Default for ColumnTest {
     fn default() -> ColumnTest {
+        // The material of the single-grain study.
+        let grain = CrushTest::default();
         ColumnTest {
             name: TEST.into(),
             grains: 210,
@@ -195,14 +196,12 @@ impl Default for ColumnTest {
             spacing: 0.2e-3,
             node_radius: 0.9,
             thickness: 1.0,
-            young: 70e9,
-            poisson: 0.2,
-            density: 2650.0,
-            criterion: LinkCriterion::Energy {
-                fracture_energy: 30.0,
-            },
-            friction: 0.5,
-            platen_friction: 0.5,
+            young: grain.young,
+            poisson: grain.poisson,
+            density: grain.density,
+            criterion: grain.criterion,
+            friction: grain.friction,
+            platen_friction: grain.platen_friction,
             wall_friction: 0.0,
             seed: 1,
             stress_levels: vec![2e6, 5e6, 10e6, 20e6, 40e6],
@@ -211,8 +210,8 @@ impl Default for ColumnTest {
             speed: None,
             inertial_number: 1e-3,
             max_strain: 0.5,
-            dt_factor: common::DT_FACTOR,
-            local_damping: common::LOCAL_DAMPING,
+            dt_factor: harness::DT_FACTOR,
+            local_damping: harness::LOCAL_DAMPING,
             history_every: 50,
             loading: Loading::Inertial,
         }
@@ -220,10 +219,7 @@ impl Default for ColumnTest {
 }
 
 fn param(field: &str, reason: impl Into<String>) -> LabError {
-    LabError::Param {
-        field: format!("{TEST}.{field}"),
-        reason: reason.into(),
-    }
+    lattice::param(TEST, field, reason)
 }
 
 impl ColumnTest {
@@ -239,7 +235,7 @@ impl ColumnTest {
             ("density", self.density),
             ("inertial_number", self.inertial_number),
         ] {
-            common::positive(TEST, f, v)?;
+            harness::positive(TEST, f, v)?;
         }
         if self.grains == 0 {
             return Err(param("grains", "must be at least 1"));
@@ -283,15 +279,7 @@ impl ColumnTest {
                 format!("{}: a fraction of S/2 in (0, 1]", self.node_radius),
             ));
         }
-        if !(self.poisson >= 0.0 && self.poisson < 1.0 / 3.0) {
-            return Err(param(
-                "poisson",
-                format!(
-                    "{}: a triangular lattice of normal and shear springs reaches only 0 <= nu < 1/3 (docs/lattice.md)",
-                    self.poisson
-                ),
-            ));
-        }
+        lattice::check_poisson(TEST, self.poisson)?;
         self.criterion.validate_for(TEST)?;
         for (f, v) in [
             ("friction", self.friction),
@@ -316,9 +304,9 @@ impl ColumnTest {
             last = s;
         }
         if let Some(v) = self.speed {
-            common::positive(TEST, "speed", v)?;
+            harness::positive(TEST, "speed", v)?;
         }
-        common::positive(TEST, "seat_speed", self.seat_speed)?;
+        harness::positive(TEST, "seat_speed", self.seat_speed)?;
         if !(self.seat_stress > 0.0 && self.seat_stress < self.stress_levels[0]) {
             return Err(param(
                 "seat_stress",
@@ -349,10 +337,7 @@ impl ColumnTest {
         if self.history_every == 0 {
             return Err(param("history_every", "must be at least 1"));
         }
-        if self.name.is_empty() || self.name.contains(['/', '\\']) {
-            return Err(param("name", "must be a plain file stem"));
-        }
-        Ok(())
+        harness::plain_name(TEST, &self.name)
     }
 
     /// The equivalent diameters of the size classes (m), increasing.
@@ -633,7 +618,7 @@ fn scene(
         let ps: Vec<PlacementSpec> = placed
             .iter()
             .filter(|p| p.template == t)
-            .map(|p| common::placement(p.x, p.y, p.angle))
+            .map(|p| harness::placement(p.x, p.y, p.angle))
             .collect();
         if !ps.is_empty() {
             sets.push(ClumpSetSpec {
@@ -672,68 +657,43 @@ fn scene(
             },
         ),
     };
-    let wall = |name: &str, a: [f64; 2], b: [f64; 2], material: &str, vy: f64| WallSpec {
-        material: material.into(),
-        ..common::wall(name, a, b, [0.0, vy])
-    };
-    let (kn, ks) = (k.k_n, k.k_s);
-    SceneFile {
+    let wall = lattice::wall;
+    LatticeScene {
+        name: &test.name,
         description: format!(
             "Crushable column (dem test column): {} lattice grains, box {:.3} mm wide, H0 {:.3} mm, {what}",
             test.grains,
             w * 1e3,
             h * 1e3
         ),
-        thickness: Some(test.thickness),
-        materials: vec![
-            super::model::material("grain", Some(test.density), kn, ks, test.friction),
-            super::model::material("platen", None, kn, ks, test.platen_friction),
-            super::model::material("side", None, kn, ks, test.wall_friction),
-        ],
-        contact: ContactSpec {
-            pairs: vec![
-                super::model::pair("grain", "platen", kn, ks, test.platen_friction),
-                super::model::pair("grain", "side", kn, ks, test.wall_friction),
-            ],
-            ..ContactSpec::default()
-        },
-        bond_groups: if seat {
-            vec![]
-        } else {
-            vec![test.criterion.bond_group(
-                kn,
-                ks,
+        thickness: test.thickness,
+        density: test.density,
+        k: (k.k_n, k.k_s),
+        friction: test.friction,
+        platen_friction: test.platen_friction,
+        side_friction: Some(test.wall_friction),
+        bond_group: (!seat).then(|| {
+            test.criterion.bond_group(
+                k.k_n,
+                k.k_s,
                 test.node_radius,
                 test.spacing,
                 test.thickness,
-            )]
-        },
-        bodies: BodiesSpec {
-            clumps: sets,
-            ..BodiesSpec::default()
-        },
+            )
+        }),
+        clumps: sets,
         walls: vec![
             wall("bottom", [0.0, 0.0], [w, 0.0], "platen", 0.0),
             wall("left", [0.0, 0.0], [0.0, top], "side", 0.0),
             wall("right", [w, 0.0], [w, top], "side", 0.0),
             wall("top", [0.0, h], [w, h], "platen", -speed),
         ],
-        damping: DampingSpec {
-            local: test.local_damping,
-            viscous: 0.0,
-            ..Default::default()
-        },
-        run: RunSpec {
-            duration: Some(duration),
-            dt_factor: Some(test.dt_factor),
-            ..RunSpec::default()
-        },
-        outputs: OutputSpec {
-            history_every: test.history_every,
-            ..OutputSpec::default()
-        },
-        ..SceneFile::new(&test.name)
+        local_damping: test.local_damping,
+        dt_factor: test.dt_factor,
+        history_every: test.history_every,
+        duration,
     }
+    .build()
 }
 
 /// Pieces `(d_eq, mass)` of every grain's fragments.
@@ -844,7 +804,7 @@ fn snap(
         time: world.state.time,
         travel,
         speed,
-        broken: world.bonds.as_ref().map_or(0, |b| b.len() - b.n_intact()),
+        broken: lattice::broken_links(world),
         pieces: p,
         fragments: nf,
         fines: nfines,
@@ -858,26 +818,61 @@ fn snap(
     }
 }
 
-/// Runs the test with grains from `outlines` in the folder `out`: writes the templates
-/// (`<name>.grains/`), the scene `<name>.json` (outputs `<name>.out/`), runs it, and writes
-/// `<name>.stress_strain.csv`, `<name>.gradings.csv`, `<name>.breaks.csv` and
-/// `<name>.result.json` (each atomically).
-pub fn run(
-    test: &ColumnTest,
-    outlines: &[PathBuf],
-    out: &Path,
-    progress: &mut dyn FnMut(u64, u64),
-) -> Result<ColumnOutcome, LabError> {
-    test.validate()?;
-    let k = clumpgen::link_stiffness(test.young, test.poisson, test.thickness)
-        .map_err(|e| param("young", e.to_string()))?;
-    let tpls = templates(test, outlines)?;
-    let io = |file: &Path, source| LabError::Io {
-        file: file.display().to_string(),
-        source,
-    };
+/// The deposit: the grains placed (sorted by template: clumps are created set by set, one set a
+/// template, so grain k is `placed[k]`), the box width `w`, the deposit's height `h_dep` and
+/// the side walls' top, each grain's mass and the mean grain size.
+struct Deposit {
+    placed: Vec<Placed>,
+    w: f64,
+    h_dep: f64,
+    wall_top: f64,
+    mass: Vec<f64>,
+    m_tot: f64,
+    mean_size: f64,
+}
+
+impl Deposit {
+    /// Draws and deposits the grains ([`place`]).
+    fn new(test: &ColumnTest, tpls: &[Template]) -> Deposit {
+        let (mut placed, w, top) = place(test, tpls);
+        // Clumps are created set by set (one set a template), so sorted by template the
+        // placements are in creation order: grain k is placed[k].
+        placed.sort_by_key(|p| p.template);
+        let h_dep = top + 0.1 * test.spacing;
+        let wall_top = h_dep + 2.0 * test.d_max;
+        // Mean grain size (mass-weighted).
+        let mass: Vec<f64> = placed
+            .iter()
+            .map(|p| tpls[p.template].target.mass)
+            .collect();
+        let m_tot: f64 = mass.iter().sum();
+        let mean_size = mass.iter().map(|&m| m * d_of(test, m)).sum::<f64>() / m_tot;
+        Deposit {
+            placed,
+            w,
+            h_dep,
+            wall_top,
+            mass,
+            m_tot,
+            mean_size,
+        }
+    }
+}
+
+/// The area (m²) of a grain of mass `m` (kg).
+fn area_of(test: &ColumnTest, m: f64) -> f64 {
+    m / (test.density * test.thickness)
+}
+
+/// The equivalent diameter (m) of a grain of mass `m` (kg).
+fn d_of(test: &ColumnTest, m: f64) -> f64 {
+    2.0 * (area_of(test, m) / std::f64::consts::PI).sqrt()
+}
+
+/// Writes the templates `<name>.grains/<k>.json`.
+fn write_templates(test: &ColumnTest, tpls: &[Template], out: &Path) -> Result<(), LabError> {
     let gdir = out.join(format!("{}.grains", test.name));
-    std::fs::create_dir_all(&gdir).map_err(|e| io(&gdir, e))?;
+    std::fs::create_dir_all(&gdir).map_err(|e| lattice::io_error(&gdir, e))?;
     for (i, t) in tpls.iter().enumerate() {
         t.save(&gdir.join(format!("{i}.json")))
             .map_err(|e| LabError::Param {
@@ -885,81 +880,81 @@ pub fn run(
                 reason: e.to_string(),
             })?;
     }
-    let (mut placed, w, top) = place(test, &tpls);
-    // Clumps are created set by set (one set a template), so sorted by template the
-    // placements are in creation order: grain k is placed[k].
-    placed.sort_by_key(|p| p.template);
-    let h_dep = top + 0.1 * test.spacing;
-    let wall_top = h_dep + 2.0 * test.d_max;
-    // Mean grain size (mass-weighted).
-    let mass: Vec<f64> = placed
-        .iter()
-        .map(|p| tpls[p.template].target.mass)
-        .collect();
-    let area_of = |m: f64| m / (test.density * test.thickness);
-    let d_of = |m: f64| 2.0 * (area_of(m) / std::f64::consts::PI).sqrt();
-    let m_tot: f64 = mass.iter().sum();
-    let mean_size = mass.iter().map(|&m| m * d_of(m)).sum::<f64>() / m_tot;
-    // Seating: rigid grains, the top platen moving down at seat_speed; done when both
-    // platens carry seat_stress. Loading then starts from the seated poses at rest.
+    Ok(())
+}
+
+/// Seating: rigid grains, the top platen moving down at seat_speed; done when both platens
+/// carry seat_stress (`<name>-seat.json`). Moves the placements to the seated poses (loading
+/// starts from them at rest) and returns the run.
+fn seat(
+    test: &ColumnTest,
+    dep: &mut Deposit,
+    tpls: &[Template],
+    k: &clumpgen::LinkStiffness,
+    out: &Path,
+    progress: &mut dyn FnMut(u64, u64),
+) -> Result<LabRun, LabError> {
     let seat = Phase::Seat {
         speed: test.seat_speed,
-        duration: 2.0 * test.max_strain * h_dep / test.seat_speed,
+        duration: 2.0 * test.max_strain * dep.h_dep / test.seat_speed,
     };
-    let s0 = scene(test, &placed, tpls.len(), &k, w, h_dep, wall_top, &seat);
+    let (w, h_dep) = (dep.w, dep.h_dep);
+    let s0 = scene(
+        test,
+        &dep.placed,
+        tpls.len(),
+        k,
+        w,
+        h_dep,
+        dep.wall_top,
+        &seat,
+    );
     let (sigma_seat, t) = (test.seat_stress, test.thickness);
-    let seat_hook = StepHook {
-        every: test.history_every,
-        run: Box::new(|_| Ok(())),
-        stop: Some(Box::new(move |world: &dem_core::World| {
-            let walls = &world.state.walls;
-            walls[TOP].force[1].min(-walls[0].force[1]) / (w * t) >= sigma_seat
-        })),
+    let seated = move |world: &dem_core::World| {
+        let walls = &world.state.walls;
+        walls[TOP].force[1].min(-walls[0].force[1]) / (w * t) >= sigma_seat
     };
-    let r0 = run_scene(
+    let r0 = lattice::run_until(
+        TEST,
         &s0,
         &out.join(format!("{}-seat.json", test.name)),
-        &RunOptions::default(),
+        (test.history_every, Box::new(seated)),
         progress,
-        Some(seat_hook),
-    )?;
-    if r0.summary.status != "failure" {
-        return Err(common::analysis_error(
-            TEST,
+        || {
             format!(
                 "the rigid packing did not seat at {:.3} MPa (both platens) within a platen travel of {} H0; lower seat_stress or raise max_strain",
                 test.seat_stress * 1e-6,
                 2.0 * test.max_strain
-            ),
+            )
+        },
+    )?;
+    let cl = &r0.world.state.clumps;
+    if cl.len() != dep.placed.len() {
+        return Err(harness::analysis_error(
+            TEST,
+            "the seated packing has another number of grains than was placed",
         ));
     }
-    {
-        let cl = &r0.world.state.clumps;
-        if cl.len() != placed.len() {
-            return Err(common::analysis_error(
+    for (c, p) in dep.placed.iter_mut().enumerate() {
+        let tp = &tpls[p.template];
+        if (cl.m[c] - tp.achieved.mass).abs() > 1e-9 * tp.achieved.mass {
+            return Err(harness::analysis_error(
                 TEST,
-                "the seated packing has another number of grains than was placed",
+                format!("seated grain {c} is not the grain placed there (mass)"),
             ));
         }
-        for (c, p) in placed.iter_mut().enumerate() {
-            let tp = &tpls[p.template];
-            if (cl.m[c] - tp.achieved.mass).abs() > 1e-9 * tp.achieved.mass {
-                return Err(common::analysis_error(
-                    TEST,
-                    format!("seated grain {c} is not the grain placed there (mass)"),
-                ));
-            }
-            let [gx, gy] = tp.achieved.centroid;
-            let (sn, cs) = cl.theta[c].sin_cos();
-            p.x = cl.x[c] - (cs * gx - sn * gy);
-            p.y = cl.y[c] - (sn * gx + cs * gy);
-            p.angle = cl.theta[c];
-        }
+        let [gx, gy] = tp.achieved.centroid;
+        let (sn, cs) = cl.theta[c].sin_cos();
+        p.x = cl.x[c] - (cs * gx - sn * gy);
+        p.y = cl.y[c] - (sn * gx + cs * gy);
+        p.angle = cl.theta[c];
     }
-    let h = r0.world.state.walls[TOP].a[1];
-    let solid_deposit = area_of(m_tot) / (w * h_dep);
-    let solid = area_of(m_tot) / (w * h);
-    let (duration, v0) = match test.loading {
+    Ok(r0)
+}
+
+/// The loading run's duration cap (s) and starting platen speed (m/s) on a column `h` high.
+fn loading_plan(test: &ColumnTest, h: f64, mean_size: f64) -> (f64, f64) {
+    match test.loading {
         // The given speed, or I at the first level (above the seating stress, by validate).
         Loading::Ramp => {
             let v = test
@@ -972,14 +967,30 @@ pub fn run(
             let v0 = inertial_speed(test, h, 0.0, mean_size);
             (test.max_strain * h / v0, v0)
         }
-    };
+    }
+}
+
+/// Loading (`<name>.json`): the lattice grains at the seated poses, the top platen from `h`
+/// down at `v0` (the hook: the grading the first time both platens carry each level; the
+/// speed with [`Loading::Inertial`]; stop after the last level or at max_strain). Returns the
+/// run and the hook's record.
+#[allow(clippy::too_many_arguments)]
+fn load(
+    test: &ColumnTest,
+    dep: &Deposit,
+    tpls: &[Template],
+    k: &clumpgen::LinkStiffness,
+    h: f64,
+    (duration, v0): (f64, f64),
+    out: &Path,
+    progress: &mut dyn FnMut(u64, u64),
+) -> Result<(LabRun, Loader), LabError> {
     let load = Phase::Load {
         speed: v0,
         duration,
     };
-    let s = scene(test, &placed, tpls.len(), &k, w, h, wall_top, &load);
-    // The hook: the grading the first time both platens carry each level; the speed
-    // (Inertial); stop after the last level or at max_strain.
+    let (w, mean_size) = (dep.w, dep.mean_size);
+    let s = scene(test, &dep.placed, tpls.len(), k, w, h, dep.wall_top, &load);
     let state = Rc::new(RefCell::new(Loader {
         snaps: vec![],
         travel: vec![],
@@ -1010,54 +1021,49 @@ pub fn run(
         progress,
         Some(hook),
     )?;
-    let state = state.borrow();
-    let snaps = &state.snaps;
-    let hist = &r.history;
-    let (time, top_fy, bottom_fy) = (
-        hist.time.clone(),
-        common::wall_series(hist, "top", TEST)?.fy.clone(),
-        common::wall_series(hist, "bottom", TEST)?.fy.clone(),
-    );
-    let (ekt, ekr, eb, ec) = (
-        hist.energy.kinetic_translation.clone(),
-        hist.energy.kinetic_rotation.clone(),
-        hist.energy.strain_bond.clone(),
-        hist.energy.strain_contact.clone(),
-    );
-    let (bt, bs) = (
-        common::counts(&common::group_series(hist, "lattice", TEST)?.tension),
-        common::counts(&common::group_series(hist, "lattice", TEST)?.shear),
-    );
+    let loader = state.replace(Loader {
+        snaps: vec![],
+        travel: vec![],
+    });
+    Ok((r, loader))
+}
+
+/// The stress–strain curve `<name>.stress_strain.csv` of the loading run's history `hist` on a
+/// column `w` wide and `h` high (the platen travel from the hook's samples), and the largest
+/// σ_v (the smaller of the platens' stresses) with the strain at it.
+fn stress_strain(
+    test: &ColumnTest,
+    hist: &Record,
+    loader: &Loader,
+    w: f64,
+    h: f64,
+) -> Result<(String, f64, f64), LabError> {
+    let rows = Rows::of(hist, TEST)?;
+    let t = test.thickness;
     let mut csv = String::from(
         "time,platen_travel,strain,stress_top,stress_bottom,kinetic,strain_energy,broken_links\n",
     );
     let (mut peak, mut strain_at_peak) = (0.0f64, 0.0);
-    for i in 0..time.len() {
-        let (st, sb) = (top_fy[i] / (w * t), -bottom_fy[i] / (w * t));
-        let travel = state.travel_at(time[i]);
+    for i in 0..rows.time.len() {
+        let (st, sb) = (rows.top[i] / (w * t), -rows.bottom[i] / (w * t));
+        let travel = loader.travel_at(rows.time[i]);
         let eps = travel / h;
         if st.min(sb) > peak {
             (peak, strain_at_peak) = (st.min(sb), eps);
         }
         csv += &format!(
             "{:e},{:e},{:e},{:e},{:e},{:e},{:e},{}\n",
-            time[i],
-            travel,
-            eps,
-            st,
-            sb,
-            ekt[i] + ekr[i],
-            eb[i] + ec[i],
-            bt[i] + bs[i]
+            rows.time[i], travel, eps, st, sb, rows.kinetic[i], rows.strain[i], rows.broken[i]
         );
     }
-    let write = |name: String, text: &str| -> Result<(), LabError> {
-        dem_core::output::write_atomic(&out.join(name), text.as_bytes())?;
-        Ok(())
-    };
-    // Gradings: the initial one, then one a level reached.
+    Ok((csv, peak, strain_at_peak))
+}
+
+/// The sieves and the gradings: the initial one (level 0), then one a level the hook reached;
+/// the column `h` high at the start of loading.
+fn gradings(test: &ColumnTest, dep: &Deposit, snaps: &[Snap], h: f64) -> (Vec<f64>, Vec<Grading>) {
     let d_f = test.fines_cutoff();
-    let initial: Vec<(f64, f64)> = mass.iter().map(|&m| (d_of(m), m)).collect();
+    let initial: Vec<(f64, f64)> = dep.mass.iter().map(|&m| (d_of(test, m), m)).collect();
     let lo = (0.5 * test.spacing).ln();
     let hi = (1.25 * test.d_max).ln();
     let sieves: Vec<f64> = (0..=40)
@@ -1067,7 +1073,7 @@ pub fn run(
     // I = ε̇ d̄ √(ρ/σ), ε̇ the platen speed over the column's current height.
     let inertial = |sn: &Snap| {
         if sn.stress > 0.0 {
-            sn.speed / (h - sn.travel) * mean_size * (test.density / sn.stress).sqrt()
+            sn.speed / (h - sn.travel) * dep.mean_size * (test.density / sn.stress).sqrt()
         } else {
             0.0
         }
@@ -1078,7 +1084,7 @@ pub fn run(
         strain: 0.0,
         time: 0.0,
         broken_links: 0,
-        fragments: placed.len(),
+        fragments: dep.placed.len(),
         fines: 0,
         fines_mass_fraction: 0.0,
         breakage_potential: bp0,
@@ -1108,8 +1114,13 @@ pub fn run(
             passing: passing(&sn.pieces, &sieves),
         });
     }
+    (sieves, gradings)
+}
+
+/// `<name>.gradings.csv`: a row per grading and sieve.
+fn gradings_csv(sieves: &[f64], gradings: &[Grading]) -> String {
     let mut gcsv = String::from("level,stress,strain,relative_breakage,sieve,passing\n");
-    for g in &gradings {
+    for g in gradings {
         for (s, p) in sieves.iter().zip(&g.passing) {
             gcsv += &format!(
                 "{:e},{:e},{:e},{:e},{:e},{:e}\n",
@@ -1117,8 +1128,17 @@ pub fn run(
             );
         }
     }
-    // The break log: grain k is placed[k] (creation order), its group the k-th smallest.
-    let st = &r.world.state;
+    gcsv
+}
+
+/// The break log of the loading run's final `world`: grain k is `placed[k]` (creation
+/// order), its group the k-th smallest.
+fn break_log(
+    world: &dem_core::World,
+    placed: &[Placed],
+    tpls: &[Template],
+) -> Result<Vec<fragments::LinkBreak>, LabError> {
+    let st = &world.state;
     let order: Vec<usize> = placed.iter().map(|p| p.template).collect();
     let mut groups: Vec<(u32, u32, usize)> = vec![]; // (group, first id, nodes)
     {
@@ -1138,7 +1158,7 @@ pub fn run(
             .zip(&order)
             .any(|(g, &tk)| g.2 != tpls[tk].discs.len())
     {
-        return Err(common::analysis_error(
+        return Err(harness::analysis_error(
             TEST,
             "the grains of the run do not match the placements (grain ids out of order)",
         ));
@@ -1152,23 +1172,55 @@ pub fn run(
             links: &tpls[tk].lattice.as_ref().expect("a lattice template").links,
         })
         .collect();
-    let breaks = r
-        .world
+    Ok(world
         .bonds
         .as_ref()
-        .map_or(vec![], |b| fragments::lattice_breaks(b, &lats));
-    let nodes = st.discs.len();
-    let links: usize = order
+        .map_or(vec![], |b| fragments::lattice_breaks(b, &lats)))
+}
+
+/// Runs the test with grains from `outlines` in the folder `out`: writes the templates
+/// (`<name>.grains/`), the scene `<name>.json` (outputs `<name>.out/`), runs it, and writes
+/// `<name>.stress_strain.csv`, `<name>.gradings.csv`, `<name>.breaks.csv` and
+/// `<name>.result.json` (each atomically).
+pub fn run(
+    test: &ColumnTest,
+    outlines: &[PathBuf],
+    out: &Path,
+    progress: &mut dyn FnMut(u64, u64),
+) -> Result<ColumnOutcome, LabError> {
+    test.validate()?;
+    let k = clumpgen::link_stiffness(test.young, test.poisson, test.thickness)
+        .map_err(|e| param("young", e.to_string()))?;
+    let tpls = templates(test, outlines)?;
+    write_templates(test, &tpls, out)?;
+    let mut dep = Deposit::new(test, &tpls);
+    let r0 = seat(test, &mut dep, &tpls, &k, out, progress)?;
+    let (w, h_dep) = (dep.w, dep.h_dep);
+    let h = r0.world.state.walls[TOP].a[1];
+    let solid_deposit = area_of(test, dep.m_tot) / (w * h_dep);
+    let solid = area_of(test, dep.m_tot) / (w * h);
+    let plan = loading_plan(test, h, dep.mean_size);
+    let v0 = plan.1;
+    let (r, loader) = load(test, &dep, &tpls, &k, h, plan, out, progress)?;
+    let (csv, peak, strain_at_peak) = stress_strain(test, &r.history, &loader, w, h)?;
+    let (sieves, gradings) = gradings(test, &dep, &loader.snaps, h);
+    let gcsv = gradings_csv(&sieves, &gradings);
+    let breaks = break_log(&r.world, &dep.placed, &tpls)?;
+    let nodes = r.world.state.discs.len();
+    let links: usize = dep
+        .placed
         .iter()
-        .map(|&tk| tpls[tk].lattice.as_ref().map_or(0, |l| l.links.len()))
+        .map(|p| {
+            tpls[p.template]
+                .lattice
+                .as_ref()
+                .map_or(0, |l| l.links.len())
+        })
         .sum();
-    let en = &hist.energy;
-    let last = |v: &[f64]| *v.last().unwrap_or(&f64::NAN);
-    let e = r.world.energy();
-    let wall = r.summary.wall_time_s;
-    let n_levels = snaps.len();
+    let end = EndEnergy::of(&r.history, &r.world);
+    let n_levels = loader.snaps.len();
     let report = ColumnReport {
-        grains: placed.len(),
+        grains: dep.placed.len(),
         nodes,
         links,
         k_n: k.k_n,
@@ -1178,55 +1230,42 @@ pub fn run(
         initial_solid_fraction: solid,
         deposit_height: h_dep,
         deposit_solid_fraction: solid_deposit,
-        mean_size,
-        fines_cutoff: d_f,
+        mean_size: dep.mean_size,
+        fines_cutoff: test.fines_cutoff(),
         platen_speed: v0,
         sieves,
         gradings,
         levels_not_reached: test.stress_levels[n_levels..].to_vec(),
         peak_stress: peak,
         strain_at_peak,
-        work: last(&en.boundary_work),
-        strain_energy: last(&en.strain_bond) + last(&en.strain_contact),
-        kinetic_energy: e.kinetic(),
-        damping: last(&en.damping),
-        friction: last(&en.friction),
-        released: last(&en.bond_break),
-        balance_error: last(&en.balance_error),
-        particle_steps_per_s: if wall > 0.0 {
-            nodes as f64 * r.summary.steps as f64 / wall
-        } else {
-            0.0
-        },
+        balance_error: end.balance_error,
+        damping: end.damping,
+        friction: end.friction,
+        kinetic_energy: end.kinetic_energy,
+        released: end.released,
+        strain_energy: end.strain_energy,
+        work: end.work,
+        particle_steps_per_s: lattice::particle_steps_per_s(
+            nodes,
+            r.summary.steps,
+            r.summary.wall_time_s,
+        ),
     };
-    // Never write a NaN: name the first figure that is not finite.
-    let mut figures = vec![
-        ("peak_stress", report.peak_stress),
-        ("work", report.work),
-        ("strain_energy", report.strain_energy),
-        ("damping", report.damping),
-        ("friction", report.friction),
-        ("released", report.released),
-        ("balance_error", report.balance_error),
-        ("platen_speed", report.platen_speed),
-    ];
+    let mut figures = vec![("peak_stress", report.peak_stress)];
+    figures.extend(end.figures());
+    figures.push(("platen_speed", report.platen_speed));
     for g in &report.gradings {
         figures.push(("gradings.relative_breakage", g.relative_breakage));
         figures.push(("gradings.stress", g.stress));
         figures.push(("gradings.kinetic_over_strain", g.kinetic_over_strain));
     }
-    for (name, x) in figures {
-        if !x.is_finite() {
-            return Err(common::analysis_error(
-                TEST,
-                format!("{name} is not finite ({x}); the result is not written"),
-            ));
-        }
-    }
-    write(format!("{}.stress_strain.csv", test.name), &csv)?;
-    write(format!("{}.gradings.csv", test.name), &gcsv)?;
-    write(
-        format!("{}.breaks.csv", test.name),
+    lattice::all_finite(TEST, &figures)?;
+    let name = &test.name;
+    lattice::write_text(out, format!("{name}.stress_strain.csv"), &csv)?;
+    lattice::write_text(out, format!("{name}.gradings.csv"), &gcsv)?;
+    lattice::write_text(
+        out,
+        format!("{name}.breaks.csv"),
         &fragments::breaks_csv(&breaks),
     )?;
     let o = ColumnOutcome {
@@ -1236,7 +1275,7 @@ pub fn run(
         seat: RunFacts::of(&r0),
         run: RunFacts::of(&r),
     };
-    common::write_result(&out.join(format!("{}.result.json", test.name)), &o)?;
+    harness::write_result(&out.join(format!("{name}.result.json")), &o)?;
     Ok(o)
 }
 

@@ -33,19 +33,19 @@
 //!   energy balance of the run (boundary work against strain + kinetic + damping + friction +
 //!   released energy, `dem_core::energy`).
 //!
-//! Quasi-static rule (as the other lab tests, [`super::common::Loading::speed_for`]): the
+//! Quasi-static rule (as the other lab tests, [`crate::tests::harness::Loading::speed_for`]): the
 //! platens close the estimated failure displacement `u_f = d·ε_link` (ε_link the link's
 //! failure strain under the criterion, in tension) in `quasi_static_factor` transit times.
 
-use super::common::{self, RunFacts};
-use super::run::run_scene;
-use super::LabError;
+use super::lattice::{self, EndEnergy, LatticeScene, Rows};
+use crate::run::run_scene;
+use crate::tests::harness::{self, RunFacts};
+use crate::LabError;
 use clumpgen::Template;
 use dem_core::fragments::{self, FragmentSummary, LatticeGrain};
-use dem_core::output::driver::{RunOptions, StepHook};
+use dem_core::output::driver::RunOptions;
 use dem_core::scene::schema::{
-    BodiesSpec, BondGroupSpec, BondModelName, ClumpMode, ClumpSetSpec, ContactSpec, CriterionName,
-    DampingSpec, OutputSpec, RunSpec, SceneFile, WallSpec,
+    BondGroupSpec, BondModelName, ClumpMode, ClumpSetSpec, CriterionName, RunSpec, SceneFile,
 };
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
@@ -90,7 +90,7 @@ impl LinkCriterion {
 
     /// Checks the parameters; errors name the field `<test>.criterion.<field>`.
     pub(crate) fn validate_for(&self, test: &str) -> Result<(), LabError> {
-        let check = |f: &str, v: f64| common::positive(test, f, v).map(|_| ());
+        let check = |f: &str, v: f64| harness::positive(test, f, v).map(|_| ());
         match *self {
             LinkCriterion::Force { tensile, shear }
             | LinkCriterion::Stress { tensile, shear }
@@ -232,8 +232,8 @@ impl Default for CrushTest {
             speed: None,
             quasi_static_factor: 100.0,
             max_closure: 0.2,
-            dt_factor: common::DT_FACTOR,
-            local_damping: common::LOCAL_DAMPING,
+            dt_factor: harness::DT_FACTOR,
+            local_damping: harness::LOCAL_DAMPING,
             history_every: 20,
         }
     }
@@ -311,26 +311,15 @@ pub struct CrushOutcome {
 }
 
 fn param(field: &str, reason: impl Into<String>) -> LabError {
-    LabError::Param {
-        field: format!("{TEST}.{field}"),
-        reason: reason.into(),
-    }
+    lattice::param(TEST, field, reason)
 }
 
 impl CrushTest {
     /// Checks every value; errors name the field (`crush.<field>`).
     pub fn validate(&self) -> Result<(), LabError> {
-        common::positive(TEST, "young", self.young)?;
-        common::positive(TEST, "density", self.density)?;
-        if !(self.poisson >= 0.0 && self.poisson < 1.0 / 3.0) {
-            return Err(param(
-                "poisson",
-                format!(
-                    "{}: a triangular lattice of normal and shear springs reaches only 0 <= nu < 1/3 (docs/lattice.md)",
-                    self.poisson
-                ),
-            ));
-        }
+        harness::positive(TEST, "young", self.young)?;
+        harness::positive(TEST, "density", self.density)?;
+        lattice::check_poisson(TEST, self.poisson)?;
         self.criterion.validate()?;
         if !(self.friction.is_finite() && self.friction >= 0.0) {
             return Err(param("friction", "must be >= 0"));
@@ -362,10 +351,8 @@ impl CrushTest {
                 ),
             ));
         }
-        if self.name.is_empty() || self.name.contains(['/', '\\']) {
-            return Err(param("name", "must be a plain file stem"));
-        }
-        let l = common::Loading {
+        harness::plain_name(TEST, &self.name)?;
+        let l = harness::Loading {
             speed: self.speed,
             quasi_static_factor: self.quasi_static_factor,
             dt_factor: self.dt_factor,
@@ -456,100 +443,54 @@ pub fn scene(test: &CrushTest, g: &GrainFacts, ext: [f64; 4], tpl_name: &str) ->
     let (v, _) = platen_speed(test, g);
     let [x0, y0, x1, y1] = ext;
     let ov = g.d;
-    let platen = |name: &str, y: f64, vy: f64| WallSpec {
-        material: "platen".into(),
-        ..common::wall(name, [x0 - ov, y], [x1 + ov, y], [0.0, vy])
-    };
-    SceneFile {
+    let platen =
+        |name: &str, y: f64, vy: f64| lattice::wall(name, [x0 - ov, y], [x1 + ov, y], "platen", vy);
+    let clumps = vec![ClumpSetSpec {
+        template: tpl_name.into(),
+        material: "grain".into(),
+        mode: ClumpMode::Bonded,
+        bond_group: Some("lattice".into()),
+        bond_tolerance: 0.0,
+        placements: vec![harness::placement(0.0, 0.0, test.angle)],
+    }];
+    LatticeScene {
+        name: &test.name,
         description: format!(
             "Single-grain crushing (dem test crush): {} between platens at {v:.4e} m/s each; d = {:.4} mm",
             g.id,
             g.d * 1e3
         ),
-        thickness: Some(g.thickness),
-        materials: vec![
-            super::model::material("grain", Some(test.density), g.k_n, g.k_s, test.friction),
-            super::model::material("platen", None, g.k_n, g.k_s, test.platen_friction),
-        ],
-        contact: ContactSpec {
-            pairs: vec![super::model::pair("grain", "platen", g.k_n, g.k_s, test.platen_friction)],
-            ..ContactSpec::default()
-        },
-        bond_groups: vec![test.criterion.bond_group(
+        thickness: g.thickness,
+        density: test.density,
+        k: (g.k_n, g.k_s),
+        friction: test.friction,
+        platen_friction: test.platen_friction,
+        side_friction: None,
+        bond_group: Some(test.criterion.bond_group(
             g.k_n,
             g.k_s,
             g.node_radius_fraction,
             g.spacing,
             g.thickness,
-        )],
-        bodies: BodiesSpec {
-            clumps: vec![ClumpSetSpec {
-                template: tpl_name.into(),
-                material: "grain".into(),
-                mode: ClumpMode::Bonded,
-                bond_group: Some("lattice".into()),
-                bond_tolerance: 0.0,
-                placements: vec![common::placement(0.0, 0.0, test.angle)],
-            }],
-            ..BodiesSpec::default()
-        },
+        )),
+        clumps,
         walls: vec![platen("bottom", y0, v), platen("top", y1, -v)],
-        damping: DampingSpec {
-            local: test.local_damping,
-            viscous: 0.0,
-            ..Default::default()
-        },
-        run: RunSpec {
-            duration: Some(test.max_closure * g.d / (2.0 * v)),
-            dt_factor: Some(test.dt_factor),
-            ..RunSpec::default()
-        },
-        outputs: OutputSpec {
-            history_every: test.history_every,
-            ..OutputSpec::default()
-        },
-        ..SceneFile::new(&test.name)
+        local_damping: test.local_damping,
+        dt_factor: test.dt_factor,
+        history_every: test.history_every,
+        duration: test.max_closure * g.d / (2.0 * v),
     }
+    .build()
 }
 
-/// The history's platen force F (N) and closure δ (m) per row, with time and the energies.
-struct Rows {
-    time: Vec<f64>,
-    force: Vec<f64>,
-    kinetic: Vec<f64>,
-    strain: Vec<f64>,
-    broken: Vec<f64>,
-}
-
-fn rows(t: &dem_core::output::history::Record) -> Result<Rows, LabError> {
-    let (top, bottom) = (
-        common::wall_series(t, "top", TEST)?.fy.clone(),
-        common::wall_series(t, "bottom", TEST)?.fy.clone(),
-    );
-    let (ekt, ekr) = (
-        t.energy.kinetic_translation.clone(),
-        t.energy.kinetic_rotation.clone(),
-    );
-    let (eb, ec) = (
-        t.energy.strain_bond.clone(),
-        t.energy.strain_contact.clone(),
-    );
-    let (bt, bs) = (
-        common::counts(&common::group_series(t, "lattice", TEST)?.tension),
-        common::counts(&common::group_series(t, "lattice", TEST)?.shear),
-    );
-    Ok(Rows {
-        time: t.time.clone(),
-        // Discs push the top platen up (+y) and the bottom one down.
-        force: top
-            .iter()
-            .zip(&bottom)
-            .map(|(a, b)| 0.5 * (a - b))
-            .collect(),
-        kinetic: ekt.iter().zip(&ekr).map(|(a, b)| a + b).collect(),
-        strain: eb.iter().zip(&ec).map(|(a, b)| a + b).collect(),
-        broken: bt.iter().zip(&bs).map(|(a, b)| a + b).collect(),
-    })
+/// The mean platen force F = 0.5 (F_top − F_bottom) (N) per row of `r`: discs push the top
+/// platen up (+y) and the bottom one down.
+fn platen_force(r: &Rows) -> Vec<f64> {
+    r.top
+        .iter()
+        .zip(&r.bottom)
+        .map(|(a, b)| 0.5 * (a - b))
+        .collect()
 }
 
 /// Runs the test on the template `template` in the folder `out`: copies the template there as
@@ -566,11 +507,7 @@ pub fn run(
     test.validate()?;
     let tpl = load_template(template)?;
     let (g, ext) = grain_facts(test, &tpl, template)?;
-    let io = |file: &Path, source| LabError::Io {
-        file: file.display().to_string(),
-        source,
-    };
-    std::fs::create_dir_all(out).map_err(|e| io(out, e))?;
+    std::fs::create_dir_all(out).map_err(|e| lattice::io_error(out, e))?;
     let tpl_name = format!("{}.grain.json", test.name);
     tpl.save(&out.join(&tpl_name))
         .map_err(|e| LabError::Param {
@@ -580,36 +517,24 @@ pub fn run(
     let s1 = scene(test, &g, ext, &tpl_name);
     let major = test.major;
     let density = test.density;
-    let hook = StepHook {
-        every: test.history_every,
-        run: Box::new(|_| Ok(())),
-        stop: Some(Box::new(move |w: &dem_core::World| {
-            let f = fragments::fragments(&w.state, w.bonds.as_ref(), density, None);
-            FragmentSummary::of(&f).largest_mass_fraction < major
-        })),
+    let why_not = format!(
+        "no major breakage (largest fragment below {} of the mass) within a platen closure of {} d; raise max_closure or check the criterion",
+        test.major, test.max_closure
+    );
+    let file1 = out.join(format!("{}.json", test.name));
+    let major_breakage = move |w: &dem_core::World| {
+        let f = fragments::fragments(&w.state, w.bonds.as_ref(), density, None);
+        FragmentSummary::of(&f).largest_mass_fraction < major
     };
-    let r1 = run_scene(
-        &s1,
-        &out.join(format!("{}.json", test.name)),
-        &RunOptions::default(),
-        progress,
-        Some(hook),
-    )?;
-    if r1.summary.status != "failure" {
-        return Err(common::analysis_error(
-            TEST,
-            format!(
-                "no major breakage (largest fragment below {} of the mass) within a platen closure of {} d; raise max_closure or check the criterion",
-                test.major, test.max_closure
-            ),
-        ));
-    }
+    let stop = (test.history_every, Box::new(major_breakage) as _);
+    let r1 = lattice::run_until(TEST, &s1, &file1, stop, progress, || why_not)?;
     let (v, _) = platen_speed(test, &g);
-    let h1 = rows(&r1.history)?;
-    let (ip, peak) = super::analysis::peak(&h1.force)
-        .ok_or_else(|| common::analysis_error(TEST, "no platen force"))?;
+    let h1 = Rows::of(&r1.history, TEST)?;
+    let force1 = platen_force(&h1);
+    let (ip, peak) = crate::analysis::peak(&force1)
+        .ok_or_else(|| harness::analysis_error(TEST, "no platen force"))?;
     if peak.is_nan() || peak <= 0.0 {
-        return Err(common::analysis_error(
+        return Err(harness::analysis_error(
             TEST,
             "the platens never loaded the grain",
         ));
@@ -621,7 +546,7 @@ pub fn run(
         StageFacts {
             time: st.time,
             closure: 2.0 * v * st.time,
-            broken_links: w.bonds.as_ref().map_or(0, |b| b.len() - b.n_intact()),
+            broken_links: lattice::broken_links(w),
             fragments: FragmentSummary::of(&frags),
         }
     };
@@ -645,25 +570,22 @@ pub fn run(
         None,
     )?;
     let stage2 = stage(&r2.world);
-    let h = rows(&r2.history)?;
+    let h = Rows::of(&r2.history, TEST)?;
+    let force = platen_force(&h);
     // The force–displacement curve of both stages (stage 2's history continues stage 1's).
     let mut csv = String::from("time,closure,force,kinetic,strain_energy,broken_links\n");
-    for k in 0..h.time.len() {
+    for (k, f) in force.iter().enumerate() {
         csv += &format!(
             "{:e},{:e},{:e},{:e},{:e},{}\n",
             h.time[k],
             2.0 * v * h.time[k],
-            h.force[k],
+            f,
             h.kinetic[k],
             h.strain[k],
             h.broken[k]
         );
     }
-    let write = |name: String, text: &str| -> Result<(), LabError> {
-        dem_core::output::write_atomic(&out.join(name), text.as_bytes())?;
-        Ok(())
-    };
-    write(format!("{}.force.csv", test.name), &csv)?;
+    lattice::write_text(out, format!("{}.force.csv", test.name), &csv)?;
     let grain_id = r2.world.state.discs.group.first().copied().unwrap_or(0);
     let first_id = r2.world.state.discs.id.iter().copied().min().unwrap_or(0);
     let breaks = r2.world.bonds.as_ref().map_or(vec![], |b| {
@@ -676,13 +598,12 @@ pub fn run(
             }],
         )
     });
-    write(
+    lattice::write_text(
+        out,
         format!("{}.breaks.csv", test.name),
         &fragments::breaks_csv(&breaks),
     )?;
-    let e = r2.world.energy();
-    let en = &r2.history.energy;
-    let tcol = |v: &[f64]| *v.last().unwrap_or(&f64::NAN);
+    let end = EndEnergy::of(&r2.history, &r2.world);
     let transit = g.d * (test.density / test.young).sqrt();
     let steps = r1.summary.steps + r2.summary.steps;
     let wall = r1.summary.wall_time_s + r2.summary.wall_time_s;
@@ -698,50 +619,34 @@ pub fn run(
         },
         time_to_peak: h1.time[ip],
         transit_time: transit,
-        work: tcol(&en.boundary_work),
-        strain_energy: tcol(&en.strain_bond) + tcol(&en.strain_contact),
-        kinetic_energy: e.kinetic(),
-        damping: tcol(&en.damping),
-        friction: tcol(&en.friction),
-        released: tcol(&en.bond_break),
-        balance_error: tcol(&en.balance_error),
+        work: end.work,
+        strain_energy: end.strain_energy,
+        kinetic_energy: end.kinetic_energy,
+        damping: end.damping,
+        friction: end.friction,
+        released: end.released,
+        balance_error: end.balance_error,
         stage1,
         stage2,
-        particle_steps_per_s: if wall > 0.0 {
-            g.nodes as f64 * steps as f64 / wall
-        } else {
-            0.0
-        },
+        particle_steps_per_s: lattice::particle_steps_per_s(g.nodes, steps, wall),
         grain: g,
     };
-    // Never write a NaN: name the first figure that is not finite.
-    for (name, v) in [
+    let mut figures = vec![
         ("peak_force", report.peak_force),
         ("strength", report.strength),
         (
             "kinetic_over_strain_at_peak",
             report.kinetic_over_strain_at_peak,
         ),
-        ("work", report.work),
-        ("strain_energy", report.strain_energy),
-        ("damping", report.damping),
-        ("friction", report.friction),
-        ("released", report.released),
-        ("balance_error", report.balance_error),
-    ] {
-        if !v.is_finite() {
-            return Err(common::analysis_error(
-                TEST,
-                format!("{name} is not finite ({v}); the result is not written"),
-            ));
-        }
-    }
+    ];
+    figures.extend(end.figures());
+    lattice::all_finite(TEST, &figures)?;
     let o = CrushOutcome {
         test: test.clone(),
         result: report,
         runs: [RunFacts::of(&r1), RunFacts::of(&r2)],
     };
-    common::write_result(&out.join(format!("{}.result.json", test.name)), &o)?;
+    harness::write_result(&out.join(format!("{}.result.json", test.name)), &o)?;
     Ok(o)
 }
 

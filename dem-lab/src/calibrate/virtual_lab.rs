@@ -1,4 +1,4 @@
-//! The virtual laboratory the calibration drives ([`super::calibrate::Lab`]): the UCS, bending
+//! The virtual laboratory the calibration drives ([`crate::calibrate::Lab`]): the UCS, bending
 //! and Brazilian tests on specimens generated once from the user's specimen parameters (the
 //! geometry does not change while micro-parameters are searched), each run writing its scene,
 //! outputs and result beside its specimen.
@@ -10,15 +10,15 @@
 //! calibration's tolerance (SiC at R̄ 9.6 µm: σ_f 588 and 351 MPa on seeds 1 and 2 of a
 //! 486-disc beam), so one seed calibrates that specimen, not the material.
 
-use super::analysis::UcsResult;
-use super::bending::{self, BendingTest};
-use super::brazilian::{self, BrazilianTest};
-use super::calibrate::Lab;
-use super::common::Outcome;
-use super::specimens::{prepare, Shape, TestSpecimen};
-use super::ucs::{self, UcsTest};
-use super::{LabError, LabModel};
+use crate::analysis::UcsResult;
+use crate::calibrate::Lab;
+use crate::specimen::cache::{prepare, Shape, TestSpecimen};
 use crate::specimen::SpecimenParams;
+use crate::tests::bending::BendingTest;
+use crate::tests::brazilian::BrazilianTest;
+use crate::tests::harness::Outcome;
+use crate::tests::ucs::UcsTest;
+use crate::{LabError, LabModel};
 use std::path::Path;
 
 /// The three tests and their specimens, one per seed.
@@ -227,7 +227,7 @@ impl Lab for VirtualLab {
             &self.ucs_specimen,
             &mut self.runs,
             &mut self.wall_time_s,
-            |t, s| ucs::run(t, model, s, &mut |_, _| {}),
+            |t, s| crate::tests::run(t, model, s, &mut |_, _| {}),
         )?
         .into_iter()
         .map(|r| UcsResult {
@@ -252,7 +252,7 @@ impl Lab for VirtualLab {
             &self.bending_specimen,
             &mut self.runs,
             &mut self.wall_time_s,
-            |t, s| bending::run(t, model, s, &mut |_, _| {}),
+            |t, s| crate::tests::run(t, model, s, &mut |_, _| {}),
         )?
         .into_iter()
         .map(|r| r.flexural_strength)
@@ -268,7 +268,7 @@ impl Lab for VirtualLab {
             &self.brazilian_specimen,
             &mut self.runs,
             &mut self.wall_time_s,
-            |t, s| brazilian::run(t, model, s, &mut |_, _| {}),
+            |t, s| crate::tests::run(t, model, s, &mut |_, _| {}),
         )?
         .into_iter()
         .map(|r| r.tensile_strength)
