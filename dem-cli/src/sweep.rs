@@ -125,23 +125,27 @@ pub fn run(cmd: SweepCmd) -> Result<ExitCode, String> {
     }
 }
 
-/// `dem test <kind>`'s command lines, from this executable's own parser.
-pub struct DemTest;
+/// `dem test <kind>`'s command lines, from this executable's own parser (built once: the
+/// planner checks every case against it).
+pub struct DemTest(clap::Command);
 
 impl DemTest {
-    fn command(kind: &str) -> dem_run::Result<clap::Command> {
-        let test = crate::negative_values(crate::test::TestKind::augment_subcommands(
-            clap::Command::new("test"),
-        ));
-        test.find_subcommand(kind)
-            .cloned()
+    pub fn new() -> Self {
+        DemTest(crate::negative_values(
+            crate::test::TestKind::augment_subcommands(clap::Command::new("test")),
+        ))
+    }
+
+    fn command(&self, kind: &str) -> dem_run::Result<&clap::Command> {
+        self.0
+            .find_subcommand(kind)
             .ok_or_else(|| Error::input(format!("`dem test {kind}` does not exist")))
     }
 }
 
 impl TestCommands for DemTest {
     fn flags(&self, kind: &str) -> dem_run::Result<BTreeMap<String, FlagInfo>> {
-        let sub = Self::command(kind)?;
+        let sub = self.command(kind)?;
         let mut flags = BTreeMap::new();
         for a in sub.get_arguments() {
             if let Some(long) = a.get_long() {
@@ -160,7 +164,8 @@ impl TestCommands for DemTest {
 
     fn check(&self, kind: &str, args: &[String]) -> dem_run::Result<()> {
         let argv = std::iter::once(kind.to_string()).chain(args.iter().cloned());
-        Self::command(kind)?
+        self.command(kind)?
+            .clone()
             .try_get_matches_from(argv)
             .map(|_| ())
             .map_err(|e| Error::input(e.to_string()))
@@ -179,7 +184,7 @@ fn plan(a: PlanArgs) -> dem_run::Result<ExitCode> {
         partition: a.partition,
         mem: a.mem,
     };
-    let p = dem_run::plan::write(&a.study, &a.out, &slurm, &DemTest, &this_exe()?)?;
+    let p = dem_run::plan::write(&a.study, &a.out, &slurm, &DemTest::new(), &this_exe()?)?;
     println!(
         "planned {} cases of `dem test {}` ({}) into {}",
         p.cases.len(),
@@ -240,7 +245,7 @@ fn run_cases(a: RunArgs) -> dem_run::Result<ExitCode> {
         exe: this_exe()?,
     };
     let mut shown = Shown::new();
-    let s = dem_run::runner::run(&opts, &DemTest, &mut shown)?;
+    let s = dem_run::runner::run(&opts, &DemTest::new(), &mut shown)?;
     if let Some(b) = shown.0 {
         b.finish_and_clear();
     }
@@ -281,7 +286,7 @@ mod tests {
     fn plan(text: &str) -> Result<Vec<Case>, String> {
         let f = Path::new("s.json");
         let parsed = study::parse(text.as_bytes(), f).map_err(|e| e.to_string())?;
-        dem_run::plan::cases(f, &parsed, &DemTest).map_err(|e| e.to_string())
+        dem_run::plan::cases(f, &parsed, &DemTest::new()).map_err(|e| e.to_string())
     }
 
     #[test]

@@ -90,7 +90,7 @@ pub fn read_cases(sweep: &Path) -> Result<Vec<Case>> {
             continue;
         }
         let c: Case = serde_json::from_str(line)
-            .map_err(|e| format!("{}: line {}: {e}", file.display(), i + 1))?;
+            .map_err(|e| Error::input(format!("{}: line {}: {e}", file.display(), i + 1)))?;
         if c.index != cases.len() || !valid_key(&c.key) {
             return Err(Error::input(format!(
                 "{}: line {}: index {} or key {:?} out of order or malformed",

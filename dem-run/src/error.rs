@@ -68,13 +68,6 @@ impl fmt::Display for Error {
 
 impl std::error::Error for Error {}
 
-/// A refused input whose message was built in place (`format!(...)?`).
-impl From<String> for Error {
-    fn from(message: String) -> Self {
-        Self::input(message)
-    }
-}
-
 /// `Error::input(format!(…))`: a refused input, its message formatted in place.
 macro_rules! refuse {
     ($($t:tt)*) => {

@@ -155,7 +155,7 @@ fn resolve(file: &Path, field: &str, flag: &str, text: &str, info: &FlagInfo) ->
     }
     let path = study::resolve_path(file, text);
     let bytes = clumpgen::io::read_input(&path).map_err(|e| {
-        format!(
+        refuse!(
             "{}: --{flag} file {text:?} ({}): {e}",
             here(),
             path.display()
@@ -220,7 +220,7 @@ pub fn cases(file: &Path, p: &Parsed, tests: &dyn TestCommands) -> Result<Vec<Ca
         let field = format!("base.flags.{name}");
         let info = lookup(&flag, &field)?;
         let text = scalar_text(v).ok_or_else(|| {
-            format!(
+            refuse!(
                 "{}: field {field}: {v} is not a string, number or boolean",
                 file.display()
             )

@@ -170,7 +170,7 @@ fn start(c: &Case, dir: &Path, exe: &Path, threads: usize) -> Result<Child> {
         c.argv.join(" "),
         cdir.display()
     )
-    .map_err(|e| format!("{}: {e}", log_path.display()))?;
+    .map_err(|e| Error::io(&log_path, e))?;
     let err = log.try_clone().map_err(|e| Error::io(&log_path, e))?;
     let mut cmd = Command::new(exe);
     cmd.args(&c.argv);
