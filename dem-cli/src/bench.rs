@@ -371,9 +371,11 @@ fn cutting(b: CuttingBench) -> Result<ExitCode, String> {
             .parse()
             .map_err(|e| format!("--damping-frame: {e}"))?,
         ..CuttingTest::new(1e-3, b.speed, width.min(10e-3))
-    };
+    }
+    .check()
+    .map_err(|e| e.to_string())?;
     let scene_file = dir.0.join("cutting.scene.json");
-    let mut cs = CuttingScene::build(&test, &model, &specimen, &scene_file, 0).map_err(named)?;
+    let mut cs = CuttingScene::build(&test, &model, &info, &scene_file, 0).map_err(named)?;
     let world = cs.take_world().ok_or("cutting scene: no world built")?;
     dem_lab::run::write_scene(&cs.scene, &scene_file).map_err(|e| e.to_string())?;
     let loaded =

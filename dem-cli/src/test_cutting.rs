@@ -9,7 +9,7 @@ use crate::progress::Progress;
 use crate::specimen::{parse_length, read_material};
 use clap::Args;
 use dem_lab::cutting::tool::ToolModel;
-use dem_lab::cutting::{self, CuttingResult, CuttingTest, Inputs, INPUTS_FILE};
+use dem_lab::cutting::{self, CheckedTest, CuttingResult, CuttingTest, Inputs, INPUTS_FILE};
 use dem_lab::specimen::{io, SpecimenParams};
 use dem_lab::LabModel;
 use std::path::PathBuf;
@@ -138,23 +138,13 @@ const SPECIMEN_FILES: [&str; 3] = [
 ];
 
 impl CuttingArgs {
-    /// The test: `--params` file (or the defaults), then the flags.
-    pub fn test(&self) -> Result<CuttingTest, String> {
+    /// The test: `--params` file (or the defaults), then the flags; validated once, here.
+    pub fn test(&self) -> Result<CheckedTest, String> {
         let mut t = match &self.params {
             Some(p) => {
                 let text = clumpgen::io::read_input_string(p)
                     .map_err(|e| format!("{}: {e}", p.display()))?;
-                let given: serde_json::Value =
-                    serde_json::from_str(&text).map_err(|e| format!("{}: {e}", p.display()))?;
-                // The file's fields over today's defaults (a field the file leaves out is the
-                // default, not the value an old result without that field stood for).
-                let mut v = serde_json::to_value(CuttingTest::default())
-                    .map_err(|e| format!("{}: {e}", p.display()))?;
-                match (given, &mut v) {
-                    (serde_json::Value::Object(g), serde_json::Value::Object(d)) => d.extend(g),
-                    _ => return Err(format!("{}: not a JSON object", p.display())),
-                }
-                serde_json::from_value(v).map_err(|e| format!("{}: {e}", p.display()))?
+                CuttingTest::from_params(&text).map_err(|e| format!("{}: {e}", p.display()))?
             }
             None => CuttingTest::default(),
         };
@@ -224,8 +214,7 @@ impl CuttingArgs {
         if self.delete_fragments {
             t.delete_fragments = true;
         }
-        t.validate().map_err(|e| e.to_string())?;
-        Ok(t)
+        t.check().map_err(|e| e.to_string())
     }
 
     /// [`cutting::check_geometry`] with the error naming the flag and its value (or where
@@ -452,10 +441,17 @@ impl CuttingArgs {
         Ok(())
     }
 
+    /// The inputs alone (the tests read them).
+    #[cfg(test)]
+    fn inputs(&self) -> Result<Inputs, String> {
+        self.resolve().map(|(inputs, _)| inputs)
+    }
+
     /// What the cut runs: the specimen (parameters, or the file), the model (`None` until a
     /// generated specimen's own model is known: no --model), the flat-joint flags and the
-    /// test. The model is --model with the flat-joint flags applied ([`Self::with_joints`]).
-    pub fn inputs(&self) -> Result<Inputs, String> {
+    /// test; and the test checked (what the run takes). The model is --model with the
+    /// flat-joint flags applied ([`Self::with_joints`]).
+    fn resolve(&self) -> Result<(Inputs, CheckedTest), String> {
         let test = self.test()?;
         let flat_joint = self.lab.joints.option()?;
         let mut model = self
@@ -474,13 +470,14 @@ impl CuttingArgs {
         if let (true, Some(m), Some(p)) = (self.specimen_from_model, model.as_mut(), &specimen) {
             m.r_mean = 0.5 * (p.r_min + p.r_max);
         }
-        Ok(Inputs {
+        let inputs = Inputs {
             specimen,
             specimen_file: self.specimen.as_ref().map(|p| p.display().to_string()),
             model,
             flat_joint,
-            test,
-        })
+            test: test.test().clone(),
+        };
+        Ok((inputs, test))
     }
 }
 
@@ -492,8 +489,7 @@ fn write_inputs(out: &std::path::Path, i: &Inputs) -> Result<String, String> {
 }
 
 pub fn run(a: CuttingArgs) -> Result<ExitCode, String> {
-    let mut inputs = a.inputs()?;
-    let test = inputs.test.clone();
+    let (mut inputs, test) = a.resolve()?;
     if a.specimen.is_none() {
         // The specimen to be generated is --width × --height: check before generating it.
         let w = parse_length(&a.width, "--width")?;
@@ -596,17 +592,10 @@ pub fn run(a: CuttingArgs) -> Result<ExitCode, String> {
             }),
             ..cutting::CuttingRunOptions::default()
         };
-        cutting::run_with(
-            &test,
-            &model,
-            &specimen,
-            &a.lab.out,
-            &ro,
-            &mut |done, total| {
-                bar.set_length(total.max(1));
-                bar.set_position(done);
-            },
-        )
+        cutting::run_with(&test, &model, &info, &a.lab.out, &ro, &mut |done, total| {
+            bar.set_length(total.max(1));
+            bar.set_position(done);
+        })
     });
     bar.finish_and_clear();
     let r = r.map_err(|e| e.to_string())?;

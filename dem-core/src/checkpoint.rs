@@ -133,6 +133,19 @@ pub enum CheckpointError {
     },
 }
 
+/// Why a world could not be encoded as a checkpoint.
+#[derive(Debug, thiserror::Error)]
+pub enum EncodeError {
+    #[error("the scene hash {0:?} is not {HASH_HEX} hex digits")]
+    SceneHash(String),
+    #[error("bookkeeping: {0}")]
+    Books(rmp_serde::encode::Error),
+    #[error("world: {0}")]
+    World(rmp_serde::encode::Error),
+    #[error("{0}")]
+    Json(serde_json::Error),
+}
+
 /// What a checkpoint holds (borrowed for writing).
 #[derive(Serialize)]
 struct CheckpointRef<'a> {
@@ -326,11 +339,9 @@ pub fn to_binary(
     history_rows: &str,
     snapshots: &[Entry],
     run: Option<&RunTotals>,
-) -> Result<Vec<u8>, String> {
+) -> Result<Vec<u8>, EncodeError> {
     if scene_hash.len() != HASH_HEX || !scene_hash.bytes().all(|b| b.is_ascii_hexdigit()) {
-        return Err(format!(
-            "the scene hash {scene_hash:?} is not {HASH_HEX} hex digits"
-        ));
+        return Err(EncodeError::SceneHash(scene_hash.to_string()));
     }
     let mut buf = Vec::with_capacity(HEADER_LEN + history_rows.len() + 64 * 1024);
     buf.extend_from_slice(&MAGIC);
@@ -344,10 +355,10 @@ pub fn to_binary(
     lens[0] = (buf.len() - start) as u64;
     start = buf.len();
     rmp_serde::encode::write_named(&mut buf, &BooksRef { snapshots, run })
-        .map_err(|e| format!("bookkeeping: {e}"))?;
+        .map_err(EncodeError::Books)?;
     lens[1] = (buf.len() - start) as u64;
     start = buf.len();
-    rmp_serde::encode::write_named(&mut buf, world).map_err(|e| format!("world: {e}"))?;
+    rmp_serde::encode::write_named(&mut buf, world).map_err(EncodeError::World)?;
     lens[2] = (buf.len() - start) as u64;
     for (k, l) in lens.iter().enumerate() {
         let at = SUM_AT + 32 + 8 * k;
@@ -417,12 +428,12 @@ pub fn save_as(
     let bytes = match format {
         Format::Json => to_json(world, scene_hash, history_rows, snapshots, run)
             .map(String::into_bytes)
-            .map_err(|e| e.to_string()),
+            .map_err(EncodeError::Json),
         Format::Binary => to_binary(world, scene_hash, history_rows, snapshots, run),
     }
-    .map_err(|reason| CheckpointError::Format {
+    .map_err(|e| CheckpointError::Format {
         file: file.clone(),
-        reason,
+        reason: e.to_string(),
     })?;
     clumpgen::io::write_atomic(path, &bytes).map_err(|source| CheckpointError::Io { file, source })
 }

@@ -78,15 +78,20 @@ impl DampingFrame {
     }
 }
 
+/// A damping frame's name that is neither `lab` nor `fragment` (the name it was given).
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("{0:?} is not lab or fragment")]
+pub struct UnknownDampingFrame(pub String);
+
 impl std::str::FromStr for DampingFrame {
-    type Err = String;
+    type Err = UnknownDampingFrame;
 
     /// Parses a scene's or a flag's name; the error says what is accepted.
-    fn from_str(s: &str) -> Result<Self, String> {
+    fn from_str(s: &str) -> Result<Self, UnknownDampingFrame> {
         match s {
             "lab" => Ok(DampingFrame::Lab),
             "fragment" => Ok(DampingFrame::Fragment),
-            _ => Err(format!("{s:?} is not lab or fragment")),
+            _ => Err(UnknownDampingFrame(s.to_string())),
         }
     }
 }

@@ -131,7 +131,7 @@ impl World {
     /// id index (a function of the ids). A consistent checkpoint is unchanged, so a restart
     /// stays bit-identical.
     pub fn check_restored(&mut self) -> Result<(), WorldError> {
-        self.laws.check_table().map_err(WorldError::Restored)?;
+        self.laws.check_table()?;
         validate(&self.state, &self.params, &self.laws)?;
         self.rebuild_index();
         let bad = |what: String| Err(WorldError::Restored(what));

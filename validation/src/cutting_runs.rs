@@ -393,7 +393,14 @@ pub fn run_jobs(
                 // The run steps on the one-thread pool's worker: its CPU time is the run's.
                 let (r, cpu) = one_thread(|| {
                     let c0 = thread_cpu_s();
-                    let r = cutting::run(&job.test, &job.model, f, &dir, &mut |_, _| {})
+                    let r = job
+                        .test
+                        .clone()
+                        .check()
+                        .and_then(|test| {
+                            let spec = cutting::SpecimenInfo::read(f)?;
+                            cutting::run(&test, &job.model, &spec, &dir, &mut |_, _| {})
+                        })
                         .map_err(|e| e.to_string());
                     (r, thread_cpu_s().zip(c0).map(|(c1, c0)| c1 - c0))
                 });

@@ -225,14 +225,26 @@ pub struct BenchRun {
     pub counters: Counters,
 }
 
+/// Why the bonded benchmark could not run or ended in an invalid state.
+#[derive(Debug, thiserror::Error)]
+pub enum BenchError {
+    #[error("cannot build the thread pool: {0}")]
+    ThreadPool(#[from] rayon::ThreadPoolBuildError),
+    #[error(transparent)]
+    Guard(#[from] crate::guard::GuardError),
+}
+
 /// Run the bonded lattice (`cells` = [`CELLS`]: the full [`bonded_lattice_scene`], else
 /// [`bonded_lattice_world`]) for `steps` steps on `threads` threads (a rayon pool of that
 /// size); the first step (neighbour build, reorder) is not timed.
-pub fn run_bonded_bench(cells: [usize; 2], steps: u64, threads: usize) -> Result<BenchRun, String> {
+pub fn run_bonded_bench(
+    cells: [usize; 2],
+    steps: u64,
+    threads: usize,
+) -> Result<BenchRun, BenchError> {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads.max(1))
-        .build()
-        .map_err(|e| e.to_string())?;
+        .build()?;
     pool.install(|| {
         let mut w = if cells == CELLS {
             bonded_lattice_scene()
@@ -244,9 +256,7 @@ pub fn run_bonded_bench(cells: [usize; 2], steps: u64, threads: usize) -> Result
         let t0 = std::time::Instant::now();
         w.run(steps);
         let seconds = t0.elapsed().as_secs_f64();
-        if let Err(e) = w.check() {
-            return Err(e.to_string());
-        }
+        w.check()?;
         let n = w.state.discs.len();
         Ok(BenchRun {
             discs: n,

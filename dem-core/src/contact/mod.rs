@@ -168,14 +168,14 @@ impl ContactLaws {
     /// Checks a table read back from a checkpoint (deserialisation takes any sizes): at least
     /// one material, n² laws and n² rolling entries, finite parameters. Found by fuzzing the
     /// checkpoint reader (issue 20): `n` larger than the table indexed past its end.
-    pub fn check_table(&self) -> Result<(), String> {
+    pub fn check_table(&self) -> Result<(), crate::WorldError> {
         let n = self.n;
         if n == 0 || self.models.len() != n * n || self.rolling.len() != n * n {
-            return Err(format!(
+            return Err(crate::WorldError::Restored(format!(
                 "contact laws: {} laws and {} rolling entries for {n} materials (need {n}²)",
                 self.models.len(),
                 self.rolling.len()
-            ));
+            )));
         }
         let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
         for m in &self.models {
@@ -192,7 +192,9 @@ impl ContactLaws {
                 }
             };
             if !ok {
-                return Err("contact laws: a law has a non-finite parameter".into());
+                return Err(crate::WorldError::Restored(
+                    "contact laws: a law has a non-finite parameter".into(),
+                ));
             }
         }
         if !self
@@ -201,7 +203,9 @@ impl ContactLaws {
             .flatten()
             .all(|r| finite(&[r.mu_r, r.stiffness_factor]))
         {
-            return Err("contact laws: a rolling resistance is not finite".into());
+            return Err(crate::WorldError::Restored(
+                "contact laws: a rolling resistance is not finite".into(),
+            ));
         }
         Ok(())
     }

@@ -276,6 +276,36 @@ impl CuttingTest {
         }
     }
 
+    /// A test file a user wrote (`dem test cutting --params`): every field it leaves out is
+    /// today's default ([`CuttingTest::default`]). Reading a stored test (a result, a run key)
+    /// differs in two fields, whose absence there means the model of the runs made before they
+    /// existed: `tool` (absent: `segments`) and `damping_frame` (absent: `lab`); here their
+    /// absence means today's `rigid` and `fragment`. Unknown fields are an error naming them.
+    pub fn from_params(text: &str) -> Result<CuttingTest, serde_json::Error> {
+        /// Which of the two fields the file gives (any other field is read by `CuttingTest`).
+        #[derive(Deserialize)]
+        struct Given {
+            tool: Option<serde::de::IgnoredAny>,
+            damping_frame: Option<serde::de::IgnoredAny>,
+        }
+        let mut t: CuttingTest = serde_json::from_str(text)?;
+        let given: Given = serde_json::from_str(text)?;
+        let today = CuttingTest::default();
+        if given.tool.is_none() {
+            t.tool = today.tool;
+        }
+        if given.damping_frame.is_none() {
+            t.damping_frame = today.damping_frame;
+        }
+        Ok(t)
+    }
+
+    /// [`CuttingTest::validate`]s the test and wraps it: the one way to a [`CheckedTest`].
+    pub fn check(self) -> Result<CheckedTest, LabError> {
+        self.validate()?;
+        Ok(CheckedTest(self))
+    }
+
     /// Check every value; the error names the field.
     pub fn validate(&self) -> Result<(), LabError> {
         let bad = |field: &str, reason: String| {
@@ -399,6 +429,32 @@ impl CuttingTest {
             );
         }
         Ok(())
+    }
+}
+
+/// A [`CuttingTest`] that passed [`CuttingTest::validate`]; made only by
+/// [`CuttingTest::check`]. The scene, the geometry, the run and the analysis take this type, so
+/// a cut is validated once, where its values enter (a flag, a study, a job), and not again on
+/// the way to the integrator. Reads as the test it holds (`Deref`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct CheckedTest(CuttingTest);
+
+impl CheckedTest {
+    /// The test it holds.
+    pub fn test(&self) -> &CuttingTest {
+        &self.0
+    }
+
+    /// Gives the test back (to change it, then [`CuttingTest::check`] it again).
+    pub fn into_inner(self) -> CuttingTest {
+        self.0
+    }
+}
+
+impl std::ops::Deref for CheckedTest {
+    type Target = CuttingTest;
+    fn deref(&self) -> &CuttingTest {
+        &self.0
     }
 }
 
@@ -642,7 +698,7 @@ fn scene_flat_joint(
 /// damping, contact damping, and outputs in the scene's folder with a history row every
 /// `history_every` steps.
 pub fn scene(
-    test: &CuttingTest,
+    test: &CheckedTest,
     model: &LabModel,
     spec: &SpecimenInfo,
     history_every: u64,
@@ -1018,7 +1074,7 @@ pub fn touching_share(travel: &[f64], main: &[f64], window: [f64; 2]) -> Option<
 /// Analyses a finished cut: tool forces from `history`, chips, broken bonds, surface and
 /// residual cracks from the final `world`.
 pub fn analyze(
-    test: &CuttingTest,
+    test: &CheckedTest,
     spec: &SpecimenInfo,
     history: &Record,
     world: &World,
@@ -1103,7 +1159,7 @@ pub fn analyze(
     };
     let result = CuttingResult {
         schema: RESULT_SCHEMA.into(),
-        test: test.clone(),
+        test: test.test().clone(),
         specimen: spec.file.display().to_string(),
         discs: d.len(),
         thickness: st.thickness,
@@ -1150,18 +1206,18 @@ pub struct CuttingScene {
 }
 
 impl CuttingScene {
-    /// Checks `test` and the specimen and builds the scene, whose file will be `scene_file`
-    /// (relative paths resolve from there, as `dem run` resolves them), and its world, from
-    /// the scene checked in memory.
+    /// Checks the cut's geometry on the specimen (read once by the caller,
+    /// [`SpecimenInfo::read`]) and builds the scene, whose file will be `scene_file` (relative
+    /// paths resolve from there, as `dem run` resolves them), and its world, from the scene
+    /// checked in memory.
     pub fn build(
-        test: &CuttingTest,
+        test: &CheckedTest,
         model: &LabModel,
-        specimen: &Path,
+        spec: &SpecimenInfo,
         scene_file: &Path,
         checkpoints: u64,
     ) -> Result<CuttingScene, LabError> {
-        test.validate()?;
-        let spec = SpecimenInfo::read(specimen)?;
+        let spec = spec.clone();
         check_geometry(test, spec.extent)?;
         // Build the world, whose time step sets the history cadence (about `history_rows`
         // rows). The cadence and the other outputs do not enter the build: the run starts from
@@ -1251,9 +1307,9 @@ impl Default for CuttingRunOptions {
 /// Runs a cutting test with the default [`CuttingRunOptions`] (20 checkpoints, resuming an
 /// interrupted run of the same scene); see [`run_with`].
 pub fn run(
-    test: &CuttingTest,
+    test: &CheckedTest,
     model: &LabModel,
-    specimen: &Path,
+    specimen: &SpecimenInfo,
     out_dir: &Path,
     progress: &mut dyn FnMut(u64, u64),
 ) -> Result<CuttingResult, LabError> {
@@ -1267,16 +1323,17 @@ pub fn run(
     )
 }
 
-/// Runs a cutting test on the specimen file `specimen` with `model`, writing everything to
+/// Runs a cutting test on the specimen `specimen` (its file, read once by
+/// [`SpecimenInfo::read`]) with `model`, writing everything to
 /// `out_dir`: `cutting.scene.json` (plain scene; `dem run` re-runs it into the same folder),
 /// the run's outputs (`history.csv`, `breaks.csv`, `summary.json`, `ckpt-final.json`),
 /// `cutting.forces.csv` and `cutting.result.json`. `progress(done, total)` is called now and
 /// then with step counts (of this invocation). Runs on the current rayon pool (results do
 /// not depend on its size).
 pub fn run_with(
-    test: &CuttingTest,
+    test: &CheckedTest,
     model: &LabModel,
-    specimen: &Path,
+    specimen: &SpecimenInfo,
     out_dir: &Path,
     ro: &CuttingRunOptions,
     progress: &mut dyn FnMut(u64, u64),
@@ -1397,8 +1454,7 @@ pub fn run_with(
 
 impl CutGeometry {
     /// The geometry of `test` on a specimen whose discs span `extent`.
-    pub fn new(test: &CuttingTest, extent: [f64; 4]) -> Result<CutGeometry, LabError> {
-        test.validate()?;
+    pub fn new(test: &CheckedTest, extent: [f64; 4]) -> Result<CutGeometry, LabError> {
         let [x0, x1, y0, y1] = extent;
         if !(x1 > x0 && y1 > y0 && extent.iter().all(|v| v.is_finite())) {
             return Err(LabError::Param {

@@ -300,7 +300,7 @@ mod tests {
             tool: ToolModel::Segments,
             ..Default::default()
         };
-        let g = CutGeometry::new(&t, [0.0, 20e-3, 0.0, 10e-3]).unwrap();
+        let g = CutGeometry::new(&t.clone().check().unwrap(), [0.0, 20e-3, 0.0, 10e-3]).unwrap();
         assert!((g.nominal_y - 9e-3).abs() < 1e-15);
         // Edge starts approach·a_p before x0; 0° rake: the rake face is vertical.
         assert!((g.edge_start[0] + t.approach * t.depth).abs() < 1e-15);
@@ -325,7 +325,7 @@ mod tests {
             ..Default::default()
         };
         t.length = 25e-3;
-        let g = CutGeometry::new(&t, [0.0, 20e-3, 0.0, 10e-3]).unwrap();
+        let g = CutGeometry::new(&t.clone().check().unwrap(), [0.0, 20e-3, 0.0, 10e-3]).unwrap();
         assert!(g.slot[2].b[1] < g.nominal_y);
         assert!(g.travel_entry < 0.0);
         assert!(g.slot_clearance() > 0.0);
@@ -338,7 +338,7 @@ mod tests {
     #[test]
     fn the_rigid_tool_is_one_polyline_through_the_edge() {
         let t = CuttingTest::default();
-        let g = CutGeometry::new(&t, [0.0, 20e-3, 0.0, 10e-3]).unwrap();
+        let g = CutGeometry::new(&t.clone().check().unwrap(), [0.0, 20e-3, 0.0, 10e-3]).unwrap();
         assert_eq!(g.tool.len(), 1);
         let v = g.tool[0].vertices();
         assert_eq!(v.len(), 3);
@@ -358,7 +358,8 @@ mod tests {
                 edge_radius: 0.05,
                 ..Default::default()
             };
-            let g = CutGeometry::new(&t, [0.0, 20e-3, 0.0, 10e-3]).unwrap();
+            let g =
+                CutGeometry::new(&t.clone().check().unwrap(), [0.0, 20e-3, 0.0, 10e-3]).unwrap();
             let v = g.tool[0].vertices();
             let re = 0.05 * t.depth;
             // The arc turns by π − β = 90° + γ + α in chords of at most 10°.
@@ -409,10 +410,14 @@ mod tests {
 
     #[test]
     fn too_deep_a_cut_is_an_error() {
+        // A window that starts early enough for the test itself to be valid: the depth error is
+        // the geometry's (1.5 a_p = 10.5 mm in a 10 mm high specimen).
         let t = CuttingTest {
             depth: 7e-3,
+            window_start: 1.0,
             ..Default::default()
         };
-        assert!(CutGeometry::new(&t, [0.0, 20e-3, 0.0, 10e-3]).is_err());
+        let err = CutGeometry::new(&t.check().unwrap(), [0.0, 20e-3, 0.0, 10e-3]).unwrap_err();
+        assert!(err.to_string().contains("depth"), "{err}");
     }
 }
