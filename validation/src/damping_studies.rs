@@ -67,7 +67,8 @@ pub fn section(out: &Path) -> Section {
             Ok(text) => {
                 md += &format!("Runs: `studies/{dir}/` (its README); tables by `{command}`.\n\n");
                 md += &demote(&text);
-                md += "\n";
+                // `demote` drops the last newline: end the study's last paragraph here.
+                md += "\n\n";
             }
             Err(_) => {
                 md += &format!(

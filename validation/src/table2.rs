@@ -177,7 +177,7 @@ pub struct Cell {
     #[serde(default)]
     pub peak_seed_avg_se_kN: Option<f64>,
     /// The same cell in the previous table (`table2-previous.json`: the earlier model, its own
-    /// fitted constant): mean and raw peak.
+    /// fitted constant): mean and the peak it reported ([`Cell::peak`]).
     #[serde(default)]
     pub previous_mean_kN: Option<f64>,
     #[serde(default)]
@@ -698,7 +698,7 @@ impl Table2 {
              medians; **peak** = {peak_def}; **raw peak** = seed mean of each run's largest \
              sample. **Previous** = the previous model's table (`table2-previous.json`: PFC local \
              damping in the lab frame, 10 seeds, its own fitted constant; docs/cutting.md, \
-             decision log 2026-12-02; its peak is the raw one). **Touching** = seed mean of \
+             decision log 2026-12-02; its peak is the same statistic as ours). **Touching** = seed mean of \
              the share of the window's force rows with the tool touching anything.\n\n"
         );
         s += "| a_p (mm) | v (m/s) | method | seeds | mean ± SE | median | paper | err | previous | peak ± SE | paper | err | previous | raw peak | peak / mean (paper) | touching |\n";
