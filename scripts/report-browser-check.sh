@@ -44,7 +44,8 @@ document.getElementById('f').onload = async () => {
   const svgs = [...d.querySelectorAll('body svg')].filter(s => !s.parentElement.closest('svg'));
   svgs.forEach((s, k) => {
     const b = s.getBoundingClientRect();
-    const marks = s.querySelectorAll('path, line, polyline, polygon, rect, circle, text').length;
+    // A picture (image) counts: it is decoded on its own below.
+    const marks = s.querySelectorAll('path, line, polyline, polygon, rect, circle, text, image').length;
     if (!(b.width > 10 && b.height > 10 && marks > 0))
       bad.push('figure ' + (k + 1) + ': ' + Math.round(b.width) + 'x' + Math.round(b.height) + ' px, ' + marks + ' marks');
   });
