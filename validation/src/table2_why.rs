@@ -59,14 +59,40 @@ pub fn findings(
     grain_mm: f64,
     removal: &[crate::removal_table::RemovalCell],
 ) -> Vec<Finding> {
-    let mut out = vec![];
     let present: Vec<&str> = METHODS
         .iter()
         .copied()
         .filter(|m| runs.iter().any(|r| r.method == *m))
         .collect();
+    let x = Inputs {
+        runs,
+        t,
+        paper,
+        grain_mm,
+        removal,
+        present,
+    };
+    [peaks, orc, speed, depth, improved]
+        .iter()
+        .filter_map(|topic| topic(&x))
+        .collect()
+}
 
-    // 1. Peaks: our peak is one sample of a spiky force history.
+/// What every topic below reads: the runs, our table, the paper's, the grain size, the
+/// removal figures and the methods present, in table order.
+struct Inputs<'a> {
+    runs: &'a [RunRecord],
+    t: &'a Table2,
+    paper: &'a PaperTable2,
+    grain_mm: f64,
+    removal: &'a [crate::removal_table::RemovalCell],
+    present: Vec<&'a str>,
+}
+
+/// Peaks: our peak is one sample of a spiky force history.
+fn peaks(x: &Inputs) -> Option<Finding> {
+    let Inputs { runs, t, paper, .. } = x;
+    let present = x.present.clone();
     let mut ev = vec![];
     let over: Vec<f64> = t
         .cells
@@ -125,7 +151,7 @@ pub fn findings(
     }
     if !ev.is_empty() {
         let (lo, hi) = range(&over);
-        out.push(Finding {
+        return Some(Finding {
             topic: format!("Raw peaks {lo:.0}–{hi:.0}× the paper's"),
             evidence: ev,
             likely_cause: format!(
@@ -144,8 +170,19 @@ pub fn findings(
             ),
         });
     }
+    None
+}
 
-    // 2. ORC: rigid grains jam.
+/// ORC: rigid grains, as large as the cut is deep.
+fn orc(x: &Inputs) -> Option<Finding> {
+    let Inputs {
+        runs,
+        t,
+        paper,
+        grain_mm,
+        ..
+    } = x;
+    let present = x.present.clone();
     if present.contains(&"orc") {
         let mut ev = vec![];
         for m in &present {
@@ -236,7 +273,7 @@ pub fn findings(
             .map(|c| c.mean_kN / c.paper_mean_kN)
             .collect();
         let (vlo, vhi) = range(&vs_paper);
-        out.push(Finding {
+        return Some(Finding {
             topic: format!(
                 "ORC means {vlo:.1}–{vhi:.1}× the paper's ({olo:.1}–{ohi:.1}× our traditional; \
                  the paper's {plo:.2}–{phi:.2}×)"
@@ -254,8 +291,13 @@ pub fn findings(
             ),
         });
     }
+    None
+}
 
-    // 3. Speed: same specimens at both speeds.
+/// Speed: the same specimens at both speeds.
+fn speed(x: &Inputs) -> Option<Finding> {
+    let Inputs { runs, t, .. } = x;
+    let present = x.present.clone();
     let mut ev = vec![];
     let mut up_all = (0, 0);
     for m in &present {
@@ -315,7 +357,7 @@ pub fn findings(
             ),
             true => String::new(),
         };
-        out.push(Finding {
+        return Some(Finding {
             topic: if 2 * up_all.0 > up_all.1 {
                 "Force rises with speed (the paper's falls)".into()
             } else {
@@ -344,8 +386,13 @@ pub fn findings(
             ),
         });
     }
+    None
+}
 
-    // 3b. Depth: the ratio of the means at 2 and 1 mm, ours against the paper's.
+/// Depth: the ratio of the means at 2 and 1 mm, ours against the paper's.
+fn depth(x: &Inputs) -> Option<Finding> {
+    let Inputs { t, removal, .. } = x;
+    let present = x.present.clone();
     let mut ev = vec![];
     let (mut ratios, mut paper_ratios) = (vec![], vec![]);
     for m in &present {
@@ -376,7 +423,7 @@ pub fn findings(
     if !ratios.is_empty() && ratios.iter().any(|q| (q - 1.0).abs() > 0.2) {
         let (lo, hi) = range(&ratios);
         let (plo, phi) = range(&paper_ratios);
-        out.push(Finding {
+        return Some(Finding {
             topic: format!(
                 "Force against depth: our 2 mm / 1 mm ratio is {lo:.2}–{hi:.2}× the paper's"
             ),
@@ -395,8 +442,12 @@ pub fn findings(
             ),
         });
     }
+    None
+}
 
-    // 4. Order improved > traditional: within the scatter?
+/// Improved ORC against traditional: within the scatter?
+fn improved(x: &Inputs) -> Option<Finding> {
+    let Inputs { runs, t, paper, .. } = x;
     let mut ev = vec![];
     let (mut unresolved, mut cases) = (0, 0);
     for (d, v) in [(1.0, 1.0), (1.0, 2.0), (2.0, 1.0), (2.0, 2.0)] {
@@ -445,7 +496,7 @@ pub fn findings(
             })
             .collect();
         let (plo, phi) = range(&pr);
-        out.push(Finding {
+        return Some(Finding {
             topic: format!(
                 "Improved ORC vs traditional: the paper's difference exceeds 2 SE of ours in \
                  {} of {cases} cases",
@@ -461,7 +512,7 @@ pub fn findings(
             ),
         });
     }
-    out
+    None
 }
 
 /// One number of our table outside ±20 % of the paper, its error split into factors that
