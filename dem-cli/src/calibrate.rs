@@ -10,11 +10,14 @@ use clap::Args;
 use dem_lab as lab;
 use dem_lab::calibrate::virtual_lab::{self, VirtualLab};
 use dem_lab::calibrate::{self, MaterialFile, Options};
+use dem_lab::specimen::SpecimenParams;
 use dem_lab::tests::bending::BendingTest;
+use dem_lab::tests::biaxial::BiaxialSeries;
 use dem_lab::tests::biaxial::BiaxialTest;
 use dem_lab::tests::brazilian::BrazilianTest;
-use dem_lab::tests::senb::SenbTest;
+use dem_lab::tests::senb::{SenbReport, SenbTest};
 use dem_lab::tests::ucs::UcsTest;
+use dem_lab::LabModel;
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
@@ -86,6 +89,10 @@ fn lengths(s: &str, flag: &str, n: usize) -> Result<Vec<f64>, String> {
     Ok(v)
 }
 
+/// `dem calibrate`: the tests from the flags (checked before any specimen is generated), the
+/// folder's lock, the calibration and the measurements after it ([`measure`]), the table with
+/// what did not measure stated ([`tabulate`]), the files written atomically. Exit 2 when the
+/// SENB or biaxial measurement failed; the calibration is written all the same.
 pub fn run(a: CalibrateArgs) -> Result<ExitCode, String> {
     let t0 = Instant::now();
     let targets_file = a
@@ -97,66 +104,169 @@ pub fn run(a: CalibrateArgs) -> Result<ExitCode, String> {
     let targets = mat
         .targets()
         .map_err(|e| format!("{}: {e}", targets_file.display()))?;
-    let u = lengths(&a.ucs_size, "--ucs-size", 2)?;
-    let b = lengths(&a.beam, "--beam", 3)?;
-    let d = lengths(&a.disc, "--disc", 1)?[0];
-    let ucs = UcsTest {
-        width: u[0],
-        height: u[1],
-        ..UcsTest::default()
-    };
-    let bending = BendingTest {
-        length: b[0],
-        height: b[1],
-        span: b[2],
-        ..BendingTest::default()
-    };
-    let brazilian = BrazilianTest {
-        diameter: d,
-        ..BrazilianTest::default()
-    };
-    let p = a.lab.specimen_params(ucs.width, ucs.height)?;
-    // Issue 20: geometry the particle size makes meaningless is refused before generating.
-    let r_mean = 0.5 * (p.r_min + p.r_max);
-    ucs.check_geometry([ucs.width, ucs.height], r_mean)
-        .map_err(|e| format!("--ucs-size {}: {e}", a.ucs_size))?;
-    bending
-        .check_geometry([bending.length, bending.height], r_mean)
-        .map_err(|e| format!("--beam {}: {e}", a.beam))?;
-    brazilian
-        .check_geometry(brazilian.diameter, r_mean)
-        .map_err(|e| format!("--disc {}: {e}", a.disc))?;
-    let senb = match &a.senb {
-        Some(s) => {
-            let v = lengths(s, "--senb", 2)?;
-            let t = SenbTest {
-                name: "senb".into(),
-                length: v[0],
-                height: v[1],
-                notch_width: p.r_min + p.r_max,
-                ..SenbTest::default()
-            };
-            t.validate()
-                .and_then(|_| t.check_geometry(r_mean))
-                .map_err(|e| format!("--senb {s}: {e}"))?;
-            Some(t)
-        }
-        None => None,
-    };
-    let confinements = crate::test::parse_confinements(&a.biaxial, "--biaxial")?;
-    if confinements.len() == 1 {
-        return Err(format!(
-            "--biaxial {}: give two or more confinements (a friction angle needs two)",
-            a.biaxial[0]
-        ));
-    }
-    let biaxial = BiaxialTest {
-        name: "biaxial".into(),
-        width: ucs.width,
-        height: ucs.height,
-        ..BiaxialTest::default()
-    };
+    let (tests, p) = Tests::from_flags(&a)?;
     let start = a.lab.lab_model(&p)?;
+    let opts = options(&a)?;
+    let out = a.lab.out.clone();
+    // The folder's lock (`run_lock`), keyed on the material file and the typed inputs.
+    let inputs = serde_json::to_value((
+        &p,
+        &start,
+        (&tests.ucs, &tests.bending, &tests.brazilian),
+        (a.tol, a.max_iter, a.kic_beta, a.kappa_min),
+        &tests.senb,
+        (a.seeds, a.passes),
+    ))
+    .map(|mut v| {
+        // Only a calibration with biaxial tests adds them to its key.
+        if let (false, Some(a)) = (tests.confinements.is_empty(), v.as_array_mut()) {
+            a.push(serde_json::json!(tests.confinements));
+        }
+        v
+    })
+    .map_err(|e| e.to_string())?;
+    let _lock = crate::run_lock::acquire_noted(
+        &out,
+        crate::run_lock::Claim {
+            command: "dem calibrate",
+            scene: &targets_file,
+            hash: &crate::run_lock::inputs_hash(&inputs),
+        },
+        a.lab.force,
+    )?;
+    let m = measure(&a, &p, &tests, &start, &targets, &opts)?;
+    let (table, failed) = tabulate(&a, &mat, p.method.name(), &tests, &m);
+    let write = |name: &str, text: String| -> Result<PathBuf, String> {
+        let f = out.join(name);
+        dem_core::output::write_atomic(&f, text.as_bytes()).map_err(|e| e.to_string())?;
+        Ok(f)
+    };
+    let files = [
+        write(
+            "model.json",
+            pretty(serde_json::to_string_pretty(&m.cal.model))?,
+        )?,
+        write(
+            "calibration.json",
+            pretty(serde_json::to_string_pretty(&m.cal))?,
+        )?,
+        write(
+            "calibration-table.json",
+            pretty(serde_json::to_string_pretty(&table))?,
+        )?,
+        write("calibration-table.md", table.markdown())?,
+    ];
+    println!("{}", table.markdown());
+    println!(
+        "{} test runs ({:.1} s of runs), {:.1} s in all",
+        m.runs,
+        m.lab_time,
+        t0.elapsed().as_secs_f64()
+    );
+    for f in files {
+        println!("wrote {}", f.display());
+    }
+    if let Some(e) = &failed.biaxial {
+        eprintln!("error: --biaxial: {e}; the calibration is written without the friction angle");
+    }
+    if let Some(e) = &failed.senb {
+        eprintln!("error: --senb: {e}; the calibration is written without the K_IC (SENB) row");
+    }
+    if failed.senb.is_some() || failed.biaxial.is_some() {
+        return Ok(ExitCode::from(2));
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// The tests a calibration runs, read from the flags.
+struct Tests {
+    ucs: UcsTest,
+    bending: BendingTest,
+    brazilian: BrazilianTest,
+    /// K_IC of the calibrated model (`--senb`), if asked for.
+    senb: Option<SenbTest>,
+    /// The biaxial confinements (`--biaxial`, Pa): none, or two and more.
+    confinements: Vec<f64>,
+    biaxial: BiaxialTest,
+}
+
+impl Tests {
+    /// The tests and the specimens' parameters (the UCS specimen's size), every geometry
+    /// checked against the particle size first (issue 20: geometry the particle size makes
+    /// meaningless is refused before generating); errors name the flag.
+    fn from_flags(a: &CalibrateArgs) -> Result<(Tests, SpecimenParams), String> {
+        let u = lengths(&a.ucs_size, "--ucs-size", 2)?;
+        let b = lengths(&a.beam, "--beam", 3)?;
+        let d = lengths(&a.disc, "--disc", 1)?[0];
+        let ucs = UcsTest {
+            width: u[0],
+            height: u[1],
+            ..UcsTest::default()
+        };
+        let bending = BendingTest {
+            length: b[0],
+            height: b[1],
+            span: b[2],
+            ..BendingTest::default()
+        };
+        let brazilian = BrazilianTest {
+            diameter: d,
+            ..BrazilianTest::default()
+        };
+        let p = a.lab.specimen_params(ucs.width, ucs.height)?;
+        let r_mean = 0.5 * (p.r_min + p.r_max);
+        ucs.check_geometry([ucs.width, ucs.height], r_mean)
+            .map_err(|e| format!("--ucs-size {}: {e}", a.ucs_size))?;
+        bending
+            .check_geometry([bending.length, bending.height], r_mean)
+            .map_err(|e| format!("--beam {}: {e}", a.beam))?;
+        brazilian
+            .check_geometry(brazilian.diameter, r_mean)
+            .map_err(|e| format!("--disc {}: {e}", a.disc))?;
+        let senb = match &a.senb {
+            Some(s) => {
+                let v = lengths(s, "--senb", 2)?;
+                let t = SenbTest {
+                    name: "senb".into(),
+                    length: v[0],
+                    height: v[1],
+                    notch_width: p.r_min + p.r_max,
+                    ..SenbTest::default()
+                };
+                t.validate()
+                    .and_then(|_| t.check_geometry(r_mean))
+                    .map_err(|e| format!("--senb {s}: {e}"))?;
+                Some(t)
+            }
+            None => None,
+        };
+        let confinements = crate::test::parse_confinements(&a.biaxial, "--biaxial")?;
+        if confinements.len() == 1 {
+            return Err(format!(
+                "--biaxial {}: give two or more confinements (a friction angle needs two)",
+                a.biaxial[0]
+            ));
+        }
+        let biaxial = BiaxialTest {
+            name: "biaxial".into(),
+            width: ucs.width,
+            height: ucs.height,
+            ..BiaxialTest::default()
+        };
+        let tests = Tests {
+            ucs,
+            bending,
+            brazilian,
+            senb,
+            confinements,
+            biaxial,
+        };
+        Ok((tests, p))
+    }
+}
+
+/// The search's options from the flags; `--kappa-min` checked against the upper bound.
+fn options(a: &CalibrateArgs) -> Result<Options, String> {
     let opts = Options {
         rel_tol: a.tol,
         max_iter: a.max_iter,
@@ -171,37 +281,43 @@ pub fn run(a: CalibrateArgs) -> Result<ExitCode, String> {
             a.kappa_min, opts.kappa_bounds[1]
         ));
     }
-    let out = a.lab.out.clone();
-    // The folder's lock (`run_lock`), keyed on the material file and the typed inputs.
-    let inputs = serde_json::to_value((
-        &p,
-        &start,
-        (&ucs, &bending, &brazilian),
-        (a.tol, a.max_iter, a.kic_beta, a.kappa_min),
-        &senb,
-        (a.seeds, a.passes),
-    ))
-    .map(|mut v| {
-        // Only a calibration with biaxial tests adds them to its key.
-        if let (false, Some(a)) = (confinements.is_empty(), v.as_array_mut()) {
-            a.push(serde_json::json!(confinements));
-        }
-        v
-    })
-    .map_err(|e| e.to_string())?;
-    let _lock = crate::run_lock::acquire_noted(
-        &out,
-        crate::run_lock::Claim {
-            command: "dem calibrate",
-            scene: &targets_file,
-            hash: &crate::run_lock::inputs_hash(&inputs),
-        },
-        a.lab.force,
-    )?;
+    Ok(opts)
+}
+
+/// The SENB reports of the seeds run, and those seeds.
+type SenbSeeds = (Vec<SenbReport>, Vec<u64>);
+
+/// What [`measure`] ran: the calibration, then the measurements made with its model (each
+/// `None` when not asked for, `Some(Err)` when it failed), and the virtual lab's bookkeeping.
+struct Measured {
+    cal: calibrate::Calibration,
+    /// K_IC per seed (`--senb`) and the seeds.
+    senb: Option<Result<SenbSeeds, String>>,
+    /// One biaxial series per UCS seed (`--biaxial`).
+    biaxial: Option<Result<Vec<BiaxialSeries>, String>>,
+    runs: usize,
+    lab_time: f64,
+    seeds: [Vec<u64>; 3],
+    last: virtual_lab::LastRuns,
+}
+
+/// Generates the specimens, calibrates, then measures K_IC and the friction angle with the
+/// calibrated model, on the lab's thread pool with a progress bar. A failed measurement after
+/// the calibration (e.g. a notched beam that does not generate, or a drop the analysis
+/// refuses) is returned in [`Measured`] and does not lose the calibration.
+fn measure(
+    a: &CalibrateArgs,
+    p: &SpecimenParams,
+    tests: &Tests,
+    start: &LabModel,
+    targets: &calibrate::Targets,
+    opts: &Options,
+) -> Result<Measured, String> {
+    let out = &a.lab.out;
     let bar = Progress::stages();
     bar.set_prefix("calibrate");
     let pool = a.lab.pool()?;
-    let (cal, measured, confined, runs, lab_time, seeds, last) = pool.install(|| {
+    let m = pool.install(|| {
         let mut log = |l: &str| {
             bar.println(l);
             bar.set_message(l.to_string());
@@ -210,7 +326,12 @@ pub fn run(a: CalibrateArgs) -> Result<ExitCode, String> {
             }
         };
         let n = a.seeds as usize;
-        let mut lab = VirtualLab::prepare(&p, &out, ucs, bending, brazilian, n, &mut log)
+        let (ucs, bending, brazilian) = (
+            tests.ucs.clone(),
+            tests.bending.clone(),
+            tests.brazilian.clone(),
+        );
+        let mut lab = VirtualLab::prepare(p, out, ucs, bending, brazilian, n, &mut log)
             .map_err(|e| e.to_string())?;
         for s in (lab.ucs_specimen.iter())
             .chain(&lab.bending_specimen)
@@ -221,15 +342,11 @@ pub fn run(a: CalibrateArgs) -> Result<ExitCode, String> {
                 log(&format!("warning: {l}"));
             }
         }
-        let c = calibrate::calibrate(&mut lab, &start, &targets, &opts, &mut log)
+        let c = calibrate::calibrate(&mut lab, start, targets, opts, &mut log)
             .map_err(|e| e.to_string())?;
-        // The K_IC measurement comes after the calibration: its failure (e.g. a notched beam
-        // that does not generate, or a drop the analysis refuses) is stated in the table and
-        // the exit code, and does not lose the calibration.
-        let measured = senb.as_ref().map(|t| {
-            let (specs, seeds) =
-                virtual_lab::prepare_seeds(&p, &out, "senb", t.shape(), n, &mut log)
-                    .map_err(|e| e.to_string())?;
+        let senb = tests.senb.as_ref().map(|t| {
+            let (specs, seeds) = virtual_lab::prepare_seeds(p, out, "senb", t.shape(), n, &mut log)
+                .map_err(|e| e.to_string())?;
             log("senb: K_IC with the calibrated model");
             let mut all = Vec::new();
             for (k, (spec, &seed)) in specs.iter().zip(&seeds).enumerate() {
@@ -243,18 +360,18 @@ pub fn run(a: CalibrateArgs) -> Result<ExitCode, String> {
             }
             Ok::<_, String>((all, seeds))
         });
-        // The biaxial tests, after the calibration too, on the UCS specimens.
-        let confined = (!confinements.is_empty()).then(|| {
+        // The biaxial tests, on the UCS specimens.
+        let biaxial = (!tests.confinements.is_empty()).then(|| {
             log("biaxial: friction angle with the calibrated model");
             let mut all = Vec::new();
             for (k, (spec, &seed)) in lab.ucs_specimen.iter().zip(&lab.seeds[0]).enumerate() {
                 let t = BiaxialTest {
-                    name: virtual_lab::test_name(&biaxial.name, k, seed),
-                    ..biaxial.clone()
+                    name: virtual_lab::test_name(&tests.biaxial.name, k, seed),
+                    ..tests.biaxial.clone()
                 };
                 let s = lab::tests::biaxial::run_series(
                     &t,
-                    &confinements,
+                    &tests.confinements,
                     &c.model,
                     spec,
                     &mut |_, _| {},
@@ -264,40 +381,59 @@ pub fn run(a: CalibrateArgs) -> Result<ExitCode, String> {
             }
             Ok::<_, String>(all)
         });
-        Ok::<_, String>((
-            c,
-            measured,
-            confined,
-            lab.runs,
-            lab.wall_time_s,
-            lab.seeds,
-            lab.last,
-        ))
+        Ok::<_, String>(Measured {
+            cal: c,
+            senb,
+            biaxial,
+            runs: lab.runs,
+            lab_time: lab.wall_time_s,
+            seeds: lab.seeds,
+            last: lab.last,
+        })
     })?;
     bar.finish_and_clear();
-    let mut table = calibrate::table(&mat, p.method.name(), &cal);
-    let mut senb_failed = None;
-    let measured = match measured {
-        Some(Ok(m)) => {
-            table.add_senb(&mean_senb(&m.0));
-            Some(m)
+    Ok(m)
+}
+
+/// Why a measurement after the calibration is missing from the table.
+#[derive(Default)]
+struct Failed {
+    senb: Option<String>,
+    biaxial: Option<String>,
+}
+
+/// The calibration table: the calibrated rows, K_IC and the friction angle where they
+/// measured (a note where not), and with more than one seed the seeds' scatter of each
+/// property.
+fn tabulate(
+    a: &CalibrateArgs,
+    mat: &MaterialFile,
+    method: &str,
+    tests: &Tests,
+    m: &Measured,
+) -> (calibrate::Table, Failed) {
+    let mut table = calibrate::table(mat, method, &m.cal);
+    let mut failed = Failed::default();
+    let senb = match &m.senb {
+        Some(Ok(s)) => {
+            table.add_senb(&mean_senb(&s.0));
+            Some(s)
         }
         Some(Err(e)) => {
             table.notes.push(format!("K_IC (SENB) not measured: {e}"));
-            senb_failed = Some(e);
+            failed.senb = Some(e.clone());
             None
         }
         None => None,
     };
-    let mut biaxial_failed = None;
-    match confined {
+    match &m.biaxial {
         Some(Ok(all)) => {
             let pts: Vec<(f64, f64)> = (all.iter().flat_map(|s| &s.results))
                 .map(|r| (r.sigma3, r.sigma1))
                 .collect();
             match lab::analysis::mohr_coulomb(&pts) {
                 Some(fit) => {
-                    table.add_biaxial(&fit, &confinements);
+                    table.add_biaxial(&fit, &tests.confinements);
                     if all.len() > 1 {
                         let phi: Vec<f64> = (all.iter())
                             .map(|s| s.mohr_coulomb.map_or(f64::NAN, |m| m.friction_angle_deg))
@@ -307,7 +443,7 @@ pub fn run(a: CalibrateArgs) -> Result<ExitCode, String> {
                                 "friction angle φ (each seed's own fit)",
                                 "°",
                                 1.0,
-                                &seeds[0],
+                                &m.seeds[0],
                                 &phi,
                             ));
                         }
@@ -317,7 +453,7 @@ pub fn run(a: CalibrateArgs) -> Result<ExitCode, String> {
                     let e =
                         "the peak strength does not rise with the confinement: no friction angle";
                     table.notes.push(format!("biaxial: {e}"));
-                    biaxial_failed = Some(e.to_string());
+                    failed.biaxial = Some(e.to_string());
                 }
             }
         }
@@ -325,12 +461,13 @@ pub fn run(a: CalibrateArgs) -> Result<ExitCode, String> {
             table
                 .notes
                 .push(format!("friction angle not measured: {e}"));
-            biaxial_failed = Some(e);
+            failed.biaxial = Some(e.clone());
         }
         None => {}
     }
     if a.seeds > 1 {
-        let [s_ucs, s_bend, s_braz] = &seeds;
+        let [s_ucs, s_bend, s_braz] = &m.seeds;
+        let last = &m.last;
         let ucs_of = |f: fn(&dem_lab::analysis::UcsResult) -> f64| -> Vec<f64> {
             last.ucs.iter().map(f).collect()
         };
@@ -341,7 +478,7 @@ pub fn run(a: CalibrateArgs) -> Result<ExitCode, String> {
             calibrate::seed_scatter("σ_f", "MPa", 1e6, s_bend, &last.bending),
             calibrate::seed_scatter("Brazilian σ_t", "MPa", 1e6, s_braz, &last.brazilian),
         ];
-        if let Some((all, s)) = &measured {
+        if let Some((all, s)) = senb {
             let k: Vec<f64> = all.iter().map(|r| r.fracture_toughness).collect();
             notes.push(calibrate::seed_scatter(
                 "K_IC (SENB)",
@@ -353,44 +490,7 @@ pub fn run(a: CalibrateArgs) -> Result<ExitCode, String> {
         }
         table.notes.extend(notes);
     }
-    let write = |name: &str, text: String| -> Result<PathBuf, String> {
-        let f = out.join(name);
-        dem_core::output::write_atomic(&f, text.as_bytes()).map_err(|e| e.to_string())?;
-        Ok(f)
-    };
-    let files = [
-        write(
-            "model.json",
-            pretty(serde_json::to_string_pretty(&cal.model))?,
-        )?,
-        write(
-            "calibration.json",
-            pretty(serde_json::to_string_pretty(&cal))?,
-        )?,
-        write(
-            "calibration-table.json",
-            pretty(serde_json::to_string_pretty(&table))?,
-        )?,
-        write("calibration-table.md", table.markdown())?,
-    ];
-    println!("{}", table.markdown());
-    println!(
-        "{runs} test runs ({lab_time:.1} s of runs), {:.1} s in all",
-        t0.elapsed().as_secs_f64()
-    );
-    for f in files {
-        println!("wrote {}", f.display());
-    }
-    if let Some(e) = &biaxial_failed {
-        eprintln!("error: --biaxial: {e}; the calibration is written without the friction angle");
-    }
-    if let Some(e) = &senb_failed {
-        eprintln!("error: --senb: {e}; the calibration is written without the K_IC (SENB) row");
-    }
-    if senb_failed.is_some() || biaxial_failed.is_some() {
-        return Ok(ExitCode::from(2));
-    }
-    Ok(ExitCode::SUCCESS)
+    (table, failed)
 }
 
 fn pretty(r: Result<String, serde_json::Error>) -> Result<String, String> {
@@ -399,7 +499,7 @@ fn pretty(r: Result<String, serde_json::Error>) -> Result<String, String> {
 
 /// The SENB report whose toughness, peak load, β and crack-mouth opening are the means over
 /// the seeds' reports (the geometry is the same beam on every seed).
-fn mean_senb(all: &[lab::tests::senb::SenbReport]) -> lab::tests::senb::SenbReport {
+fn mean_senb(all: &[SenbReport]) -> SenbReport {
     let n = all.len() as f64;
     let m = |f: fn(&lab::tests::senb::SenbReport) -> f64| all.iter().map(f).sum::<f64>() / n;
     lab::tests::senb::SenbReport {
