@@ -695,7 +695,8 @@ impl Table2 {
         s += &format!(
             "Statistics (docs/cutting.md, \"Force statistics\"): **mean** = seed mean ± SE of \
              the runs' window means; **median** = seed mean of the runs' travel-weighted \
-             medians; **peak** = {peak_def}; **raw peak** = seed mean of each run's largest \
+             medians (0 where the tool touches nothing over half the window's travel or \
+             more: the force there is 0); **peak** = {peak_def}; **raw peak** = seed mean of each run's largest \
              sample. **Previous** = the previous model's table (`table2-previous.json`: PFC local \
              damping in the lab frame, 10 seeds, its own fitted constant; docs/cutting.md, \
              decision log 2026-12-02; its peak is the same statistic as ours). **Touching** = seed mean of \
