@@ -36,16 +36,9 @@ fn short_cut_of_a_small_specimen() {
     let (spec, model) = lab_common::cut_specimen(&dir);
     let spec = dem_lab::cutting::SpecimenInfo::read(&spec).unwrap();
     let out = dir.join("cut");
-    let test = short_test();
+    let test = short_test().check().unwrap();
     let mut calls = 0;
-    let r = cutting::run(
-        &test.clone().check().unwrap(),
-        &model,
-        &spec,
-        &out,
-        &mut |_, _| calls += 1,
-    )
-    .unwrap();
+    let r = cutting::run(&test, &model, &spec, &out, &mut |_, _| calls += 1).unwrap();
     assert!(calls > 0);
     eprintln!(
         "short cut: {:?} {:?} {:?} {:?}",
@@ -189,16 +182,18 @@ fn tool_force_on_a_single_disc() {
         local_damping: 0.0,
         tool: ToolModel::Segments,
         ..CuttingTest::new(1.2 * r, 1.0, 0.5 * r)
-    };
+    }
+    .check()
+    .unwrap();
     let info = SpecimenInfo::read(&spec_path).unwrap();
     assert_eq!(info.extent, [0.0, 2.0 * r, 0.0, 2.0 * r]);
-    let mut scene = cutting::scene(&test.clone().check().unwrap(), &model, &info, 1).unwrap();
+    let mut scene = cutting::scene(&test, &model, &info, 1).unwrap();
     scene.walls.retain(|w| !w.name.starts_with("slot"));
     let file = dir.join("one.scene.json");
     std::fs::write(&file, serde_json::to_string(&scene).unwrap()).unwrap();
     let mut w = dem_core::scene::build(&dem_core::scene::load(&file).unwrap()).unwrap();
     let k = test.tool_stiffness * model.contact_kn();
-    let g = CutGeometry::new(&test.clone().check().unwrap(), info.extent).unwrap();
+    let g = CutGeometry::new(&test, info.extent).unwrap();
     let rake = w.state.walls.iter().position(|w| w.name == "rake").unwrap();
     let clear = w
         .state
@@ -281,8 +276,10 @@ fn a_disc_on_the_tool_edge_gets_one_contact() {
             window_start: 0.0,
             tool,
             ..CuttingTest::new(1.2 * r, 1.0, 0.5 * r)
-        };
-        let mut scene = cutting::scene(&test.clone().check().unwrap(), &model, &info, 1).unwrap();
+        }
+        .check()
+        .unwrap();
+        let mut scene = cutting::scene(&test, &model, &info, 1).unwrap();
         // Keep the tool alone, at rest.
         scene.walls.retain(|w| !w.name.starts_with("slot"));
         for w in &mut scene.walls {
@@ -291,7 +288,7 @@ fn a_disc_on_the_tool_edge_gets_one_contact() {
         let file = dir.join(format!("{tool:?}.scene.json"));
         std::fs::write(&file, serde_json::to_string(&scene).unwrap()).unwrap();
         let mut w = dem_core::scene::build(&dem_core::scene::load(&file).unwrap()).unwrap();
-        let g = CutGeometry::new(&test.clone().check().unwrap(), info.extent).unwrap();
+        let g = CutGeometry::new(&test, info.extent).unwrap();
         let e = g.edge_start;
         // Below and ahead of the edge, 40° under the horizontal: outside both faces' normal
         // strips (rake face up, clearance face back at 7°), so the edge is the nearest point.
@@ -379,16 +376,11 @@ fn an_interrupted_cut_resumes_bit_identically() {
         history_rows: 200,
         window_start: 1.0,
         ..CuttingTest::new(0.6e-3, 10.0, 1.0e-3)
-    };
-    let (a, b) = (dir.join("a"), dir.join("b"));
-    let ra = cutting::run(
-        &test.clone().check().unwrap(),
-        &model,
-        &spec,
-        &a,
-        &mut |_, _| {},
-    )
+    }
+    .check()
     .unwrap();
+    let (a, b) = (dir.join("a"), dir.join("b"));
+    let ra = cutting::run(&test, &model, &spec, &a, &mut |_, _| {}).unwrap();
     assert_eq!(ra.run.invocations, 1);
     // No numbered checkpoint is left after a completed run.
     let left = |d: &std::path::Path| dem_core::output::driver::numbered_checkpoints(d).unwrap();
@@ -410,14 +402,7 @@ fn an_interrupted_cut_resumes_bit_identically() {
         max_steps: Some(ra.run.steps / 2),
         ..CuttingRunOptions::default()
     };
-    match cutting::run_with(
-        &test.clone().check().unwrap(),
-        &model,
-        &spec,
-        &b,
-        &stop,
-        &mut |_, _| {},
-    ) {
+    match cutting::run_with(&test, &model, &spec, &b, &stop, &mut |_, _| {}) {
         Err(LabError::Stopped { step, .. }) => assert_eq!(step, ra.run.steps / 2),
         other => panic!("expected a stop, got {:?}", other.map(|r| r.run)),
     }
@@ -427,14 +412,7 @@ fn an_interrupted_cut_resumes_bit_identically() {
     assert!(ck[0].0 > 0 && ck[0].0 <= ra.run.steps / 2);
 
     let mut calls = 0;
-    let rb = cutting::run(
-        &test.clone().check().unwrap(),
-        &model,
-        &spec,
-        &b,
-        &mut |_, _| calls += 1,
-    )
-    .unwrap();
+    let rb = cutting::run(&test, &model, &spec, &b, &mut |_, _| calls += 1).unwrap();
     assert!(calls > 0);
     assert_eq!(rb.run.invocations, 2);
     assert!(left(&b).is_empty());

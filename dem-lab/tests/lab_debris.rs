@@ -51,15 +51,9 @@ fn a_cut_with_deletion_deletes_debris_and_is_thread_independent() {
     let spec = dem_lab::cutting::SpecimenInfo::read(&spec).unwrap();
     let run = |delete: bool, threads: usize, out: &str| {
         let out = dir.join(out);
-        let t = short_test(delete);
+        let t = short_test(delete).check().unwrap();
         on_threads(threads, || {
-            cutting::run(
-                &t.clone().check().unwrap(),
-                &model,
-                &spec,
-                &out,
-                &mut |_, _| {},
-            )
+            cutting::run(&t, &model, &spec, &out, &mut |_, _| {})
         })
         .unwrap()
     };
@@ -122,39 +116,20 @@ fn an_interrupted_cut_with_deletion_resumes_bit_identically() {
     let test = CuttingTest {
         history_rows: 200,
         ..short_test(true)
-    };
-    let (a, b) = (dir.join("a"), dir.join("b"));
-    let ra = cutting::run(
-        &test.clone().check().unwrap(),
-        &model,
-        &spec,
-        &a,
-        &mut |_, _| {},
-    )
+    }
+    .check()
     .unwrap();
+    let (a, b) = (dir.join("a"), dir.join("b"));
+    let ra = cutting::run(&test, &model, &spec, &a, &mut |_, _| {}).unwrap();
     let stop = CuttingRunOptions {
         max_steps: Some(ra.run.steps * 2 / 3),
         ..CuttingRunOptions::default()
     };
-    match cutting::run_with(
-        &test.clone().check().unwrap(),
-        &model,
-        &spec,
-        &b,
-        &stop,
-        &mut |_, _| {},
-    ) {
+    match cutting::run_with(&test, &model, &spec, &b, &stop, &mut |_, _| {}) {
         Err(LabError::Stopped { .. }) => {}
         other => panic!("expected a stop, got {:?}", other.map(|r| r.run)),
     }
-    let rb = cutting::run(
-        &test.clone().check().unwrap(),
-        &model,
-        &spec,
-        &b,
-        &mut |_, _| {},
-    )
-    .unwrap();
+    let rb = cutting::run(&test, &model, &spec, &b, &mut |_, _| {}).unwrap();
     assert_eq!(rb.run.invocations, 2);
     same_files(&a, &b);
     assert_eq!(ra.deleted, rb.deleted);

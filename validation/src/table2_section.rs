@@ -113,9 +113,7 @@ pub const PREVIOUS_FILE: &str = "table2-previous.json";
 /// where it was computed, so the column compares the same statistic as ours, else the raw one).
 pub fn set_previous(t: &mut table2::Table2, prev: &table2::Table2) {
     for c in &mut t.cells {
-        if let Some(p) = prev.cells.iter().find(|p| {
-            p.method == c.method && p.depth_mm == c.depth_mm && p.speed_m_s == c.speed_m_s
-        }) {
+        if let Some(p) = prev.cell(&c.method, c.depth_mm, c.speed_m_s) {
             c.previous_mean_kN = Some(p.mean_kN);
             c.previous_peak_kN = Some(p.peak().0);
         }

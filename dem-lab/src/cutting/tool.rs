@@ -283,6 +283,11 @@ mod tests {
     use super::*;
     use crate::cutting::CuttingTest;
 
+    /// The checked test's geometry on a 20 × 10 mm specimen.
+    fn geometry(t: &CuttingTest) -> CutGeometry {
+        CutGeometry::new(&t.clone().check().unwrap(), [0.0, 20e-3, 0.0, 10e-3]).unwrap()
+    }
+
     #[test]
     fn segment_polygon_distances() {
         let sq = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
@@ -300,7 +305,7 @@ mod tests {
             tool: ToolModel::Segments,
             ..Default::default()
         };
-        let g = CutGeometry::new(&t.clone().check().unwrap(), [0.0, 20e-3, 0.0, 10e-3]).unwrap();
+        let g = geometry(&t);
         assert!((g.nominal_y - 9e-3).abs() < 1e-15);
         // Edge starts approach·a_p before x0; 0° rake: the rake face is vertical.
         assert!((g.edge_start[0] + t.approach * t.depth).abs() < 1e-15);
@@ -325,7 +330,7 @@ mod tests {
             ..Default::default()
         };
         t.length = 25e-3;
-        let g = CutGeometry::new(&t.clone().check().unwrap(), [0.0, 20e-3, 0.0, 10e-3]).unwrap();
+        let g = geometry(&t);
         assert!(g.slot[2].b[1] < g.nominal_y);
         assert!(g.travel_entry < 0.0);
         assert!(g.slot_clearance() > 0.0);
@@ -338,7 +343,7 @@ mod tests {
     #[test]
     fn the_rigid_tool_is_one_polyline_through_the_edge() {
         let t = CuttingTest::default();
-        let g = CutGeometry::new(&t.clone().check().unwrap(), [0.0, 20e-3, 0.0, 10e-3]).unwrap();
+        let g = geometry(&t);
         assert_eq!(g.tool.len(), 1);
         let v = g.tool[0].vertices();
         assert_eq!(v.len(), 3);
@@ -358,8 +363,7 @@ mod tests {
                 edge_radius: 0.05,
                 ..Default::default()
             };
-            let g =
-                CutGeometry::new(&t.clone().check().unwrap(), [0.0, 20e-3, 0.0, 10e-3]).unwrap();
+            let g = geometry(&t);
             let v = g.tool[0].vertices();
             let re = 0.05 * t.depth;
             // The arc turns by π − β = 90° + γ + α in chords of at most 10°.
