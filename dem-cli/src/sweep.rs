@@ -242,7 +242,7 @@ fn run_cases(a: RunArgs) -> dem_run::Result<ExitCode> {
         threads: a.threads,
         index: a.index,
         retry_failed: a.retry_failed,
-        exe: this_exe()?,
+        executor: dem_run::runner::Executor::Process(this_exe()?),
     };
     let mut shown = Shown::new();
     let s = dem_run::runner::run(&opts, &DemTest::new(), &mut shown)?;

@@ -107,6 +107,20 @@ pub struct CuttingArgs {
     /// fragments").
     #[arg(long)]
     pub delete_fragments: bool,
+    /// Run the cut a `cutting.inputs.json` describes (the generated specimen's parameters, the
+    /// model and the test, as a cut writes them into its folder) in place of the specimen,
+    /// model and test flags: a cut run again from its folder, or planned as typed values (the
+    /// report's runs are `dem sweep` cases of this flag). Its specimen is generated (not a
+    /// `--specimen` file) and its model given.
+    #[arg(long, value_name = "FILE", conflicts_with_all = [
+        "specimen", "specimen_from_model", "params", "depth", "speed", "length", "rake_angle",
+        "clearance_angle", "tool", "edge_radius", "tool_stiffness", "contact_damping",
+        "tool_friction", "mass_scaling", "local_damping", "damping_frame", "frame",
+        "window_start", "history_rows", "snapshots", "delete_fragments", "method", "r_min",
+        "r_max", "seed", "model", "material", "dt_factor", "grain_size", "porosity",
+        "flat_joint", "joint_friction", "joint_bonded_fraction",
+    ])]
+    pub inputs: Option<PathBuf>,
     /// Resolve the specimen parameters, model and test, write them to
     /// `<out>/cutting.inputs.json` and print them; generate and run nothing.
     #[arg(long)]
@@ -452,6 +466,9 @@ impl CuttingArgs {
     /// test; and the test checked (what the run takes). The model is --model with the
     /// flat-joint flags applied ([`Self::with_joints`]).
     fn resolve(&self) -> Result<(Inputs, CheckedTest), String> {
+        if let Some(f) = &self.inputs {
+            return read_inputs(f);
+        }
         let test = self.test()?;
         let flat_joint = self.lab.joints.option()?;
         let mut model = self
@@ -481,6 +498,39 @@ impl CuttingArgs {
     }
 }
 
+/// The inputs of `--inputs FILE`, checked: a generated specimen's parameters, a model and the
+/// test (the errors name the file and field).
+fn read_inputs(f: &std::path::Path) -> Result<(Inputs, CheckedTest), String> {
+    let text =
+        clumpgen::io::read_input_string(f).map_err(|e| format!("--inputs {}: {e}", f.display()))?;
+    let de = &mut serde_json::Deserializer::from_str(&text);
+    let i: Inputs = serde_path_to_error::deserialize(de).map_err(|e| {
+        format!(
+            "--inputs {}: field {}: {}",
+            f.display(),
+            e.path(),
+            e.inner()
+        )
+    })?;
+    let missing = |what: &str| format!("--inputs {}: field {what} is null: give it", f.display());
+    let p = i.specimen.as_ref().ok_or_else(|| missing("specimen"))?;
+    if i.specimen_file.is_some() {
+        return Err(format!(
+            "--inputs {}: field specimen_file: a cut of a given specimen file runs with              --specimen; --inputs generates its specimen from field specimen",
+            f.display()
+        ));
+    }
+    i.model.as_ref().ok_or_else(|| missing("model"))?;
+    p.validate()
+        .map_err(|e| format!("--inputs {}: field specimen: {e}", f.display()))?;
+    let test = i
+        .test
+        .clone()
+        .check()
+        .map_err(|e| format!("--inputs {}: field test: {e}", f.display()))?;
+    Ok((i, test))
+}
+
 fn write_inputs(out: &std::path::Path, i: &Inputs) -> Result<String, String> {
     let text = serde_json::to_string_pretty(i).map_err(|e| e.to_string())? + "\n";
     std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
@@ -490,15 +540,16 @@ fn write_inputs(out: &std::path::Path, i: &Inputs) -> Result<String, String> {
 
 pub fn run(a: CuttingArgs) -> Result<ExitCode, String> {
     let (mut inputs, test) = a.resolve()?;
-    if a.specimen.is_none() {
-        // The specimen to be generated is --width × --height: check before generating it.
-        let w = parse_length(&a.width, "--width")?;
-        let h = parse_length(&a.height, "--height")?;
-        let what = format!(
-            "the specimen to be generated, --width {} --height {}",
-            a.width, a.height
-        );
-        a.check_geometry(&test, [0.0, w, 0.0, h], &what)?;
+    if let Some(p) = &inputs.specimen {
+        // The specimen to be generated: check the cut fits before generating it.
+        let what = match &a.inputs {
+            Some(f) => format!("the specimen of --inputs {}", f.display()),
+            None => format!(
+                "the specimen to be generated, --width {} --height {}",
+                a.width, a.height
+            ),
+        };
+        a.check_geometry(&test, [0.0, p.width, 0.0, p.height], &what)?;
     }
     // The folder's lock (`run_lock`), before anything is written into it: keyed on the
     // inputs as resolved from the flags, so a rerun (or the run after a --dry-run) of the same

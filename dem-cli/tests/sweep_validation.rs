@@ -20,7 +20,7 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 use validation::cutting_runs::{key_of, key_text, Job, Missing};
-use validation::sweep_runs::{outcome, Source};
+use validation::cutting_runs::{outcome, Source};
 
 mod common;
 use common::{dem, tmp};
@@ -501,4 +501,53 @@ fn a_sweep_folder_gives_validations_own_numbers() {
         "{md}"
     );
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// One experiment system (issue 49): the report's own runs are the cases of a `dem sweep`
+/// folder (`dem test cutting --inputs inputs/<name>.json`); `dem sweep run` runs them as child
+/// processes to the same bytes as validation's in-process runner, and validation reads the
+/// CLI's runs back as its own.
+#[test]
+fn the_reports_runs_are_a_sweep_the_cli_runs_to_the_same_bytes() {
+    use validation::cutting_runs::run_plan;
+    let data = root().join("data");
+    let mut p = validation::table2_section::plan(&data, true).unwrap();
+    p.methods = vec![Method::Traditional];
+    p.depths_mm = vec![1.0];
+    p.speeds_m_s = vec![2.0];
+    p.seeds = vec![1];
+    p.length = 1.0e-3;
+    let here = tmp("report-runs-here");
+    let o = run_plan(&p, &here, Missing::Run, &|_| {});
+    assert!(o.errors.is_empty(), "{:?}", o.errors);
+    assert_eq!(o.finished.len(), 1);
+    // The same plan, written by validation without running it; its case run by the CLI.
+    let there = tmp("report-runs-cli");
+    let listed = run_plan(&p, &there, Missing::List, &|_| {});
+    assert_eq!(listed.missing.len(), 1, "{listed:?}");
+    let run = ok(&dem(&[
+        "sweep".as_ref(),
+        "run".as_ref(),
+        there.as_os_str(),
+        "--jobs".as_ref(),
+        "1".as_ref(),
+    ]));
+    assert!(run.contains("1 done, 0 failed"), "{run}");
+    let back = run_plan(&p, &there, Missing::List, &|_| {});
+    assert!(
+        back.errors.is_empty() && back.missing.is_empty(),
+        "{back:?}"
+    );
+    let (a, b) = (&o.finished[0], &back.finished[0]);
+    assert_eq!(a.dir.file_name(), b.dir.file_name(), "one key");
+    for f in [
+        "cutting.inputs.json",
+        "cutting.forces.csv",
+        "history.csv",
+        "breaks.csv",
+    ] {
+        let read = |d: &Path| std::fs::read(d.join(f)).unwrap();
+        assert!(read(&a.dir) == read(&b.dir), "{f} differs");
+    }
+    assert_eq!(numbers(&a.record), numbers(&b.record));
 }

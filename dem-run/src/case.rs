@@ -72,6 +72,27 @@ pub struct Record {
     pub log_tail: Vec<String>,
 }
 
+/// The line of a failed case's log that says why: the last `error:` line (a usage error's is
+/// followed by clap's "For more information, try '--help'."), else the last line.
+pub fn reason_line(tail: &[String]) -> Option<&String> {
+    tail.iter()
+        .rev()
+        .find(|l| l.starts_with("error:"))
+        .or(tail.last())
+}
+
+impl Record {
+    /// Why the attempt failed: the error and the log's line that says why ("exit code 1:
+    /// error: …"); `None` for a case done.
+    pub fn reason(&self) -> Option<String> {
+        let e = self.error.as_ref()?;
+        Some(match reason_line(&self.log_tail) {
+            Some(l) => format!("{e}: {l}"),
+            None => e.clone(),
+        })
+    }
+}
+
 /// Reads `DIR/cases.jsonl`, naming the line of a bad one.
 pub fn read_cases(sweep: &Path) -> Result<Vec<Case>> {
     let file = sweep.join(CASES_FILE);

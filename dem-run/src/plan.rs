@@ -8,6 +8,9 @@
 //! axis. Key: hex SHA-256 of the compact JSON `{"flags": {flag: value, …}, "test": kind}`
 //! (keys sorted; a file flag's value is `{"sha256": <hex SHA-256 of the file's bytes>}`, so the
 //! key follows the file's content, not where it lies; `--out` and `--threads` are not inputs).
+//! In a case's command line a file is named by its absolute path, or, when it lies in the
+//! sweep folder (a study planned into its own folder with its inputs, as the report's runs
+//! are), relative to the folder, where the runner starts each case.
 
 use crate::case::{Case, CASES_FILE, SBATCH_FILE, STUDY_FILE};
 use crate::error::{refuse, Error, Result};
@@ -349,8 +352,9 @@ pub fn cases(file: &Path, p: &Parsed, tests: &dyn TestCommands) -> Result<Vec<Ca
 /// The key `c`'s command line gives, the files it names read again; `Err` names what in the
 /// command line is not a planned one. `dem sweep run` runs a case only when this is its key
 /// (issue 48: any argv placed in an edited cases.jsonl ran): an edited line, or a file it names
-/// that changed since planning, is refused.
-pub fn key_of_argv(c: &Case, tests: &dyn TestCommands) -> Result<String> {
+/// that changed since planning, is refused. A relative file in the command line is one of the
+/// sweep folder `sweep` (where the runner starts the case).
+pub fn key_of_argv(c: &Case, sweep: &Path, tests: &dyn TestCommands) -> Result<String> {
     let (kind, rest) = match c.argv.as_slice() {
         [t, k, rest @ ..] if t == "test" && *k == c.test => (k.as_str(), rest),
         _ => {
@@ -376,7 +380,7 @@ pub fn key_of_argv(c: &Case, tests: &dyn TestCommands) -> Result<String> {
         } else {
             let v = it.next().ok_or_else(|| refuse!("--{flag} has no value"))?;
             if info.is_file {
-                let bytes = clumpgen::io::read_input(Path::new(v))
+                let bytes = clumpgen::io::read_input(&sweep.join(v))
                     .map_err(|e| refuse!("--{flag} file {v}: {e}"))?;
                 file_key(&bytes)
             } else {
@@ -481,6 +485,33 @@ pub fn write(
     tests: &dyn TestCommands,
     exe: &Path,
 ) -> Result<Planned> {
+    let exe = exe
+        .canonicalize()
+        .map_err(|e| Error::io(exe, format!("the dem executable's path: {e}")))?;
+    write_plan(study, out, slurm, tests, &exe, false)
+}
+
+/// Plans the study file `study` into the folder `out`, which is the caller's own (validation's
+/// report runs): a plan already there is replaced. Cases whose inputs did not change keep their
+/// key, so their folders (and their results) stay theirs; the others are new cases. The Slurm
+/// script runs `dem` from the PATH.
+pub fn replan(
+    study: &Path,
+    out: &Path,
+    slurm: &Slurm,
+    tests: &dyn TestCommands,
+) -> Result<Planned> {
+    write_plan(study, out, slurm, tests, Path::new("dem"), true)
+}
+
+fn write_plan(
+    study: &Path,
+    out: &Path,
+    slurm: &Slurm,
+    tests: &dyn TestCommands,
+    exe: &Path,
+    replace: bool,
+) -> Result<Planned> {
     if !valid_time(&slurm.time) {
         return Err(refuse!(
             "--time {:?}: a Slurm time limit (MM, HH:MM:SS or D-HH:MM:SS)",
@@ -491,14 +522,28 @@ pub fn write(
         return Err(refuse!("--throttle: at least 1"));
     }
     let (bytes, parsed) = study::read(study)?;
-    let cases = cases(study, &parsed, tests)?;
+    let mut cases = cases(study, &parsed, tests)?;
+    // A file in the folder is named relative to it (the runner starts cases there), so the
+    // folder can be moved or committed with its inputs; other files keep their absolute path.
+    std::fs::create_dir_all(out).map_err(|e| Error::io(out, e))?;
+    let dir = out.canonicalize().map_err(|e| Error::io(out, e))?;
+    for c in &mut cases {
+        for a in &mut c.argv {
+            if let Ok(rel) = Path::new(a.as_str()).strip_prefix(&dir) {
+                *a = rel.display().to_string();
+            }
+        }
+    }
     let mut lines = String::new();
     for c in &cases {
         lines += &serde_json::to_string(c).map_err(|e| Error::io(&out.join(CASES_FILE), e))?;
         lines.push('\n');
     }
-    // Another study in the folder is refused, never overwritten.
+    // Another study in the folder is refused, never overwritten (unless it is to be replaced).
     for (name, new) in [(STUDY_FILE, &bytes[..]), (CASES_FILE, lines.as_bytes())] {
+        if replace {
+            break;
+        }
         let path = out.join(name);
         if let Ok(old) = std::fs::read(&path) {
             if old != new {
@@ -513,14 +558,10 @@ pub fn write(
     for sub in ["cases", "logs"] {
         std::fs::create_dir_all(out.join(sub)).map_err(|e| Error::io(&out.join(sub), e))?;
     }
-    let dir = out.canonicalize().map_err(|e| Error::io(out, e))?;
-    let exe = exe
-        .canonicalize()
-        .map_err(|e| Error::io(exe, format!("the dem executable's path: {e}")))?;
     let write = |name: &str, b: &[u8]| crate::write_atomic(&dir.join(name), b);
     write(STUDY_FILE, &bytes)?;
     write(CASES_FILE, lines.as_bytes())?;
-    let script = sbatch(slurm, &parsed.study.name, cases.len(), &dir, &exe);
+    let script = sbatch(slurm, &parsed.study.name, cases.len(), &dir, exe);
     write(SBATCH_FILE, script.as_bytes())?;
     Ok(Planned {
         dir,
@@ -591,7 +632,7 @@ mod tests {
         assert_ne!(c[0].key, c[1].key);
         // The key follows the inputs: the same case planned again has the same key, and its
         // command line gives it back.
-        assert_eq!(key_of_argv(&c[1], &Fake).unwrap(), c[1].key);
+        assert_eq!(key_of_argv(&c[1], Path::new("."), &Fake).unwrap(), c[1].key);
         let e = plan(r#"{"name":"u","base":{"test":"ucs","flags":{"seed":1}}}"#).unwrap_err();
         assert_eq!(e.kind(), crate::ErrorKind::Input);
         assert!(

@@ -62,6 +62,14 @@ pub fn zombie(pid: u32) -> bool {
         .unwrap_or(false)
 }
 
+/// CPU time (s) the calling thread has used so far: Linux's `/proc/thread-self/schedstat`
+/// (first field, ns); `None` elsewhere or if it cannot be read. An in-process case's cost.
+pub fn thread_cpu_s() -> Option<f64> {
+    let text = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
+    let ns: f64 = text.split_whitespace().next()?.parse().ok()?;
+    Some(ns * 1e-9)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -1,7 +1,9 @@
 //! The runner (`dem sweep run DIR [--jobs N] [--threads T] [--index I]`): runs the cases not
 //! yet finished, N at a time, each as a child process `dem <argv> --out DIR/cases/<key>
-//! --threads T` of the `dem` executable (RAYON_NUM_THREADS = T too), its stdout and stderr
-//! appended to the case's `log.txt`. A case is claimed first ([`crate::claim`]), so processes
+//! --threads T` of the `dem` executable (RAYON_NUM_THREADS = T too, working folder DIR, so a
+//! relative file in argv is one of the folder's), its stdout and stderr appended to the case's
+//! `log.txt`; or, with [`Executor::InProcess`] (the report's runs), each as a call on a thread
+//! of this process, with the same claims, records and log. A case is claimed first ([`crate::claim`]), so processes
 //! sharing DIR (several `run`s, Slurm array tasks) never run one case twice.
 //!
 //! Ends of a case: exit code 0 with `<test>.result.json` present → `done.json`; anything else
@@ -20,7 +22,35 @@ use std::collections::VecDeque;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
+use std::sync::Arc;
+use std::thread::JoinHandle;
 use std::time::{Duration, Instant, SystemTime};
+
+/// A case run in this process: `f(case, case folder, threads)` writes the test's outputs
+/// (`<test>.result.json` among them) into the case folder and gives the CPU time it measured
+/// (s; `None`: the calling thread's is taken, which misses work on other threads); `Err` is
+/// the reason it failed.
+pub type CaseFn =
+    dyn Fn(&Case, &Path, usize) -> std::result::Result<Option<f64>, String> + Send + Sync;
+
+/// How a case runs.
+#[derive(Clone)]
+pub enum Executor {
+    /// A child process of this `dem` executable (`dem sweep run`, a Slurm array task).
+    Process(PathBuf),
+    /// A call on a thread of this process (validation's report runs): its CPU time is the
+    /// thread's, its error the log's last line.
+    InProcess(Arc<CaseFn>),
+}
+
+impl std::fmt::Debug for Executor {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Executor::Process(exe) => write!(f, "Process({})", exe.display()),
+            Executor::InProcess(_) => write!(f, "InProcess"),
+        }
+    }
+}
 
 /// What to run (`dem sweep run` flags).
 #[derive(Clone, Debug)]
@@ -35,8 +65,8 @@ pub struct RunOptions {
     pub index: Option<usize>,
     /// Run the failed cases again too (without it they are listed and skipped).
     pub retry_failed: bool,
-    /// The `dem` executable each case runs.
-    pub exe: PathBuf,
+    /// How each case runs: the `dem` executable, or a call in this process.
+    pub executor: Executor,
 }
 
 /// What the runner tells as it goes (the CLI draws a bar, or prints the lines).
@@ -65,12 +95,25 @@ pub struct Summary {
     pub failures: Vec<String>,
 }
 
-/// A case running as a child process.
+/// A case running as a child process or on a thread.
 struct Running {
     index: usize,
     claim: Claim,
-    child: Child,
+    task: Task,
+    /// The case folder.
+    dir: PathBuf,
     started: Instant,
+}
+
+/// An in-process case's outcome (the CPU time it measured, or why it failed) and its thread's
+/// CPU time.
+type Called = (std::result::Result<Option<f64>, String>, Option<f64>);
+
+enum Task {
+    Child(Child),
+    Thread(JoinHandle<Called>),
+    /// A thread joined (its outcome taken).
+    Done,
 }
 
 /// How a child ended: exit code or signal, and its CPU time.
@@ -80,9 +123,43 @@ struct Ended {
     cpu_s: Option<f64>,
 }
 
-#[cfg(unix)]
+/// How the case ended, or `None` while it runs.
 fn poll(r: &mut Running) -> Result<Option<Ended>> {
-    let pid = r.child.id() as libc::pid_t;
+    let handle = match &mut r.task {
+        Task::Child(child) => return poll_child(child, r.index),
+        Task::Thread(h) if !h.is_finished() => return Ok(None),
+        Task::Thread(_) => {
+            let Task::Thread(h) = std::mem::replace(&mut r.task, Task::Done) else {
+                unreachable!("matched above")
+            };
+            h
+        }
+        Task::Done => return Ok(None),
+    };
+    let (outcome, thread_cpu) = handle
+        .join()
+        .unwrap_or_else(|_| (Err("the case's thread panicked".into()), None));
+    let cpu_s = match &outcome {
+        Ok(Some(cpu)) => Some(*cpu),
+        _ => thread_cpu,
+    };
+    if let Err(e) = &outcome {
+        // The reason, as a child's `error:` line (the failure record quotes it).
+        let log = r.dir.join(LOG_FILE);
+        if let Ok(mut f) = std::fs::OpenOptions::new().append(true).open(&log) {
+            let _ = writeln!(f, "error: {e}");
+        }
+    }
+    Ok(Some(Ended {
+        code: Some(if outcome.is_ok() { 0 } else { 1 }),
+        signal: None,
+        cpu_s,
+    }))
+}
+
+#[cfg(unix)]
+fn poll_child(child: &mut Child, index: usize) -> Result<Option<Ended>> {
+    let pid = child.id() as libc::pid_t;
     let mut status: libc::c_int = 0;
     // SAFETY: rusage is plain data, zeroed is a valid value; wait4 writes both outputs.
     let mut ru: libc::rusage = unsafe { std::mem::zeroed() };
@@ -94,7 +171,7 @@ fn poll(r: &mut Running) -> Result<Option<Ended>> {
     if got < 0 {
         return Err(Error::process(format!(
             "wait4 of case {} (pid {pid}): {}",
-            r.index,
+            index,
             std::io::Error::last_os_error()
         )));
     }
@@ -108,15 +185,15 @@ fn poll(r: &mut Running) -> Result<Option<Ended>> {
 }
 
 #[cfg(not(unix))]
-fn poll(r: &mut Running) -> Result<Option<Ended>> {
-    match r.child.try_wait() {
+fn poll_child(child: &mut Child, index: usize) -> Result<Option<Ended>> {
+    match child.try_wait() {
         Ok(None) => Ok(None),
         Ok(Some(s)) => Ok(Some(Ended {
             code: s.code(),
             signal: None,
             cpu_s: None,
         })),
-        Err(e) => Err(Error::process(format!("case {}: {e}", r.index))),
+        Err(e) => Err(Error::process(format!("case {index}: {e}"))),
     }
 }
 
@@ -149,8 +226,8 @@ pub const SPECIMEN_CACHE: &str = "specimens";
 /// Starts each attempt's lines in `log.txt` (tests count them).
 pub const HEADER: &str = "=== dem sweep run: attempt";
 
-/// Starts case `c` (claimed) as a child process.
-fn start(c: &Case, dir: &Path, exe: &Path, threads: usize) -> Result<Child> {
+/// Starts case `c` (claimed): the attempt's header in its log, then the executor's task.
+fn start(c: &Case, dir: &Path, executor: &Executor, threads: usize) -> Result<Task> {
     let cdir = c.dir(dir);
     let _ = std::fs::remove_file(cdir.join(DONE_FILE));
     let _ = std::fs::remove_file(cdir.join(FAILED_FILE));
@@ -171,9 +248,40 @@ fn start(c: &Case, dir: &Path, exe: &Path, threads: usize) -> Result<Child> {
         cdir.display()
     )
     .map_err(|e| Error::io(&log_path, e))?;
+    match executor {
+        Executor::Process(exe) => start_child(c, dir, exe, threads, log).map(Task::Child),
+        Executor::InProcess(f) => {
+            let index = c.index;
+            let (f, c, cdir) = (Arc::clone(f), c.clone(), cdir.clone());
+            std::thread::Builder::new()
+                .name(format!("case {index}"))
+                .spawn(move || {
+                    let c0 = crate::process::thread_cpu_s();
+                    let r = f(&c, &cdir, threads);
+                    let cpu = crate::process::thread_cpu_s()
+                        .zip(c0)
+                        .map(|(c1, c0)| c1 - c0);
+                    (r, cpu)
+                })
+                .map(Task::Thread)
+                .map_err(|e| Error::process(format!("cannot start a thread for case {index}: {e}")))
+        }
+    }
+}
+
+/// Starts case `c` as a child process of `exe`, its output appended to `log`.
+fn start_child(
+    c: &Case,
+    dir: &Path,
+    exe: &Path,
+    threads: usize,
+    log: std::fs::File,
+) -> Result<Child> {
+    let cdir = c.dir(dir);
+    let log_path = cdir.join(LOG_FILE);
     let err = log.try_clone().map_err(|e| Error::io(&log_path, e))?;
     let mut cmd = Command::new(exe);
-    cmd.args(&c.argv);
+    cmd.args(&c.argv).current_dir(dir);
     if matches!(c.argv.as_slice(), [t, k, ..] if t == "test" && k == "cutting")
         && !c.argv.iter().any(|a| a == "--specimen")
     {
@@ -222,7 +330,7 @@ fn verify_keys(
 ) -> Result<()> {
     let file = dir.join(crate::case::CASES_FILE);
     for c in cases.iter().filter(|c| index.is_none_or(|i| i == c.index)) {
-        let why = match crate::plan::key_of_argv(c, tests) {
+        let why = match crate::plan::key_of_argv(c, dir, tests) {
             Ok(k) if k == c.key => continue,
             Ok(_) => "its command line does not give its key".to_string(),
             Err(e) => e.to_string(),
@@ -238,15 +346,6 @@ fn verify_keys(
         ));
     }
     Ok(())
-}
-
-/// The line of a failed case's log that says why: the last `error:` line (a usage error's is
-/// followed by clap's "For more information, try '--help'."), else the last line.
-fn reason_line(tail: &[String]) -> Option<&String> {
-    tail.iter()
-        .rev()
-        .find(|l| l.starts_with("error:"))
-        .or(tail.last())
 }
 
 /// Writes done.json or failed.json for a case that ended; the failure reason if it failed.
@@ -292,10 +391,7 @@ fn finish(
     let path = cdir.join(name);
     let text = serde_json::to_string_pretty(&rec).map_err(|e| Error::io(&path, e))?;
     crate::write_atomic(&path, text.as_bytes())?;
-    Ok(error.map(|e| match reason_line(&rec.log_tail) {
-        Some(l) => format!("{e}: {l}"),
-        None => e,
-    }))
+    Ok(rec.reason())
 }
 
 /// A duration as `4.2s`, `35s`, `12m05s`, `3h07m`.
@@ -330,7 +426,6 @@ pub fn run(a: &RunOptions, tests: &dyn TestCommands, report: &mut dyn Report) ->
             ));
         }
     }
-    let exe = &a.exe;
     let retry = a.retry_failed || a.index.is_some();
     // Only what was planned runs: each case to run gives its key again from its command line.
     verify_keys(&dir, &cases, a.index, tests)?;
@@ -390,11 +485,12 @@ pub fn run(a: &RunOptions, tests: &dyn TestCommands, report: &mut dyn Report) ->
                 _ => {}
             }
             let started = Instant::now();
-            match start(c, &dir, exe, a.threads) {
-                Ok(child) => running.push(Running {
+            match start(c, &dir, &a.executor, a.threads) {
+                Ok(task) => running.push(Running {
                     index: i,
                     claim,
-                    child,
+                    task,
+                    dir: c.dir(&dir),
                     started,
                 }),
                 Err(e) => {
@@ -519,10 +615,10 @@ mod tests {
         .map(String::from)
         .to_vec();
         assert_eq!(
-            super::reason_line(&tail).unwrap(),
+            crate::case::reason_line(&tail).unwrap(),
             "error: unexpected argument '--bogus' found"
         );
         let plain = vec!["step 10".to_string(), "killed".to_string()];
-        assert_eq!(super::reason_line(&plain).unwrap(), "killed");
+        assert_eq!(crate::case::reason_line(&plain).unwrap(), "killed");
     }
 }

@@ -73,8 +73,8 @@ pub fn run(mut a: ReportArgs) -> ExitCode {
         let progress = |m: &str| eprintln!("{m}");
         let r = crate::study::StudySpec::read(f).and_then(|s| {
             let source = match &a.sweep {
-                Some(d) => crate::sweep_runs::Source::Sweep(d),
-                None => crate::sweep_runs::Source::Here(missing),
+                Some(d) => crate::cutting_runs::Source::Sweep(d),
+                None => crate::cutting_runs::Source::Here(missing),
             };
             crate::study::run(&s, &data, &a.out, source, &progress).map(|r| (s, r))
         });

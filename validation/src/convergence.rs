@@ -44,7 +44,7 @@ pub struct Point {
     pub dt_s: f64,
     pub steps: u64,
     pub wall_time_s: f64,
-    /// CPU time of the run (s), where recorded (see [`crate::cutting_runs::TIME_FILE`]).
+    /// CPU time of the run (s), where recorded (the case's `done.json`, or its result's `run.cpu_time_s`).
     #[serde(default)]
     pub cpu_time_s: Option<f64>,
     /// Forces at the run thickness (N).

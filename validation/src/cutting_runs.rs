@@ -1,24 +1,33 @@
-//! The cutting runs behind Table 2 and the convergence study: specimens (generated once and
-//! cached by their parameters), then one cutting test ([`dem_lab::cutting::run`]) per
-//! [`Job`], one job per worker thread at a time, each on a one-thread pool (small systems run
-//! best on one core; results do not depend on the thread count).
+//! The cutting runs behind Table 2, the convergence study and the cutting studies, as the cases
+//! of a `dem sweep` folder (dem-run, docs/sweep.md): one experiment system for the CLI and the
+//! report. Each [`Job`] (specimen parameters, model, test: typed values) is written as its
+//! [`Inputs`] file `<work>/inputs/<name>.json`; the study `<work>/study.json` has one axis,
+//! `--inputs` over those files, and is planned into `<work>` (`cases.jsonl`, keyed by the
+//! files' content); the cases not done run here ([`dem_run::runner`] with an in-process
+//! executor, one case per worker thread, each on a one-thread pool: small systems run best on
+//! one core, and results do not depend on the thread count), and every job's case is read
+//! back by its inputs ([`crate::sweep_runs::read`]). Specimens are generated once per
+//! parameter set into `<work>/specimens/`.
 //!
-//! **Resuming**: a finished run leaves `run.key.json` (specimen parameters, model and test)
-//! beside its `cutting.result.json`; a later call with the same key reads the result instead of
-//! running again. A long report (the full Table 2 is ~60 runs) can therefore be stopped and
-//! continued, or built up over several sessions.
+//! **Resuming**: a case with `done.json` and its result is read back, not run again, so a long
+//! report (the full Table 2 is ~120 runs) can be stopped and continued, or built up over
+//! several sessions; the same folder runs with `dem sweep run <work> --jobs N` or as a Slurm
+//! array (`slurm.sbatch`), each case being `dem test cutting --inputs inputs/<name>.json`.
+//! A job whose inputs change (the code's defaults, say) is a new case; the old case's folder
+//! stays, unplanned.
 
 use crate::error::{Error, Result};
-use crate::force_statistics::main_force;
-use crate::table2::RunRecord;
-use dem_lab::cutting::{self, CuttingResult, CuttingTest};
+pub use crate::runs::{finished, key_of, key_text, Finished, Job, Missing, Outcome, Reused};
+use dem_lab::cutting::{self, CuttingTest, Inputs};
 use dem_lab::specimen::{self, Method, SpecimenParams};
 use dem_lab::LabModel;
+use dem_run::case::{self, Case, STUDY_FILE};
+use dem_run::plan::{FlagInfo, Slurm, TestCommands};
+use dem_run::runner::{CaseFn, Executor, Report, RunOptions, SPECIMEN_CACHE};
 use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicUsize, Ordering};
-use std::sync::Mutex;
-use std::time::Instant;
+use std::sync::Arc;
 
 /// What to run.
 #[derive(Clone, Debug, Serialize, Deserialize)]
@@ -92,18 +101,6 @@ pub fn normalize_grains(sp: &mut SpecimenParams) {
     }
 }
 
-/// One cutting run: a specimen (generated from its parameters), the material model and a test.
-#[derive(Clone, Debug, Serialize, Deserialize)]
-pub struct Job {
-    /// Run folder name under the work folder.
-    pub name: String,
-    pub specimen: SpecimenParams,
-    /// The model's `r_mean` sets the bond stiffness k̄_n = Ē_c/(2 r_mean): it follows the
-    /// specimen's radii.
-    pub model: LabModel,
-    pub test: CuttingTest,
-}
-
 /// FNV-1a of a string, for cache file names.
 fn fnv(s: &str) -> u64 {
     s.bytes().fold(0xcbf2_9ce4_8422_2325, |h, b| {
@@ -134,163 +131,28 @@ pub fn specimen_file(p: &SpecimenParams, dir: &Path) -> Result<PathBuf> {
     Ok(file)
 }
 
-/// One finished run: the Table 2 record, the full result and where it is.
-#[derive(Clone, Debug, Serialize)]
-pub struct Finished {
-    pub name: String,
-    pub record: RunRecord,
-    pub result_file: String,
-    /// Read from an earlier run with the same key instead of run now (or from a sweep).
-    pub resumed: bool,
-    #[serde(skip)]
-    pub result: CuttingResult,
-    /// The run's folder (`<work>/<name>`, or a sweep's `cases/<key>`).
-    #[serde(skip)]
-    pub dir: PathBuf,
+use dem_core::output::summary::thread_cpu_s;
+
+/// Where the cutting runs come from.
+#[derive(Clone, Copy, Debug)]
+pub enum Source<'a> {
+    /// Run here into the work folder ([`run_jobs`]): those not finished are run or listed.
+    Here(Missing),
+    /// The done cases of a `dem sweep` folder ([`crate::sweep_runs::read`]); the others are listed
+    /// as not run.
+    Sweep(&'a Path),
 }
 
-/// The key of a run: its specimen parameters, model and test as pretty JSON (`run.key.json`).
-pub fn key_text(specimen: &SpecimenParams, model: &LabModel, test: &CuttingTest) -> Result<String> {
-    serde_json::to_string_pretty(&(specimen, model, test)).map_err(Error::Serialize)
-}
-
-/// The key of a job ([`key_text`]).
-pub fn key_of(j: &Job) -> String {
-    key_text(&j.specimen, &j.model, &j.test).expect("job key serialises")
-}
-
-/// The record of a finished run of `job` in `dir` (its result `res`; `cpu`: CPU time, s).
-pub fn finished(
-    job: &Job,
-    res: CuttingResult,
-    dir: &Path,
-    cpu: Option<f64>,
-    resumed: bool,
-) -> Finished {
-    let hist = HistoryStats::read(dir, &res, job.specimen.grain_size);
-    Finished {
-        name: job.name.clone(),
-        record: RunRecord {
-            method: job.specimen.method.name().into(),
-            depth_mm: (job.test.depth * 1e9).round() / 1e6,
-            speed_m_s: job.test.speed,
-            seed: job.specimen.seed,
-            peak_n: res.main_force.peak,
-            mean_n: res.main_force.mean,
-            thickness_m: res.thickness,
-            discs: res.discs,
-            steps: res.run.steps,
-            wall_time_s: res.run.wall_time_s,
-            cpu_time_s: cpu,
-            peak_avg_n: hist.peak_avg_n,
-            max_overlap_fraction: res.run.max_overlap_fraction,
-            broken_total: Some(res.broken_total),
-            broken_intra_grain: Some(
-                res.broken_bonds
-                    .iter()
-                    .filter(|b| b.group == "intra_grain")
-                    .map(|b| b.tension + b.shear)
-                    .sum(),
-            ),
-            median_n: hist.run.map(|s| s.median),
-            top5_work_share: hist.run.and_then(|s| s.top5_work_share),
-            // Runs written before the field: from their forces file.
-            touching: res.touching.or_else(|| {
-                main_force(&dir.join(cutting::FORCES_FILE))
-                    .and_then(|(x, f)| cutting::touching_share(&x, &f, res.window))
-            }),
-        },
-        result_file: dir.join(cutting::RESULT_FILE).display().to_string(),
-        resumed,
-        result: res,
-        dir: dir.to_path_buf(),
-    }
-}
-
-/// Key file of a finished run.
-pub const KEY_FILE: &str = "run.key.json";
-
-/// Run-time file of a finished run: `{"wall_time_s", "cpu_time_s"}` (CPU time of the thread
-/// that stepped it; on a shared machine the wall time overstates the cost). A run resumed
-/// from a checkpoint (an earlier invocation was stopped) gives the totals over its
-/// invocations as the cutting driver recorded them (stepping only, without the few seconds
-/// of setup and analysis the one-invocation figure includes) and `"invocations"`.
-pub const TIME_FILE: &str = "run.time.json";
-
-pub use dem_core::output::summary::thread_cpu_s;
-
-/// Failure record of a run: `{"error", "key"}`. A later call with [`Missing::List`] reports
-/// the failure instead of listing the run as not run; [`Missing::Run`] runs it again (the code
-/// may have changed).
-pub const FAILED_FILE: &str = "run.failed.json";
-
-/// The error of an earlier failed run in `dir` with this key, if any.
-fn earlier_failure(dir: &Path, key: &str) -> Option<String> {
-    let text = std::fs::read_to_string(dir.join(FAILED_FILE)).ok()?;
-    let v: serde_json::Value = serde_json::from_str(&text).ok()?;
-    (v["key"].as_str()? == key).then(|| v["error"].as_str().unwrap_or("").to_string())
-}
-
-/// CPU time recorded beside an earlier run, if any.
-fn earlier_cpu(dir: &Path) -> Option<f64> {
-    let text = std::fs::read_to_string(dir.join(TIME_FILE)).ok()?;
-    serde_json::from_str::<serde_json::Value>(&text).ok()?["cpu_time_s"].as_f64()
-}
-
-/// The result of an earlier run in `dir` with this key, if any.
-fn earlier(dir: &Path, key: &str) -> Option<CuttingResult> {
-    if std::fs::read_to_string(dir.join(KEY_FILE)).ok()? != key {
-        return None;
-    }
-    let text = std::fs::read_to_string(dir.join(cutting::RESULT_FILE)).ok()?;
-    serde_json::from_str(&text).ok()
-}
-
-/// Whether jobs with no finished run are run now or only listed.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum Missing {
-    /// Generate their specimens and run them (the default).
-    #[default]
-    Run,
-    /// Leave them out and list them in [`Outcome::missing`]: a report of the runs finished so
-    /// far (the full Table 2 is built up over several sessions).
-    List,
-}
-
-/// What [`run_jobs`] did: finished runs (run now or read back), errors and the jobs left out.
-#[derive(Debug, Default)]
-pub struct Outcome {
-    /// In job order.
-    pub finished: Vec<Finished>,
-    /// One message per failed specimen or run; the others went on.
-    pub errors: Vec<String>,
-    /// Names of the jobs neither finished earlier nor run now ([`Missing::List`]).
-    pub missing: Vec<String>,
-}
-
-/// Finished runs read back from an earlier call instead of run now, and their run time as
-/// recorded when they ran: a report rebuilt from finished runs states what they cost.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
-pub struct Reused {
-    pub runs: usize,
-    pub wall_time_s: f64,
-}
-
-impl Reused {
-    pub fn add(&mut self, o: Reused) {
-        self.runs += o.runs;
-        self.wall_time_s += o.wall_time_s;
-    }
-}
-
-impl Outcome {
-    /// The finished runs that were read back, not run now.
-    pub fn reused(&self) -> Reused {
-        let back = self.finished.iter().filter(|f| f.resumed);
-        Reused {
-            runs: back.clone().count(),
-            wall_time_s: back.map(|f| f.record.wall_time_s).sum(),
-        }
+/// The jobs' runs from `source`: [`run_jobs`] into `work`, or read from a sweep folder.
+pub fn outcome(
+    jobs: &[Job],
+    work: &Path,
+    source: Source,
+    progress: &(dyn Fn(&str) + Sync),
+) -> Result<Outcome> {
+    match source {
+        Source::Here(m) => Ok(run_jobs(jobs, work, m, progress)),
+        Source::Sweep(dir) => crate::sweep_runs::read(jobs, dir, progress),
     }
 }
 
@@ -305,216 +167,235 @@ pub fn run_plan(
     run_jobs(&plan.jobs(), work, missing, progress)
 }
 
-/// Runs `jobs` under `work` (or, with [`Missing::List`], only reads back the finished ones);
-/// `progress` gets one line per finished item. A failed run is reported and the others go on.
+/// Runs `jobs` under `work` (or, with [`Missing::List`], only reads back the finished ones)
+/// as the cases of a `dem sweep` folder (module docs); `progress` gets one line per finished
+/// case. A failed run is reported and the others go on.
 pub fn run_jobs(
     jobs: &[Job],
     work: &Path,
     missing: Missing,
     progress: &(dyn Fn(&str) + Sync),
 ) -> Outcome {
-    let errors = Mutex::new(Vec::new());
-    // Runs finished earlier with the same key need no specimen.
-    let before: Vec<Option<CuttingResult>> = jobs
-        .iter()
-        .map(|j| earlier(&work.join(&j.name), &key_of(j)))
-        .collect();
-    let mut not_run = vec![];
-    let (jobs, before): (Vec<&Job>, Vec<Option<CuttingResult>>) = match missing {
-        Missing::Run => (jobs.iter().collect(), before),
-        Missing::List => jobs
-            .iter()
-            .zip(before)
-            .filter(|(j, b)| {
-                if b.is_none() {
-                    match earlier_failure(&work.join(&j.name), &key_of(j)) {
-                        Some(e) => errors
-                            .lock()
-                            .unwrap()
-                            .push(format!("{}: failed in an earlier call: {e}", j.name)),
-                        None => not_run.push(j.name.clone()),
-                    }
-                }
-                b.is_some()
-            })
-            .unzip(),
+    match plan_and_run(jobs, work, missing, progress) {
+        Ok(o) => o,
+        Err(e) => Outcome {
+            finished: vec![],
+            errors: vec![format!("{}: {e}", work.display())],
+            missing: jobs.iter().map(|j| j.name.clone()).collect(),
+        },
+    }
+}
+
+/// The folder of each job's inputs file (`<work>/inputs/<name>.json`).
+pub const INPUTS_DIR: &str = "inputs";
+
+/// The [`Inputs`] of a job as `dem test cutting` writes them (pretty JSON and a newline): the
+/// inputs file its case runs from, and its `cutting.inputs.json`.
+pub fn inputs_text(j: &Job) -> Result<String> {
+    let i = Inputs {
+        specimen: Some(j.specimen.clone()),
+        specimen_file: None,
+        model: Some(j.model.clone()),
+        flat_joint: None,
+        test: j.test.clone(),
     };
-    // Specimens: each distinct parameter set still to run once, two at a time.
-    let mut specs: Vec<SpecimenParams> = vec![];
-    for (j, b) in jobs.iter().zip(&before) {
-        if b.is_none() && !specs.contains(&j.specimen) {
-            specs.push(j.specimen.clone());
+    Ok(serde_json::to_string_pretty(&i).map_err(Error::Serialize)? + "\n")
+}
+
+/// `dem test cutting --inputs FILE`, the one flag of the report's cases (the planner checks a
+/// case against it; `dem sweep run` checks the same cases against the whole command line).
+struct InputsFlag;
+
+impl TestCommands for InputsFlag {
+    fn flags(&self, kind: &str) -> dem_run::Result<BTreeMap<String, FlagInfo>> {
+        if kind != "cutting" {
+            return Err(dem_run::Error::input(format!(
+                "the report's cases are cuts, not `dem test {kind}`"
+            )));
         }
-    }
-    let spec_dir = work.join("specimens");
-    let files: Vec<Option<PathBuf>> = parallel_map(&specs, |p| {
-        let t0 = Instant::now();
-        let r = one_thread(|| specimen_file(p, &spec_dir));
-        let what = format!(
-            "specimen {} seed {} (r {:.3}-{:.3} mm)",
-            p.method.name(),
-            p.seed,
-            p.r_min * 1e3,
-            p.r_max * 1e3
+        let (file, value) = (
+            FlagInfo {
+                takes_value: true,
+                is_file: true,
+            },
+            FlagInfo {
+                takes_value: true,
+                is_file: false,
+            },
         );
-        match r {
-            Ok(f) => {
-                progress(&format!("{what}: {:.1} s", t0.elapsed().as_secs_f64()));
-                Some(f)
-            }
-            Err(e) => {
-                errors.lock().unwrap().push(e.to_string());
-                progress(&format!("{what}: FAILED: {e}"));
-                None
-            }
-        }
+        Ok([("inputs", file), ("out", value), ("threads", value)]
+            .map(|(k, f)| (k.to_string(), f))
+            .into())
+    }
+
+    fn check(&self, _kind: &str, _args: &[String]) -> dem_run::Result<()> {
+        Ok(())
+    }
+}
+
+/// Writes the jobs' inputs and study, plans the folder, runs what is not done (unless
+/// [`Missing::List`]) and reads every job's case back.
+fn plan_and_run(
+    jobs: &[Job],
+    work: &Path,
+    missing: Missing,
+    progress: &(dyn Fn(&str) + Sync),
+) -> Result<Outcome> {
+    let inputs = work.join(INPUTS_DIR);
+    std::fs::create_dir_all(&inputs).map_err(Error::io(&inputs))?;
+    let mut values = vec![];
+    for j in jobs {
+        crate::page::write(&inputs, &format!("{}.json", j.name), &inputs_text(j)?)?;
+        values.push(format!("{INPUTS_DIR}/{}.json", j.name));
+    }
+    let name = work
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "runs".into());
+    let study = serde_json::json!({
+        "name": name,
+        "base": {"test": "cutting"},
+        "axes": [{"flag": "inputs", "values": values}],
+        "collect": ["/main_force/mean", "/main_force/peak", "/run/steps"],
     });
-    // (job, specimen file to run on | result of the earlier run)
-    let runnable: Vec<(&Job, std::result::Result<PathBuf, CuttingResult>)> = jobs
-        .into_iter()
-        .zip(before)
-        .filter_map(|(j, b)| match b {
-            Some(res) => Some((j, Err(res))),
-            None => {
-                let k = specs.iter().position(|p| *p == j.specimen)?;
-                files[k].clone().map(|f| (j, Ok(f)))
-            }
-        })
+    crate::page::write(work, STUDY_FILE, &crate::page::json(&study))?;
+    let slurm = Slurm {
+        throttle: None,
+        cpus_per_task: 1,
+        time: "24:00:00".into(),
+        partition: None,
+        mem: None,
+    };
+    let planned = dem_run::plan::replan(&work.join(STUDY_FILE), work, &slurm, &InputsFlag)
+        .map_err(|e| Error::within("planning the runs", e))?;
+    for (c, j) in planned.cases.iter().zip(jobs) {
+        adopt_earlier(c, j, work)?;
+    }
+    let done_before: Vec<bool> = planned
+        .cases
+        .iter()
+        .map(|c| matches!(case::state(c, work), case::State::Done(_)))
         .collect();
-    let total = runnable.len();
-    let done = Mutex::new(0usize);
-    let out: Vec<Option<Finished>> = parallel_map(&runnable, |(job, what)| {
-        let dir = work.join(&job.name);
-        let key = key_of(job);
-        let t0 = Instant::now();
-        let (r, resumed, cpu) = match what {
-            Err(res) => (Ok(res.clone()), true, earlier_cpu(&dir)),
-            Ok(f) => {
-                // The run steps on the one-thread pool's worker: its CPU time is the run's.
-                let (r, cpu) = one_thread(|| {
-                    let c0 = thread_cpu_s();
-                    let r = job
-                        .test
-                        .clone()
-                        .check()
-                        .and_then(|test| {
-                            let spec = cutting::SpecimenInfo::read(f)?;
-                            cutting::run(&test, &job.model, &spec, &dir, &mut |_, _| {})
-                        })
-                        .map_err(|e| e.to_string());
-                    (r, thread_cpu_s().zip(c0).map(|(c1, c0)| c1 - c0))
-                });
-                // A resumed run: the driver's totals over all its invocations.
-                let cpu = match &r {
-                    Ok(res) if res.run.invocations > 1 => res.run.cpu_time_s,
-                    _ => cpu,
-                };
-                if let Ok(res) = &r {
-                    let _ = std::fs::remove_file(dir.join(FAILED_FILE));
-                    let mut time = serde_json::json!({
-                        "wall_time_s": res.run.wall_time_s,
-                        "cpu_time_s": cpu,
-                    });
-                    if res.run.invocations > 1 {
-                        time["invocations"] = serde_json::json!(res.run.invocations);
-                    }
-                    for (file, text) in [
-                        (
-                            TIME_FILE,
-                            serde_json::to_string_pretty(&time).unwrap_or_default(),
-                        ),
-                        (KEY_FILE, key.clone()),
-                    ] {
-                        if let Err(e) = crate::page::write(&dir, file, &text) {
-                            errors.lock().unwrap().push(e.to_string());
-                        }
-                    }
-                }
-                (r, false, cpu)
-            }
+    if missing == Missing::Run && done_before.iter().any(|d| !d) {
+        let spec_dir = work.join(SPECIMEN_CACHE);
+        let f: Arc<CaseFn> = Arc::new(move |c, dir, _threads| run_case(c, dir, &spec_dir));
+        let opts = RunOptions {
+            dir: work.to_path_buf(),
+            jobs: rayon::current_num_threads().max(1),
+            threads: 1,
+            index: None,
+            // The code may have changed since a run failed: run it again.
+            retry_failed: true,
+            executor: Executor::InProcess(f),
         };
-        let mut n = done.lock().unwrap();
-        *n += 1;
-        match r {
-            Ok(res) => {
-                progress(&format!(
-                    "[{}/{total}] {}: peak {:.4e} N, mean {:.4e} N, {} steps, {:.1} s{}",
-                    *n,
-                    job.name,
-                    res.main_force.peak,
-                    res.main_force.mean,
-                    res.run.steps,
-                    if resumed {
-                        res.run.wall_time_s
-                    } else {
-                        t0.elapsed().as_secs_f64()
-                    },
-                    if resumed {
-                        " (earlier run)".to_string()
-                    } else if res.run.invocations > 1 {
-                        format!(
-                            " (resumed from a checkpoint; {} invocations, {:.1} s in all)",
-                            res.run.invocations, res.run.wall_time_s
-                        )
-                    } else {
-                        String::new()
-                    }
-                ));
-                Some(finished(job, res, &dir, cpu, resumed))
-            }
-            Err(e) => {
-                let record = serde_json::json!({ "error": e, "key": key });
-                if let Err(w) = crate::page::write(
-                    &dir,
-                    FAILED_FILE,
-                    &serde_json::to_string_pretty(&record).unwrap_or_default(),
-                ) {
-                    errors.lock().unwrap().push(w.to_string());
-                }
-                let msg = format!("{}: {e}", job.name);
-                progress(&format!("[{}/{total}] FAILED {msg}", *n));
-                errors.lock().unwrap().push(msg);
-                None
-            }
+        dem_run::runner::run(&opts, &InputsFlag, &mut Lines(progress))
+            .map_err(|e| Error::within("running the cases", e))?;
+    }
+    let mut out = crate::sweep_runs::read(jobs, work, progress)?;
+    for f in &mut out.finished {
+        // Read back: done before this call; run now: the others.
+        f.resumed = jobs
+            .iter()
+            .position(|j| j.name == f.name)
+            .is_some_and(|k| done_before[k]);
+    }
+    Ok(out)
+}
+
+/// The runner's lines, passed on (its progress bar is not drawn).
+struct Lines<'a>(&'a (dyn Fn(&str) + Sync));
+
+impl Report for Lines<'_> {
+    fn line(&mut self, line: String) {
+        (self.0)(&line)
+    }
+    fn progress(&mut self, _done: usize, _total: usize, _message: &str) {}
+}
+
+/// One case in this process, as `dem test cutting --inputs FILE --out DIR` runs it: the
+/// specimen from the folder's cache (generated once per parameter set), the inputs written
+/// into the case folder, the cut on a one-thread pool. Gives the CPU time of the cut.
+fn run_case(c: &Case, dir: &Path, spec_dir: &Path) -> std::result::Result<Option<f64>, String> {
+    let sweep = spec_dir.parent().unwrap_or(Path::new("."));
+    let file = match c.argv.as_slice() {
+        [_, _, flag, f] if flag == "--inputs" => sweep.join(f),
+        _ => {
+            return Err(format!(
+                "case {}: not `test cutting --inputs FILE`",
+                c.index
+            ))
         }
+    };
+    let text = std::fs::read_to_string(&file).map_err(|e| format!("{}: {e}", file.display()))?;
+    let i: Inputs = serde_json::from_str(&text).map_err(|e| format!("{}: {e}", file.display()))?;
+    let (Some(sp), Some(model)) = (&i.specimen, &i.model) else {
+        return Err(format!("{}: no specimen or no model", file.display()));
+    };
+    let spec = one_thread(|| specimen_file(sp, spec_dir)).map_err(|e| e.to_string())?;
+    crate::page::write(dir, cutting::INPUTS_FILE, &text).map_err(|e| e.to_string())?;
+    let (r, cpu) = one_thread(|| {
+        let c0 = thread_cpu_s();
+        let r = i.test.clone().check().and_then(|test| {
+            let spec = cutting::SpecimenInfo::read(&spec)?;
+            cutting::run(&test, model, &spec, dir, &mut |_, _| {})
+        });
+        (r, thread_cpu_s().zip(c0).map(|(c1, c0)| c1 - c0))
     });
-    Outcome {
-        finished: out.into_iter().flatten().collect(),
-        errors: errors.into_inner().unwrap(),
-        missing: not_run,
-    }
+    let res = r.map_err(|e| e.to_string())?;
+    // A run resumed from a checkpoint: the driver's totals over its invocations.
+    Ok(if res.run.invocations > 1 {
+        res.run.cpu_time_s
+    } else {
+        cpu
+    })
 }
 
-/// Statistics of a run's main-force history (`cutting.forces.csv`) over its steady window.
-#[derive(Clone, Copy, Debug, Default)]
-struct HistoryStats {
-    /// Peak of the force averaged over one grain of tool travel
-    /// ([`crate::table2::PEAK_AVERAGING`]).
-    peak_avg_n: Option<f64>,
-    /// Travel-weighted mean, median, raw and moving-mean peak, top-5 % work share on the
-    /// [`crate::force_statistics`] grid and width.
-    run: Option<dem_lab::analysis::force_stats::RunStats>,
-}
+/// Files of a run made by the report's runner before its runs were `dem sweep` cases
+/// (2026-12-03): `run.key.json` held the job's key, `run.time.json` its wall and CPU time.
+const EARLIER_KEY_FILE: &str = "run.key.json";
+const EARLIER_TIME_FILE: &str = "run.time.json";
 
-impl HistoryStats {
-    /// `None` fields where the file cannot be read or the window holds no sample.
-    fn read(dir: &Path, res: &CuttingResult, grain: f64) -> HistoryStats {
-        let Some((x, f)) = main_force(&dir.join(cutting::FORCES_FILE)) else {
-            return HistoryStats::default();
-        };
-        let [from, to] = res.window;
-        HistoryStats {
-            peak_avg_n: dem_lab::analysis::moving_mean_peak(&x, &f, from, to, grain),
-            run: dem_lab::analysis::force_stats::run_stats(
-                (&x, &f),
-                res.window,
-                crate::force_statistics::GRID_STEP_M,
-                crate::force_statistics::PEAK_WIDTH_AP * res.test.depth,
-            )
-            .ok()
-            .flatten(),
-        }
+/// A finished run of the earlier layout (`<work>/<name>/` with `run.key.json` equal to the
+/// job's key and its result) becomes the job's case: its folder moved to `cases/<key>/`, its
+/// inputs and a `done.json` from its recorded times written. Its result is what the cache
+/// of that runner read back for the same key; nothing is run again.
+fn adopt_earlier(c: &Case, j: &Job, work: &Path) -> Result<()> {
+    let old = work.join(&j.name);
+    let new = c.dir(work);
+    if new.exists()
+        || std::fs::read_to_string(old.join(EARLIER_KEY_FILE)).ok() != Some(key_of(j))
+        || !old.join(cutting::RESULT_FILE).is_file()
+    {
+        return Ok(());
     }
+    let times: serde_json::Value = std::fs::read_to_string(old.join(EARLIER_TIME_FILE))
+        .ok()
+        .and_then(|t| serde_json::from_str(&t).ok())
+        .unwrap_or_default();
+    let finished_unix = std::fs::metadata(old.join(cutting::RESULT_FILE))
+        .and_then(|m| m.modified())
+        .ok()
+        .and_then(|t| t.duration_since(std::time::UNIX_EPOCH).ok())
+        .map_or(0, |d| d.as_secs());
+    std::fs::rename(&old, &new).map_err(Error::io(&old))?;
+    crate::page::write(&new, cutting::INPUTS_FILE, &inputs_text(j)?)?;
+    let rec = case::Record {
+        index: c.index,
+        key: c.key.clone(),
+        exit_code: Some(0),
+        signal: None,
+        wall_s: times["wall_time_s"].as_f64().unwrap_or(0.0),
+        cpu_s: times["cpu_time_s"].as_f64(),
+        host: "unknown (a run of the report's earlier runner, adopted)".into(),
+        finished_unix,
+        error: None,
+        log_tail: vec![],
+    };
+    crate::page::write(&new, case::DONE_FILE, &crate::page::json(&rec))?;
+    for f in [EARLIER_KEY_FILE, EARLIER_TIME_FILE] {
+        let _ = std::fs::remove_file(new.join(f));
+    }
+    Ok(())
 }
 
 /// Runs `f` on a one-thread rayon pool (the engine's inner parallel loops then run serially).
@@ -523,30 +404,4 @@ fn one_thread<T: Send>(f: impl FnOnce() -> T + Send) -> T {
         Ok(pool) => pool.install(f),
         Err(_) => f(),
     }
-}
-
-/// `f` over `items` on as many scoped threads as rayon's pool has (each item whole on one
-/// thread, taken in order), results in item order. Plain threads rather than nested rayon
-/// pools: a rayon worker blocked in another pool's `install` steals more outer items, which
-/// interleaves runs and makes their wall times meaningless.
-fn parallel_map<T: Sync, R: Send>(items: &[T], f: impl Fn(&T) -> R + Sync) -> Vec<R> {
-    let next = AtomicUsize::new(0);
-    let slots: Vec<Mutex<Option<R>>> = items.iter().map(|_| Mutex::new(None)).collect();
-    let workers = rayon::current_num_threads().clamp(1, items.len().max(1));
-    std::thread::scope(|sc| {
-        for _ in 0..workers {
-            sc.spawn(|| loop {
-                let k = next.fetch_add(1, Ordering::Relaxed);
-                if k >= items.len() {
-                    break;
-                }
-                let r = f(&items[k]);
-                *slots[k].lock().unwrap() = Some(r);
-            });
-        }
-    });
-    slots
-        .into_iter()
-        .map(|m| m.into_inner().unwrap().expect("every item ran"))
-        .collect()
 }

@@ -96,6 +96,9 @@ pub enum Error {
     /// A lab test (cutting, bending, crushing) or its inputs failed.
     #[error(transparent)]
     Lab(#[from] dem_lab::LabError),
+    /// The run layer refused a plan or could not run its cases.
+    #[error(transparent)]
+    Run(#[from] dem_run::Error),
     /// A specimen could not be generated or saved.
     #[error(transparent)]
     Specimen(#[from] dem_lab::specimen::SpecimenError),

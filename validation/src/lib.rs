@@ -38,6 +38,7 @@ pub mod pictures;
 pub mod plot;
 pub mod removal_table;
 pub mod report;
+pub mod runs;
 pub mod stability;
 pub mod study;
 pub mod study_findings;

@@ -161,8 +161,8 @@ fn stability_section(o: &ReportOptions, _: &mut Shared) -> Result<Section> {
 /// Table 2: the cutting runs, the table, its plots.
 fn table2_section(o: &ReportOptions, sh: &mut Shared) -> Result<Section> {
     let source = match &o.sweep {
-        Some(d) => crate::sweep_runs::Source::Sweep(d),
-        None => crate::sweep_runs::Source::Here(o.missing),
+        Some(d) => crate::cutting_runs::Source::Sweep(d),
+        None => crate::cutting_runs::Source::Here(o.missing),
     };
     let (s, scale, reused, summary) =
         crate::table2_section::section(&o.data, &o.out, o.quick, &o.table2, source)?;

@@ -2,10 +2,10 @@
 //! Table 2 specimens, reduced so that one command decides a model change on two cores (issue
 //! 19's inner loop: e.g. L = 5 mm, a_p = 1 mm, 2 seeds). A study file
 //! (`data/studies/*.json`) names the variants, each a set of [`CuttingTest`] fields (SI, as in
-//! `cutting.result.json`) laid over the test's defaults, and optionally [`SpecimenParams`]
-//! fields laid over the full Table 2 plan's specimen; every variant runs on every method,
-//! depth, speed and seed. Runs go through [`crate::cutting_runs::run_jobs`], so a finished run
-//! is read back, not run again, and a failed one does not stop the others.
+//! `cutting.result.json`; those left out are today's defaults) on the full Table 2 plan's
+//! specimens; every variant runs on every method, depth, speed and seed. The study is typed
+//! jobs, run as the cases of a `dem sweep` folder ([`crate::cutting_runs::run_jobs`]), so a
+//! finished run is read back, not run again, and a failed one does not stop the others.
 //!
 //! Per run the study reports what the issue's decisions need: the mean main force over the
 //! steady window and over its first and second half (does the force grow along the cut?), the
@@ -13,9 +13,9 @@
 //! tool's work (local/viscous damping, friction, bond breakage, kinetic energy left), the
 //! machined surface and residual cracks, chips, time step, steps and CPU time.
 
+use crate::cutting_runs::{outcome, Source};
 use crate::cutting_runs::{Job, Plan};
 use crate::error::{Error, Result};
-use crate::sweep_runs::{outcome, Source};
 use dem_lab::analysis::moving_mean_peak;
 use dem_lab::cutting::{CuttingResult, CuttingTest};
 use dem_lab::specimen::{Method, SpecimenParams};
@@ -41,15 +41,40 @@ pub struct StudySpec {
     pub variants: Vec<Variant>,
 }
 
-/// One variant: fields laid over the cutting test's defaults and over the plan's specimen.
+/// One variant: [`CuttingTest`] fields; those it leaves out are today's defaults, read as a
+/// `--params` file is ([`CuttingTest::from_params`]). Depth, speed and length are the study's.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Variant {
     pub name: String,
     #[serde(default)]
     pub test: Map<String, Value>,
-    #[serde(default)]
-    pub specimen: Map<String, Value>,
+}
+
+impl Variant {
+    /// The variant's test (depth, speed and length still to be set); an error names the study
+    /// file's variant and field.
+    fn test(&self, study: &str) -> Result<CuttingTest> {
+        let field = |f: &str, reason: String| Error::Field {
+            file: format!("study {study}"),
+            field: format!(
+                "variants.{}.test{}{f}",
+                self.name,
+                if f.is_empty() { "" } else { "." }
+            ),
+            reason,
+        };
+        for f in ["depth", "speed", "length"] {
+            if self.test.contains_key(f) {
+                return Err(field(
+                    f,
+                    "is the study's (depths_mm, speeds_m_s, length_mm)".into(),
+                ));
+            }
+        }
+        CuttingTest::from_params(&Value::Object(self.test.clone()).to_string())
+            .map_err(|e| field("", e.to_string()))
+    }
 }
 
 pub use crate::study_row::Row;
@@ -115,27 +140,14 @@ impl StudySpec {
                 for &d in &self.depths_mm {
                     for &sp in &self.speeds_m_s {
                         for &seed in &self.seeds {
-                            let mut spec = plan.specimen.clone();
+                            let mut spec: SpecimenParams = plan.specimen.clone();
                             spec.method = method;
                             spec.seed = seed;
                             crate::cutting_runs::normalize_grains(&mut spec);
-                            let spec: SpecimenParams =
-                                serde_json::from_value(overlay(&spec, &v.specimen)?).map_err(
-                                    |e| {
-                                        Error::within(
-                                            format!("variant {}: specimen", v.name),
-                                            Error::Serialize(e),
-                                        )
-                                    },
-                                )?;
-                            let base = CuttingTest::new(d * 1e-3, sp, self.length_mm * 1e-3);
-                            let test: CuttingTest =
-                                serde_json::from_value(overlay(&base, &v.test)?).map_err(|e| {
-                                    Error::within(
-                                        format!("variant {}: test", v.name),
-                                        Error::Serialize(e),
-                                    )
-                                })?;
+                            let mut test = v.test(&self.name)?;
+                            test.depth = d * 1e-3;
+                            test.speed = sp;
+                            test.length = self.length_mm * 1e-3;
                             test.validate()
                                 .map_err(|e| Error::within(format!("variant {}", v.name), e))?;
                             jobs.push(Job {
@@ -157,16 +169,6 @@ impl StudySpec {
         }
         Ok(jobs)
     }
-}
-
-/// `base` as JSON with the variant's fields `add` laid over it (unknown fields are refused
-/// when the result is read back: the types deny unknown fields).
-fn overlay<T: Serialize>(base: &T, add: &Map<String, Value>) -> Result<Value> {
-    let mut b = serde_json::to_value(base).map_err(Error::Serialize)?;
-    if let Value::Object(o) = &mut b {
-        o.extend(add.clone());
-    }
-    Ok(b)
 }
 
 /// Mean of `f` over samples with abscissa in [a, b].

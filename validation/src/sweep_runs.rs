@@ -5,43 +5,20 @@
 //! A case is matched to a [`Job`] by what it ran, not by its axes: `dem test cutting` writes
 //! `cutting.inputs.json` (the generated specimen's parameters, the model and the test) into
 //! its folder `DIR/cases/<key>/` before it starts, and a case whose three values serialise
-//! to the job's key ([`crate::cutting_runs::key_of`], the `run.key.json` of a run made here)
-//! is that job's run. A done case (`done.json` and `cutting.result.json`, as `dem sweep
+//! to the job's key ([`crate::cutting_runs::key_of`]) is that job's run (the report's own
+//! runs are such a folder too, [`crate::cutting_runs`]). A done case (`done.json` and `cutting.result.json`, as `dem sweep
 //! status` counts it) is read as a finished run; a failed one (`failed.json`) is an error
 //! naming it; a job without a done or failed case is listed as not run, as `--finished-only`
 //! lists the runs not made yet.
 //!
-//! [`outcome`] takes the runs from either source, run here or read from a sweep ([`Source`]).
+//! The report's own runs are such a folder too ([`crate::cutting_runs`]).
 
-use crate::cutting_runs::{finished, key_of, key_text, run_jobs, Job, Missing, Outcome};
 use crate::error::{Error, Result};
+use crate::runs::{finished, key_of, key_text, Job, Outcome};
 use dem_lab::cutting::{CuttingResult, Inputs, RESULT_FILE};
 use serde::Deserialize;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
-
-/// Where the cutting runs come from.
-#[derive(Clone, Copy, Debug)]
-pub enum Source<'a> {
-    /// Run here into the work folder ([`run_jobs`]): those not finished are run or listed.
-    Here(Missing),
-    /// The done cases of a `dem sweep` folder ([`read`]); the others are listed
-    /// as not run.
-    Sweep(&'a Path),
-}
-
-/// The jobs' runs from `source`: [`run_jobs`] into `work`, or read from a sweep folder.
-pub fn outcome(
-    jobs: &[Job],
-    work: &Path,
-    source: Source,
-    progress: &(dyn Fn(&str) + Sync),
-) -> Result<Outcome> {
-    match source {
-        Source::Here(m) => Ok(run_jobs(jobs, work, m, progress)),
-        Source::Sweep(dir) => read(jobs, dir, progress),
-    }
-}
 
 /// The sweep's file names and the cut's inputs file, as `dem sweep` and `dem test cutting`
 /// write them.
@@ -127,10 +104,9 @@ pub fn read(jobs: &[Job], sweep: &Path, progress: &(dyn Fn(&str) + Sync)) -> Res
         };
         let state = if dir.join(DONE_FILE).is_file() && dir.join(RESULT_FILE).is_file() {
             CaseState::Done
-        } else if let Ok(t) = std::fs::read_to_string(dir.join(FAILED_FILE)) {
-            let why = serde_json::from_str::<serde_json::Value>(&t)
-                .ok()
-                .and_then(|v| v["error"].as_str().map(String::from))
+        } else if dir.join(FAILED_FILE).is_file() {
+            let why = dem_run::case::read_record(&dir.join(FAILED_FILE))
+                .and_then(|r| r.reason())
                 .unwrap_or_else(|| "failed".into());
             CaseState::Failed(why)
         } else {

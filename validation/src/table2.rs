@@ -71,7 +71,7 @@ pub struct RunRecord {
     pub discs: usize,
     pub steps: u64,
     pub wall_time_s: f64,
-    /// CPU time of the run (s), where it was recorded ([`crate::cutting_runs::TIME_FILE`]).
+    /// CPU time of the run (s), where it was recorded (the run's result, `run.cpu_time_s`).
     #[serde(default)]
     pub cpu_time_s: Option<f64>,
     /// Peak of the main force averaged over one grain of tool travel (N; see

@@ -3,11 +3,11 @@
 //! ([`crate::table2`]), a bar chart ours vs paper and the force histories of the three methods
 //! at a_p = 1 mm, v = 1 m/s.
 
+use crate::cutting_runs::{outcome, Source};
 use crate::cutting_runs::{Plan, Reused};
 use crate::error::{Error, Result};
 use crate::page::{json, Figure, Section};
 use crate::plot::{self, Series};
-use crate::sweep_runs::{outcome, Source};
 use crate::table2::{self, PaperTable2, METHODS};
 use dem_lab::specimen::{FewGrains, GrainMode, Method, SpecimenParams};
 use dem_lab::LabModel;
