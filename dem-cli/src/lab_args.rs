@@ -87,9 +87,9 @@ pub struct LabArgs {
     /// Worker threads, at least 1 (default: all cores); results do not depend on it.
     #[arg(long, value_parser = crate::parse_threads)]
     pub threads: Option<usize>,
-    /// Safety factor of the automatic time step (default: the test's).
+    /// Safety factor of the automatic time step, in (0, 1] (default: the test's).
     #[arg(long)]
-    pub dt_factor: Option<f64>,
+    pub dt_factor: Option<dem_lab::tests::harness::DtFactor>,
     /// Run even if the test's output folder is locked by a run of another scene or one still
     /// running (`run.lock`; a rerun of the same test is always allowed).
     #[arg(long)]

@@ -77,9 +77,9 @@ pub struct CrushArgs {
     /// Platen speed (each) with unit, e.g. `0.01m/s`; default the quasi-static rule.
     #[arg(long)]
     pub speed: Option<String>,
-    /// Safety factor of the automatic time step.
+    /// Safety factor of the automatic time step, in (0, 1] (default 0.3).
     #[arg(long)]
-    pub dt_factor: Option<f64>,
+    pub dt_factor: Option<dem_lab::tests::harness::DtFactor>,
     #[command(flatten)]
     pub folder: RunFolderArgs,
 }

@@ -119,9 +119,10 @@ fn shipped_examples_validate() {
     for f in json_files("examples/studies") {
         assert_valid(&study, &f);
     }
-    // The cutting tests recorded in the report's results (`test`: a CuttingTest as written).
+    // The cutting tests recorded in the report's results (`test`: a CuttingTest as written),
+    // the cases of its convergence folder.
     let cutting = validator("cutting-params");
-    let runs = root().join("docs/report/convergence-runs");
+    let runs = root().join("docs/report/convergence-runs/cases");
     let mut n = 0;
     for d in std::fs::read_dir(&runs).unwrap() {
         let f = d.unwrap().path().join("cutting.result.json");

@@ -4,6 +4,7 @@
 
 mod lab_common;
 
+use dem_lab::tests::harness::DtFactor;
 use dem_lab::tests::ucs::{UcsOutcome, UcsTest};
 use dem_lab::{LabError, LabModel};
 use lab_common::{dir, model, specimen};
@@ -76,7 +77,7 @@ fn quasi_static_speed_time_step_and_linear_scaling() {
 
     // Half the time-step factor (0.3 → 0.15): E, ν, UCS within 1 %.
     let mut fine = t.clone();
-    fine.loading.dt_factor = 0.5 * t.loading.dt_factor;
+    fine.loading.dt_factor = DtFactor(0.5 * t.loading.dt_factor.get());
     let f = run("half-dt", &fine, &m).result;
     assert!(
         rel(f.young, base.young) < 0.01,
@@ -148,7 +149,7 @@ fn bad_parameters_name_the_field() {
         "ucs.band"
     );
     let mut t = test();
-    t.loading.dt_factor = 1.5;
+    t.loading.dt_factor = DtFactor(1.5);
     assert_eq!(field(t), "ucs.loading.dt_factor");
     let mut t = test();
     t.loading.speed = Some(0.0);

@@ -14,6 +14,7 @@ use crate::page::{json, Figure, Section};
 use crate::plot::{self, Series};
 use dem_lab::cutting::CuttingTest;
 use dem_lab::specimen::{Method, SpecimenParams};
+use dem_lab::tests::harness::DtFactor;
 use dem_lab::LabModel;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
@@ -99,7 +100,7 @@ pub fn jobs(p: &SweepPlan) -> Vec<Job> {
             model.r_mean *= s;
             let mut test = CuttingTest::new(p.depth_mm * 1e-3, p.speed_m_s, p.length);
             test.window_start = p.window_start;
-            test.dt_factor = f;
+            test.dt_factor = DtFactor(f);
             out.push(Job {
                 name: format!("{}-r{s:.4}-dt{f}", p.method.name()),
                 specimen: sp,
@@ -138,7 +139,7 @@ pub fn run(
         let s = j.specimen.r_min / p.specimen.r_min;
         points.push(Point {
             radius_scale: s,
-            dt_factor: j.test.dt_factor,
+            dt_factor: j.test.dt_factor.get(),
             discs: f.record.discs,
             dt_s: f.result.run.dt_min,
             steps: f.record.steps,
@@ -156,7 +157,7 @@ pub fn run(
     let finest_job = &jobs[0];
     let finest = (
         finest_job.specimen.r_min / p.specimen.r_min,
-        finest_job.test.dt_factor,
+        finest_job.test.dt_factor.get(),
     );
     let reference = done
         .iter()

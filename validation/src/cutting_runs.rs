@@ -20,6 +20,7 @@ use crate::error::{Error, Result};
 pub use crate::runs::{finished, key_of, key_text, Finished, Job, Missing, Outcome, Reused};
 use dem_lab::cutting::{self, CuttingTest, Inputs};
 use dem_lab::specimen::{self, Method, SpecimenParams};
+use dem_lab::tests::harness::DtFactor;
 use dem_lab::LabModel;
 use dem_run::case::{self, Case, STUDY_FILE};
 use dem_run::plan::{FlagInfo, Slurm, TestCommands};
@@ -43,7 +44,7 @@ pub struct Plan {
     /// Cut length L (m).
     pub length: f64,
     /// Safety factor of the automatic time step (None: the cutting test's default).
-    pub dt_factor: Option<f64>,
+    pub dt_factor: Option<DtFactor>,
     /// Start of the steady window (× a_p) and tool stiffness (× disc k_n); None: the cutting
     /// test's defaults.
     pub window_start: Option<f64>,

@@ -75,7 +75,7 @@ fn finished_runs_are_read_back_and_changed_ones_rerun() {
     assert_eq!(back.finished[0].record, third[0].record);
 
     // A failed run leaves its error: listing reports the failure rather than "not run".
-    p.dt_factor = Some(2.0);
+    p.dt_factor = Some(dem_lab::tests::harness::DtFactor(2.0));
     let failed = run_plan(&p, &work, Missing::Run, &log);
     assert!(failed.finished.is_empty());
     assert_eq!(failed.errors.len(), 1, "{:?}", failed.errors);

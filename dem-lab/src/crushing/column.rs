@@ -38,7 +38,7 @@
 use super::lattice::{self, EndEnergy, LatticeScene, Rows};
 use crate::run::{run_scene, LabRun};
 use crate::specimen::relax;
-use crate::tests::harness::{self, RunFacts};
+use crate::tests::harness::{self, DtFactor, RunFacts};
 use crate::LabError;
 use clumpgen::clump::LatticeParams;
 use clumpgen::synth::SplitMix64;
@@ -159,7 +159,7 @@ pub struct ColumnTest {
     pub inertial_number: f64,
     /// The run's cap: platen travel over H0 (default 0.5).
     pub max_strain: f64,
-    pub dt_factor: f64,
+    pub dt_factor: DtFactor,
     pub local_damping: f64,
     /// History row every this many steps (default 50).
     pub history_every: u64,
@@ -210,7 +210,7 @@ impl Default for ColumnTest {
             speed: None,
             inertial_number: 1e-3,
             max_strain: 0.5,
-            dt_factor: harness::DT_FACTOR,
+            dt_factor: DtFactor::default(),
             local_damping: harness::LOCAL_DAMPING,
             history_every: 50,
             loading: Loading::Inertial,
@@ -322,12 +322,7 @@ impl ColumnTest {
                 format!("{}: a fraction of H0 in (0, 1)", self.max_strain),
             ));
         }
-        if !(self.dt_factor > 0.0 && self.dt_factor <= 1.0) {
-            return Err(param(
-                "dt_factor",
-                format!("{}: must lie in (0, 1]", self.dt_factor),
-            ));
-        }
+        self.dt_factor.check(&format!("{TEST}.dt_factor"))?;
         if !(self.local_damping >= 0.0 && self.local_damping < 1.0) {
             return Err(param(
                 "local_damping",

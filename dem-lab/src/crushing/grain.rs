@@ -39,7 +39,7 @@
 
 use super::lattice::{self, EndEnergy, LatticeScene, Rows};
 use crate::run::run_scene;
-use crate::tests::harness::{self, RunFacts};
+use crate::tests::harness::{self, DtFactor, RunFacts};
 use crate::LabError;
 use clumpgen::Template;
 use dem_core::fragments::{self, FragmentSummary, LatticeGrain};
@@ -208,7 +208,7 @@ pub struct CrushTest {
     pub quasi_static_factor: f64,
     /// Stage 1's cap: a platen closure of this fraction of d (default 0.2).
     pub max_closure: f64,
-    pub dt_factor: f64,
+    pub dt_factor: DtFactor,
     pub local_damping: f64,
     /// History row every this many steps (default 20).
     pub history_every: u64,
@@ -232,7 +232,7 @@ impl Default for CrushTest {
             speed: None,
             quasi_static_factor: 100.0,
             max_closure: 0.2,
-            dt_factor: harness::DT_FACTOR,
+            dt_factor: DtFactor::default(),
             local_damping: harness::LOCAL_DAMPING,
             history_every: 20,
         }
@@ -555,7 +555,7 @@ pub fn run(
     let mut s2 = s1.clone();
     s2.run = RunSpec {
         duration: Some(test.stage2_travel * r1.world.state.time),
-        dt_factor: Some(test.dt_factor),
+        dt_factor: Some(test.dt_factor.get()),
         ..RunSpec::default()
     };
     let restart = r1.out_dir.join("ckpt-final.json");

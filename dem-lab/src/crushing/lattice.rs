@@ -5,6 +5,7 @@
 
 use crate::run::{run_scene, LabRun};
 use crate::tests::harness;
+use crate::tests::harness::DtFactor;
 use crate::LabError;
 use dem_core::output::driver::{RunOptions, StepHook};
 use dem_core::output::history::Record;
@@ -76,7 +77,7 @@ pub struct LatticeScene<'a> {
     /// Local damping α, the time-step factor, the history cadence (steps) and the run's
     /// duration (s).
     pub local_damping: f64,
-    pub dt_factor: f64,
+    pub dt_factor: DtFactor,
     pub history_every: u64,
     pub duration: f64,
 }
@@ -121,7 +122,7 @@ impl LatticeScene<'_> {
             },
             run: RunSpec {
                 duration: Some(self.duration),
-                dt_factor: Some(self.dt_factor),
+                dt_factor: Some(self.dt_factor.get()),
                 ..RunSpec::default()
             },
             outputs: OutputSpec {

@@ -26,6 +26,7 @@ use self::tool::{edge_arc, CutGeometry, Segment, ToolModel, CLEARANCE, RAKE, TOO
 use super::model::series_wall_stiffness;
 use super::model::{DISC_MATERIAL, WALL_MATERIAL};
 use super::run::run_built;
+use super::tests::harness::DtFactor;
 use super::{analysis, LabError, LabModel};
 use dem_core::output::driver::RunOptions;
 use dem_core::output::history::Record;
@@ -129,8 +130,9 @@ pub struct CuttingTest {
     pub frame: CutFrame,
     /// Safety factor of the automatic time step. Default 0.3 (the engine's 0.04 is chosen for
     /// energy conservation of an elastic gas over 1e5 steps; here stability and force
-    /// statistics matter: see docs/cutting.md for the halving check).
-    pub dt_factor: f64,
+    /// statistics matter: see docs/cutting.md for the halving check). In (0, 1], the rule of
+    /// every lab test.
+    pub dt_factor: DtFactor,
     /// Target number of history rows over the run (one row every ⌈steps/rows⌉ steps, each
     /// with the tool forces). Default 4000: 2.5 µm of travel per row at L = 10 mm.
     pub history_rows: u64,
@@ -249,7 +251,7 @@ impl Default for CuttingTest {
             local_damping: 0.7,
             damping_frame: DampingFrame::Fragment,
             frame: CutFrame::Lab,
-            dt_factor: 0.3,
+            dt_factor: DtFactor::default(),
             history_rows: 4000,
             window_start: 2.0,
             surface_bin: 1.0,
@@ -322,7 +324,6 @@ impl CuttingTest {
             ("clearance_face", self.clearance_face),
             ("approach", self.approach),
             ("tool_stiffness", self.tool_stiffness),
-            ("dt_factor", self.dt_factor),
             ("surface_bin", self.surface_bin),
             ("max_energy_growth", self.max_energy_growth),
             ("max_overlap_fraction", self.max_overlap_fraction),
@@ -406,9 +407,7 @@ impl CuttingTest {
                     .into(),
             );
         }
-        if self.dt_factor > 1.0 {
-            return bad("dt_factor", "must lie in (0, 1]".into());
-        }
+        self.dt_factor.check("dt_factor")?;
         if self.history_rows < 10 {
             return bad("history_rows", "at least 10".into());
         }
@@ -783,7 +782,7 @@ pub fn scene(
     s.damping.frame = test.damping_frame;
     s.run = RunSpec {
         duration: Some(g.duration),
-        dt_factor: Some(test.dt_factor),
+        dt_factor: Some(test.dt_factor.get()),
         max_energy_growth: Some(test.max_energy_growth),
         max_overlap_fraction: Some(test.max_overlap_fraction),
         mass_scaling: (test.mass_scaling > 0.0).then_some(test.mass_scaling),

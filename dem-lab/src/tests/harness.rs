@@ -27,6 +27,60 @@ pub const LOCAL_DAMPING: f64 = 0.7;
 /// `tests/lab_ucs.rs` checks that halving it changes E and UCS by less than 1 %.
 pub const DT_FACTOR: f64 = 0.3;
 
+/// The safety factor f of the automatic time step dt = f · dt_crit (dem-core's
+/// `Params::dt_factor`), declared once for every lab test (loading, cutting, crushing): its
+/// default 0.3 (`DT_FACTOR`) and its rule, f in (0, 1] (f > 1 steps past the critical time
+/// step of the stiffest contact). In files a plain number.
+#[derive(Clone, Copy, Debug, PartialEq, PartialOrd, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
+#[serde(transparent)]
+pub struct DtFactor(pub f64);
+
+impl Default for DtFactor {
+    fn default() -> DtFactor {
+        DtFactor(DT_FACTOR)
+    }
+}
+
+impl DtFactor {
+    /// The factor.
+    pub fn get(self) -> f64 {
+        self.0
+    }
+
+    /// The rule; the error names `field` (`ucs.dt_factor`, `dt_factor`).
+    pub fn check(self, field: &str) -> Result<(), LabError> {
+        if self.0 > 0.0 && self.0 <= 1.0 {
+            return Ok(());
+        }
+        Err(LabError::Param {
+            field: field.into(),
+            reason: format!("{}: must lie in (0, 1]", self.0),
+        })
+    }
+}
+
+/// A command line's value (`--dt-factor 0.3`): a number under the rule.
+impl std::str::FromStr for DtFactor {
+    type Err = String;
+    fn from_str(s: &str) -> Result<DtFactor, String> {
+        let v: f64 = s
+            .trim()
+            .parse()
+            .map_err(|_| format!("{s:?} is not a number"))?;
+        let f = DtFactor(v);
+        f.check("dt_factor")
+            .map_err(|_| format!("{v}: must lie in (0, 1]"))?;
+        Ok(f)
+    }
+}
+
+impl std::fmt::Display for DtFactor {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        self.0.fmt(f)
+    }
+}
+
 /// Settings every quasi-static test shares (SI).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -37,8 +91,8 @@ pub struct Loading {
     /// Quasi-static rule: the loading time to the estimated failure strain is at least this
     /// many characteristic times of the specimen (default 20).
     pub quasi_static_factor: f64,
-    /// Time-step safety factor (default [`DT_FACTOR`]).
-    pub dt_factor: f64,
+    /// Time-step safety factor (default [`DT_FACTOR`]; [`DtFactor`]).
+    pub dt_factor: DtFactor,
     /// Local damping α (default [`LOCAL_DAMPING`]).
     pub local_damping: f64,
     /// `run.stop_after_peak.below`: the run ends when the load falls below this fraction of
@@ -56,7 +110,7 @@ impl Default for Loading {
         Loading {
             speed: None,
             quasi_static_factor: 20.0,
-            dt_factor: DT_FACTOR,
+            dt_factor: DtFactor::default(),
             local_damping: LOCAL_DAMPING,
             stop_below: 0.6,
             max_travel_factor: 10.0,
@@ -82,9 +136,7 @@ impl Loading {
         if !(self.quasi_static_factor.is_finite() && self.quasi_static_factor > 0.0) {
             return bad("quasi_static_factor", "must be positive");
         }
-        if !(self.dt_factor > 0.0 && self.dt_factor <= 1.0) {
-            return bad("dt_factor", "must lie in (0, 1]");
-        }
+        self.dt_factor.check(&format!("{test}.dt_factor"))?;
         if !(0.0..1.0).contains(&self.local_damping) {
             return bad("local_damping", "must lie in [0, 1)");
         }
@@ -125,7 +177,7 @@ impl Loading {
         scene.damping.local = self.local_damping;
         scene.run = RunSpec {
             duration: Some(self.max_travel_factor * u_fail / speed),
-            dt_factor: Some(self.dt_factor),
+            dt_factor: Some(self.dt_factor.get()),
             stop_after_peak: Some(StopAfterPeakSpec {
                 walls: walls.to_vec(),
                 axis,
