@@ -72,7 +72,7 @@ impl PairLaw for LinearGamma {
     const ROLLING: bool = false;
     #[inline(always)]
     fn force<const E: bool>(&self, _: u16, _: u16, k: &PairKin, us: &mut f64) -> PairOut {
-        self.0.force_cn::<E>(k, self.1 * k.m_eff, us)
+        self.0.force_cn::<E, f64>(k, self.1 * k.m_eff, us)
     }
     #[inline(always)]
     fn released(&self, _: u16, _: u16, _: &PairKin, us: f64, _: f64) -> f64 {
@@ -89,7 +89,7 @@ impl PairLaw for LinearRatio {
     #[inline(always)]
     fn force<const E: bool>(&self, _: u16, _: u16, k: &PairKin, us: &mut f64) -> PairOut {
         self.0
-            .force_cn::<E>(k, 2.0 * self.1 * (k.m_eff * self.0.kn).sqrt(), us)
+            .force_cn::<E, f64>(k, 2.0 * self.1 * (k.m_eff * self.0.kn).sqrt(), us)
     }
     #[inline(always)]
     fn released(&self, _: u16, _: u16, _: &PairKin, us: f64, _: f64) -> f64 {
@@ -105,7 +105,7 @@ impl PairLaw for HertzMindlin {
     const ROLLING: bool = false;
     #[inline(always)]
     fn force<const E: bool>(&self, _: u16, _: u16, k: &PairKin, us: &mut f64) -> PairOut {
-        HertzMindlin::force::<E>(self, k, us)
+        HertzMindlin::force::<E, f64>(self, k, us)
     }
     #[inline(always)]
     fn released(&self, _: u16, _: u16, k: &PairKin, us: f64, _: f64) -> f64 {

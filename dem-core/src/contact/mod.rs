@@ -23,42 +23,24 @@
 
 pub(crate) mod disc_disc;
 pub(crate) mod disc_segment;
-pub mod hertz_mindlin;
 pub(crate) mod kernel;
 pub(crate) mod linear4;
-pub mod linear_spring_dashpot;
 pub(crate) mod owned;
-pub mod rolling;
 
-pub use hertz_mindlin::HertzMindlin;
-pub use linear_spring_dashpot::{LinearSpringDashpot, NormalDamping};
-pub use rolling::RollingResistance;
+// The laws themselves are written once, for discs and spheres, in `dem-laws`; the 2D solver
+// instantiates them with a scalar tangential history (`T = f64`).
+pub use dem_laws::{
+    eta_for_restitution, restitution_of_eta, HertzMindlin, LinearSpringDashpot, NormalDamping,
+    RollingResistance,
+};
 
 use serde::{Deserialize, Serialize};
 
-/// Kinematics of one touching pair, input to a law.
-#[derive(Clone, Copy, Debug, Default)]
-pub struct PairKin {
-    pub delta: f64,
-    pub vn: f64,
-    pub vt: f64,
-    pub m_eff: f64,
-    pub r_eff: f64,
-    pub dt: f64,
-}
+/// Kinematics of one touching disc pair, input to a law ([`dem_laws::Kin`] in 2D).
+pub type PairKin = dem_laws::Kin<f64>;
 
-/// Output of a law for one pair (energies only when tracked).
-#[derive(Clone, Copy, Debug, Default)]
-pub struct PairOut {
-    pub f_n: f64,
-    pub f_t: f64,
-    pub e_strain: f64,
-    /// Dashpot parts of F_n and F_t (−c_n v_n, −c_t v_t): their dissipation is booked with
-    /// the mean of the half-step velocities by the integration pass (see [`crate::energy`]).
-    pub d_n: f64,
-    pub d_t: f64,
-    pub e_fric: f64,
-}
+/// Output of a law for one disc pair ([`dem_laws::Out`] in 2D; energies only when tracked).
+pub type PairOut = dem_laws::Out<f64>;
 
 /// The contact law of one material pair.
 #[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq)]
@@ -71,8 +53,8 @@ impl ContactModel {
     #[inline(always)]
     pub fn force<const E: bool>(&self, k: &PairKin, us: &mut f64) -> PairOut {
         match self {
-            ContactModel::Linear(l) => l.force::<E>(k, us),
-            ContactModel::HertzMindlin(h) => h.force::<E>(k, us),
+            ContactModel::Linear(l) => l.force::<E, f64>(k, us),
+            ContactModel::HertzMindlin(h) => h.force::<E, f64>(k, us),
         }
     }
 

@@ -13,7 +13,7 @@ use super::SceneError;
 use crate::bond::attach::world_with_bonds;
 use crate::bond::Bonds;
 use crate::bonded_clump::{place_bonded_clump_in, Placement};
-use crate::contact::linear_spring_dashpot::NormalDamping as LinDamping;
+use crate::contact::NormalDamping as LinDamping;
 use crate::contact::{
     ContactLaws, ContactModel, HertzMindlin, LinearSpringDashpot, RollingResistance,
 };
@@ -247,7 +247,7 @@ fn model(p: &PairLaw) -> ContactModel {
             ContactModel::HertzMindlin(HertzMindlin {
                 e_star,
                 g_star,
-                eta: crate::contact::hertz_mindlin::eta_for_restitution(e),
+                eta: crate::contact::eta_for_restitution(e),
                 restitution: e,
                 mu: p.friction,
             })

@@ -10,7 +10,7 @@
 //! spring is reset so that it carries the limited force (Cundall & Strack's slip rule; LAMMPS
 //! rescales the same way).
 
-use super::{PairKin, PairOut};
+use crate::{ContactLaw, Kin, Out, Tangent};
 use serde::{Deserialize, Serialize};
 
 /// How the normal dashpot coefficient c_n is set.
@@ -78,32 +78,32 @@ impl LinearSpringDashpot {
 
     /// Force of the pair for overlap `k.delta > 0`; `us` is the tangential spring history.
     #[inline(always)]
-    pub fn force<const E: bool>(&self, k: &PairKin, us: &mut f64) -> PairOut {
+    pub fn force<const E: bool, T: Tangent>(&self, k: &Kin<T>, us: &mut T) -> Out<T> {
         let cn = self.cn(k.m_eff);
-        self.force_cn::<E>(k, cn, us)
+        self.force_cn::<E, T>(k, cn, us)
     }
 
     /// [`Self::force`] with the normal dashpot coefficient given. Branch-free (selects only),
     /// so that the blocked force pass vectorises.
     #[inline(always)]
-    pub fn force_cn<const E: bool>(&self, k: &PairKin, cn: f64, us: &mut f64) -> PairOut {
+    pub fn force_cn<const E: bool, T: Tangent>(&self, k: &Kin<T>, cn: f64, us: &mut T) -> Out<T> {
         let ct = self.shear_damping * cn;
         let f_n = self.kn * k.delta - cn * k.vn;
         let u0 = *us;
-        let us1 = u0 + k.vt * k.dt;
-        let ft0 = -self.ks * us1 - ct * k.vt;
+        let us1 = u0.add_scaled(k.vt, k.dt);
+        let ft0 = us1.scale(-self.ks).add_scaled(k.vt, -ct);
         let f_max = self.mu * f_n.max(0.0);
-        let slip = ft0.abs() > f_max;
-        let ft_s = f_max.copysign(ft0);
+        let slip = ft0.norm() > f_max;
+        let ft_s = ft0.with_length(f_max);
         // 1/k_s is loop-invariant: one division per block instead of one per pair.
         let inv_ks = if self.ks > 0.0 { 1.0 / self.ks } else { 0.0 };
-        let us_s = -(ft_s + ct * k.vt) * inv_ks;
+        let us_s = ft_s.add_scaled(k.vt, ct).scale(-inv_ks);
         let f_t = if slip { ft_s } else { ft0 };
         *us = if slip { us_s } else { us1 };
-        let mut out = PairOut {
+        let mut out = Out {
             f_n,
             f_t,
-            ..PairOut::default()
+            ..Out::default()
         };
         if E {
             // Slip work of the spring: its mean force over the step (trapezoid of the old and
@@ -113,13 +113,15 @@ impl LinearSpringDashpot {
             // F_n drops, and possibly negative with a tangential dashpot (limiting the total
             // force makes the spring carry −c_t v_t).
             out.e_fric = if slip {
-                0.5 * self.ks * (u0 + us_s) * (us1 - us_s)
+                u0.add_scaled(us_s, 1.0)
+                    .scale(0.5 * self.ks)
+                    .dot(us1.add_scaled(us_s, -1.0))
             } else {
                 0.0
             };
             out.d_n = -cn * k.vn;
-            out.d_t = -ct * k.vt;
-            out.e_strain = 0.5 * self.kn * k.delta * k.delta + 0.5 * self.ks * *us * *us;
+            out.d_t = k.vt.scale(-ct);
+            out.e_strain = 0.5 * self.kn * k.delta * k.delta + us.scale(0.5 * self.ks).dot(*us);
         }
         out
     }
@@ -127,5 +129,20 @@ impl LinearSpringDashpot {
     /// Elastic normal force at overlap δ (for contact views).
     pub fn spring_normal(&self, delta: f64) -> f64 {
         self.kn * delta
+    }
+}
+
+impl<T: Tangent> ContactLaw<T> for LinearSpringDashpot {
+    #[inline(always)]
+    fn force<const E: bool>(&self, k: &Kin<T>, us: &mut T) -> Out<T> {
+        LinearSpringDashpot::force::<E, T>(self, k, us)
+    }
+    #[inline(always)]
+    fn kn(&self, _r_eff: f64, _delta: f64) -> f64 {
+        self.kn
+    }
+    #[inline(always)]
+    fn ks(&self, _r_eff: f64, _delta: f64) -> f64 {
+        self.ks
     }
 }

@@ -21,7 +21,7 @@
 //! Undamped contact time (Johnson 1985, §11.4): t_c = 2.9432 δ_max / v₀ with
 //! δ_max = (15 m* v₀² / (16 E* √R*))^{2/5}.
 
-use super::{PairKin, PairOut};
+use crate::{ContactLaw, Kin, Out, Tangent};
 use serde::{Deserialize, Serialize};
 
 /// Parameters of the Hertz–Mindlin law for one material pair (effective values).
@@ -75,7 +75,7 @@ impl HertzMindlin {
     /// Force of the pair for overlap `k.delta > 0`; `us` is the tangential displacement.
     /// Branch-free (selects only), so that the blocked force pass vectorises.
     #[inline(always)]
-    pub fn force<const E: bool>(&self, k: &PairKin, us: &mut f64) -> PairOut {
+    pub fn force<const E: bool, T: Tangent>(&self, k: &Kin<T>, us: &mut T) -> Out<T> {
         let a = (k.r_eff * k.delta).sqrt();
         let sn = 2.0 * self.e_star * a;
         let st = 8.0 * self.g_star * a;
@@ -84,22 +84,22 @@ impl HertzMindlin {
         let ct = self.eta * (k.m_eff * st).sqrt();
         let f_n = f_el - cn * k.vn;
         let u0 = *us;
-        let us1 = u0 + k.vt * k.dt;
-        let ft0 = -st * us1 - ct * k.vt;
+        let us1 = u0.add_scaled(k.vt, k.dt);
+        let ft0 = us1.scale(-st).add_scaled(k.vt, -ct);
         let f_max = self.mu * f_n.max(0.0);
-        let slip = ft0.abs() > f_max;
-        let ft_s = f_max.copysign(ft0);
+        let slip = ft0.norm() > f_max;
+        let ft_s = ft0.with_length(f_max);
         let us_s = if st > 0.0 {
-            -(ft_s + ct * k.vt) / st
+            ft_s.add_scaled(k.vt, ct).scale(-1.0).div(st)
         } else {
-            0.0
+            T::zero()
         };
         let f_t = if slip { ft_s } else { ft0 };
         *us = if slip { us_s } else { us1 };
-        let mut out = PairOut {
+        let mut out = Out {
             f_n,
             f_t,
-            ..PairOut::default()
+            ..Out::default()
         };
         if E {
             // Slip work of the spring: its mean force over the step (trapezoid of the old and
@@ -109,13 +109,15 @@ impl HertzMindlin {
             // F_n drops, and possibly negative with a tangential dashpot (limiting the total
             // force makes the spring carry −c_t v_t).
             out.e_fric = if slip {
-                0.5 * st * (u0 + us_s) * (us1 - us_s)
+                u0.add_scaled(us_s, 1.0)
+                    .scale(0.5 * st)
+                    .dot(us1.add_scaled(us_s, -1.0))
             } else {
                 0.0
             };
             out.d_n = -cn * k.vn;
-            out.d_t = -ct * k.vt;
-            out.e_strain = 0.4 * f_el * k.delta + 0.5 * st * *us * *us;
+            out.d_t = k.vt.scale(-ct);
+            out.e_strain = 0.4 * f_el * k.delta + us.scale(0.5 * st).dot(*us);
         }
         out
     }
@@ -123,6 +125,21 @@ impl HertzMindlin {
     /// Elastic normal force at overlap δ (for contact views).
     pub fn spring_normal(&self, r_eff: f64, delta: f64) -> f64 {
         (4.0 / 3.0) * self.e_star * (r_eff * delta.max(0.0)).sqrt() * delta.max(0.0)
+    }
+}
+
+impl<T: Tangent> ContactLaw<T> for HertzMindlin {
+    #[inline(always)]
+    fn force<const E: bool>(&self, k: &Kin<T>, us: &mut T) -> Out<T> {
+        HertzMindlin::force::<E, T>(self, k, us)
+    }
+    #[inline(always)]
+    fn kn(&self, r_eff: f64, delta: f64) -> f64 {
+        self.kn_tangent(r_eff, delta)
+    }
+    #[inline(always)]
+    fn ks(&self, r_eff: f64, delta: f64) -> f64 {
+        self.kt(r_eff, delta)
     }
 }
 
