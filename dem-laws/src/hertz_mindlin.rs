@@ -129,6 +129,7 @@ impl HertzMindlin {
 }
 
 impl<T: Tangent> ContactLaw<T> for HertzMindlin {
+    type History = T;
     #[inline(always)]
     fn force<const E: bool>(&self, k: &Kin<T>, us: &mut T) -> Out<T> {
         HertzMindlin::force::<E, T>(self, k, us)

@@ -15,8 +15,15 @@
 //! 4. the solver applies ±F at the contact point and the torques.
 //!
 //! Laws: [`LinearSpringDashpot`] (Cundall & Strack 1979) and [`HertzMindlin`] (Hertz 1882,
-//! Mindlin 1949, Tsuji et al. 1992 damping calibrated for an exact restitution). Each module
-//! gives its formulas and sources.
+//! Mindlin 1949, Tsuji et al. 1992 damping calibrated for an exact restitution), the two the
+//! 2D solver runs; and the catalogue [`GranularLaw`], composed like LAMMPS
+//! `pair_style granular` of a [`Normal`] (hooke, hertz, hertz/material, dmt, jkr,
+//! walton_braun), a [`Damping`] (none, velocity, mass_velocity, viscoelastic, tsuji,
+//! coeff_restitution), a [`Tangential`] (linear_nohistory, linear_history, mindlin,
+//! mindlin/deresiewicz), an optional [`Rolling`] (constant_torque, elastic_plastic) and an
+//! optional [`VanDerWaals`] attraction, read by name from JSON ([`GranularSpec`],
+//! [`GranularLaw::from_json`]). Each module gives its formulas and sources;
+//! `docs/laws.md` tabulates them.
 
 mod hertz_mindlin;
 mod kin;
@@ -31,3 +38,30 @@ pub use law::ContactLaw;
 pub use linear_spring_dashpot::{LinearSpringDashpot, NormalDamping};
 pub use rolling::RollingResistance;
 pub use tangent::{rotate_history, Tangent};
+
+// The contact-law catalogue (LAMMPS `pair_style granular` sub-models).
+mod damping;
+mod error;
+mod granular;
+mod normal;
+mod spec;
+mod tangential;
+mod vdw;
+
+pub use damping::{
+    beta_of_restitution, eta_clipped_for_restitution, restitution_clipped, Damping,
+};
+pub use error::LawError;
+pub use granular::{GranularHistory, GranularLaw};
+pub use normal::{
+    dmt_pulloff, hertz_force, jkr_contact_radius, jkr_critical_overlap, jkr_force_of_radius,
+    jkr_overlap, jkr_pulloff, Material, Normal, NormalForce, NormalHistory,
+};
+pub use rolling::Rolling;
+pub use spec::{DampingSpec, GranularSpec, NormalSpec, RollingSpec, TangentialSpec, VdwSpec};
+pub use tangential::{md_theta, MdMode, Tangential, TangentialForce, TangentialHistory};
+pub use vdw::{
+    cylinders_force_per_length, cylinders_potential_per_length, sphere_sphere_force,
+    sphere_sphere_force_near, sphere_sphere_potential, sphere_wall_force, sphere_wall_potential,
+    VanDerWaals, H_MIN_DEFAULT,
+};

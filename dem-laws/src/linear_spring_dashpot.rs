@@ -133,6 +133,7 @@ impl LinearSpringDashpot {
 }
 
 impl<T: Tangent> ContactLaw<T> for LinearSpringDashpot {
+    type History = T;
     #[inline(always)]
     fn force<const E: bool>(&self, k: &Kin<T>, us: &mut T) -> Out<T> {
         LinearSpringDashpot::force::<E, T>(self, k, us)
