@@ -25,10 +25,12 @@
 //! impact X'' = −max(X^{3/2} + η√(3/2) X^{1/4} X', 0), X(0) = 0, X'(0) = 1 (RK4,
 //! [`restitution_clipped`]), so e comes out as set to the accuracy of that integration.
 //!
-//! **`tsuji` for Hertz** is the closed-form β: it is exact for the linear spring (where
-//! S_n = k_n and the factor √(5/6)·2 becomes 2) only in the sense of the linear formula;
-//! for Hertz it gives e within a few per cent of the e set (the test
-//! `tsuji_restitution_accuracy` prints the figures).
+//! **`tsuji` for Hertz** is the closed-form β. Measured here on the unclipped dimensionless
+//! impact (the test `tsuji_restitution_accuracy`): |e_out − e| ≤ 1.1e-5 over
+//! e = 0.1…0.99 with the RK4 step 1e-3 of [`crate::restitution_of_eta`], and ≤ 1e-6 with
+//! the step 2e-4, so what is left is integration error: with the δ^{1/4} dashpot the β
+//! formula gives e. Clipped, the same η gives a much larger e (0.25 for e = 0.1, 0.55 for
+//! 0.5), which is why `coeff_restitution` recalibrates.
 
 use serde::{Deserialize, Serialize};
 
@@ -198,7 +200,7 @@ mod tests {
             let e_out = restitution_of_eta(eta);
             worst = worst.max((e_out - e).abs());
         }
-        println!("tsuji (LIGGGHTS β) on Hertz: max |e_out − e| = {worst:.4} over e = 0.1…0.99");
-        assert!(worst < 0.1);
+        println!("tsuji (LIGGGHTS β) on Hertz: max |e_out − e| = {worst:.3e} over e = 0.1…0.99");
+        assert!(worst < 2e-5);
     }
 }

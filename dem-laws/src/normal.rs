@@ -382,6 +382,7 @@ mod tests {
         let (law, m, g) = jkr();
         let mut h = NormalHistory::default();
         let (d1, d2) = (0.3 * jkr_critical_overlap(m.e_star, g, R), 2e-7);
+        law.eval(R, 0.0, &mut h); // touch
         let e1 = law.eval(R, d1, &mut h).energy;
         let e2 = law.eval(R, d2, &mut h).energy;
         // Simpson's rule on F(δ).
@@ -392,7 +393,7 @@ mod tests {
             let w = if i == 0 || i == n { 1.0 } else if i % 2 == 1 { 4.0 } else { 2.0 };
             s += w * law.eval(R, d1 + i as f64 * hs, &mut h).f;
         }
-        assert_relative_eq!(e2 - e1, s * hs / 3.0, max_relative = 1e-9);
+                assert_relative_eq!(e2 - e1, s * hs / 3.0, max_relative = 1e-9);
         assert_relative_eq!(law.eval(R, 0.0, &mut h).energy, 0.0, epsilon = 1e-24);
     }
 

@@ -450,7 +450,7 @@ impl GranularSpec {
             };
             if let Some(f) = named("missing field `").or_else(|| named("unknown field `")) {
                 path = join(&path, &f);
-            } else if reason.starts_with("unknown variant") {
+            } else if reason.starts_with("unknown variant") && !path.ends_with("model") {
                 path = join(&path, "model");
             }
             if path.is_empty() {

@@ -143,13 +143,14 @@ mod tests {
         }
         let h = 1e-12;
         let u = sphere_sphere_potential(A, r1, r2, h);
-        assert!((u / (-A * re / (6.0 * h)) - 1.0).abs() < 1e-5);
+        // Relative correction O((h/R*) ln(R*/h)) from the logarithm.
+        assert!((u / (-A * re / (6.0 * h)) - 1.0).abs() < 2.0 * h / re * (re / h).ln());
     }
 
     #[test]
     fn exact_tends_to_london_far_away() {
-        let (r1, r2) = (1e-6, 2e-6);
-        for &k in &[10.0, 100.0, 1000.0] {
+        let (r1, r2) = (1e-6f64, 2e-6f64);
+        for &k in &[10.0f64, 100.0, 1000.0] {
             let h = k * (r1 + r2);
             let d = h + r1 + r2;
             let far = 32.0 / 3.0 * A * (r1 * r2).powi(3) / d.powi(7);
