@@ -66,7 +66,9 @@ impl GranularLaw {
                 f_n = f_n.max(nf.f.min(0.0));
             }
             let f_c = nf.f_coulomb + (f_n - nf.f);
-            let t = self.tangential.force::<E, T>(k, nf.a, c, f_c, &mut h.tangential);
+            let t = self
+                .tangential
+                .force::<E, T>(k, nf.a, c, f_c, &mut h.tangential);
             out.f_n = f_n;
             out.f_t = t.f_t;
             if E {

@@ -48,9 +48,7 @@ mod spec;
 mod tangential;
 mod vdw;
 
-pub use damping::{
-    beta_of_restitution, eta_clipped_for_restitution, restitution_clipped, Damping,
-};
+pub use damping::{beta_of_restitution, eta_clipped_for_restitution, restitution_clipped, Damping};
 pub use error::LawError;
 pub use granular::{GranularHistory, GranularLaw};
 pub use normal::{

@@ -208,9 +208,7 @@ impl Normal {
     /// Separation (≥ 0) down to which a touched contact persists: −δ_c for jkr, else 0.
     pub fn reach(&self, r_eff: f64) -> f64 {
         match *self {
-            Normal::Jkr { material, gamma } => {
-                -jkr_critical_overlap(material.e_star, gamma, r_eff)
-            }
+            Normal::Jkr { material, gamma } => -jkr_critical_overlap(material.e_star, gamma, r_eff),
             _ => 0.0,
         }
     }
@@ -371,7 +369,10 @@ mod tests {
         let err = (-f_min - jkr_pulloff(g, R)).abs() / jkr_pulloff(g, R);
         assert!(err < 1e-8, "JKR pull-off error {err:e}");
         let s = snapped_at.unwrap();
-        assert!((s - dc).abs() < (d0 - 1.01 * dc) / n as f64 * 1.01, "snap at {s:e}, δc {dc:e}");
+        assert!(
+            (s - dc).abs() < (d0 - 1.01 * dc) / n as f64 * 1.01,
+            "snap at {s:e}, δc {dc:e}"
+        );
         // A new contact does not feel the neck before it touches.
         let mut h = NormalHistory::default();
         assert!(!law.eval(R, 0.5 * dc, &mut h).active);
@@ -390,17 +391,26 @@ mod tests {
         let hs = (d2 - d1) / n as f64;
         let mut s = 0.0;
         for i in 0..=n {
-            let w = if i == 0 || i == n { 1.0 } else if i % 2 == 1 { 4.0 } else { 2.0 };
+            let w = if i == 0 || i == n {
+                1.0
+            } else if i % 2 == 1 {
+                4.0
+            } else {
+                2.0
+            };
             s += w * law.eval(R, d1 + i as f64 * hs, &mut h).f;
         }
-                assert_relative_eq!(e2 - e1, s * hs / 3.0, max_relative = 1e-9);
+        assert_relative_eq!(e2 - e1, s * hs / 3.0, max_relative = 1e-9);
         assert_relative_eq!(law.eval(R, 0.0, &mut h).energy, 0.0, epsilon = 1e-24);
     }
 
     #[test]
     fn dmt_pulloff_is_4_pi_gamma_r() {
         let m = Material::identical(7e10, 0.33);
-        let law = Normal::Dmt { material: m, gamma: 0.5 };
+        let law = Normal::Dmt {
+            material: m,
+            gamma: 0.5,
+        };
         let mut h = NormalHistory::default();
         let f = law.eval(R, 1e-300, &mut h).f;
         assert_relative_eq!(-f, 4.0 * PI * 0.5 * R, max_relative = 1e-12);
@@ -415,7 +425,11 @@ mod tests {
         assert_relative_eq!(law.eval(R, 1e-4, &mut h).f, 10.0);
         assert_relative_eq!(h.delta_max, 1e-4);
         // δ₀ = δ_max (1 − k1/k2) = 0.75e-4.
-        assert_relative_eq!(law.eval(R, 0.9e-4, &mut h).f, 4e5 * 0.15e-4, max_relative = 1e-12);
+        assert_relative_eq!(
+            law.eval(R, 0.9e-4, &mut h).f,
+            4e5 * 0.15e-4,
+            max_relative = 1e-12
+        );
         assert_eq!(law.eval(R, 0.7e-4, &mut h).f, 0.0);
         // Reloading follows k2 back to the loading line, then k1 again.
         assert_relative_eq!(law.eval(R, 1.1e-4, &mut h).f, 11.0, max_relative = 1e-12);

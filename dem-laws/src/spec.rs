@@ -227,7 +227,10 @@ fn finite(path: &str, v: f64) -> Result<f64, LawError> {
     if v.is_finite() {
         Ok(v)
     } else {
-        Err(LawError::invalid(path, format!("must be a finite number, got {v}")))
+        Err(LawError::invalid(
+            path,
+            format!("must be a finite number, got {v}"),
+        ))
     }
 }
 
@@ -243,7 +246,10 @@ fn non_negative(path: &str, v: f64, what: &str) -> Result<f64, LawError> {
     if finite(path, v)? >= 0.0 {
         Ok(v)
     } else {
-        Err(LawError::invalid(path, format!("{what} must be ≥ 0, got {v}")))
+        Err(LawError::invalid(
+            path,
+            format!("{what} must be ≥ 0, got {v}"),
+        ))
     }
 }
 

@@ -166,9 +166,9 @@ impl Tangential {
             Tangential::LinearHistory { kt, xgammat, .. } => {
                 spring::<E, T>(k, kt, xgammat * cn, f_max, h)
             }
-            Tangential::Mindlin { g_star, xgammat, .. } => {
-                spring::<E, T>(k, 8.0 * g_star * a, xgammat * cn, f_max, h)
-            }
+            Tangential::Mindlin {
+                g_star, xgammat, ..
+            } => spring::<E, T>(k, 8.0 * g_star * a, xgammat * cn, f_max, h),
             Tangential::MindlinDeresiewicz { g_star, mu } => {
                 md::<E, T>(k, 8.0 * g_star * a, mu * f_c.max(0.0), h)
             }

@@ -155,7 +155,10 @@ mod tests {
             let d = h + r1 + r2;
             let far = 32.0 / 3.0 * A * (r1 * r2).powi(3) / d.powi(7);
             let err = sphere_sphere_force(A, r1, r2, h) / far - 1.0;
-            println!("d/(R1+R2) = {:.0}: exact/far − 1 = {err:.3e}", d / (r1 + r2));
+            println!(
+                "d/(R1+R2) = {:.0}: exact/far − 1 = {err:.3e}",
+                d / (r1 + r2)
+            );
             // Leading correction O(((R1+R2)/d)²).
             assert!(err.abs() < 5.0 * ((r1 + r2) / d).powi(2));
         }
@@ -172,7 +175,10 @@ mod tests {
             let dh = h * 1e-5;
             let num = |u: &dyn Fn(f64) -> f64| -(u(h + dh) - u(h - dh)) / (2.0 * dh);
             let fs = num(&|x| sphere_sphere_potential(A, r1, r2, x));
-            assert!((fs / -sphere_sphere_force(A, r1, r2, h) - 1.0).abs() < 1e-6, "h {h}");
+            assert!(
+                (fs / -sphere_sphere_force(A, r1, r2, h) - 1.0).abs() < 1e-6,
+                "h {h}"
+            );
             let fw = num(&|x| sphere_wall_potential(A, r1, x));
             assert!((fw / -sphere_wall_force(A, r1, h) - 1.0).abs() < 1e-6);
             let fc = num(&|x| cylinders_potential_per_length(A, r1, x));
@@ -189,7 +195,9 @@ mod tests {
         }
         // Near contact the wall is Derjaguin with R* = R.
         let h = 1e-12;
-        assert!((sphere_wall_force(A, r, h) / sphere_sphere_force_near(A, r, h) - 1.0).abs() < 1e-5);
+        assert!(
+            (sphere_wall_force(A, r, h) / sphere_sphere_force_near(A, r, h) - 1.0).abs() < 1e-5
+        );
     }
 
     #[test]

@@ -90,8 +90,14 @@ fn restitution_rk4<T: Tangent>(law: &GranularLaw, v0: f64, vt: T, dt: f64) -> f6
     for _ in 0..10_000_000 {
         // dδ/dt = −v_n, dv_n/dt = F_n/m*.
         let (k1d, k1v) = (-v, acc(&h, d, v));
-        let (k2d, k2v) = (-(v + 0.5 * dt * k1v), acc(&h, d + 0.5 * dt * k1d, v + 0.5 * dt * k1v));
-        let (k3d, k3v) = (-(v + 0.5 * dt * k2v), acc(&h, d + 0.5 * dt * k2d, v + 0.5 * dt * k2v));
+        let (k2d, k2v) = (
+            -(v + 0.5 * dt * k1v),
+            acc(&h, d + 0.5 * dt * k1d, v + 0.5 * dt * k1v),
+        );
+        let (k3d, k3v) = (
+            -(v + 0.5 * dt * k2v),
+            acc(&h, d + 0.5 * dt * k2d, v + 0.5 * dt * k2v),
+        );
         let (k4d, k4v) = (-(v + dt * k3v), acc(&h, d + dt * k3d, v + dt * k3v));
         let dn = d + dt / 6.0 * (k1d + 2.0 * k2d + 2.0 * k3d + k4d);
         let vn = v + dt / 6.0 * (k1v + 2.0 * k2v + 2.0 * k3v + k4v);
@@ -348,13 +354,31 @@ fn the_example_of_the_brief_reads() {
 fn every_bad_input_names_its_field() {
     let cases: Vec<(String, &str)> = vec![
         // Unknown model names list the known ones.
-        (format!(r#"{{"normal": {{"model": "hertzz", "kn": 1}}, {T}}}"#), "normal.model"),
-        (format!(r#"{{{HM}, "damping": {{"model": "x"}}, {T}}}"#), "damping.model"),
-        (format!(r#"{{{HM}, "tangential": {{"model": "y", "mu": 1}}}}"#), "tangential.model"),
-        (format!(r#"{{{HM}, {T}, "rolling": {{"model": "z"}}}}"#), "rolling.model"),
+        (
+            format!(r#"{{"normal": {{"model": "hertzz", "kn": 1}}, {T}}}"#),
+            "normal.model",
+        ),
+        (
+            format!(r#"{{{HM}, "damping": {{"model": "x"}}, {T}}}"#),
+            "damping.model",
+        ),
+        (
+            format!(r#"{{{HM}, "tangential": {{"model": "y", "mu": 1}}}}"#),
+            "tangential.model",
+        ),
+        (
+            format!(r#"{{{HM}, {T}, "rolling": {{"model": "z"}}}}"#),
+            "rolling.model",
+        ),
         // Restitution.
-        (format!(r#"{{{HM}, "damping": {{"model": "tsuji", "e": 0}}, {T}}}"#), "damping.e"),
-        (format!(r#"{{{HM}, "damping": {{"model": "tsuji", "e": -0.5}}, {T}}}"#), "damping.e"),
+        (
+            format!(r#"{{{HM}, "damping": {{"model": "tsuji", "e": 0}}, {T}}}"#),
+            "damping.e",
+        ),
+        (
+            format!(r#"{{{HM}, "damping": {{"model": "tsuji", "e": -0.5}}, {T}}}"#),
+            "damping.e",
+        ),
         (
             format!(r#"{{{HM}, "damping": {{"model": "coeff_restitution", "e": 1.01}}, {T}}}"#),
             "damping.e",
@@ -376,7 +400,10 @@ fn every_bad_input_names_its_field() {
             format!(r#"{{"normal": {{"model": "dmt", "E": -1, "nu": 0.3, "gamma": 1}}, {T}}}"#),
             "normal.E",
         ),
-        (format!(r#"{{"normal": {{"model": "hooke", "kn": -1}}, {T}}}"#), "normal.kn"),
+        (
+            format!(r#"{{"normal": {{"model": "hooke", "kn": -1}}, {T}}}"#),
+            "normal.kn",
+        ),
         // Negative surface energy, Hamaker, μ.
         (
             format!(r#"{{"normal": {{"model": "jkr", "E": 1e9, "nu": 0.3, "gamma": -1}}, {T}}}"#),
@@ -394,21 +421,45 @@ fn every_bad_input_names_its_field() {
             format!(r#"{{{HM}, {T}, "vdw": {{"hamaker": 1e-20, "cutoff": 1e-10}}}}"#),
             "vdw.cutoff",
         ),
-        (format!(r#"{{{HM}, "tangential": {{"model": "mindlin", "mu": -0.1}}}}"#), "tangential.mu"),
+        (
+            format!(r#"{{{HM}, "tangential": {{"model": "mindlin", "mu": -0.1}}}}"#),
+            "tangential.mu",
+        ),
         (
             format!(r#"{{{HM}, {T}, "rolling": {{"model": "constant_torque", "mu_r": -1}}}}"#),
             "rolling.mu_r",
         ),
         // Missing fields.
-        (format!(r#"{{{HM}, "damping": {{"model": "tsuji"}}, {T}}}"#), "damping.e"),
-        (format!(r#"{{"normal": {{"model": "hertz/material", "E": 1e9}}, {T}}}"#), "normal.nu"),
-        (format!(r#"{{"normal": {{"kn": 1e5}}, {T}}}"#), "normal.model"),
+        (
+            format!(r#"{{{HM}, "damping": {{"model": "tsuji"}}, {T}}}"#),
+            "damping.e",
+        ),
+        (
+            format!(r#"{{"normal": {{"model": "hertz/material", "E": 1e9}}, {T}}}"#),
+            "normal.nu",
+        ),
+        (
+            format!(r#"{{"normal": {{"kn": 1e5}}, {T}}}"#),
+            "normal.model",
+        ),
         (format!(r#"{{{HM}}}"#), "tangential"),
-        (format!(r#"{{{HM}, {T}, "vdw": {{"hamaker": 1e-20}}}}"#), "vdw.cutoff"),
+        (
+            format!(r#"{{{HM}, {T}, "vdw": {{"hamaker": 1e-20}}}}"#),
+            "vdw.cutoff",
+        ),
         // Unknown field, wrong type, model that needs E and nu, Walton–Braun k2 < k1.
-        (format!(r#"{{{HM}, "tangential": {{"model": "mindlin", "mu": 0.3, "k": 1}}}}"#), "k"),
-        (format!(r#"{{{HM}, "damping": {{"model": "tsuji", "e": "half"}}, {T}}}"#), "damping"),
-        (format!(r#"{{"normal": {{"model": "hooke", "kn": 1e5}}, {T}}}"#), "tangential.model"),
+        (
+            format!(r#"{{{HM}, "tangential": {{"model": "mindlin", "mu": 0.3, "k": 1}}}}"#),
+            "k",
+        ),
+        (
+            format!(r#"{{{HM}, "damping": {{"model": "tsuji", "e": "half"}}, {T}}}"#),
+            "damping",
+        ),
+        (
+            format!(r#"{{"normal": {{"model": "hooke", "kn": 1e5}}, {T}}}"#),
+            "tangential.model",
+        ),
         (
             format!(r#"{{"normal": {{"model": "walton_braun", "k1": 2, "k2": 1}}, {T}}}"#),
             "normal.k2",
@@ -420,13 +471,18 @@ fn every_bad_input_names_its_field() {
         assert!(s.contains(field), "{field} not in: {s}");
     }
     // The known names are listed.
-    let s = err(&format!(r#"{{"normal": {{"model": "hertzz", "kn": 1}}, {T}}}"#));
+    let s = err(&format!(
+        r#"{{"normal": {{"model": "hertzz", "kn": 1}}, {T}}}"#
+    ));
     for name in ["hooke", "hertz/material", "dmt", "jkr", "walton_braun"] {
         assert!(s.contains(name), "{s}");
     }
     // NaN cannot be written in JSON, but a spec built in code can hold it.
     let spec = dem_laws::GranularSpec {
-        normal: dem_laws::NormalSpec::HertzMaterial { e: f64::NAN, nu: 0.3 },
+        normal: dem_laws::NormalSpec::HertzMaterial {
+            e: f64::NAN,
+            nu: 0.3,
+        },
         damping: dem_laws::DampingSpec::None,
         tangential: dem_laws::TangentialSpec::Mindlin {
             mu: 0.3,
