@@ -18,7 +18,9 @@
 //! Energies (E flag, [`Out`]): `e_strain` = normal strain energy (including the adhesive
 //! work, negative for dmt below the Hertz energy; the JKR energy from δ = 0) + tangential
 //! strain energy + vdW potential V ≤ 0; `d_n` = F_n − F_ne − F_vdw (the dashpot force
-//! actually applied), `d_t` the tangential dashpot, `e_fric` the slip work.
+//! actually applied), `d_t` the tangential dashpot, `e_fric` the slip work plus the plastic
+//! work of the normal model (Walton–Braun loading). What the springs hold when a contact
+//! breaks is lost with it (the solver sees `e_strain` vanish).
 //!
 //! Time step: [`ContactLaw::kn`] is the normal stiffness S_n at δ (hertz: (3/2)k_n√δ,
 //! material models 2E*√(R*δ), walton_braun k₂), [`ContactLaw::ks`] the tangential one.
@@ -75,7 +77,7 @@ impl GranularLaw {
                 out.d_n = f_n - nf.f;
                 out.d_t = t.d_t;
                 out.e_strain = nf.energy + t.energy;
-                out.e_fric = t.e_fric;
+                out.e_fric = t.e_fric + nf.dissipated;
             }
         } else {
             h.tangential = TangentialHistory::default();

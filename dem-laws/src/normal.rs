@@ -34,7 +34,8 @@
 //! contact; while δ ≥ δ_max, F = k₁δ; below it F = k₂(δ − δ₀), δ₀ = δ_max(1 − k₁/k₂), and
 //! F = 0 for δ ≤ δ₀ (a permanent set). A normal impact rebounds with e = √(k₁/k₂)
 //! (Walton & Braun 1986); k₂ ≥ k₁ is required. Strain energy ½k₂(δ − δ₀)², the recoverable
-//! part; the time-step stiffness is k₂.
+//! part; the rest of the loading work, ½k₁(1 − k₁/k₂) d(δ_max²), is dissipated
+//! ([`NormalForce::dissipated`]); the time-step stiffness is k₂.
 //!
 //! Time-step and damping stiffness S_n (N/m): hooke k_n, hertz (3/2)k_n√δ, material models
 //! 2E*a (the Hertz tangent stiffness; for JKR with the JKR a), walton_braun k₂ (k₁ when
@@ -105,6 +106,9 @@ pub struct NormalForce {
     pub f_coulomb: f64,
     /// Strain (and adhesive) energy of the normal spring (J).
     pub energy: f64,
+    /// Work dissipated by the normal model in this step (J): the plastic work of
+    /// Walton–Braun loading, ½k₁(1 − k₁/k₂)(δ_max,new² − δ_max,old²); 0 otherwise.
+    pub dissipated: f64,
 }
 
 /// Hertz force (4/3)E*√R* δ^{3/2} (N).
@@ -252,6 +256,7 @@ impl Normal {
                 s_n: 2.0 * e * a,
                 f_coulomb: f + 2.0 * jkr_pulloff(gamma, r_eff),
                 energy: jkr_energy(e, gamma, r_eff, a),
+                dissipated: 0.0,
             };
         }
         if delta <= 0.0 {
@@ -259,6 +264,7 @@ impl Normal {
             return NormalForce::default();
         }
         let a = (r_eff * delta).sqrt();
+        let mut dissipated = 0.0;
         let (f, s_n, energy, f_coulomb) = match *self {
             Normal::Hooke { kn } => {
                 let f = kn * delta;
@@ -284,6 +290,7 @@ impl Normal {
             }
             Normal::WaltonBraun { k1, k2 } => {
                 if delta >= h.delta_max {
+                    dissipated = 0.5 * k1 * (1.0 - k1 / k2) * (delta * delta - h.delta_max.powi(2));
                     h.delta_max = delta;
                 }
                 let d0 = h.delta_max * (1.0 - k1 / k2);
@@ -305,6 +312,7 @@ impl Normal {
             s_n,
             f_coulomb,
             energy,
+            dissipated,
         }
     }
 }

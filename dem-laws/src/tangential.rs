@@ -37,9 +37,12 @@
 //! Energies (E flag): the strain energy of the spring ½k_t|u_s|² (mindlin/deresiewicz:
 //! |F_t|²/(2·8G*a), the energy an elastic unloading would return) and the slip work: for the
 //! spring models the trapezoid of the old and new spring force times the slip (as
-//! [`crate::LinearSpringDashpot`]); for `linear_nohistory` the whole F_t·v_t Δt; for
-//! mindlin/deresiewicz the work −½(F₀+F₁)·du less the change of strain energy, which also
-//! books the micro-slip hysteresis.
+//! [`crate::LinearSpringDashpot`]) for `linear_history`; for `linear_nohistory` the whole
+//! F_t·v_t Δt; for `mindlin` and `mindlin/deresiewicz` the spring's work −½(F₀+F₁)·du less the
+//! change of strain energy since the last step. For mindlin/deresiewicz that books the
+//! micro-slip hysteresis; for mindlin it also books the energy ½Δk_t|u_s|² the no-slip spring
+//! gains or loses as a changes with u_s held (a spring of varying stiffness on a stored
+//! displacement is not conservative), so that the balance closes.
 
 use crate::{Kin, Tangent};
 use serde::{Deserialize, Serialize};
@@ -84,6 +87,10 @@ pub struct TangentialHistory<T: Tangent> {
     pub t2: f64,
     /// Mindlin–Deresiewicz: loading state.
     pub mode: MdMode,
+    /// Stiffness of the last step (N/m; mindlin, mindlin/deresiewicz).
+    pub k_prev: f64,
+    /// Strain energy reported in the last step (J; mindlin, mindlin/deresiewicz).
+    pub e_prev: f64,
 }
 
 /// The tangential sub-model's answer for one step.
@@ -164,11 +171,11 @@ impl Tangential {
                 out
             }
             Tangential::LinearHistory { kt, xgammat, .. } => {
-                spring::<E, T>(k, kt, xgammat * cn, f_max, h)
+                spring::<E, T>(k, kt, xgammat * cn, f_max, false, h)
             }
             Tangential::Mindlin {
                 g_star, xgammat, ..
-            } => spring::<E, T>(k, 8.0 * g_star * a, xgammat * cn, f_max, h),
+            } => spring::<E, T>(k, 8.0 * g_star * a, xgammat * cn, f_max, true, h),
             Tangential::MindlinDeresiewicz { g_star, mu } => {
                 md::<E, T>(k, 8.0 * g_star * a, mu * f_c.max(0.0), h)
             }
@@ -176,13 +183,16 @@ impl Tangential {
     }
 }
 
-/// Spring–dashpot–slider step (the arithmetic of [`crate::LinearSpringDashpot`]).
+/// Spring–dashpot–slider step (the arithmetic of [`crate::LinearSpringDashpot`]);
+/// `varying`: k_t changes with a (mindlin), so the slip work is booked as the spring's work
+/// less the change of its energy since the last step.
 #[inline]
 fn spring<const E: bool, T: Tangent>(
     k: &Kin<T>,
     kt: f64,
     ct: f64,
     f_max: f64,
+    varying: bool,
     h: &mut TangentialHistory<T>,
 ) -> TangentialForce<T> {
     let u0 = h.us;
@@ -208,7 +218,18 @@ fn spring<const E: bool, T: Tangent>(
     if E {
         out.d_t = k.vt.scale(-ct);
         out.energy = us.scale(0.5 * kt).dot(us);
-        out.e_fric = if slip {
+        out.e_fric = if varying {
+            // W = −½(F_sp,0 + F_sp,1)·Δu, F_sp = −k_t u_s.
+            let w = u0
+                .scale(h.k_prev)
+                .add_scaled(us, kt)
+                .scale(0.5)
+                .dot(k.vt.scale(k.dt));
+            let e = w - (out.energy - h.e_prev);
+            h.k_prev = kt;
+            h.e_prev = out.energy;
+            e
+        } else if slip {
             u0.add_scaled(us, 1.0)
                 .scale(0.5 * kt)
                 .dot(us1.add_scaled(us, -1.0))
@@ -305,10 +326,14 @@ fn md<const E: bool, T: Tangent>(
         f_t: f1,
         ..Default::default()
     };
-    if E && k0 > 0.0 {
-        out.energy = f1.dot(f1) / (2.0 * k0);
-        let e0 = f0.dot(f0) / (2.0 * k0);
-        out.e_fric = -f0.add_scaled(f1, 1.0).scale(0.5).dot(du) - (out.energy - e0);
+    if E {
+        out.energy = if k0 > 0.0 {
+            f1.dot(f1) / (2.0 * k0)
+        } else {
+            0.0
+        };
+        out.e_fric = -f0.add_scaled(f1, 1.0).scale(0.5).dot(du) - (out.energy - h.e_prev);
+        h.e_prev = out.energy;
     }
     out
 }

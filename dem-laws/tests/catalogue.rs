@@ -506,3 +506,83 @@ fn every_bad_input_names_its_field() {
         .to_string();
     assert!(e.contains("/nonexistent/law.json"), "{e}");
 }
+
+/// The energy terms of `Out` close the balance of a damped, sliding impact: the kinetic energy
+/// lost equals the dashpot work (d_n, d_t booked with the mean of the half-step velocities)
+/// plus the slip work e_fric, to the integration error.
+fn energy_balance<T: Tangent>(law: &GranularLaw, vt0: T, dt: f64) -> (f64, f64) {
+    let mut h = GranularHistory::<T>::default();
+    let v0 = 0.1;
+    let (mut delta, mut vn, mut vt) = (0.0f64, -v0, vt0);
+    let e0 = 0.5 * M * (v0 * v0 + vt0.dot(vt0));
+    let (mut dissipated, mut touched, mut stored) = (0.0, false, 0.0);
+    for _ in 0..10_000_000 {
+        let d_new = delta - vn * dt;
+        let k = Kin {
+            delta: d_new,
+            vn,
+            vt,
+            m_eff: M,
+            r_eff: R,
+            dt,
+        };
+        let out = law.force::<true>(&k, &mut h);
+        let vn_new = vn + out.f_n / M * dt;
+        let vt_new = vt.add_scaled(out.f_t, dt / M);
+        let vtm = vt.add_scaled(vt_new, 1.0).scale(0.5);
+        dissipated += -out.d_n * 0.5 * (vn + vn_new) * dt - out.d_t.dot(vtm) * dt + out.e_fric;
+        touched |= d_new > 0.0;
+        // Past the JKR snap-off (reach = 0 for the other laws) the pair is free.
+        if touched && d_new < -<GranularLaw as ContactLaw<T>>::reach(law, R) {
+            // What the springs still held when the contact broke is lost with it.
+            let e1 = 0.5 * M * (vn * vn + vt.dot(vt));
+            return (e0 - e1, dissipated + stored);
+        }
+        stored = out.e_strain;
+        delta = d_new;
+        vn = vn_new;
+        vt = vt_new;
+    }
+    panic!("the impact did not end");
+}
+
+#[test]
+fn energy_terms_close_the_balance() {
+    let cases = [
+        r#"{"normal": {"model": "hooke", "kn": 1e5},
+            "damping": {"model": "coeff_restitution", "e": 0.5},
+            "tangential": {"model": "linear_history", "kt": 4e4, "mu": 1e9, "xgammat": 0}}"#,
+        r#"{"normal": {"model": "hooke", "kn": 1e5},
+            "damping": {"model": "none"},
+            "tangential": {"model": "linear_history", "kt": 4e4, "mu": 0.1, "xgammat": 0}}"#,
+        r#"{"normal": {"model": "hooke", "kn": 1e5},
+            "damping": {"model": "coeff_restitution", "e": 0.5},
+            "tangential": {"model": "linear_history", "kt": 4e4, "mu": 0.1, "xgammat": 0.5}}"#,
+        r#"{"normal": {"model": "hooke", "kn": 1e5},
+            "damping": {"model": "mass_velocity", "gamma": 50},
+            "tangential": {"model": "linear_nohistory", "gamma_t": 0.5, "mu": 0.1}}"#,
+        r#"{"normal": {"model": "walton_braun", "k1": 1e5, "k2": 3e5},
+            "tangential": {"model": "linear_history", "kt": 4e4, "mu": 0.2}}"#,
+        r#"{"normal": {"model": "hertz/material", "E": 1e8, "nu": 0.3},
+            "damping": {"model": "tsuji", "e": 0.6},
+            "tangential": {"model": "mindlin/deresiewicz", "mu": 0.2}}"#,
+        r#"{"normal": {"model": "jkr", "E": 1e8, "nu": 0.3, "gamma": 0.05},
+            "damping": {"model": "viscoelastic", "eta": 1e3},
+            "tangential": {"model": "mindlin", "mu": 0.2, "xgammat": 0.3}}"#,
+    ];
+    for json in cases {
+        let l = law(json);
+        let dt = dt_for(3e5);
+        for (lost, booked) in [
+            energy_balance(&l, 0.08f64, dt),
+            energy_balance(&l, Vector3::new(0.05, -0.06, 0.0), dt),
+        ] {
+            let rel = (lost - booked).abs() / lost;
+            println!(
+                "{:?} / {:?}: lost {lost:.6e}, booked {booked:.6e}, rel {rel:.1e}",
+                l.normal, l.tangential
+            );
+            assert!(rel < 1e-4, "{rel}");
+        }
+    }
+}
