@@ -4,7 +4,7 @@
 //! δ is the overlap (m, > 0 in contact), R* = R₁R₂/(R₁+R₂) the effective radius,
 //! a the contact radius and F > 0 repulsive. For two bodies of one material (E, ν):
 //! E* = E / (2(1−ν²)), G = E / (2(1+ν)), G* = G / (2(2−ν)) (the general forms
-//! 1/E* = Σ(1−νᵢ²)/Eᵢ, 1/G* = Σ(2−νᵢ)/Gᵢ, Johnson 1985, eqs. 4.22 and 7.31).
+//! 1/E* = Σ(1−νᵢ²)/Eᵢ, 1/G* = Σ(2−νᵢ)/Gᵢ, Johnson 1985, *Contact Mechanics*, ch. 4 and 7).
 //!
 //! | JSON `model` | force | source |
 //! |---|---|---|
@@ -22,7 +22,7 @@
 //! −3πγR* = −(3/2)πwR* (the load-controlled pull-off, Johnson et al. 1971) at
 //! a³ = 9πγR*²/(4E*). Once touched the neck persists into negative overlap down to
 //! δ_c = −3a_c²/R*, a_c³ = πγR*²/(4E*) (dδ/da = 0, the displacement-controlled separation,
-//! Maugis 2000, *Contact, Adhesion and Rupture of Elastic Solids*, §5.2; F(δ_c) = −(5/3)πγR*),
+//! Maugis 2000, *Contact, Adhesion and Rupture of Elastic Solids*, ch. 5; F(δ_c) = −(5/3)πγR*),
 //! where it snaps. (LAMMPS snaps earlier, at the load-controlled pull-off overlap
 //! −a²/(3R*).) a(δ) is the largest root of x⁴/R* − c x − δ = 0, x = √a, c = 2√(πγ/E*),
 //! found by Newton's method from above (the quartic is convex, so it converges monotonically).

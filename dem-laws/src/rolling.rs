@@ -6,7 +6,7 @@
 //!
 //! | JSON `model` | moment | source |
 //! |---|---|---|
-//! | `constant_torque` | M_r = −μ_r R* F_n ω̂_rel (0 when ω_rel = 0) | Ai et al. 2011, model A (eq. 4) |
+//! | `constant_torque` | M_r = −μ_r R* F_n ω̂_rel (0 when ω_rel = 0) | Ai et al. 2011, model A |
 //! | `elastic_plastic` | M_r ← M_r − k_r ω_rel Δt, \|M_r\| ≤ μ_r R* F_n, k_r = c_k k_n μ_r² R*² | Ai et al. 2011, model C without dashpot (eqs. 13–16); Iwashita & Oda 1998, J. Eng. Mech. 124:285 |
 //!
 //! Ai et al. take c_k = 2.25; k_n is the normal stiffness (the tangent stiffness for a

@@ -491,3 +491,21 @@ impl GranularLaw {
         GranularLaw::from_json(&text, Some(&name))
     }
 }
+
+#[cfg(all(test, feature = "schema"))]
+mod tests {
+    #[test]
+    fn the_schema_names_every_model() {
+        let s = serde_json::to_string(&schemars::schema_for!(super::GranularSpec)).unwrap();
+        for name in [
+            "hertz/material",
+            "walton_braun",
+            "coeff_restitution",
+            "mindlin/deresiewicz",
+            "constant_torque",
+            "hamaker",
+        ] {
+            assert!(s.contains(name), "{name}");
+        }
+    }
+}

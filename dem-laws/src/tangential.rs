@@ -22,8 +22,8 @@
 //! * unloading (after T*): θ³ = 1 − (T* − T)/(2μN);
 //! * reloading (after T**): θ³ = 1 − (T − T**)/(2μN);
 //!
-//! (Thornton 1991, eqs. 7–9). Closed forms at constant N, with δ_s = 3μN/(16G*a) the
-//! displacement to full slip (Johnson 1985, eqs. 7.42 and 7.49): loading
+//! (Thornton 1991). Closed forms at constant N, with δ_s = 3μN/(16G*a) the
+//! displacement to full slip (Johnson 1985, §7.2): loading
 //! T = μN(1 − (1 − δ/δ_s)^{3/2}); unloading from (δ*, T*)
 //! T = T* − 2μN(1 − (1 − (δ* − δ)/(2δ_s))^{3/2}). The unloading curve reaching −T* joins
 //! the virgin curve in the other direction (the law switches to loading there); reloading
@@ -416,6 +416,27 @@ mod tests {
         let (l3, u3) = check_md(Vector3::new(0.6, 0.8, 0.0));
         println!("MD 3D: max |T − T_closed|/μN loading {l3:.2e}, unloading {u3:.2e}");
         assert!(l3 < 1e-6 && u3 < 1e-6, "{l3:e} {u3:e}");
+    }
+
+    #[test]
+    fn mindlin_deresiewicz_reloading_matches_the_closed_form() {
+        // Load to δ* = 0.6δ_s, unload to δ** = −0.2δ_s, reload: T = T** + 2μN(1 − (1 −
+        // (δ − δ**)/(2δ_s))^{3/2}) (Johnson 1985, §7.2), which meets T* at δ*.
+        let (mu_n, k0) = (3.0, 8.0 * 1e10 * 1e-5);
+        let ds = 1.5 * mu_n / k0;
+        let (x1, x2) = (0.6 * ds, -0.2 * ds);
+        let n = 2000;
+        let p = md_path(1.0f64, &[0.0, x1, x2, x1], n);
+        let t2 = md_closed_form(x1, x2, true);
+        let mut worst: f64 = 0.0;
+        for &(x, t) in &p[2 * n..] {
+            let c = t2 + 2.0 * mu_n * (1.0 - (1.0 - (x - x2) / (2.0 * ds)).powf(1.5));
+            worst = worst.max((t - c).abs() / mu_n);
+        }
+        println!("MD reloading: max |T − T_closed|/μN {worst:.2e}");
+        assert!(worst < 1e-6, "{worst:e}");
+        let t_star = md_closed_form(x1, x1, false);
+        assert!((p.last().unwrap().1 - t_star).abs() < 1e-6 * mu_n);
     }
 
     #[test]

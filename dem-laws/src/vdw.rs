@@ -1,7 +1,7 @@
 //! Van der Waals attraction of [`crate::GranularLaw`] (the `vdw` block), from the Hamaker
 //! constant A (J) and the surface separation h = −δ (m).
 //!
-//! Sphere–sphere, exact (Hamaker 1937, Physica 4:1058, eq. 21), with s = h² + 2R₁h + 2R₂h
+//! Sphere–sphere, exact (Hamaker 1937, Physica 4:1058–1072), with s = h² + 2R₁h + 2R₂h
 //! (= d² − (R₁+R₂)², d the centre distance) and s' = s + 4R₁R₂ (= d² − (R₁−R₂)²):
 //!
 //! * U(h) = −(A/6) [2R₁R₂/s + 2R₁R₂/s' + ln(s/s')];
@@ -15,13 +15,14 @@
 //! Two parallel cylinders, per unit length, h ≪ R (Israelachvili 2011, table 13.1):
 //! U/L = −A √R* / (12√2 h^{3/2}), F/L = A √R* / (8√2 h^{5/2}).
 //!
-//! In the law: h_eff = max(h, h_min), h_min = 0.4 nm by default ([`H_MIN_DEFAULT`], the
-//! usual minimum separation of contacting surfaces, Israelachvili 2011 §13.6: a "contact"
-//! separation of 0.165 nm gives the surface energies, 0.4 nm is the value commonly used in
-//! DEM of fine powders; set `h_min` to change it), so inside contact the attraction is the
-//! constant F(h_min). No force beyond the cut-off h > h_cut (unshifted: F jumps by
-//! F(h_cut), which the cut-off should make negligible). Potential tracked with the E flag:
-//! V(h) = U(h_eff) − U(h_cut), continued linearly below h_min (V = V(h_min) − F(h_min)(h_min − h)),
+//! In the law: h_eff = max(h, h_min), so inside contact the attraction is the constant
+//! F(h_min). h_min defaults to 0.4 nm ([`H_MIN_DEFAULT`]), a value commonly taken in DEM of
+//! fine powders for the separation of touching surfaces (Israelachvili 2011, ch. 13, uses
+//! 0.165 nm to match surface energies; set `h_min` to choose). The two-cylinder form is
+//! checked here by the Derjaguin integral ∫ −A/(12π(h + y²/2R*)²) dy = −A√(2R*)/(24 h^{3/2}).
+//! No force beyond the cut-off h > h_cut (unshifted: F jumps by F(h_cut), which the cut-off
+//! should make negligible). Potential tracked with the E flag: V(h) = U(h_eff) − U(h_cut),
+//! continued linearly below h_min (V = V(h_min) − F(h_min)(h_min − h)),
 //! so −dV/dh is the applied force throughout.
 //!
 //! A 2D disc takes the sphere–sphere form per contact, as the sphere laws are applied to
