@@ -586,3 +586,64 @@ fn energy_terms_close_the_balance() {
         }
     }
 }
+
+/// Every sub-model gives the same force in 3D along a fixed tangent axis as in 2D.
+#[test]
+fn the_3d_path_along_one_axis_is_the_2d_path() {
+    let ax = Vector3::new(0.0, 0.6, -0.8);
+    let tangentials = [
+        r#"{"model": "linear_nohistory", "gamma_t": 0.5, "mu": 0.2}"#,
+        r#"{"model": "linear_history", "kt": 4e4, "mu": 0.2, "xgammat": 0.3}"#,
+        r#"{"model": "mindlin", "mu": 0.2, "xgammat": 0.3}"#,
+        r#"{"model": "mindlin/deresiewicz", "mu": 0.2}"#,
+    ];
+    let normals = [
+        r#"{"model": "hertz/material", "E": 1e8, "nu": 0.3}"#,
+        r#"{"model": "jkr", "E": 1e8, "nu": 0.3, "gamma": 0.05}"#,
+        r#"{"model": "dmt", "E": 1e8, "nu": 0.3, "gamma": 0.05}"#,
+    ];
+    for n in normals {
+        for t in tangentials {
+            let l = law(&format!(
+                r#"{{"normal": {n}, "damping": {{"model": "tsuji", "e": 0.5}}, "tangential": {t},
+                    "rolling": {{"model": "elastic_plastic", "mu_r": 0.1}}}}"#
+            ));
+            let mut h2 = GranularHistory::<f64>::default();
+            let mut h3 = GranularHistory::<Vector3<f64>>::default();
+            for i in 0..400 {
+                let s = i as f64 / 400.0;
+                let delta = 2e-6 * (std::f64::consts::PI * s).sin();
+                let vt = (6.0 * s).cos() * 0.05;
+                let (vn, dt) = (-1e-3 * (std::f64::consts::PI * s).cos(), 1e-6);
+                let k2 = Kin {
+                    delta,
+                    vn,
+                    vt,
+                    m_eff: M,
+                    r_eff: R,
+                    dt,
+                };
+                let k3 = Kin {
+                    delta,
+                    vn,
+                    vt: ax * vt,
+                    m_eff: M,
+                    r_eff: R,
+                    dt,
+                };
+                let a = l.force::<true>(&k2, &mut h2);
+                let b = l.force::<true>(&k3, &mut h3);
+                assert_eq!(a.f_n, b.f_n);
+                let tol = 1e-12 * a.f_t.abs().max(1e-9);
+                assert!(
+                    (b.f_t - ax * a.f_t).norm() <= tol,
+                    "{n} {t} step {i}: {a:?} {b:?}"
+                );
+                assert!((a.e_strain - b.e_strain).abs() <= 1e-12 * a.e_strain.abs().max(1e-15));
+                let (m2, _) = l.roll(&k2, a.f_n, 3.0, &mut h2);
+                let (m3, _) = l.roll(&k3, b.f_n, ax * 3.0, &mut h3);
+                assert!((m3 - ax * m2).norm() <= 1e-12 * m2.abs().max(1e-15));
+            }
+        }
+    }
+}
