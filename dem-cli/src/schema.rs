@@ -20,16 +20,19 @@ pub enum Kind {
     Study,
     /// The cutting-test parameters (`dem test cutting --params`; docs/cutting.md).
     CuttingParams,
+    /// A contact law by its sub-models (a scene's `contact.granular`; docs/laws.md).
+    Law,
 }
 
 impl Kind {
     /// Every kind, in the order `--list` prints them.
-    pub const ALL: [Kind; 5] = [
+    pub const ALL: [Kind; 6] = [
         Kind::Scene,
         Kind::Template,
         Kind::Specimen,
         Kind::Study,
         Kind::CuttingParams,
+        Kind::Law,
     ];
 
     /// The name on the command line and of the file `docs/schema/<name>.schema.json`.
@@ -40,6 +43,7 @@ impl Kind {
             Kind::Specimen => "specimen",
             Kind::Study => "study",
             Kind::CuttingParams => "cutting-params",
+            Kind::Law => "law",
         }
     }
 
@@ -51,13 +55,14 @@ impl Kind {
             Kind::Specimen => "dem.specimen/1 specimen file (dem specimen)",
             Kind::Study => "study file (dem sweep plan)",
             Kind::CuttingParams => "cutting-test parameters (dem test cutting --params)",
+            Kind::Law => "contact law by sub-models (a scene's contact.granular; docs/laws.md)",
         }
     }
 }
 
 #[derive(Args)]
 pub struct SchemaArgs {
-    /// The file kind: scene, template, specimen, study or cutting-params.
+    /// The file kind: scene, template, specimen, study, cutting-params or law.
     #[arg(value_enum, required_unless_present = "list")]
     kind: Option<Kind>,
     /// List the kinds, one a line, with the file each describes.
@@ -92,6 +97,7 @@ pub fn schema(kind: Kind) -> Schema {
         Kind::Specimen => of::<dem_core::scene::schema::SpecimenFile>(),
         Kind::Study => of::<dem_run::study::Study>(),
         Kind::CuttingParams => of::<dem_lab::cutting::CuttingTest>(),
+        Kind::Law => of::<dem_core::laws::GranularSpec>(),
     };
     s.insert("title".into(), kind.title().into());
     s.insert(

@@ -138,6 +138,7 @@ impl LabModel {
         ContactSpec {
             law: LawName::LinearSpringDashpot,
             rolling: false,
+            granular: None,
             pairs: vec![pair(
                 DISC_MATERIAL,
                 WALL_MATERIAL,

@@ -189,7 +189,8 @@ pub(crate) fn compute<H: PairHook>(
             NormalDamping::Ratio(z) => run(a, &LinearRatio(l, z)),
         },
         Some(ContactModel::HertzMindlin(h)) => run(a, &h),
-        None => run(a, laws),
+        // The catalogue law takes the table path (its match arm there).
+        Some(ContactModel::Granular(_)) | None => run(a, laws),
     }
 }
 

@@ -23,6 +23,7 @@
 
 pub(crate) mod disc_disc;
 pub(crate) mod disc_segment;
+pub mod granular;
 pub(crate) mod kernel;
 pub(crate) mod linear4;
 pub(crate) mod owned;
@@ -47,6 +48,9 @@ pub type PairOut = dem_laws::Out<f64>;
 pub enum ContactModel {
     Linear(LinearSpringDashpot),
     HertzMindlin(HertzMindlin),
+    /// A catalogue law composed of named sub-models (`dem_laws::GranularLaw`, checked for
+    /// 2D by [`granular::check_2d`]).
+    Granular(dem_laws::GranularLaw),
 }
 
 impl ContactModel {
@@ -55,6 +59,7 @@ impl ContactModel {
         match self {
             ContactModel::Linear(l) => l.force::<E, f64>(k, us),
             ContactModel::HertzMindlin(h) => h.force::<E, f64>(k, us),
+            ContactModel::Granular(g) => granular::force::<E>(g, k, us),
         }
     }
 
@@ -65,6 +70,7 @@ impl ContactModel {
         match self {
             ContactModel::Linear(l) => l.kn,
             ContactModel::HertzMindlin(h) => h.kn_tangent(r_eff, delta),
+            ContactModel::Granular(g) => granular::kn(g, r_eff, delta),
         }
     }
 
@@ -74,6 +80,7 @@ impl ContactModel {
         match self {
             ContactModel::Linear(l) => l.ks,
             ContactModel::HertzMindlin(h) => h.kt(r_eff, delta),
+            ContactModel::Granular(g) => granular::ks(g, r_eff, delta),
         }
     }
 
@@ -92,6 +99,10 @@ impl ContactModel {
             ContactModel::HertzMindlin(h) => {
                 (h.spring_normal(r_eff, delta), -h.kt(r_eff, delta) * us)
             }
+            ContactModel::Granular(g) => (
+                granular::spring_normal(g, r_eff, delta).0,
+                -granular::ks(g, r_eff, delta.max(0.0)) * us,
+            ),
         }
     }
 }
@@ -172,6 +183,7 @@ impl ContactLaws {
                 ContactModel::HertzMindlin(h) => {
                     finite(&[h.e_star, h.g_star, h.eta, h.restitution, h.mu])
                 }
+                ContactModel::Granular(g) => granular::is_finite(g) && granular::check_2d(g).is_ok(),
             };
             if !ok {
                 return Err(crate::WorldError::Restored(
@@ -224,6 +236,7 @@ impl ContactLaws {
                 zero && l.kn >= 0.0 && l.kn.is_finite() && l.shear_damping.is_finite()
             }
             ContactModel::HertzMindlin(_) => false,
+            ContactModel::Granular(g) => !granular::has_dashpot(g),
         })
     }
 

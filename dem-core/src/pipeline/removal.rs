@@ -77,6 +77,7 @@ fn normal_energy(model: &ContactModel, r_eff: f64, delta: f64) -> f64 {
     match model {
         ContactModel::Linear(l) => 0.5 * l.kn * delta * delta,
         ContactModel::HertzMindlin(h) => 0.4 * h.spring_normal(r_eff, delta) * delta,
+        ContactModel::Granular(g) => crate::contact::granular::spring_normal(g, r_eff, delta).1,
     }
 }
 

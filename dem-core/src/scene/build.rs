@@ -238,6 +238,7 @@ pub fn params(scene: &Scene) -> Params {
 /// The engine's model of one pair law.
 fn model(p: &PairLaw) -> ContactModel {
     match p.stiffness {
+        PairStiffness::Granular(g) => ContactModel::Granular(g),
         PairStiffness::Hertz { e_star, g_star } => {
             // Hertz pairs carry a restitution (a non-zero damping ratio is refused at load).
             let e = match p.damping {

@@ -69,6 +69,73 @@ pub(crate) fn pair_laws(
         .collect()
 }
 
+/// A pair with `"law": "granular"`: the law built from its spec (the pair's, else
+/// `contact.granular`) and checked for discs; the materials' contact values are not used.
+fn granular_pair(
+    ck: &Ck,
+    contact: &ContactSpec,
+    ov: Option<(usize, &PairSpec)>,
+    (a, b): (u16, u16),
+    what: &str,
+    rolling: bool,
+) -> Result<PairLaw, SceneError> {
+    let (spec, field) = match ov {
+        Some((i, p)) if p.granular.is_some() => {
+            (p.granular.as_ref(), format!("contact.pairs[{i}].granular"))
+        }
+        _ => (contact.granular.as_ref(), "contact.granular".to_string()),
+    };
+    let spec = spec.ok_or_else(|| {
+        ck.err(
+            field.clone(),
+            format!("{what} uses the granular law, which needs its sub-models here (docs/laws.md)"),
+        )
+    })?;
+    let law = spec.build().map_err(|e| match e {
+        dem_laws::LawError::Invalid { path, reason, .. } => {
+            ck.err(format!("{field}.{path}"), reason)
+        }
+        other => ck.err(field.clone(), other.to_string()),
+    })?;
+    crate::contact::granular::check_2d(&law).map_err(|r| ck.err(field.clone(), r))?;
+    if let Some((i, p)) = ov {
+        let unused = [
+            ("kn", p.kn.is_some()),
+            ("ks", p.ks.is_some()),
+            ("friction", p.friction.is_some()),
+            ("restitution", p.restitution.is_some()),
+            ("damping_ratio", p.damping_ratio.is_some()),
+        ];
+        if let Some((k, _)) = unused.iter().find(|(_, set)| *set) {
+            return Err(ck.err(
+                format!("contact.pairs[{i}].{k}"),
+                "not used by the granular law (set it in its sub-models)",
+            ));
+        }
+    }
+    if rolling {
+        return Err(ck.err(
+            field,
+            "rolling resistance with the granular law on discs is not supported yet",
+        ));
+    }
+    let friction = match law.tangential {
+        dem_laws::Tangential::LinearNoHistory { mu, .. }
+        | dem_laws::Tangential::LinearHistory { mu, .. }
+        | dem_laws::Tangential::Mindlin { mu, .. }
+        | dem_laws::Tangential::MindlinDeresiewicz { mu, .. } => mu,
+    };
+    Ok(PairLaw {
+        a,
+        b,
+        law: LawName::Granular,
+        stiffness: PairStiffness::Granular(law),
+        friction,
+        damping: NormalDamping::Ratio(0.0),
+        rolling: None,
+    })
+}
+
 fn pair(
     ck: &Ck,
     scene: &Scene,
@@ -93,7 +160,16 @@ fn pair(
             )
         })
     };
+    if let Some((i, p)) = ov {
+        if p.granular.is_some() && law != LawName::Granular {
+            return Err(ck.err(
+                format!("contact.pairs[{i}].granular"),
+                "given but the pair's law is not \"granular\"",
+            ));
+        }
+    }
     let stiffness = match law {
+        LawName::Granular => return granular_pair(ck, contact, ov, (a, b), &what, rolling),
         LawName::LinearSpringDashpot => {
             let get = |k: &str,
                        o: Option<f64>,

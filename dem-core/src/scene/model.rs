@@ -74,6 +74,8 @@ pub enum PairStiffness {
     /// Hertz-Mindlin: effective modulus E* and effective shear modulus G* (rules in
     /// `super::mix`).
     Hertz { e_star: f64, g_star: f64 },
+    /// A catalogue law (`"law": "granular"`), checked for 2D discs.
+    Granular(dem_laws::GranularLaw),
 }
 
 /// The contact law of one material pair with its mixed parameters.

@@ -147,6 +147,10 @@ pub struct ContactSpec {
     pub law: LawName,
     #[serde(default)]
     pub rolling: bool,
+    /// With `"law": "granular"`: the law by its sub-models (normal, damping, tangential;
+    /// `docs/laws.md`), used by every pair without its own.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub granular: Option<dem_laws::GranularSpec>,
     #[serde(default)]
     pub pairs: Vec<PairSpec>,
 }
@@ -156,6 +160,7 @@ impl Default for ContactSpec {
         ContactSpec {
             law: LawName::LinearSpringDashpot,
             rolling: false,
+            granular: None,
             pairs: Vec::new(),
         }
     }
@@ -168,6 +173,9 @@ pub enum LawName {
     #[default]
     LinearSpringDashpot,
     HertzMindlin,
+    /// A law composed of named sub-models (LAMMPS `pair_style granular`-like), given in
+    /// `granular` (`docs/laws.md`); its parameters are its own, not mixed from the materials.
+    Granular,
 }
 
 /// The law of one material pair (order of the two names does not matter).
@@ -179,6 +187,9 @@ pub struct PairSpec {
     pub law: LawName,
     #[serde(default)]
     pub rolling: bool,
+    /// With `"law": "granular"`: this pair's law by its sub-models (else `contact.granular`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub granular: Option<dem_laws::GranularSpec>,
     /// Overrides of the mixed values, same meaning and units as in a material.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub kn: Option<f64>,
