@@ -1,5 +1,6 @@
 //! A contact law composed of sub-models, in the manner of LAMMPS `pair_style granular`
-//! (doc page `pair_granular`): normal + damping + tangential (+ rolling) (+ van der Waals).
+//! (doc page `pair_granular`): normal + damping + tangential (+ rolling) (+ twisting)
+//! (+ van der Waals).
 //!
 //! One step of a contact, F > 0 repulsive:
 //!
@@ -9,8 +10,9 @@
 //! 3. tangential ([`Tangential::force`]) with the Coulomb load F_c = F_n, or
 //!    F_n + 2 × pull-off for dmt/jkr (Thornton 1991; LAMMPS);
 //! 4. van der Waals ([`VanDerWaals::eval`]): F_n −= F_vdw(max(h, h_min)) for h = −δ < h_cut;
-//! 5. rolling, by the solver after the force ([`GranularLaw::roll`]), on the relative
-//!    rolling rate, with the moment kept in the history.
+//! 5. rolling and twisting, by the solver after the force ([`GranularLaw::roll`],
+//!    [`GranularLaw::twist`]), on the relative rolling rate and spin, with the moment and
+//!    the twist angle kept in the history.
 //!
 //! Outside contact (δ < 0, no JKR neck) only van der Waals acts, and the contact history is
 //! reset. [`ContactLaw::reach`] is the JKR snap-off separation or the vdW cut-off.
@@ -27,7 +29,9 @@
 
 use crate::normal::NormalHistory;
 use crate::tangential::TangentialHistory;
-use crate::{ContactLaw, Damping, Kin, Normal, Out, Rolling, Tangent, Tangential, VanDerWaals};
+use crate::{
+    ContactLaw, Damping, Kin, Normal, Out, Rolling, Tangent, Tangential, Twisting, VanDerWaals,
+};
 use serde::{Deserialize, Serialize};
 
 /// A composed contact law (module docs).
@@ -37,6 +41,7 @@ pub struct GranularLaw {
     pub damping: Damping,
     pub tangential: Tangential,
     pub rolling: Option<Rolling>,
+    pub twisting: Option<Twisting>,
     pub vdw: Option<VanDerWaals>,
 }
 
@@ -47,6 +52,8 @@ pub struct GranularHistory<T: Tangent> {
     pub tangential: TangentialHistory<T>,
     /// Rolling moment M_r on body i (N·m).
     pub rolling: T,
+    /// Accumulated twist angle ξ_tw (rad, 3D).
+    pub twist: f64,
 }
 
 impl GranularLaw {
@@ -82,6 +89,7 @@ impl GranularLaw {
         } else {
             h.tangential = TangentialHistory::default();
             h.rolling = T::zero();
+            h.twist = 0.0;
         }
         if let Some(v) = &self.vdw {
             let (f, pot) = v.eval(r1, r2, k.delta);
@@ -111,6 +119,33 @@ impl GranularLaw {
                 (h.rolling, d)
             }
         }
+    }
+
+    /// Update the twisting moment (history) for the relative spin `w_twist` = (ω_i − ω_j)·n
+    /// (3D) and the normal force `f_n` of this step; returns (M_tw on body i about n, energy
+    /// dissipated). No twisting model, or no contact: (0, 0).
+    pub fn twist<T: Tangent>(
+        &self,
+        k: &Kin<T>,
+        f_n: f64,
+        w_twist: f64,
+        h: &mut GranularHistory<T>,
+    ) -> (f64, f64) {
+        let Some(tw) = &self.twisting else {
+            return (0.0, 0.0);
+        };
+        if !h.normal.touched {
+            h.twist = 0.0;
+            return (0.0, 0.0);
+        }
+        let a = self.radius(k.r_eff, k.delta);
+        let cn = self
+            .damping
+            .coefficient(k.m_eff, a, self.normal.stiffness(k.r_eff, k.delta));
+        let t = &self.tangential;
+        let coef = tw.coefficients(a, t.stiffness(a), t.dashpot(cn), t.mu());
+        let f_c = f_n + 2.0 * self.normal.pulloff(k.r_eff);
+        Twisting::update(coef, f_c, w_twist, k.dt, &mut h.twist)
     }
 
     /// Contact radius at overlap δ without history (√(R*δ); JKR radius for jkr).

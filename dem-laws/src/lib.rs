@@ -20,8 +20,8 @@
 //! `pair_style granular` of a [`Normal`] (hooke, hertz, hertz/material, dmt, jkr,
 //! walton_braun), a [`Damping`] (none, velocity, mass_velocity, viscoelastic, tsuji,
 //! coeff_restitution), a [`Tangential`] (linear_nohistory, linear_history, mindlin,
-//! mindlin/deresiewicz), an optional [`Rolling`] (constant_torque, elastic_plastic) and an
-//! optional [`VanDerWaals`] attraction, read by name from JSON ([`GranularSpec`],
+//! mindlin/deresiewicz), an optional [`Rolling`] (constant_torque, elastic_plastic), an
+//! optional [`Twisting`] (marshall, sds) and an optional [`VanDerWaals`] attraction, read by name from JSON ([`GranularSpec`],
 //! [`GranularLaw::from_json`]). Each module gives its formulas and sources;
 //! `docs/laws.md` tabulates them.
 
@@ -46,6 +46,7 @@ mod granular;
 mod normal;
 mod spec;
 mod tangential;
+mod twisting;
 mod vdw;
 
 pub use damping::{beta_of_restitution, eta_clipped_for_restitution, restitution_clipped, Damping};
@@ -56,8 +57,11 @@ pub use normal::{
     jkr_overlap, jkr_pulloff, Material, Normal, NormalForce, NormalHistory,
 };
 pub use rolling::Rolling;
-pub use spec::{DampingSpec, GranularSpec, NormalSpec, RollingSpec, TangentialSpec, VdwSpec};
+pub use spec::{
+    DampingSpec, GranularSpec, NormalSpec, RollingSpec, TangentialSpec, TwistingSpec, VdwSpec,
+};
 pub use tangential::{md_theta, MdMode, Tangential, TangentialForce, TangentialHistory};
+pub use twisting::Twisting;
 pub use vdw::{
     cylinders_force_per_length, cylinders_potential_per_length, sphere_sphere_force,
     sphere_sphere_force_near, sphere_sphere_potential, sphere_wall_force, sphere_wall_potential,

@@ -13,12 +13,13 @@
 //! 0 < e ≤ 1; γ, A, μ ≥ 0; k₂ ≥ k₁; h_cut > h_min > 0) and [`GranularLaw::from_json`]
 //! turns serde's errors (missing field, unknown model with the known names, wrong type)
 //! into a [`LawError`] naming the file, the field path and the reason. `damping` defaults
-//! to `none`; `rolling` and `vdw` are optional.
+//! to `none`; `rolling`, `twisting` (`{"model": "marshall"}` or `{"model": "sds", "k_tw",
+//! "eta_tw", "mu_tw"}`) and `vdw` are optional.
 
 use crate::normal::Material;
 use crate::{
-    Damping, GranularLaw, LawError, Normal, Rolling, RollingResistance, Tangential, VanDerWaals,
-    H_MIN_DEFAULT,
+    Damping, GranularLaw, LawError, Normal, Rolling, RollingResistance, Tangential, Twisting,
+    VanDerWaals, H_MIN_DEFAULT,
 };
 use serde::{Deserialize, Serialize};
 
@@ -187,6 +188,26 @@ pub enum RollingSpec {
     },
 }
 
+/// Twisting sub-model by name.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
+#[serde(tag = "model", deny_unknown_fields)]
+pub enum TwistingSpec {
+    /// Coefficients from the tangential model (Marshall 2009).
+    #[serde(rename = "marshall")]
+    Marshall,
+    /// Given spring, dashpot and friction.
+    #[serde(rename = "sds")]
+    Sds {
+        /// k_tw (N·m/rad).
+        k_tw: f64,
+        /// η_tw (N·m·s/rad).
+        eta_tw: f64,
+        /// μ_tw (m).
+        mu_tw: f64,
+    },
+}
+
 /// Van der Waals block.
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 #[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
@@ -215,6 +236,8 @@ pub struct GranularSpec {
     pub tangential: TangentialSpec,
     #[serde(default)]
     pub rolling: Option<RollingSpec>,
+    #[serde(default)]
+    pub twisting: Option<TwistingSpec>,
     #[serde(default)]
     pub vdw: Option<VdwSpec>,
 }
@@ -392,6 +415,24 @@ impl RollingSpec {
     }
 }
 
+impl TwistingSpec {
+    /// The checked sub-model.
+    pub fn build(&self) -> Result<Twisting, LawError> {
+        Ok(match *self {
+            TwistingSpec::Marshall => Twisting::Marshall,
+            TwistingSpec::Sds {
+                k_tw,
+                eta_tw,
+                mu_tw,
+            } => Twisting::Sds {
+                k_tw: non_negative("twisting.k_tw", k_tw, "the twisting stiffness")?,
+                eta_tw: non_negative("twisting.eta_tw", eta_tw, "the twisting damping")?,
+                mu_tw: non_negative("twisting.mu_tw", mu_tw, "the twisting friction")?,
+            },
+        })
+    }
+}
+
 impl VdwSpec {
     /// The checked sub-model.
     pub fn build(&self) -> Result<VanDerWaals, LawError> {
@@ -426,6 +467,11 @@ impl GranularSpec {
             damping: self.damping.build(&normal)?,
             tangential: self.tangential.build(&normal)?,
             rolling: self.rolling.as_ref().map(RollingSpec::build).transpose()?,
+            twisting: self
+                .twisting
+                .as_ref()
+                .map(TwistingSpec::build)
+                .transpose()?,
             vdw: self.vdw.as_ref().map(VdwSpec::build).transpose()?,
         })
     }

@@ -131,6 +131,18 @@ impl Tangential {
         }
     }
 
+    /// Tangential dashpot coefficient (N·s/m) for the normal one `cn`: γ_t
+    /// (linear_nohistory), x_γ,t c_n (linear_history, mindlin), 0 (mindlin/deresiewicz).
+    pub fn dashpot(&self, cn: f64) -> f64 {
+        match *self {
+            Tangential::LinearNoHistory { gamma_t, .. } => gamma_t,
+            Tangential::LinearHistory { xgammat, .. } | Tangential::Mindlin { xgammat, .. } => {
+                xgammat * cn
+            }
+            Tangential::MindlinDeresiewicz { .. } => 0.0,
+        }
+    }
+
     /// Tangential stiffness (N/m) at contact radius `a` (for the time step).
     pub fn stiffness(&self, a: f64) -> f64 {
         match *self {

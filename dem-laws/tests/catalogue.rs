@@ -348,6 +348,41 @@ fn the_example_of_the_brief_reads() {
     assert!(o.f_n > 0.0);
     let (m, d) = l.roll(&k, o.f_n, 2.0, &mut h);
     assert!((m + 0.1 * R * o.f_n).abs() < 1e-15 && d > 0.0);
+    // No twisting model: no moment.
+    assert_eq!(l.twist(&k, o.f_n, 1.0, &mut h), (0.0, 0.0));
+
+    // Twisting (3D), Marshall: k_tw = ½ k_t a², elastic for a small spin.
+    let l = law(&format!(
+        r#"{{{HM}, {T}, "twisting": {{"model": "marshall"}}}}"#
+    ));
+    let mut h = GranularHistory::<Vector3<f64>>::default();
+    let k = Kin {
+        delta: 1e-6,
+        vn: 0.0,
+        vt: Vector3::zeros(),
+        m_eff: M,
+        r_eff: R,
+        dt: 1e-7,
+    };
+    let o = l.force::<false>(&k, &mut h);
+    let (m, d) = l.twist(&k, o.f_n, 1e-3, &mut h);
+    let a = (R * 1e-6f64).sqrt();
+    let kt = 8.0 * l.normal.material().unwrap().g_star * a;
+    assert!((m + 0.5 * kt * a * a * 1e-10).abs() < 1e-12 * m.abs() && d == 0.0);
+    // Out of contact the twist is forgotten.
+    l.force::<false>(&Kin { delta: -1e-9, ..k }, &mut h);
+    assert_eq!(l.twist(&k, o.f_n, 1e-3, &mut h), (0.0, 0.0));
+    let l = law(&format!(
+        r#"{{{HM}, {T}, "twisting": {{"model": "sds", "k_tw": 1e-3, "eta_tw": 0, "mu_tw": 1e-4}}}}"#
+    ));
+    assert_eq!(
+        l.twisting,
+        Some(dem_laws::Twisting::Sds {
+            k_tw: 1e-3,
+            eta_tw: 0.0,
+            mu_tw: 1e-4
+        })
+    );
 }
 
 #[test]
@@ -429,6 +464,16 @@ fn every_bad_input_names_its_field() {
             format!(r#"{{{HM}, {T}, "rolling": {{"model": "constant_torque", "mu_r": -1}}}}"#),
             "rolling.mu_r",
         ),
+        (
+            format!(
+                r#"{{{HM}, {T}, "twisting": {{"model": "sds", "k_tw": -1, "eta_tw": 0, "mu_tw": 1}}}}"#
+            ),
+            "twisting.k_tw",
+        ),
+        (
+            format!(r#"{{{HM}, {T}, "twisting": {{"model": "spin"}}}}"#),
+            "twisting.model",
+        ),
         // Missing fields.
         (
             format!(r#"{{{HM}, "damping": {{"model": "tsuji"}}, {T}}}"#),
@@ -489,6 +534,7 @@ fn every_bad_input_names_its_field() {
             xgammat: 0.0,
         },
         rolling: None,
+        twisting: None,
         vdw: None,
     };
     let e = spec.build().unwrap_err();
