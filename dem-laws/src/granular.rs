@@ -103,7 +103,7 @@ impl GranularLaw {
 
     /// Update the rolling moment (history) for the relative rolling rate `w_rel` = ω_i − ω_j
     /// and the normal force `f_n` of this step; returns (M_r on body i, energy dissipated).
-    /// No rolling model: (0, 0).
+    /// No rolling model, or no contact: (0, 0).
     pub fn roll<T: Tangent>(
         &self,
         k: &Kin<T>,
@@ -113,6 +113,10 @@ impl GranularLaw {
     ) -> (T, f64) {
         match &self.rolling {
             None => (T::zero(), 0.0),
+            Some(_) if !h.normal.touched => {
+                h.rolling = T::zero();
+                (T::zero(), 0.0)
+            }
             Some(r) => {
                 let kn = self.normal.stiffness(k.r_eff, k.delta);
                 let d = r.update(kn, k.r_eff, f_n, w_rel, k.dt, &mut h.rolling);

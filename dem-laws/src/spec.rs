@@ -479,8 +479,8 @@ impl GranularSpec {
     /// Read a spec from JSON text; `file` names the source in errors.
     pub fn from_json(text: &str, file: Option<&str>) -> Result<GranularSpec, LawError> {
         let de = &mut serde_json::Deserializer::from_str(text);
-        let r: Result<GranularSpec, _> = serde_path_to_error::deserialize(de);
-        r.map_err(|e| {
+        let r: Result<GranularSpec, _> = serde_path_to_error::deserialize(&mut *de);
+        let spec = r.map_err(|e| {
             let mut path = e.path().to_string();
             if path == "." {
                 path.clear();
@@ -513,12 +513,43 @@ impl GranularSpec {
                 Some(f) => err.in_file(f),
                 None => err,
             }
-        })
+        })?;
+        de.end().map_err(|e| {
+            let err = LawError::invalid("(top level)", e.to_string());
+            match file {
+                Some(f) => err.in_file(f),
+                None => err,
+            }
+        })?;
+        Ok(spec)
     }
 }
 
 impl GranularLaw {
     /// A checked law from JSON text (module docs); `file` names the source in errors.
+    ///
+    /// ```
+    /// use dem_laws::{ContactLaw, GranularHistory, GranularLaw, Kin};
+    /// let law = GranularLaw::from_json(
+    ///     r#"{"normal": {"model": "hertz/material", "E": 7e10, "nu": 0.33},
+    ///         "damping": {"model": "tsuji", "e": 0.5},
+    ///         "tangential": {"model": "mindlin", "mu": 0.3}}"#,
+    ///     None,
+    /// )?;
+    /// let k = Kin { delta: 1e-6, vn: 0.0, vt: 0.0, m_eff: 1e-3, r_eff: 1e-3, dt: 1e-7 };
+    /// let mut h = GranularHistory::<f64>::default();
+    /// let out = law.force::<false>(&k, &mut h);
+    /// assert!(out.f_n > 0.0);
+    ///
+    /// let err = GranularLaw::from_json(
+    ///     r#"{"normal": {"model": "hertz/material", "E": 7e10, "nu": 0.7},
+    ///         "tangential": {"model": "mindlin", "mu": 0.3}}"#,
+    ///     Some("law.json"),
+    /// )
+    /// .unwrap_err();
+    /// assert!(err.to_string().starts_with("law.json: normal.nu: "));
+    /// # Ok::<(), dem_laws::LawError>(())
+    /// ```
     pub fn from_json(text: &str, file: Option<&str>) -> Result<GranularLaw, LawError> {
         let spec = GranularSpec::from_json(text, file)?;
         spec.build().map_err(|e| match file {
