@@ -1,8 +1,8 @@
 //! Contact laws written once for 2D discs and 3D spheres.
 //!
 //! A law maps the kinematics of one touching pair ([`Kin`]: overlap δ, normal and tangential
-//! relative velocity, effective mass and radius, Δt) and its tangential history to the
-//! pair's force ([`Out`]). Each law is a type implementing [`ContactLaw`] over a
+//! relative velocity, effective mass and radius, Δt) and its per-contact history
+//! ([`ContactLaw::History`]) to the pair's force ([`Out`]). Each law is a type implementing [`ContactLaw`] over a
 //! [`Tangent`]: `f64` for discs (the tangent plane is a line) and `nalgebra::Vector3<f64>`
 //! for spheres, so the same code serves the 2D solver (`dem-core`) and the 3D one.
 //!
@@ -10,8 +10,10 @@
 //!
 //! 1. geometry (the solver): normal n, overlap δ, contact arms, relative velocity → [`Kin`];
 //!    in 3D the history is first brought into the new tangent plane ([`rotate_history`]);
-//! 2. law: [`ContactLaw::force`] → F_n, F_t and, with `E = true`, the energy terms;
-//! 3. rolling resistance on the relative rotation ([`RollingResistance`]);
+//! 2. law: [`ContactLaw::force`] → F_n, F_t and, with `E = true`, the energy terms; a pair
+//!    stays in the contact list while δ > −[`ContactLaw::reach`] (JKR neck, van der Waals);
+//! 3. rolling resistance on the relative rotation ([`RollingResistance`], or
+//!    [`GranularLaw::roll`]) and, in 3D, twisting ([`GranularLaw::twist`]);
 //! 4. the solver applies ±F at the contact point and the torques.
 //!
 //! Laws: [`LinearSpringDashpot`] (Cundall & Strack 1979) and [`HertzMindlin`] (Hertz 1882,
