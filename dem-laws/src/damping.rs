@@ -12,7 +12,7 @@
 //! | `none` | 0 | |
 //! | `velocity` | γ (N·s/m) | LAMMPS `velocity` |
 //! | `mass_velocity` | γ m* (γ in 1/s) | LAMMPS `mass_velocity`; Brilliantov et al. 1996 / Silbert et al. 2001, Phys. Rev. E 64:051302 |
-//! | `viscoelastic` | η a (η in Pa·s) | Kuwabara & Kono 1987, Jpn. J. Appl. Phys. 26:1230; Brilliantov, Spahn, Hertzsch & Pöschel 1996, Phys. Rev. E 53:5382 (η = A·2E*·¾ with their dissipative constant A) |
+//! | `viscoelastic` | η a (η in Pa·s) | Kuwabara & Kono 1987, Jpn. J. Appl. Phys. 26:1230; Brilliantov, Spahn, Hertzsch & Pöschel 1996, Phys. Rev. E 53:5382 (their F_d = (4/3)E*√R* · (3/2)A√δ δ̇ is c = 2AE* a, so η = 2AE* with their dissipative time A) |
 //! | `tsuji` | −2√(5/6) β √(m* S_n) | Tsuji, Tanaka & Ishida 1992, Powder Technol. 71:239; the LIGGGHTS `hertz` form (LAMMPS `tsuji` uses a polynomial α(e) instead) |
 //! | `coeff_restitution`, hooke | 2ζ √(m* k_n), ζ = −β | exact: e = exp(−c t_n/(2m*)), t_n = π/√(k_n/m* − (c/2m*)²) (linear damped oscillator, e.g. Schwager & Pöschel 2007, Granular Matter 9:465) |
 //! | `coeff_restitution`, other | η(e) √(m* S_n), force clipped to F_n ≥ 0 | calibrated here (below); Thornton, Cummins & Cleary 2013, Powder Technol. 233:30 |
