@@ -6,7 +6,8 @@
 //!
 //! 1. normal ([`Normal::eval`]): F_ne, the contact radius a, the stiffness S_n;
 //! 2. damping: c = [`Damping::coefficient`](m*, a, S_n), F_n = F_ne − c v_n; with
-//!    `coeff_restitution` on a nonlinear normal model, F_n ≥ min(F_ne, 0) (clipped);
+//!    `coeff_restitution` on a nonlinear normal model, or `limit_damping`,
+//!    F_n ≥ min(F_ne, 0) (clipped);
 //! 3. tangential ([`Tangential::force`]) with the Coulomb load F_c = F_n, or
 //!    F_n + 2 × pull-off for dmt/jkr (Thornton 1991; LAMMPS);
 //! 4. van der Waals ([`VanDerWaals::eval`]): F_n −= F_vdw(max(h, h_min)) for h = −δ < h_cut;
@@ -43,6 +44,10 @@ pub struct GranularLaw {
     pub rolling: Option<Rolling>,
     pub twisting: Option<Twisting>,
     pub vdw: Option<VanDerWaals>,
+    /// Clip the normal dashpot so that F_n ≥ min(F_ne, 0) whatever the damping model
+    /// (LAMMPS' `limit_damping` keyword; `coeff_restitution` on a nonlinear model always
+    /// clips).
+    pub limit_damping: bool,
 }
 
 /// Per-contact history of a [`GranularLaw`], generic over the tangent type.
@@ -71,7 +76,7 @@ impl GranularLaw {
         if nf.active {
             let c = self.damping.coefficient(k.m_eff, nf.a, nf.s_n);
             let mut f_n = nf.f - c * k.vn;
-            if self.damping.clips() {
+            if self.limit_damping || self.damping.clips() {
                 f_n = f_n.max(nf.f.min(0.0));
             }
             let f_c = nf.f_coulomb + (f_n - nf.f);

@@ -14,7 +14,8 @@
 //! turns serde's errors (missing field, unknown model with the known names, wrong type)
 //! into a [`LawError`] naming the file, the field path and the reason. `damping` defaults
 //! to `none`; `rolling`, `twisting` (`{"model": "marshall"}` or `{"model": "sds", "k_tw",
-//! "eta_tw", "mu_tw"}`) and `vdw` are optional.
+//! "eta_tw", "mu_tw"}`) and `vdw` are optional; `"limit_damping": true` clips the dashpot
+//! so that it never pulls (LAMMPS' keyword).
 
 use crate::normal::Material;
 use crate::{
@@ -240,6 +241,9 @@ pub struct GranularSpec {
     pub twisting: Option<TwistingSpec>,
     #[serde(default)]
     pub vdw: Option<VdwSpec>,
+    /// Clip the dashpot so that it never pulls (LAMMPS `limit_damping`); default false.
+    #[serde(default)]
+    pub limit_damping: bool,
 }
 
 fn no_damping() -> DampingSpec {
@@ -473,6 +477,7 @@ impl GranularSpec {
                 .map(TwistingSpec::build)
                 .transpose()?,
             vdw: self.vdw.as_ref().map(VdwSpec::build).transpose()?,
+            limit_damping: self.limit_damping,
         })
     }
 

@@ -536,6 +536,7 @@ fn every_bad_input_names_its_field() {
         rolling: None,
         twisting: None,
         vdw: None,
+        limit_damping: false,
     };
     let e = spec.build().unwrap_err();
     assert_eq!(e.path(), Some("normal.E"));
@@ -692,4 +693,34 @@ fn the_3d_path_along_one_axis_is_the_2d_path() {
             }
         }
     }
+}
+
+#[test]
+fn limit_damping_clips_the_linear_dashpot() {
+    let json = |limit: bool| {
+        format!(
+            r#"{{"normal": {{"model": "hooke", "kn": 1e5}},
+                "damping": {{"model": "coeff_restitution", "e": 0.3}},
+                "tangential": {{"model": "linear_nohistory", "gamma_t": 0, "mu": 0.3}},
+                "limit_damping": {limit}}}"#
+        )
+    };
+    let free = restitution_rk4(&law(&json(false)), 0.1, 0.0f64, dt_for(1e5));
+    let clipped = restitution_rk4(&law(&json(true)), 0.1, 0.0f64, dt_for(1e5));
+    println!("hooke e = 0.3: unclipped {free:.6}, limit_damping {clipped:.6}");
+    assert!((free - 0.3).abs() < 1e-7);
+    // Clipped, the pair leaves once the force reaches 0, before δ = 0, faster.
+    assert!(clipped > free + 0.01);
+    // The clipped force is never attractive.
+    let l = law(&json(true));
+    let mut h = GranularHistory::<f64>::default();
+    let k = Kin {
+        delta: 1e-8,
+        vn: 1.0,
+        vt: 0.0,
+        m_eff: M,
+        r_eff: R,
+        dt: 1e-7,
+    };
+    assert_eq!(l.force::<true>(&k, &mut h).f_n, 0.0);
 }
