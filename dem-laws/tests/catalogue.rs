@@ -164,6 +164,12 @@ fn undamped_impacts_conserve_energy() {
                 "tangential": {"model": "linear_history", "kt": 4e4, "mu": 1e9}}"#,
             1e5,
         ),
+        (
+            // The adhesive work −4πγR*δ is part of e_strain, so the energy is conserved.
+            r#"{"normal": {"model": "dmt", "E": 7e10, "nu": 0.33, "gamma": 0.5},
+                "tangential": {"model": "linear_history", "kt": 4e4, "mu": 1e9}}"#,
+            k_h,
+        ),
     ];
     for (json, k) in cases {
         let l = law(json);
