@@ -730,3 +730,61 @@ fn limit_damping_clips_the_linear_dashpot() {
     };
     assert_eq!(l.force::<true>(&k, &mut h).f_n, 0.0);
 }
+
+/// An undamped JKR impact loses exactly the work of the neck from δ = 0 to the snap-off at
+/// δ_c: e = √(1 − 2W/(m* v0²)), W = −∫_{δc}^0 F dδ (the loading and unloading above δ = 0
+/// are elastic; the snap-in at δ = 0 costs nothing, the stored energy being 0 there).
+#[test]
+fn jkr_impact_loses_the_neck_work() {
+    let json = r#"{"normal": {"model": "jkr", "E": 7e10, "nu": 0.33, "gamma": 0.5},
+                   "tangential": {"model": "linear_history", "kt": 4e4, "mu": 1e9}}"#;
+    let l = law(json);
+    let e_star = l.normal.material().unwrap().e_star;
+    let g = 0.5;
+    let dc = dem_laws::jkr_critical_overlap(e_star, g, R);
+    // W by Simpson's rule on the stable branch.
+    let n = 20_000;
+    let hs = -dc / n as f64;
+    let mut w = 0.0;
+    for i in 0..=n {
+        let d = dc + i as f64 * hs;
+        let a = dem_laws::jkr_contact_radius(e_star, g, R, d).unwrap();
+        let c = if i == 0 || i == n {
+            1.0
+        } else if i % 2 == 1 {
+            4.0
+        } else {
+            2.0
+        };
+        w -= c * dem_laws::jkr_force_of_radius(e_star, g, R, a);
+    }
+    w *= hs / 3.0;
+    for v0 in [1e-3f64, 3e-3] {
+        let e_th = (1.0 - 2.0 * w / (M * v0 * v0)).sqrt();
+        let reach = <GranularLaw as ContactLaw<f64>>::reach(&l, R);
+        let dt = dt_for(4e5) / 4.0;
+        let mut h = GranularHistory::<f64>::default();
+        let (mut delta, mut vn) = (0.0f64, -v0);
+        let mut touched = false;
+        let e = loop {
+            let d_new = delta - vn * dt;
+            let k = Kin {
+                delta: d_new,
+                vn,
+                vt: 0.0,
+                m_eff: M,
+                r_eff: R,
+                dt,
+            };
+            let out = l.force::<false>(&k, &mut h);
+            touched |= d_new > 0.0;
+            if touched && d_new < -reach {
+                break vn / v0;
+            }
+            vn += out.f_n / M * dt;
+            delta = d_new;
+        };
+        println!("JKR v0 = {v0}: e = {e:.6}, √(1 − 2W/mv²) = {e_th:.6}");
+        assert!((e - e_th).abs() < 2e-5, "{e} vs {e_th}");
+    }
+}
