@@ -29,10 +29,12 @@
 //! material models 2E*√(R*δ), walton_braun k₂), [`ContactLaw::ks`] the tangential one.
 
 use crate::normal::NormalHistory;
+use crate::rotate_history;
 use crate::tangential::TangentialHistory;
 use crate::{
     ContactLaw, Damping, Kin, Normal, Out, Rolling, Tangent, Tangential, Twisting, VanDerWaals,
 };
+use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
 /// A composed contact law (module docs).
@@ -59,6 +61,17 @@ pub struct GranularHistory<T: Tangent> {
     pub rolling: T,
     /// Accumulated twist angle ξ_tw (rad, 3D).
     pub twist: f64,
+}
+
+impl GranularHistory<Vector3<f64>> {
+    /// Bring the 3D history into the tangent plane of the current unit normal `n` (step 1 of
+    /// the pipeline, [`rotate_history`]): the shear displacement, the Mindlin–Deresiewicz
+    /// force direction and the rolling moment keep their lengths.
+    pub fn rotate_into(&mut self, n: Vector3<f64>) {
+        self.tangential.us = rotate_history(self.tangential.us, n);
+        self.tangential.dir = rotate_history(self.tangential.dir, n);
+        self.rolling = rotate_history(self.rolling, n);
+    }
 }
 
 impl GranularLaw {
@@ -188,5 +201,25 @@ impl<T: Tangent> ContactLaw<T> for GranularLaw {
     fn reach(&self, r_eff: f64) -> f64 {
         let v = self.vdw.map_or(0.0, |v| v.cutoff);
         self.normal.reach(r_eff).max(v)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_rotated_3d_history_stays_tangent() {
+        let mut h = GranularHistory::<Vector3<f64>>::default();
+        h.tangential.us = Vector3::new(1e-6, 2e-6, 0.0);
+        h.tangential.dir = Vector3::new(0.0, 1.0, 0.0);
+        h.rolling = Vector3::new(0.0, 3e-3, 4e-3);
+        let n = Vector3::new(0.0, 0.6, 0.8);
+        h.rotate_into(n);
+        for v in [h.tangential.us, h.tangential.dir, h.rolling] {
+            assert!(Vector3::dot(&v, &n).abs() < 1e-15 * v.norm().max(1e-300));
+        }
+        assert!((h.tangential.dir.norm() - 1.0).abs() < 1e-15);
+        assert!((h.tangential.us.norm() - 5e-12f64.sqrt()).abs() < 1e-20);
     }
 }
