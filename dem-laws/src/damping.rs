@@ -24,6 +24,9 @@
 //! here; instead η is found by bisection on the restitution of the dimensionless clipped
 //! impact X'' = −max(X^{3/2} + η√(3/2) X^{1/4} X', 0), X(0) = 0, X'(0) = 1 (RK4,
 //! [`restitution_clipped`]), so e comes out as set to the accuracy of that integration.
+//! The calibration is exact for `hooke` (unclipped) and for `hertz`, `hertz/material`
+//! (clipped). On `dmt`, `jkr` and `walton_braun` the same Hertz η is applied, as LAMMPS
+//! does, but the rebound is not e: adhesion and the Walton–Braun hysteresis dissipate too.
 //!
 //! **`tsuji` for Hertz** is the closed-form β. Measured here on the unclipped dimensionless
 //! impact (the test `tsuji_restitution_accuracy`): |e_out − e| ≤ 1.1e-5 over
