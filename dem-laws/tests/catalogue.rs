@@ -218,6 +218,17 @@ fn restitution_in_is_restitution_out() {
     let v0 = 0.1;
     let dmax = (15.0 * M * v0 * v0 / (16.0 * e_star * R.sqrt())).powf(0.4);
     let k_h = 2.0 * e_star * (R * dmax).sqrt();
+    // Plain hertz (k_n δ^{3/2}): the same dimensionless impact, so the same calibration.
+    let hz = |e: f64| {
+        format!(
+            r#"{{"normal": {{"model": "hertz", "kn": 1e9}},
+                "damping": {{"model": "coeff_restitution", "e": {e}}},
+                "tangential": {{"model": "linear_nohistory", "gamma_t": 0, "mu": 0.3}}}}"#
+        )
+    };
+    let w = e_sweep(hz, 2.5e6, v0);
+    println!("coeff_restitution, hertz: max |e_out − e| = {w:.2e}");
+    assert!(w < 1e-5, "hertz: {w}");
     for model in ["tsuji", "coeff_restitution"] {
         let hz = |e: f64| {
             format!(
