@@ -155,6 +155,33 @@ pub enum TangentialSpec {
         #[serde(default)]
         xgammat: f64,
     },
+    /// mindlin, the history scaled by a/a_prev when a shrinks.
+    #[serde(rename = "mindlin_rescale")]
+    MindlinRescale {
+        /// Friction coefficient.
+        mu: f64,
+        /// Tangential dashpot factor (default 0).
+        #[serde(default)]
+        xgammat: f64,
+    },
+    /// mindlin on an incremental force history.
+    #[serde(rename = "mindlin/force")]
+    MindlinForce {
+        /// Friction coefficient.
+        mu: f64,
+        /// Tangential dashpot factor (default 0).
+        #[serde(default)]
+        xgammat: f64,
+    },
+    /// mindlin/force, the history scaled by a/a_prev when a shrinks.
+    #[serde(rename = "mindlin_rescale/force")]
+    MindlinRescaleForce {
+        /// Friction coefficient.
+        mu: f64,
+        /// Tangential dashpot factor (default 0).
+        #[serde(default)]
+        xgammat: f64,
+    },
     /// Mindlin–Deresiewicz partial slip (G* from the normal model's E, ν).
     #[serde(rename = "mindlin/deresiewicz")]
     MindlinDeresiewicz {
@@ -385,11 +412,26 @@ impl TangentialSpec {
                 xgammat: non_negative("tangential.xgammat", xgammat, "the damping factor")?,
                 mu: mu(m)?,
             },
-            TangentialSpec::Mindlin { mu: m, xgammat } => Tangential::Mindlin {
-                g_star: g_star("mindlin")?,
-                xgammat: non_negative("tangential.xgammat", xgammat, "the damping factor")?,
-                mu: mu(m)?,
-            },
+            TangentialSpec::Mindlin { mu: m, xgammat }
+            | TangentialSpec::MindlinRescale { mu: m, xgammat }
+            | TangentialSpec::MindlinForce { mu: m, xgammat }
+            | TangentialSpec::MindlinRescaleForce { mu: m, xgammat } => {
+                let (name, force, rescale) = match self {
+                    TangentialSpec::MindlinRescale { .. } => ("mindlin_rescale", false, true),
+                    TangentialSpec::MindlinForce { .. } => ("mindlin/force", true, false),
+                    TangentialSpec::MindlinRescaleForce { .. } => {
+                        ("mindlin_rescale/force", true, true)
+                    }
+                    _ => ("mindlin", false, false),
+                };
+                Tangential::Mindlin {
+                    g_star: g_star(name)?,
+                    xgammat: non_negative("tangential.xgammat", xgammat, "the damping factor")?,
+                    mu: mu(m)?,
+                    force,
+                    rescale,
+                }
+            }
             TangentialSpec::MindlinDeresiewicz { mu: m } => Tangential::MindlinDeresiewicz {
                 g_star: g_star("mindlin/deresiewicz")?,
                 mu: mu(m)?,

@@ -633,6 +633,12 @@ fn energy_terms_close_the_balance() {
         r#"{"normal": {"model": "jkr", "E": 1e8, "nu": 0.3, "gamma": 0.05},
             "damping": {"model": "viscoelastic", "eta": 1e3},
             "tangential": {"model": "mindlin", "mu": 0.2, "xgammat": 0.3}}"#,
+        r#"{"normal": {"model": "hertz/material", "E": 1e8, "nu": 0.3},
+            "damping": {"model": "coeff_restitution", "e": 0.7},
+            "tangential": {"model": "mindlin_rescale", "mu": 0.2, "xgammat": 0.3}}"#,
+        r#"{"normal": {"model": "hertz/material", "E": 1e8, "nu": 0.3},
+            "damping": {"model": "tsuji", "e": 0.7},
+            "tangential": {"model": "mindlin_rescale/force", "mu": 0.2}}"#,
     ];
     for json in cases {
         let l = law(json);
@@ -660,6 +666,9 @@ fn the_3d_path_along_one_axis_is_the_2d_path() {
         r#"{"model": "linear_history", "kt": 4e4, "mu": 0.2, "xgammat": 0.3}"#,
         r#"{"model": "mindlin", "mu": 0.2, "xgammat": 0.3}"#,
         r#"{"model": "mindlin/deresiewicz", "mu": 0.2}"#,
+        r#"{"model": "mindlin_rescale", "mu": 0.2, "xgammat": 0.3}"#,
+        r#"{"model": "mindlin/force", "mu": 0.2, "xgammat": 0.3}"#,
+        r#"{"model": "mindlin_rescale/force", "mu": 0.2}"#,
     ];
     let normals = [
         r#"{"model": "hertz/material", "E": 1e8, "nu": 0.3}"#,
@@ -797,5 +806,46 @@ fn jkr_impact_loses_the_neck_work() {
         };
         println!("JKR v0 = {v0}: e = {e:.6}, √(1 − 2W/mv²) = {e_th:.6}");
         assert!((e - e_th).abs() < 2e-5, "{e} vs {e_th}");
+    }
+}
+
+/// Pure normal unloading at v_t = 0 from a₀ to a₁: F_t ∝ a (mindlin), ∝ a² (mindlin_rescale),
+/// constant (mindlin/force), ∝ a (mindlin_rescale/force).
+#[test]
+fn mindlin_variants_under_normal_unloading() {
+    for (name, power) in [
+        ("mindlin", 1),
+        ("mindlin_rescale", 2),
+        ("mindlin/force", 0),
+        ("mindlin_rescale/force", 1),
+    ] {
+        let l = law(&format!(
+            r#"{{"normal": {{"model": "hertz/material", "E": 1e8, "nu": 0.3}},
+                "tangential": {{"model": "{name}", "mu": 1e9}}}}"#
+        ));
+        let mut h = GranularHistory::<Vector3<f64>>::default();
+        let kin = |delta: f64, vt: f64| Kin {
+            delta,
+            vn: 0.0,
+            vt: Vector3::new(vt, 0.0, 0.0),
+            m_eff: M,
+            r_eff: R,
+            dt: 1e-6,
+        };
+        let (d0, d1) = (4e-6, 1e-6);
+        let f0 = l.force::<false>(&kin(d0, 1e-3), &mut h).f_t.x;
+        let mut f1 = 0.0;
+        for i in 1..=100 {
+            f1 = l
+                .force::<false>(&kin(d0 + (d1 - d0) * i as f64 / 100.0, 0.0), &mut h)
+                .f_t
+                .x;
+        }
+        let ratio = (d1 / d0).sqrt(); // a₁/a₀
+        let want = f0 * ratio.powi(power);
+        assert!(
+            (f1 - want).abs() < 1e-12 * want.abs(),
+            "{name}: {f1} vs {want}"
+        );
     }
 }
