@@ -22,8 +22,9 @@
 //! `pair_style granular` of a [`Normal`] (hooke, hertz, hertz/material, dmt, jkr,
 //! walton_braun), a [`Damping`] (none, velocity, mass_velocity, viscoelastic, tsuji,
 //! coeff_restitution), a [`Tangential`] (linear_nohistory, linear_history, mindlin,
-//! mindlin/deresiewicz), an optional [`Rolling`] (constant_torque, elastic_plastic), an
-//! optional [`Twisting`] (marshall, sds) and an optional [`VanDerWaals`] attraction, read by name from JSON ([`GranularSpec`],
+//! mindlin_rescale, mindlin/force, mindlin_rescale/force, mindlin/deresiewicz), an optional
+//! [`Rolling`] (constant_torque, elastic_plastic), an optional [`Twisting`] (marshall, sds)
+//! and an optional [`VanDerWaals`] attraction, read by name from JSON ([`GranularSpec`],
 //! [`GranularLaw::from_json`]). Each module gives its formulas and sources;
 //! `docs/laws.md` tabulates them.
 
