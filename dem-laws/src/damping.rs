@@ -12,7 +12,7 @@
 //! | `none` | 0 | |
 //! | `velocity` | γ (N·s/m) | LAMMPS `velocity` |
 //! | `mass_velocity` | γ m* (γ in 1/s) | LAMMPS `mass_velocity`; Brilliantov et al. 1996 / Silbert et al. 2001, Phys. Rev. E 64:051302 |
-//! | `viscoelastic` | η a (η in Pa·s) | Kuwabara & Kono 1987, Jpn. J. Appl. Phys. 26:1230; Brilliantov, Spahn, Hertzsch & Pöschel 1996, Phys. Rev. E 53:5382 (η = A·2E*·¾ with their dissipative constant A) |
+//! | `viscoelastic` | η a (η in Pa·s) | Kuwabara & Kono 1987, Jpn. J. Appl. Phys. 26:1230; Brilliantov, Spahn, Hertzsch & Pöschel 1996, Phys. Rev. E 53:5382 (their F_d = (4/3)E*√R* · (3/2)A√δ δ̇ is c = 2AE* a, so η = 2AE* with their dissipative time A) |
 //! | `tsuji` | −2√(5/6) β √(m* S_n) | Tsuji, Tanaka & Ishida 1992, Powder Technol. 71:239; the LIGGGHTS `hertz` form (LAMMPS `tsuji` uses a polynomial α(e) instead) |
 //! | `coeff_restitution`, hooke | 2ζ √(m* k_n), ζ = −β | exact: e = exp(−c t_n/(2m*)), t_n = π/√(k_n/m* − (c/2m*)²) (linear damped oscillator, e.g. Schwager & Pöschel 2007, Granular Matter 9:465) |
 //! | `coeff_restitution`, other | η(e) √(m* S_n), force clipped to F_n ≥ 0 | calibrated here (below); Thornton, Cummins & Cleary 2013, Powder Technol. 233:30 |
@@ -24,12 +24,15 @@
 //! here; instead η is found by bisection on the restitution of the dimensionless clipped
 //! impact X'' = −max(X^{3/2} + η√(3/2) X^{1/4} X', 0), X(0) = 0, X'(0) = 1 (RK4,
 //! [`restitution_clipped`]), so e comes out as set to the accuracy of that integration.
+//! The calibration is exact for `hooke` (unclipped) and for `hertz`, `hertz/material`
+//! (clipped). On `dmt`, `jkr` and `walton_braun` the same Hertz η is applied, as LAMMPS
+//! does, but the rebound is not e: adhesion and the Walton–Braun hysteresis dissipate too.
 //!
 //! **`tsuji` for Hertz** is the closed-form β. Measured here on the unclipped dimensionless
 //! impact (the test `tsuji_restitution_accuracy`): |e_out − e| ≤ 1.1e-5 over
 //! e = 0.1…0.99 with the RK4 step 1e-3 of [`crate::restitution_of_eta`], and ≤ 1e-6 with
-//! the step 2e-4, so what is left is integration error: with the δ^{1/4} dashpot the β
-//! formula gives e. Clipped, the same η gives a much larger e (0.25 for e = 0.1, 0.55 for
+//! the step 2e-4 (and 1e-8…2e-8 at the step 1e-5, checked separately for e = 0.1 and 0.5),
+//! so what is left is integration error: with the δ^{1/4} dashpot the β formula gives e. Clipped, the same η gives a much larger e (0.25 for e = 0.1, 0.55 for
 //! 0.5), which is why `coeff_restitution` recalibrates.
 
 use serde::{Deserialize, Serialize};

@@ -1,16 +1,19 @@
 //! A contact law composed of sub-models, in the manner of LAMMPS `pair_style granular`
-//! (doc page `pair_granular`): normal + damping + tangential (+ rolling) (+ van der Waals).
+//! (doc page `pair_granular`): normal + damping + tangential (+ rolling) (+ twisting)
+//! (+ van der Waals).
 //!
 //! One step of a contact, F > 0 repulsive:
 //!
 //! 1. normal ([`Normal::eval`]): F_ne, the contact radius a, the stiffness S_n;
 //! 2. damping: c = [`Damping::coefficient`](m*, a, S_n), F_n = F_ne − c v_n; with
-//!    `coeff_restitution` on a nonlinear normal model, F_n ≥ min(F_ne, 0) (clipped);
+//!    `coeff_restitution` on a nonlinear normal model, or `limit_damping`,
+//!    F_n ≥ min(F_ne, 0) (clipped);
 //! 3. tangential ([`Tangential::force`]) with the Coulomb load F_c = F_n, or
 //!    F_n + 2 × pull-off for dmt/jkr (Thornton 1991; LAMMPS);
 //! 4. van der Waals ([`VanDerWaals::eval`]): F_n −= F_vdw(max(h, h_min)) for h = −δ < h_cut;
-//! 5. rolling, by the solver after the force ([`GranularLaw::roll`]), on the relative
-//!    rolling rate, with the moment kept in the history.
+//! 5. rolling and twisting, by the solver after the force ([`GranularLaw::roll`],
+//!    [`GranularLaw::twist`]), on the relative rolling rate and spin, with the moment and
+//!    the twist angle kept in the history.
 //!
 //! Outside contact (δ < 0, no JKR neck) only van der Waals acts, and the contact history is
 //! reset. [`ContactLaw::reach`] is the JKR snap-off separation or the vdW cut-off.
@@ -26,8 +29,12 @@
 //! material models 2E*√(R*δ), walton_braun k₂), [`ContactLaw::ks`] the tangential one.
 
 use crate::normal::NormalHistory;
+use crate::rotate_history;
 use crate::tangential::TangentialHistory;
-use crate::{ContactLaw, Damping, Kin, Normal, Out, Rolling, Tangent, Tangential, VanDerWaals};
+use crate::{
+    ContactLaw, Damping, Kin, Normal, Out, Rolling, Tangent, Tangential, Twisting, VanDerWaals,
+};
+use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
 /// A composed contact law (module docs).
@@ -37,7 +44,12 @@ pub struct GranularLaw {
     pub damping: Damping,
     pub tangential: Tangential,
     pub rolling: Option<Rolling>,
+    pub twisting: Option<Twisting>,
     pub vdw: Option<VanDerWaals>,
+    /// Clip the normal dashpot so that F_n ≥ min(F_ne, 0) whatever the damping model
+    /// (LAMMPS' `limit_damping` keyword; `coeff_restitution` on a nonlinear model always
+    /// clips).
+    pub limit_damping: bool,
 }
 
 /// Per-contact history of a [`GranularLaw`], generic over the tangent type.
@@ -47,6 +59,19 @@ pub struct GranularHistory<T: Tangent> {
     pub tangential: TangentialHistory<T>,
     /// Rolling moment M_r on body i (N·m).
     pub rolling: T,
+    /// Accumulated twist angle ξ_tw (rad, 3D).
+    pub twist: f64,
+}
+
+impl GranularHistory<Vector3<f64>> {
+    /// Bring the 3D history into the tangent plane of the current unit normal `n` (step 1 of
+    /// the pipeline, [`rotate_history`]): the shear displacement, the Mindlin–Deresiewicz
+    /// force direction and the rolling moment keep their lengths.
+    pub fn rotate_into(&mut self, n: Vector3<f64>) {
+        self.tangential.us = rotate_history(self.tangential.us, n);
+        self.tangential.dir = rotate_history(self.tangential.dir, n);
+        self.rolling = rotate_history(self.rolling, n);
+    }
 }
 
 impl GranularLaw {
@@ -64,7 +89,7 @@ impl GranularLaw {
         if nf.active {
             let c = self.damping.coefficient(k.m_eff, nf.a, nf.s_n);
             let mut f_n = nf.f - c * k.vn;
-            if self.damping.clips() {
+            if self.limit_damping || self.damping.clips() {
                 f_n = f_n.max(nf.f.min(0.0));
             }
             let f_c = nf.f_coulomb + (f_n - nf.f);
@@ -82,6 +107,7 @@ impl GranularLaw {
         } else {
             h.tangential = TangentialHistory::default();
             h.rolling = T::zero();
+            h.twist = 0.0;
         }
         if let Some(v) = &self.vdw {
             let (f, pot) = v.eval(r1, r2, k.delta);
@@ -95,7 +121,7 @@ impl GranularLaw {
 
     /// Update the rolling moment (history) for the relative rolling rate `w_rel` = ω_i − ω_j
     /// and the normal force `f_n` of this step; returns (M_r on body i, energy dissipated).
-    /// No rolling model: (0, 0).
+    /// No rolling model, or no contact: (0, 0).
     pub fn roll<T: Tangent>(
         &self,
         k: &Kin<T>,
@@ -105,12 +131,43 @@ impl GranularLaw {
     ) -> (T, f64) {
         match &self.rolling {
             None => (T::zero(), 0.0),
+            Some(_) if !h.normal.touched => {
+                h.rolling = T::zero();
+                (T::zero(), 0.0)
+            }
             Some(r) => {
                 let kn = self.normal.stiffness(k.r_eff, k.delta);
                 let d = r.update(kn, k.r_eff, f_n, w_rel, k.dt, &mut h.rolling);
                 (h.rolling, d)
             }
         }
+    }
+
+    /// Update the twisting moment (history) for the relative spin `w_twist` = (ω_i − ω_j)·n
+    /// (3D) and the normal force `f_n` of this step; returns (M_tw on body i about n, energy
+    /// dissipated). No twisting model, or no contact: (0, 0).
+    pub fn twist<T: Tangent>(
+        &self,
+        k: &Kin<T>,
+        f_n: f64,
+        w_twist: f64,
+        h: &mut GranularHistory<T>,
+    ) -> (f64, f64) {
+        let Some(tw) = &self.twisting else {
+            return (0.0, 0.0);
+        };
+        if !h.normal.touched {
+            h.twist = 0.0;
+            return (0.0, 0.0);
+        }
+        let a = self.radius(k.r_eff, k.delta);
+        let cn = self
+            .damping
+            .coefficient(k.m_eff, a, self.normal.stiffness(k.r_eff, k.delta));
+        let t = &self.tangential;
+        let coef = tw.coefficients(a, t.stiffness(a), t.dashpot(cn), t.mu());
+        let f_c = f_n + 2.0 * self.normal.pulloff(k.r_eff);
+        Twisting::update(coef, f_c, w_twist, k.dt, &mut h.twist)
     }
 
     /// Contact radius at overlap δ without history (√(R*δ); JKR radius for jkr).
@@ -144,5 +201,25 @@ impl<T: Tangent> ContactLaw<T> for GranularLaw {
     fn reach(&self, r_eff: f64) -> f64 {
         let v = self.vdw.map_or(0.0, |v| v.cutoff);
         self.normal.reach(r_eff).max(v)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_rotated_3d_history_stays_tangent() {
+        let mut h = GranularHistory::<Vector3<f64>>::default();
+        h.tangential.us = Vector3::new(1e-6, 2e-6, 0.0);
+        h.tangential.dir = Vector3::new(0.0, 1.0, 0.0);
+        h.rolling = Vector3::new(0.0, 3e-3, 4e-3);
+        let n = Vector3::new(0.0, 0.6, 0.8);
+        h.rotate_into(n);
+        for v in [h.tangential.us, h.tangential.dir, h.rolling] {
+            assert!(Vector3::dot(&v, &n).abs() < 1e-15 * v.norm().max(1e-300));
+        }
+        assert!((h.tangential.dir.norm() - 1.0).abs() < 1e-15);
+        assert!((h.tangential.us.norm() - 5e-12f64.sqrt()).abs() < 1e-20);
     }
 }

@@ -27,3 +27,46 @@ pub trait ContactLaw<T: Tangent> {
         0.0
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{HertzMindlin, LinearSpringDashpot};
+    use nalgebra::Vector3;
+
+    fn through_trait<L: ContactLaw<T>, T: Tangent>(l: &L, k: &Kin<T>) -> (Out<T>, L::History) {
+        let mut h = L::History::default();
+        (l.force::<true>(k, &mut h), h)
+    }
+
+    #[test]
+    fn the_two_solver_laws_keep_t_as_their_history() {
+        let lsd = LinearSpringDashpot::elastic(1e5, 4e4, 0.3);
+        let hm = HertzMindlin::from_materials(7e10, 0.33, 7e10, 0.33, 0.5, 0.3);
+        let k = Kin {
+            delta: 1e-6,
+            vn: -0.1,
+            vt: 0.2,
+            m_eff: 1e-3,
+            r_eff: 1e-3,
+            dt: 1e-6,
+        };
+        let (o, h) = through_trait(&lsd, &k);
+        let mut us = 0.0;
+        assert_eq!(o, lsd.force::<true, f64>(&k, &mut us));
+        assert_eq!(h, us);
+        let k3 = Kin {
+            vt: Vector3::new(0.0, 0.2, 0.0),
+            delta: k.delta,
+            vn: k.vn,
+            m_eff: k.m_eff,
+            r_eff: k.r_eff,
+            dt: k.dt,
+        };
+        let (o, h) = through_trait(&hm, &k3);
+        let mut us = Vector3::zeros();
+        assert_eq!(o, hm.force::<true, Vector3<f64>>(&k3, &mut us));
+        assert_eq!(h, us);
+        assert_eq!(<HertzMindlin as ContactLaw<f64>>::reach(&hm, 1e-3), 0.0);
+    }
+}

@@ -1,8 +1,8 @@
 //! Contact laws written once for 2D discs and 3D spheres.
 //!
 //! A law maps the kinematics of one touching pair ([`Kin`]: overlap δ, normal and tangential
-//! relative velocity, effective mass and radius, Δt) and its tangential history to the
-//! pair's force ([`Out`]). Each law is a type implementing [`ContactLaw`] over a
+//! relative velocity, effective mass and radius, Δt) and its per-contact history
+//! ([`ContactLaw::History`]) to the pair's force ([`Out`]). Each law is a type implementing [`ContactLaw`] over a
 //! [`Tangent`]: `f64` for discs (the tangent plane is a line) and `nalgebra::Vector3<f64>`
 //! for spheres, so the same code serves the 2D solver (`dem-core`) and the 3D one.
 //!
@@ -10,8 +10,10 @@
 //!
 //! 1. geometry (the solver): normal n, overlap δ, contact arms, relative velocity → [`Kin`];
 //!    in 3D the history is first brought into the new tangent plane ([`rotate_history`]);
-//! 2. law: [`ContactLaw::force`] → F_n, F_t and, with `E = true`, the energy terms;
-//! 3. rolling resistance on the relative rotation ([`RollingResistance`]);
+//! 2. law: [`ContactLaw::force`] → F_n, F_t and, with `E = true`, the energy terms; a pair
+//!    stays in the contact list while δ > −[`ContactLaw::reach`] (JKR neck, van der Waals);
+//! 3. rolling resistance on the relative rotation ([`RollingResistance`], or
+//!    [`GranularLaw::roll`]) and, in 3D, twisting ([`GranularLaw::twist`]);
 //! 4. the solver applies ±F at the contact point and the torques.
 //!
 //! Laws: [`LinearSpringDashpot`] (Cundall & Strack 1979) and [`HertzMindlin`] (Hertz 1882,
@@ -20,8 +22,9 @@
 //! `pair_style granular` of a [`Normal`] (hooke, hertz, hertz/material, dmt, jkr,
 //! walton_braun), a [`Damping`] (none, velocity, mass_velocity, viscoelastic, tsuji,
 //! coeff_restitution), a [`Tangential`] (linear_nohistory, linear_history, mindlin,
-//! mindlin/deresiewicz), an optional [`Rolling`] (constant_torque, elastic_plastic) and an
-//! optional [`VanDerWaals`] attraction, read by name from JSON ([`GranularSpec`],
+//! mindlin_rescale, mindlin/force, mindlin_rescale/force, mindlin/deresiewicz), an optional
+//! [`Rolling`] (constant_torque, elastic_plastic), an optional [`Twisting`] (marshall, sds)
+//! and an optional [`VanDerWaals`] attraction, read by name from JSON ([`GranularSpec`],
 //! [`GranularLaw::from_json`]). Each module gives its formulas and sources;
 //! `docs/laws.md` tabulates them.
 
@@ -46,6 +49,7 @@ mod granular;
 mod normal;
 mod spec;
 mod tangential;
+mod twisting;
 mod vdw;
 
 pub use damping::{beta_of_restitution, eta_clipped_for_restitution, restitution_clipped, Damping};
@@ -56,8 +60,11 @@ pub use normal::{
     jkr_overlap, jkr_pulloff, Material, Normal, NormalForce, NormalHistory,
 };
 pub use rolling::Rolling;
-pub use spec::{DampingSpec, GranularSpec, NormalSpec, RollingSpec, TangentialSpec, VdwSpec};
+pub use spec::{
+    DampingSpec, GranularSpec, NormalSpec, RollingSpec, TangentialSpec, TwistingSpec, VdwSpec,
+};
 pub use tangential::{md_theta, MdMode, Tangential, TangentialForce, TangentialHistory};
+pub use twisting::Twisting;
 pub use vdw::{
     cylinders_force_per_length, cylinders_potential_per_length, sphere_sphere_force,
     sphere_sphere_force_near, sphere_sphere_potential, sphere_wall_force, sphere_wall_potential,

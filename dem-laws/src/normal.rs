@@ -23,8 +23,8 @@
 //! a³ = 9πγR*²/(4E*). Once touched the neck persists into negative overlap down to
 //! δ_c = −3a_c²/R*, a_c³ = πγR*²/(4E*) (dδ/da = 0, the displacement-controlled separation,
 //! Maugis 2000, *Contact, Adhesion and Rupture of Elastic Solids*, ch. 5; F(δ_c) = −(5/3)πγR*),
-//! where it snaps. (LAMMPS snaps earlier, at the load-controlled pull-off overlap
-//! −a²/(3R*).) a(δ) is the largest root of x⁴/R* − c x − δ = 0, x = √a, c = 2√(πγ/E*),
+//! where it snaps. (LAMMPS snaps earlier, at the overlap of the load-controlled pull-off,
+//! −a_po²/(3R*) with a_po³ = 9πγR*²/(4E*), i.e. −(3π²γ²R*/(16E*²))^{1/3}.) a(δ) is the largest root of x⁴/R* − c x − δ = 0, x = √a, c = 2√(πγ/E*),
 //! found by Newton's method from above (the quartic is convex, so it converges monotonically).
 //! Strain energy (E flag): U = ∫F dδ along the stable branch from δ = 0, in closed form
 //! U(x) − U(x₀), U(x) = (8E*/15R*²)x¹⁰ − (4E*c/21R* + 4k/7R*)x⁷ + (kc/4)x⁴, k = 4√(πγE*),

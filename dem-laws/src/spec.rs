@@ -13,12 +13,14 @@
 //! 0 < e ≤ 1; γ, A, μ ≥ 0; k₂ ≥ k₁; h_cut > h_min > 0) and [`GranularLaw::from_json`]
 //! turns serde's errors (missing field, unknown model with the known names, wrong type)
 //! into a [`LawError`] naming the file, the field path and the reason. `damping` defaults
-//! to `none`; `rolling` and `vdw` are optional.
+//! to `none`; `rolling`, `twisting` (`{"model": "marshall"}` or `{"model": "sds", "k_tw",
+//! "eta_tw", "mu_tw"}`) and `vdw` are optional; `"limit_damping": true` clips the dashpot
+//! so that it never pulls (LAMMPS' keyword).
 
 use crate::normal::Material;
 use crate::{
-    Damping, GranularLaw, LawError, Normal, Rolling, RollingResistance, Tangential, VanDerWaals,
-    H_MIN_DEFAULT,
+    Damping, GranularLaw, LawError, Normal, Rolling, RollingResistance, Tangential, Twisting,
+    VanDerWaals, H_MIN_DEFAULT,
 };
 use serde::{Deserialize, Serialize};
 
@@ -153,6 +155,33 @@ pub enum TangentialSpec {
         #[serde(default)]
         xgammat: f64,
     },
+    /// mindlin, the history scaled by a/a_prev when a shrinks.
+    #[serde(rename = "mindlin_rescale")]
+    MindlinRescale {
+        /// Friction coefficient.
+        mu: f64,
+        /// Tangential dashpot factor (default 0).
+        #[serde(default)]
+        xgammat: f64,
+    },
+    /// mindlin on an incremental force history.
+    #[serde(rename = "mindlin/force")]
+    MindlinForce {
+        /// Friction coefficient.
+        mu: f64,
+        /// Tangential dashpot factor (default 0).
+        #[serde(default)]
+        xgammat: f64,
+    },
+    /// mindlin/force, the history scaled by a/a_prev when a shrinks.
+    #[serde(rename = "mindlin_rescale/force")]
+    MindlinRescaleForce {
+        /// Friction coefficient.
+        mu: f64,
+        /// Tangential dashpot factor (default 0).
+        #[serde(default)]
+        xgammat: f64,
+    },
     /// Mindlin–Deresiewicz partial slip (G* from the normal model's E, ν).
     #[serde(rename = "mindlin/deresiewicz")]
     MindlinDeresiewicz {
@@ -187,6 +216,26 @@ pub enum RollingSpec {
     },
 }
 
+/// Twisting sub-model by name.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
+#[serde(tag = "model", deny_unknown_fields)]
+pub enum TwistingSpec {
+    /// Coefficients from the tangential model (Marshall 2009).
+    #[serde(rename = "marshall")]
+    Marshall,
+    /// Given spring, dashpot and friction.
+    #[serde(rename = "sds")]
+    Sds {
+        /// k_tw (N·m/rad).
+        k_tw: f64,
+        /// η_tw (N·m·s/rad).
+        eta_tw: f64,
+        /// μ_tw (m).
+        mu_tw: f64,
+    },
+}
+
 /// Van der Waals block.
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 #[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
@@ -216,7 +265,12 @@ pub struct GranularSpec {
     #[serde(default)]
     pub rolling: Option<RollingSpec>,
     #[serde(default)]
+    pub twisting: Option<TwistingSpec>,
+    #[serde(default)]
     pub vdw: Option<VdwSpec>,
+    /// Clip the dashpot so that it never pulls (LAMMPS `limit_damping`); default false.
+    #[serde(default)]
+    pub limit_damping: bool,
 }
 
 fn no_damping() -> DampingSpec {
@@ -358,11 +412,26 @@ impl TangentialSpec {
                 xgammat: non_negative("tangential.xgammat", xgammat, "the damping factor")?,
                 mu: mu(m)?,
             },
-            TangentialSpec::Mindlin { mu: m, xgammat } => Tangential::Mindlin {
-                g_star: g_star("mindlin")?,
-                xgammat: non_negative("tangential.xgammat", xgammat, "the damping factor")?,
-                mu: mu(m)?,
-            },
+            TangentialSpec::Mindlin { mu: m, xgammat }
+            | TangentialSpec::MindlinRescale { mu: m, xgammat }
+            | TangentialSpec::MindlinForce { mu: m, xgammat }
+            | TangentialSpec::MindlinRescaleForce { mu: m, xgammat } => {
+                let (name, force, rescale) = match self {
+                    TangentialSpec::MindlinRescale { .. } => ("mindlin_rescale", false, true),
+                    TangentialSpec::MindlinForce { .. } => ("mindlin/force", true, false),
+                    TangentialSpec::MindlinRescaleForce { .. } => {
+                        ("mindlin_rescale/force", true, true)
+                    }
+                    _ => ("mindlin", false, false),
+                };
+                Tangential::Mindlin {
+                    g_star: g_star(name)?,
+                    xgammat: non_negative("tangential.xgammat", xgammat, "the damping factor")?,
+                    mu: mu(m)?,
+                    force,
+                    rescale,
+                }
+            }
             TangentialSpec::MindlinDeresiewicz { mu: m } => Tangential::MindlinDeresiewicz {
                 g_star: g_star("mindlin/deresiewicz")?,
                 mu: mu(m)?,
@@ -388,6 +457,24 @@ impl RollingSpec {
                     "the stiffness factor",
                 )?,
             }),
+        })
+    }
+}
+
+impl TwistingSpec {
+    /// The checked sub-model.
+    pub fn build(&self) -> Result<Twisting, LawError> {
+        Ok(match *self {
+            TwistingSpec::Marshall => Twisting::Marshall,
+            TwistingSpec::Sds {
+                k_tw,
+                eta_tw,
+                mu_tw,
+            } => Twisting::Sds {
+                k_tw: non_negative("twisting.k_tw", k_tw, "the twisting stiffness")?,
+                eta_tw: non_negative("twisting.eta_tw", eta_tw, "the twisting damping")?,
+                mu_tw: non_negative("twisting.mu_tw", mu_tw, "the twisting friction")?,
+            },
         })
     }
 }
@@ -426,15 +513,21 @@ impl GranularSpec {
             damping: self.damping.build(&normal)?,
             tangential: self.tangential.build(&normal)?,
             rolling: self.rolling.as_ref().map(RollingSpec::build).transpose()?,
+            twisting: self
+                .twisting
+                .as_ref()
+                .map(TwistingSpec::build)
+                .transpose()?,
             vdw: self.vdw.as_ref().map(VdwSpec::build).transpose()?,
+            limit_damping: self.limit_damping,
         })
     }
 
     /// Read a spec from JSON text; `file` names the source in errors.
     pub fn from_json(text: &str, file: Option<&str>) -> Result<GranularSpec, LawError> {
         let de = &mut serde_json::Deserializer::from_str(text);
-        let r: Result<GranularSpec, _> = serde_path_to_error::deserialize(de);
-        r.map_err(|e| {
+        let r: Result<GranularSpec, _> = serde_path_to_error::deserialize(&mut *de);
+        let spec = r.map_err(|e| {
             let mut path = e.path().to_string();
             if path == "." {
                 path.clear();
@@ -467,12 +560,43 @@ impl GranularSpec {
                 Some(f) => err.in_file(f),
                 None => err,
             }
-        })
+        })?;
+        de.end().map_err(|e| {
+            let err = LawError::invalid("(top level)", e.to_string());
+            match file {
+                Some(f) => err.in_file(f),
+                None => err,
+            }
+        })?;
+        Ok(spec)
     }
 }
 
 impl GranularLaw {
     /// A checked law from JSON text (module docs); `file` names the source in errors.
+    ///
+    /// ```
+    /// use dem_laws::{ContactLaw, GranularHistory, GranularLaw, Kin};
+    /// let law = GranularLaw::from_json(
+    ///     r#"{"normal": {"model": "hertz/material", "E": 7e10, "nu": 0.33},
+    ///         "damping": {"model": "tsuji", "e": 0.5},
+    ///         "tangential": {"model": "mindlin", "mu": 0.3}}"#,
+    ///     None,
+    /// )?;
+    /// let k = Kin { delta: 1e-6, vn: 0.0, vt: 0.0, m_eff: 1e-3, r_eff: 1e-3, dt: 1e-7 };
+    /// let mut h = GranularHistory::<f64>::default();
+    /// let out = law.force::<false>(&k, &mut h);
+    /// assert!(out.f_n > 0.0);
+    ///
+    /// let err = GranularLaw::from_json(
+    ///     r#"{"normal": {"model": "hertz/material", "E": 7e10, "nu": 0.7},
+    ///         "tangential": {"model": "mindlin", "mu": 0.3}}"#,
+    ///     Some("law.json"),
+    /// )
+    /// .unwrap_err();
+    /// assert!(err.to_string().starts_with("law.json: normal.nu: "));
+    /// # Ok::<(), dem_laws::LawError>(())
+    /// ```
     pub fn from_json(text: &str, file: Option<&str>) -> Result<GranularLaw, LawError> {
         let spec = GranularSpec::from_json(text, file)?;
         spec.build().map_err(|e| match file {

@@ -13,6 +13,9 @@
 //! | `linear_nohistory` | F_t = −min(γ_t\|v_t\|, μF_c) v̂_t | Haff & Werner 1986, Powder Technol. 48:239; LAMMPS `linear_nohistory` |
 //! | `linear_history` | u_s += v_t Δt, F_t = −k_t u_s − x_γ,t c v_t | Cundall & Strack 1979, Géotechnique 29:47; LAMMPS `linear_history` |
 //! | `mindlin` | as linear_history with k_t = 8G*a (no-slip) | Mindlin 1949, J. Appl. Mech. 16:259; LAMMPS `mindlin` |
+//! | `mindlin_rescale` | mindlin, u_s ← u_s a/a_prev when a shrinks | LAMMPS `mindlin_rescale` |
+//! | `mindlin/force` | history F_s += −8G*a v_t Δt, F_t = F_s − x_γ,t c v_t | Thornton, Cummins & Cleary 2013, Powder Technol. 233:30 (incremental force); LAMMPS `mindlin/force` |
+//! | `mindlin_rescale/force` | mindlin/force, F_s ← F_s a/a_prev when a shrinks | LAMMPS `mindlin_rescale/force` |
 //! | `mindlin/deresiewicz` | dF_t = 8G*a θ du, θ from the load history (below) | Mindlin & Deresiewicz 1953, J. Appl. Mech. 20:327; Thornton 1991, J. Phys. D 24:1942; Thornton & Yin 1991, Powder Technol. 65:153 |
 //!
 //! **Mindlin–Deresiewicz** (partial slip at constant normal load N = F_c). With
@@ -34,8 +37,13 @@
 //! part; a simplification of Thornton & Yin's 3D treatment). The change of N is felt only
 //! through a and μN (Thornton's ±μΔN(1−θ) term is not included). The model has no dashpot.
 //!
-//! Energies (E flag): the strain energy of the spring ½k_t|u_s|² (mindlin/deresiewicz:
-//! |F_t|²/(2·8G*a), the energy an elastic unloading would return) and the slip work: for the
+//! Under pure normal unloading (v_t = 0, a → a₁ < a₀) the four Mindlin variants carry
+//! F_t ∝ a (mindlin: k_t ∝ a on a fixed u_s), ∝ a² (mindlin_rescale), constant
+//! (mindlin/force) and ∝ a (mindlin_rescale/force).
+//!
+//! Energies (E flag): the strain energy of the spring ½k_t|u_s|² (mindlin/deresiewicz and
+//! the force histories: |F|²/(2·8G*a), the energy an elastic unloading would return) and the
+//! slip work: for the
 //! spring models the trapezoid of the old and new spring force times the slip (as
 //! [`crate::LinearSpringDashpot`]) for `linear_history`; for `linear_nohistory` the whole
 //! F_t·v_t Δt; for `mindlin` and `mindlin/deresiewicz` the spring's work −½(F₀+F₁)·du less the
@@ -54,8 +62,17 @@ pub enum Tangential {
     LinearNoHistory { gamma_t: f64, mu: f64 },
     /// Linear spring k_t (N/m) with history; tangential dashpot x_γ,t × the normal one.
     LinearHistory { kt: f64, xgammat: f64, mu: f64 },
-    /// Mindlin no-slip spring k_t = 8G*a; G* in Pa.
-    Mindlin { g_star: f64, xgammat: f64, mu: f64 },
+    /// Mindlin no-slip spring k_t = 8G*a; G* in Pa. `force`: the history is the elastic
+    /// force, incremented by −k_t v_t Δt (LAMMPS `mindlin/force`) instead of the displacement;
+    /// `rescale`: the history is scaled by a/a_prev when the contact radius shrinks (LAMMPS
+    /// `mindlin_rescale`).
+    Mindlin {
+        g_star: f64,
+        xgammat: f64,
+        mu: f64,
+        force: bool,
+        rescale: bool,
+    },
     /// Mindlin–Deresiewicz partial slip; G* in Pa.
     MindlinDeresiewicz { g_star: f64, mu: f64 },
 }
@@ -91,6 +108,8 @@ pub struct TangentialHistory<T: Tangent> {
     pub k_prev: f64,
     /// Strain energy reported in the last step (J; mindlin, mindlin/deresiewicz).
     pub e_prev: f64,
+    /// Contact radius of the last step (m; mindlin_rescale).
+    pub a_prev: f64,
 }
 
 /// The tangential sub-model's answer for one step.
@@ -128,6 +147,18 @@ impl Tangential {
             | Tangential::LinearHistory { mu, .. }
             | Tangential::Mindlin { mu, .. }
             | Tangential::MindlinDeresiewicz { mu, .. } => mu,
+        }
+    }
+
+    /// Tangential dashpot coefficient (N·s/m) for the normal one `cn`: γ_t
+    /// (linear_nohistory), x_γ,t c_n (linear_history, mindlin), 0 (mindlin/deresiewicz).
+    pub fn dashpot(&self, cn: f64) -> f64 {
+        match *self {
+            Tangential::LinearNoHistory { gamma_t, .. } => gamma_t,
+            Tangential::LinearHistory { xgammat, .. } | Tangential::Mindlin { xgammat, .. } => {
+                xgammat * cn
+            }
+            Tangential::MindlinDeresiewicz { .. } => 0.0,
         }
     }
 
@@ -174,8 +205,23 @@ impl Tangential {
                 spring::<E, T>(k, kt, xgammat * cn, f_max, false, h)
             }
             Tangential::Mindlin {
-                g_star, xgammat, ..
-            } => spring::<E, T>(k, 8.0 * g_star * a, xgammat * cn, f_max, true, h),
+                g_star,
+                xgammat,
+                force,
+                rescale,
+                ..
+            } => {
+                if rescale && a < h.a_prev {
+                    h.us = h.us.scale(a / h.a_prev);
+                }
+                h.a_prev = a;
+                let kt = 8.0 * g_star * a;
+                if force {
+                    spring_force::<E, T>(k, kt, xgammat * cn, f_max, h)
+                } else {
+                    spring::<E, T>(k, kt, xgammat * cn, f_max, true, h)
+                }
+            }
             Tangential::MindlinDeresiewicz { g_star, mu } => {
                 md::<E, T>(k, 8.0 * g_star * a, mu * f_c.max(0.0), h)
             }
@@ -236,6 +282,43 @@ fn spring<const E: bool, T: Tangent>(
         } else {
             0.0
         };
+    }
+    out
+}
+
+/// Spring–dashpot–slider step on a force history (`mindlin/force`): F_s += −k_t v_t Δt,
+/// F_t = F_s − c_t v_t, limited to μF_c with F_s reset to carry the limited force.
+fn spring_force<const E: bool, T: Tangent>(
+    k: &Kin<T>,
+    kt: f64,
+    ct: f64,
+    f_max: f64,
+    h: &mut TangentialHistory<T>,
+) -> TangentialForce<T> {
+    let f0 = h.us;
+    let du = k.vt.scale(k.dt);
+    let fs1 = f0.add_scaled(du, -kt);
+    let ft0 = fs1.add_scaled(k.vt, -ct);
+    let (f_t, fs) = if ft0.norm() > f_max {
+        let ft_s = ft0.with_length(f_max);
+        (ft_s, ft_s.add_scaled(k.vt, ct))
+    } else {
+        (ft0, fs1)
+    };
+    h.us = fs;
+    let mut out = TangentialForce {
+        f_t,
+        ..Default::default()
+    };
+    if E {
+        out.d_t = k.vt.scale(-ct);
+        out.energy = if kt > 0.0 {
+            fs.dot(fs) / (2.0 * kt)
+        } else {
+            0.0
+        };
+        out.e_fric = -f0.add_scaled(fs, 1.0).scale(0.5).dot(du) - (out.energy - h.e_prev);
+        h.e_prev = out.energy;
     }
     out
 }

@@ -164,6 +164,12 @@ fn undamped_impacts_conserve_energy() {
                 "tangential": {"model": "linear_history", "kt": 4e4, "mu": 1e9}}"#,
             1e5,
         ),
+        (
+            // The adhesive work −4πγR*δ is part of e_strain, so the energy is conserved.
+            r#"{"normal": {"model": "dmt", "E": 7e10, "nu": 0.33, "gamma": 0.5},
+                "tangential": {"model": "linear_history", "kt": 4e4, "mu": 1e9}}"#,
+            k_h,
+        ),
     ];
     for (json, k) in cases {
         let l = law(json);
@@ -212,6 +218,17 @@ fn restitution_in_is_restitution_out() {
     let v0 = 0.1;
     let dmax = (15.0 * M * v0 * v0 / (16.0 * e_star * R.sqrt())).powf(0.4);
     let k_h = 2.0 * e_star * (R * dmax).sqrt();
+    // Plain hertz (k_n δ^{3/2}): the same dimensionless impact, so the same calibration.
+    let hz = |e: f64| {
+        format!(
+            r#"{{"normal": {{"model": "hertz", "kn": 1e9}},
+                "damping": {{"model": "coeff_restitution", "e": {e}}},
+                "tangential": {{"model": "linear_nohistory", "gamma_t": 0, "mu": 0.3}}}}"#
+        )
+    };
+    let w = e_sweep(hz, 2.5e6, v0);
+    println!("coeff_restitution, hertz: max |e_out − e| = {w:.2e}");
+    assert!(w < 1e-5, "hertz: {w}");
     for model in ["tsuji", "coeff_restitution"] {
         let hz = |e: f64| {
             format!(
@@ -348,6 +365,41 @@ fn the_example_of_the_brief_reads() {
     assert!(o.f_n > 0.0);
     let (m, d) = l.roll(&k, o.f_n, 2.0, &mut h);
     assert!((m + 0.1 * R * o.f_n).abs() < 1e-15 && d > 0.0);
+    // No twisting model: no moment.
+    assert_eq!(l.twist(&k, o.f_n, 1.0, &mut h), (0.0, 0.0));
+
+    // Twisting (3D), Marshall: k_tw = ½ k_t a², elastic for a small spin.
+    let l = law(&format!(
+        r#"{{{HM}, {T}, "twisting": {{"model": "marshall"}}}}"#
+    ));
+    let mut h = GranularHistory::<Vector3<f64>>::default();
+    let k = Kin {
+        delta: 1e-6,
+        vn: 0.0,
+        vt: Vector3::zeros(),
+        m_eff: M,
+        r_eff: R,
+        dt: 1e-7,
+    };
+    let o = l.force::<false>(&k, &mut h);
+    let (m, d) = l.twist(&k, o.f_n, 1e-3, &mut h);
+    let a = (R * 1e-6f64).sqrt();
+    let kt = 8.0 * l.normal.material().unwrap().g_star * a;
+    assert!((m + 0.5 * kt * a * a * 1e-10).abs() < 1e-12 * m.abs() && d == 0.0);
+    // Out of contact the twist is forgotten.
+    l.force::<false>(&Kin { delta: -1e-9, ..k }, &mut h);
+    assert_eq!(l.twist(&k, o.f_n, 1e-3, &mut h), (0.0, 0.0));
+    let l = law(&format!(
+        r#"{{{HM}, {T}, "twisting": {{"model": "sds", "k_tw": 1e-3, "eta_tw": 0, "mu_tw": 1e-4}}}}"#
+    ));
+    assert_eq!(
+        l.twisting,
+        Some(dem_laws::Twisting::Sds {
+            k_tw: 1e-3,
+            eta_tw: 0.0,
+            mu_tw: 1e-4
+        })
+    );
 }
 
 #[test]
@@ -429,6 +481,16 @@ fn every_bad_input_names_its_field() {
             format!(r#"{{{HM}, {T}, "rolling": {{"model": "constant_torque", "mu_r": -1}}}}"#),
             "rolling.mu_r",
         ),
+        (
+            format!(
+                r#"{{{HM}, {T}, "twisting": {{"model": "sds", "k_tw": -1, "eta_tw": 0, "mu_tw": 1}}}}"#
+            ),
+            "twisting.k_tw",
+        ),
+        (
+            format!(r#"{{{HM}, {T}, "twisting": {{"model": "spin"}}}}"#),
+            "twisting.model",
+        ),
         // Missing fields.
         (
             format!(r#"{{{HM}, "damping": {{"model": "tsuji"}}, {T}}}"#),
@@ -489,7 +551,9 @@ fn every_bad_input_names_its_field() {
             xgammat: 0.0,
         },
         rolling: None,
+        twisting: None,
         vdw: None,
+        limit_damping: false,
     };
     let e = spec.build().unwrap_err();
     assert_eq!(e.path(), Some("normal.E"));
@@ -569,6 +633,12 @@ fn energy_terms_close_the_balance() {
         r#"{"normal": {"model": "jkr", "E": 1e8, "nu": 0.3, "gamma": 0.05},
             "damping": {"model": "viscoelastic", "eta": 1e3},
             "tangential": {"model": "mindlin", "mu": 0.2, "xgammat": 0.3}}"#,
+        r#"{"normal": {"model": "hertz/material", "E": 1e8, "nu": 0.3},
+            "damping": {"model": "coeff_restitution", "e": 0.7},
+            "tangential": {"model": "mindlin_rescale", "mu": 0.2, "xgammat": 0.3}}"#,
+        r#"{"normal": {"model": "hertz/material", "E": 1e8, "nu": 0.3},
+            "damping": {"model": "tsuji", "e": 0.7},
+            "tangential": {"model": "mindlin_rescale/force", "mu": 0.2}}"#,
     ];
     for json in cases {
         let l = law(json);
@@ -596,6 +666,9 @@ fn the_3d_path_along_one_axis_is_the_2d_path() {
         r#"{"model": "linear_history", "kt": 4e4, "mu": 0.2, "xgammat": 0.3}"#,
         r#"{"model": "mindlin", "mu": 0.2, "xgammat": 0.3}"#,
         r#"{"model": "mindlin/deresiewicz", "mu": 0.2}"#,
+        r#"{"model": "mindlin_rescale", "mu": 0.2, "xgammat": 0.3}"#,
+        r#"{"model": "mindlin/force", "mu": 0.2, "xgammat": 0.3}"#,
+        r#"{"model": "mindlin_rescale/force", "mu": 0.2}"#,
     ];
     let normals = [
         r#"{"model": "hertz/material", "E": 1e8, "nu": 0.3}"#,
@@ -645,5 +718,134 @@ fn the_3d_path_along_one_axis_is_the_2d_path() {
                 assert!((m3 - ax * m2).norm() <= 1e-12 * m2.abs().max(1e-15));
             }
         }
+    }
+}
+
+#[test]
+fn limit_damping_clips_the_linear_dashpot() {
+    let json = |limit: bool| {
+        format!(
+            r#"{{"normal": {{"model": "hooke", "kn": 1e5}},
+                "damping": {{"model": "coeff_restitution", "e": 0.3}},
+                "tangential": {{"model": "linear_nohistory", "gamma_t": 0, "mu": 0.3}},
+                "limit_damping": {limit}}}"#
+        )
+    };
+    let free = restitution_rk4(&law(&json(false)), 0.1, 0.0f64, dt_for(1e5));
+    let clipped = restitution_rk4(&law(&json(true)), 0.1, 0.0f64, dt_for(1e5));
+    println!("hooke e = 0.3: unclipped {free:.6}, limit_damping {clipped:.6}");
+    assert!((free - 0.3).abs() < 1e-7);
+    // Clipped, the pair leaves once the force reaches 0, before δ = 0, faster.
+    assert!(clipped > free + 0.01);
+    // The clipped force is never attractive.
+    let l = law(&json(true));
+    let mut h = GranularHistory::<f64>::default();
+    let k = Kin {
+        delta: 1e-8,
+        vn: 1.0,
+        vt: 0.0,
+        m_eff: M,
+        r_eff: R,
+        dt: 1e-7,
+    };
+    assert_eq!(l.force::<true>(&k, &mut h).f_n, 0.0);
+}
+
+/// An undamped JKR impact loses exactly the work of the neck from δ = 0 to the snap-off at
+/// δ_c: e = √(1 − 2W/(m* v0²)), W = −∫_{δc}^0 F dδ (the loading and unloading above δ = 0
+/// are elastic; the snap-in at δ = 0 costs nothing, the stored energy being 0 there).
+#[test]
+fn jkr_impact_loses_the_neck_work() {
+    let json = r#"{"normal": {"model": "jkr", "E": 7e10, "nu": 0.33, "gamma": 0.5},
+                   "tangential": {"model": "linear_history", "kt": 4e4, "mu": 1e9}}"#;
+    let l = law(json);
+    let e_star = l.normal.material().unwrap().e_star;
+    let g = 0.5;
+    let dc = dem_laws::jkr_critical_overlap(e_star, g, R);
+    // W by Simpson's rule on the stable branch.
+    let n = 20_000;
+    let hs = -dc / n as f64;
+    let mut w = 0.0;
+    for i in 0..=n {
+        let d = dc + i as f64 * hs;
+        let a = dem_laws::jkr_contact_radius(e_star, g, R, d).unwrap();
+        let c = if i == 0 || i == n {
+            1.0
+        } else if i % 2 == 1 {
+            4.0
+        } else {
+            2.0
+        };
+        w -= c * dem_laws::jkr_force_of_radius(e_star, g, R, a);
+    }
+    w *= hs / 3.0;
+    for v0 in [1e-3f64, 3e-3] {
+        let e_th = (1.0 - 2.0 * w / (M * v0 * v0)).sqrt();
+        let reach = <GranularLaw as ContactLaw<f64>>::reach(&l, R);
+        let dt = dt_for(4e5) / 4.0;
+        let mut h = GranularHistory::<f64>::default();
+        let (mut delta, mut vn) = (0.0f64, -v0);
+        let mut touched = false;
+        let e = loop {
+            let d_new = delta - vn * dt;
+            let k = Kin {
+                delta: d_new,
+                vn,
+                vt: 0.0,
+                m_eff: M,
+                r_eff: R,
+                dt,
+            };
+            let out = l.force::<false>(&k, &mut h);
+            touched |= d_new > 0.0;
+            if touched && d_new < -reach {
+                break vn / v0;
+            }
+            vn += out.f_n / M * dt;
+            delta = d_new;
+        };
+        println!("JKR v0 = {v0}: e = {e:.6}, √(1 − 2W/mv²) = {e_th:.6}");
+        assert!((e - e_th).abs() < 2e-5, "{e} vs {e_th}");
+    }
+}
+
+/// Pure normal unloading at v_t = 0 from a₀ to a₁: F_t ∝ a (mindlin), ∝ a² (mindlin_rescale),
+/// constant (mindlin/force), ∝ a (mindlin_rescale/force).
+#[test]
+fn mindlin_variants_under_normal_unloading() {
+    for (name, power) in [
+        ("mindlin", 1),
+        ("mindlin_rescale", 2),
+        ("mindlin/force", 0),
+        ("mindlin_rescale/force", 1),
+    ] {
+        let l = law(&format!(
+            r#"{{"normal": {{"model": "hertz/material", "E": 1e8, "nu": 0.3}},
+                "tangential": {{"model": "{name}", "mu": 1e9}}}}"#
+        ));
+        let mut h = GranularHistory::<Vector3<f64>>::default();
+        let kin = |delta: f64, vt: f64| Kin {
+            delta,
+            vn: 0.0,
+            vt: Vector3::new(vt, 0.0, 0.0),
+            m_eff: M,
+            r_eff: R,
+            dt: 1e-6,
+        };
+        let (d0, d1) = (4e-6, 1e-6);
+        let f0 = l.force::<false>(&kin(d0, 1e-3), &mut h).f_t.x;
+        let mut f1 = 0.0;
+        for i in 1..=100 {
+            f1 = l
+                .force::<false>(&kin(d0 + (d1 - d0) * i as f64 / 100.0, 0.0), &mut h)
+                .f_t
+                .x;
+        }
+        let ratio = (d1 / d0).sqrt(); // a₁/a₀
+        let want = f0 * ratio.powi(power);
+        assert!(
+            (f1 - want).abs() < 1e-12 * want.abs(),
+            "{name}: {f1} vs {want}"
+        );
     }
 }
