@@ -82,11 +82,11 @@ pub mod bench;
 
 // What most users need, at the root: scene files in, the driver, its outputs and errors,
 // the world and its state, the laws and bonds. (Everything else stays at its module path.)
-/// The contact-law catalogue the solver's laws come from (written once for discs and spheres).
-pub use dem_laws as laws;
 pub use bond::{BondGroup, BondModel, Bonds, Criterion};
 pub use contact::{ContactLaws, ContactModel, ContactView, HertzMindlin, LinearSpringDashpot};
 pub use damping::DampingFrame;
+/// The contact-law catalogue the solver's laws come from (written once for discs and spheres).
+pub use dem_laws as laws;
 pub use energy::EnergyReport;
 pub use guard::GuardError;
 pub use output::driver::{Ending, HookError, RunError, RunOptions, Simulation, StepHook};

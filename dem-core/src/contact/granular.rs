@@ -4,11 +4,13 @@
 //! The 2D solver keeps one scalar of history per listed pair (the shear displacement u_s) and
 //! evaluates only touching pairs (δ > 0), so it runs the sub-models whose state is u_s alone
 //! and that act only in contact: normal hooke, hertz, hertz/material, dmt; any damping;
-//! tangential linear_nohistory, linear_history, mindlin. JKR (a neck beyond contact),
-//! Walton–Braun (δ_max), Mindlin–Deresiewicz (turning points) and van der Waals (a force
-//! across a gap) need more history or pairs out of contact: [`check_2d`] refuses them with
-//! the reason (the 3D sphere solver runs the whole catalogue). Rolling resistance on discs
-//! stays the scene's `"rolling"` switch ([`super::RollingResistance`]).
+//! tangential linear_nohistory, linear_history. JKR (a neck beyond contact), Walton–Braun
+//! (δ_max), the mindlin family (its slip work is booked against the previous step's k_t and
+//! energy; no-slip Mindlin on discs is the solver's own `hertz_mindlin` law),
+//! Mindlin–Deresiewicz (turning points), van der Waals (a force across a gap) and twisting
+//! (3D) need more history or pairs out of contact: [`check_2d`] refuses them with the reason.
+//! Rolling resistance on discs stays the scene's `"rolling"` switch
+//! ([`super::RollingResistance`]).
 //!
 //! Like LAMMPS and YADE applying their sphere laws to discs, the law acts per contact (not per
 //! unit thickness), with R* the discs' effective radius; the exact same function serves the
@@ -29,6 +31,10 @@ pub fn check_2d(law: &GranularLaw) -> Result<(), String> {
         (_, Tangential::MindlinDeresiewicz { .. }) => {
             "tangential model mindlin/deresiewicz needs its turning points as history, which the 2D solver does not keep"
         }
+        (_, Tangential::Mindlin { .. }) => {
+            "the mindlin tangential models need the previous stiffness as history, which the 2D solver does not keep (no-slip Mindlin on discs: \"law\": \"hertz_mindlin\")"
+        }
+        _ if law.twisting.is_some() => "twisting has no meaning for discs",
         _ if law.vdw.is_some() => {
             "van der Waals acts across a gap; the 2D solver evaluates touching pairs only"
         }
@@ -97,6 +103,7 @@ pub fn is_finite(law: &GranularLaw) -> bool {
             g_star,
             xgammat,
             mu,
+            ..
         } => vec![g_star, xgammat, mu],
         Tangential::MindlinDeresiewicz { g_star, mu } => vec![g_star, mu],
     };
@@ -114,7 +121,10 @@ mod tests {
     use dem_laws::GranularSpec;
 
     fn law(json: &str) -> GranularLaw {
-        GranularSpec::from_json(json, None).unwrap().build().unwrap()
+        GranularSpec::from_json(json, None)
+            .unwrap()
+            .build()
+            .unwrap()
     }
 
     #[test]
@@ -145,11 +155,15 @@ mod tests {
 
     #[test]
     fn laws_needing_more_history_are_refused_with_the_reason() {
-        let jkr = law(r#"{"normal": {"model": "jkr", "E": 1e9, "nu": 0.3, "gamma": 0.1},
-                          "tangential": {"model": "mindlin", "mu": 0.3}}"#);
+        let jkr = law(
+            r#"{"normal": {"model": "jkr", "E": 1e9, "nu": 0.3, "gamma": 0.1},
+                          "tangential": {"model": "mindlin", "mu": 0.3}}"#,
+        );
         assert!(check_2d(&jkr).unwrap_err().contains("jkr"));
-        let md = law(r#"{"normal": {"model": "hertz/material", "E": 1e9, "nu": 0.3},
-                         "tangential": {"model": "mindlin/deresiewicz", "mu": 0.3}}"#);
+        let md = law(
+            r#"{"normal": {"model": "hertz/material", "E": 1e9, "nu": 0.3},
+                         "tangential": {"model": "mindlin/deresiewicz", "mu": 0.3}}"#,
+        );
         assert!(check_2d(&md).unwrap_err().contains("deresiewicz"));
     }
 }

@@ -183,7 +183,9 @@ impl ContactLaws {
                 ContactModel::HertzMindlin(h) => {
                     finite(&[h.e_star, h.g_star, h.eta, h.restitution, h.mu])
                 }
-                ContactModel::Granular(g) => granular::is_finite(g) && granular::check_2d(g).is_ok(),
+                ContactModel::Granular(g) => {
+                    granular::is_finite(g) && granular::check_2d(g).is_ok()
+                }
             };
             if !ok {
                 return Err(crate::WorldError::Restored(
