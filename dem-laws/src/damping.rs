@@ -71,26 +71,7 @@ pub fn restitution_clipped(eta: f64) -> f64 {
         let xp = x.max(0.0);
         -(xp * xp.sqrt() + c * xp.sqrt().sqrt() * v).max(0.0)
     };
-    let h = 1e-4;
-    let (mut x, mut v) = (0.0f64, 1.0f64);
-    for _ in 0..2_000_000 {
-        let (k1x, k1v) = (v, acc(x, v));
-        let (k2x, k2v) = (v + 0.5 * h * k1v, acc(x + 0.5 * h * k1x, v + 0.5 * h * k1v));
-        let (k3x, k3v) = (v + 0.5 * h * k2v, acc(x + 0.5 * h * k2x, v + 0.5 * h * k2v));
-        let (k4x, k4v) = (v + h * k3v, acc(x + h * k3x, v + h * k3v));
-        let xn = x + h / 6.0 * (k1x + 2.0 * k2x + 2.0 * k3x + k4x);
-        let vn = v + h / 6.0 * (k1v + 2.0 * k2v + 2.0 * k3v + k4v);
-        if xn <= 0.0 {
-            let s = x / (x - xn);
-            return -(v + s * (vn - v));
-        }
-        x = xn;
-        v = vn;
-        if v >= 0.0 && x < 1e-12 {
-            return 0.0;
-        }
-    }
-    0.0
+    crate::hertz_mindlin::exit_velocity(acc, 1e-4, 2_000_000, 1e-12)
 }
 
 /// η giving restitution `e` for the clipped Hertz dashpot (bisection on

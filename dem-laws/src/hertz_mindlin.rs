@@ -153,9 +153,20 @@ pub fn restitution_of_eta(eta: f64) -> f64 {
         let xp = x.max(0.0);
         -xp * xp.sqrt() - c * xp.sqrt().sqrt() * v
     };
-    let h = 1e-3;
+    exit_velocity(acc, 1e-3, 200_000, 1e-9)
+}
+
+/// Exit speed of the dimensionless impact X'' = acc(X, X') from X = 0, X' = 1: RK4 with step
+/// `h` until X returns to 0 (the exit velocity interpolated linearly within the last step);
+/// 0 if the body comes to rest (X' ≥ 0 with X below `x_rest`) or after `steps` steps.
+pub(crate) fn exit_velocity(
+    acc: impl Fn(f64, f64) -> f64,
+    h: f64,
+    steps: usize,
+    x_rest: f64,
+) -> f64 {
     let (mut x, mut v) = (0.0f64, 1.0f64);
-    for _ in 0..200_000 {
+    for _ in 0..steps {
         let (k1x, k1v) = (v, acc(x, v));
         let (k2x, k2v) = (v + 0.5 * h * k1v, acc(x + 0.5 * h * k1x, v + 0.5 * h * k1v));
         let (k3x, k3v) = (v + 0.5 * h * k2v, acc(x + 0.5 * h * k2x, v + 0.5 * h * k2v));
@@ -163,13 +174,12 @@ pub fn restitution_of_eta(eta: f64) -> f64 {
         let xn = x + h / 6.0 * (k1x + 2.0 * k2x + 2.0 * k3x + k4x);
         let vn = v + h / 6.0 * (k1v + 2.0 * k2v + 2.0 * k3v + k4v);
         if xn <= 0.0 {
-            // Linear interpolation of the exit velocity within the last step.
             let s = x / (x - xn);
             return -(v + s * (vn - v));
         }
         x = xn;
         v = vn;
-        if v >= 0.0 && x < 1e-9 {
+        if v >= 0.0 && x < x_rest {
             return 0.0;
         }
     }
