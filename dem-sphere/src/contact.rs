@@ -130,7 +130,13 @@ pub(crate) fn sphere_sphere<const E: bool>(
         }
         c.h = Hist::default();
         c.e_prev = 0.0;
-        return (PairOut { delta, ..Default::default() }, released);
+        return (
+            PairOut {
+                delta,
+                ..Default::default()
+            },
+            released,
+        );
     }
     let n = d / dist;
     let (ai, aj) = (a.r - 0.5 * delta, b.r - 0.5 * delta);
@@ -138,7 +144,17 @@ pub(crate) fn sphere_sphere<const E: bool>(
     let r_eff = a.r * b.r / (a.r + b.r);
     let m_eff = a.m * b.m / (a.m + b.m);
     let was = c.h.normal.touched;
-    let out = eval::<E>(law, n, delta, v_rel, a.w - b.w, (ai, aj), (a.r, b.r, r_eff, m_eff), dt, &mut c.h);
+    let out = eval::<E>(
+        law,
+        n,
+        delta,
+        v_rel,
+        a.w - b.w,
+        (ai, aj),
+        (a.r, b.r, r_eff, m_eff),
+        dt,
+        &mut c.h,
+    );
     if E {
         if was && !c.h.normal.touched {
             released = c.e_prev - out.e_strain;
@@ -168,13 +184,29 @@ pub(crate) fn sphere_plane<const E: bool>(
         }
         *h = Hist::default();
         *e_prev = 0.0;
-        return (PairOut { delta, ..Default::default() }, released);
+        return (
+            PairOut {
+                delta,
+                ..Default::default()
+            },
+            released,
+        );
     }
     let n = p.normal;
     let aj = s.r - 0.5 * delta;
     let v_rel = s.v - p.velocity - s.w.cross(&n) * aj;
     let was = h.normal.touched;
-    let out = eval::<E>(law, n, delta, v_rel, -s.w, (0.0, aj), (s.r, 1e9 * s.r, s.r, s.m), dt, h);
+    let out = eval::<E>(
+        law,
+        n,
+        delta,
+        v_rel,
+        -s.w,
+        (0.0, aj),
+        (s.r, 1e9 * s.r, s.r, s.m),
+        dt,
+        h,
+    );
     if E {
         if was && !h.normal.touched {
             released = *e_prev - out.e_strain;

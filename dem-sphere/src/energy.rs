@@ -39,12 +39,23 @@ pub struct EnergyReport {
 }
 
 impl EnergyReport {
-    pub(crate) fn new(kt: f64, kr: f64, pot: f64, strain: f64, acc: &crate::world::EnergyAcc) -> EnergyReport {
+    pub(crate) fn new(
+        kt: f64,
+        kr: f64,
+        pot: f64,
+        strain: f64,
+        acc: &crate::world::EnergyAcc,
+    ) -> EnergyReport {
         let total = kt + kr + pot + strain;
         let initial = acc.initial.unwrap_or(total);
         let d = acc.damping + acc.friction;
         let err = total + d - initial - acc.wall_work;
-        let scale = initial.abs().max(total.abs()).max(d).max(acc.wall_work.abs()).max(f64::MIN_POSITIVE);
+        let scale = initial
+            .abs()
+            .max(total.abs())
+            .max(d)
+            .max(acc.wall_work.abs())
+            .max(f64::MIN_POSITIVE);
         EnergyReport {
             kinetic_translation: kt,
             kinetic_rotation: kr,

@@ -61,7 +61,14 @@ struct Level {
 }
 
 impl Level {
-    fn build(cell: f64, origin: &Vector3<f64>, ext: &Vector3<f64>, x: &[Vector3<f64>], members: &[u32], cap: usize) -> Level {
+    fn build(
+        cell: f64,
+        origin: &Vector3<f64>,
+        ext: &Vector3<f64>,
+        x: &[Vector3<f64>],
+        members: &[u32],
+        cap: usize,
+    ) -> Level {
         let mut cell = cell;
         let dims = loop {
             let d = [0, 1, 2].map(|k| ((ext[k] / cell).floor() as i64 + 1).max(1));
@@ -133,7 +140,12 @@ pub struct GridStats {
 }
 
 /// All pairs i < j with |x_j − x_i| < r_i + r_j + margin, sorted, and the build statistics.
-pub fn find_pairs(kind: GridKind, x: &[Vector3<f64>], r: &[f64], margin: f64) -> (Vec<(u32, u32)>, GridStats) {
+pub fn find_pairs(
+    kind: GridKind,
+    x: &[Vector3<f64>],
+    r: &[f64],
+    margin: f64,
+) -> (Vec<(u32, u32)>, GridStats) {
     let n = x.len();
     if n < 2 {
         return (Vec::new(), GridStats::default());
@@ -157,7 +169,11 @@ pub fn find_pairs(kind: GridKind, x: &[Vector3<f64>], r: &[f64], margin: f64) ->
             let mut s = vec![2.0 * r_min + margin];
             while *s.last().unwrap() < 2.0 * r_max + margin {
                 let k = s.len() as i32;
-                s.push((2.0 * r_min * ratio.powi(k) + margin).min(2.0 * r_max + margin).max(*s.last().unwrap()));
+                s.push(
+                    (2.0 * r_min * ratio.powi(k) + margin)
+                        .min(2.0 * r_max + margin)
+                        .max(*s.last().unwrap()),
+                );
                 if s[s.len() - 1] >= 2.0 * r_max + margin {
                     break;
                 }
@@ -166,7 +182,12 @@ pub fn find_pairs(kind: GridKind, x: &[Vector3<f64>], r: &[f64], margin: f64) ->
         }
     };
     let nl = sides.len();
-    let level_of = |ri: f64| sides.iter().position(|&c| 2.0 * ri + margin <= c).unwrap_or(nl - 1);
+    let level_of = |ri: f64| {
+        sides
+            .iter()
+            .position(|&c| 2.0 * ri + margin <= c)
+            .unwrap_or(nl - 1)
+    };
     let lev: Vec<u8> = r.iter().map(|&ri| level_of(ri) as u8).collect();
     let mut members = vec![Vec::new(); nl];
     for (i, &l) in lev.iter().enumerate() {
@@ -192,7 +213,11 @@ pub fn find_pairs(kind: GridKind, x: &[Vector3<f64>], r: &[f64], margin: f64) ->
                     if level.items.is_empty() {
                         continue;
                     }
-                    let reach = if k == l { level.cell } else { ri + level.r_max + margin };
+                    let reach = if k == l {
+                        level.cell
+                    } else {
+                        ri + level.r_max + margin
+                    };
                     let e = Vector3::repeat(reach);
                     level.visit(&(p - e), &(p + e), |j| {
                         if k == l && j as usize <= i {

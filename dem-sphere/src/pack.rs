@@ -33,7 +33,11 @@ pub enum SizeDist {
     /// Radii uniform in [min, max].
     Uniform { min: f64, max: f64 },
     /// Two sizes, a number fraction `large_fraction` of the large ones.
-    Bidisperse { small: f64, large: f64, large_fraction: f64 },
+    Bidisperse {
+        small: f64,
+        large: f64,
+        large_fraction: f64,
+    },
 }
 
 impl SizeDist {
@@ -47,11 +51,18 @@ impl SizeDist {
                 positive("sizes.min", min)?;
                 positive("sizes.max", max)?;
                 if max < min {
-                    return Err(SphereError::invalid("sizes.max", format!("must be ≥ sizes.min = {min}, got {max}")));
+                    return Err(SphereError::invalid(
+                        "sizes.max",
+                        format!("must be ≥ sizes.min = {min}, got {max}"),
+                    ));
                 }
                 Ok((min, max))
             }
-            SizeDist::Bidisperse { small, large, large_fraction } => {
+            SizeDist::Bidisperse {
+                small,
+                large,
+                large_fraction,
+            } => {
                 positive("sizes.small", small)?;
                 positive("sizes.large", large)?;
                 if !(0.0..=1.0).contains(&large_fraction) {
@@ -69,7 +80,11 @@ impl SizeDist {
         match *self {
             SizeDist::Mono(r) => vec![r; n],
             SizeDist::Uniform { min, max } => (0..n).map(|_| rng.range(min, max)).collect(),
-            SizeDist::Bidisperse { small, large, large_fraction } => {
+            SizeDist::Bidisperse {
+                small,
+                large,
+                large_fraction,
+            } => {
                 let nl = (large_fraction * n as f64).round() as usize;
                 (0..n).map(|i| if i < nl { large } else { small }).collect()
             }
@@ -96,11 +111,18 @@ impl CoverGrid {
             }
             cell *= 1.25;
         };
-        CoverGrid { lo, cell, dims, cells: vec![Vec::new(); (dims[0] * dims[1] * dims[2]) as usize] }
+        CoverGrid {
+            lo,
+            cell,
+            dims,
+            cells: vec![Vec::new(); (dims[0] * dims[1] * dims[2]) as usize],
+        }
     }
 
     fn range(&self, a: &Vector3<f64>, b: &Vector3<f64>) -> ([i64; 3], [i64; 3]) {
-        let c = |p: f64, k: usize| (((p - self.lo[k]) / self.cell).floor() as i64).clamp(0, self.dims[k] - 1);
+        let c = |p: f64, k: usize| {
+            (((p - self.lo[k]) / self.cell).floor() as i64).clamp(0, self.dims[k] - 1)
+        };
         ([0, 1, 2].map(|k| c(a[k], k)), [0, 1, 2].map(|k| c(b[k], k)))
     }
 
@@ -145,7 +167,11 @@ pub fn insert_rsi(
             if hi[k] - lo[k] < 2.0 * r {
                 return Err(SphereError::invalid(
                     "box",
-                    format!("extent {} on axis {k} is smaller than the largest diameter {}", hi[k] - lo[k], 2.0 * r),
+                    format!(
+                        "extent {} on axis {k} is smaller than the largest diameter {}",
+                        hi[k] - lo[k],
+                        2.0 * r
+                    ),
                 ));
             }
         }
@@ -156,7 +182,11 @@ pub fn insert_rsi(
     for (idx, &r) in rs.iter().enumerate() {
         let mut placed = false;
         for _ in 0..attempts {
-            let x = Vector3::new(rng.range(lo.x + r, hi.x - r), rng.range(lo.y + r, hi.y - r), rng.range(lo.z + r, hi.z - r));
+            let x = Vector3::new(
+                rng.range(lo.x + r, hi.x - r),
+                rng.range(lo.y + r, hi.y - r),
+                rng.range(lo.z + r, hi.z - r),
+            );
             let (a, b) = grid.range(&(x - Vector3::repeat(r)), &(x + Vector3::repeat(r)));
             let mut free = true;
             grid.each(a, b, |c| {
@@ -268,7 +298,11 @@ pub fn pack(spec: &PackSpec) -> Result<Packing, SphereError> {
     let radii = spec.sizes.sample(spec.n, &mut rng);
     let top = Vector3::new(spec.box_hi.x, spec.box_hi.y, spec.fill_top);
     let placed = insert_rsi(&radii, spec.box_lo, top, spec.seed, spec.attempts)?;
-    let config = Config { gravity: spec.gravity, grid: spec.grid, ..Config::default() };
+    let config = Config {
+        gravity: spec.gravity,
+        grid: spec.grid,
+        ..Config::default()
+    };
     let mut w = World::new(config, Laws::single(spec.law, spec.wall_law))?;
     for p in walls {
         w.add_wall(p)?;
@@ -323,7 +357,7 @@ pub fn interior_window(w: &World) -> (Vector3<f64>, Vector3<f64>) {
     // Side walls and the floor, where they are axis planes.
     for p in &w.walls {
         for k in 0..3 {
-            if p.normal[k] == 1.0 && (k < 2 || p.normal[k] == 1.0) {
+            if p.normal[k] == 1.0 {
                 lo[k] = p.point[k];
             }
             if p.normal[k] == -1.0 && k < 2 {
@@ -354,11 +388,18 @@ pub fn packing_fraction(w: &World, lo: Vector3<f64>, hi: Vector3<f64>) -> f64 {
     for a in 0..nk[2] {
         for b in 0..nk[1] {
             for c in 0..nk[0] {
-                let p = lo + Vector3::new((c as f64 + 0.5) * ext.x / nk[0] as f64, (b as f64 + 0.5) * ext.y / nk[1] as f64, (a as f64 + 0.5) * ext.z / nk[2] as f64);
+                let p = lo
+                    + Vector3::new(
+                        (c as f64 + 0.5) * ext.x / nk[0] as f64,
+                        (b as f64 + 0.5) * ext.y / nk[1] as f64,
+                        (a as f64 + 0.5) * ext.z / nk[2] as f64,
+                    );
                 total += 1;
                 let (q, _) = grid.range(&p, &p);
                 let cell = ((q[2] * grid.dims[1] + q[1]) * grid.dims[0] + q[0]) as usize;
-                if grid.cells[cell].iter().any(|&j| (s.x[j as usize] - p).norm_squared() < s.r[j as usize] * s.r[j as usize]) {
+                if grid.cells[cell].iter().any(|&j| {
+                    (s.x[j as usize] - p).norm_squared() < s.r[j as usize] * s.r[j as usize]
+                }) {
                     inside += 1;
                 }
             }
@@ -386,5 +427,12 @@ pub fn coordination(w: &World, lo: Vector3<f64>, hi: Vector3<f64>) -> (f64, usiz
             cnt += 1;
         }
     }
-    (if cnt > 0 { sum as f64 / cnt as f64 } else { 0.0 }, cnt)
+    (
+        if cnt > 0 {
+            sum as f64 / cnt as f64
+        } else {
+            0.0
+        },
+        cnt,
+    )
 }

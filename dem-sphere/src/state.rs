@@ -85,7 +85,11 @@ impl Scratch {
         for c in [&mut self.f, &mut self.t, &mut self.df, &mut self.dt] {
             c.resize(n, z);
         }
-        for c in [&mut self.wall_power, &mut self.wall_strain, &mut self.wall_fric] {
+        for c in [
+            &mut self.wall_power,
+            &mut self.wall_strain,
+            &mut self.wall_fric,
+        ] {
             c.resize(n, 0.0);
         }
     }

@@ -28,7 +28,7 @@ impl Plane {
         finite3("plane.point", &point)?;
         finite3("plane.normal", &normal)?;
         let l = normal.norm();
-        if !(l > 0.0) {
+        if l.is_nan() || l <= 0.0 {
             return Err(SphereError::invalid(
                 "plane.normal",
                 "must be a non-zero vector, got (0, 0, 0)",
@@ -59,10 +59,13 @@ pub fn box_walls(lo: Vector3<f64>, hi: Vector3<f64>) -> Result<Vec<Plane>, Spher
     finite3("box.lo", &lo)?;
     finite3("box.hi", &hi)?;
     for k in 0..3 {
-        if !(hi[k] > lo[k]) {
+        if hi[k] <= lo[k] {
             return Err(SphereError::invalid(
                 "box.hi",
-                format!("must exceed box.lo on every axis, axis {k}: {} ≤ {}", hi[k], lo[k]),
+                format!(
+                    "must exceed box.lo on every axis, axis {k}: {} ≤ {}",
+                    hi[k], lo[k]
+                ),
             ));
         }
     }

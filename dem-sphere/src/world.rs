@@ -35,7 +35,11 @@ impl Laws {
         if n == 0 || n > u16::MAX as usize || pair.len() != n * n {
             return Err(SphereError::invalid(
                 "laws.pair",
-                format!("needs n² = {} laws for n = {n} wall laws, got {}", n * n, pair.len()),
+                format!(
+                    "needs n² = {} laws for n = {n} wall laws, got {}",
+                    n * n,
+                    pair.len()
+                ),
             ));
         }
         for a in 0..n {
@@ -211,7 +215,10 @@ impl World {
         if species as usize >= self.laws.species() {
             return Err(SphereError::invalid(
                 "sphere.species",
-                format!("must be < {} (the species of the law table), got {species}", self.laws.species()),
+                format!(
+                    "must be < {} (the species of the law table), got {species}",
+                    self.laws.species()
+                ),
             ));
         }
         for (k, a) in self.walls.iter().enumerate() {
@@ -222,7 +229,10 @@ impl World {
                     if gap < 2.0 * r {
                         return Err(SphereError::invalid(
                             "sphere.radius",
-                            format!("the diameter {} exceeds the gap {gap} between walls", 2.0 * r),
+                            format!(
+                                "the diameter {} exceeds the gap {gap} between walls",
+                                2.0 * r
+                            ),
                         ));
                     }
                 }
@@ -249,7 +259,11 @@ impl World {
         if self.wall_hist.len() != n * nw {
             // Re-lay the wall histories out as [sphere · walls + wall], keeping each
             // (sphere, wall) pair's history (spheres and walls are only ever appended).
-            let old_n = self.wall_eprev.len().checked_div(self.old_walls).unwrap_or(0);
+            let old_n = self
+                .wall_eprev
+                .len()
+                .checked_div(self.old_walls)
+                .unwrap_or(0);
             let mut h = vec![Hist::default(); n * nw];
             let mut e = vec![0.0; n * nw];
             for i in 0..old_n.min(n) {
@@ -282,7 +296,12 @@ impl World {
             let d = delta_rel * r;
             t = t.min(contact::contact_time_scale(self.laws.wall(sp), m, r, d));
             for b in 0..self.laws.species() as u16 {
-                t = t.min(contact::contact_time_scale(self.laws.pair(sp, b), 0.5 * m, 0.5 * r, d));
+                t = t.min(contact::contact_time_scale(
+                    self.laws.pair(sp, b),
+                    0.5 * m,
+                    0.5 * r,
+                    d,
+                ));
             }
         }
         fraction * t
@@ -343,7 +362,9 @@ impl World {
 
     fn drift(&mut self, dt: f64) {
         let s = &mut self.spheres;
-        s.x.par_iter_mut().zip(s.v.par_iter()).for_each(|(x, v)| *x += v * dt);
+        s.x.par_iter_mut()
+            .zip(s.v.par_iter())
+            .for_each(|(x, v)| *x += v * dt);
         for p in &mut self.walls {
             p.point += p.velocity * dt;
         }
@@ -357,7 +378,11 @@ impl World {
         let skin = self.config.skin * r_min;
         if self.list_valid {
             let xb = &self.scratch.x_build;
-            let moved = s.x.par_iter().zip(xb.par_iter()).map(|(a, b)| (a - b).norm_squared()).reduce(|| 0.0, f64::max);
+            let moved =
+                s.x.par_iter()
+                    .zip(xb.par_iter())
+                    .map(|(a, b)| (a - b).norm_squared())
+                    .reduce(|| 0.0, f64::max);
             if moved.sqrt() <= 0.5 * skin {
                 return;
             }
@@ -382,7 +407,11 @@ impl World {
             if k < old.len() && (old[k].i, old[k].j) == (i, j) {
                 out.push(old[k]);
             } else {
-                out.push(PairContact { i, j, ..Default::default() });
+                out.push(PairContact {
+                    i,
+                    j,
+                    ..Default::default()
+                });
             }
         }
         self.contacts = out;
@@ -429,7 +458,13 @@ impl World {
         let reach = self.reach_max;
         let s = &self.spheres;
         let laws = &self.laws;
-        let body = |i: usize| Body { x: s.x[i], v: s.v[i], w: s.w[i], r: s.r[i], m: s.m[i] };
+        let body = |i: usize| Body {
+            x: s.x[i],
+            v: s.v[i],
+            w: s.w[i],
+            r: s.r[i],
+            m: s.m[i],
+        };
         // 1. Contacts in parallel, each writing its own output.
         self.outs.resize(self.contacts.len(), PairOut::default());
         self.released.resize(self.contacts.len(), 0.0);
@@ -439,7 +474,14 @@ impl World {
             .zip(self.released.par_iter_mut())
             .for_each(|((c, o), rel)| {
                 let law = laws.pair(s.species[c.i as usize], s.species[c.j as usize]);
-                let (out, released) = contact::sphere_sphere::<E>(law, reach, &body(c.i as usize), &body(c.j as usize), dt, c);
+                let (out, released) = contact::sphere_sphere::<E>(
+                    law,
+                    reach,
+                    &body(c.i as usize),
+                    &body(c.j as usize),
+                    dt,
+                    c,
+                );
                 *o = out;
                 *rel = released;
             });
@@ -457,18 +499,22 @@ impl World {
             .par_chunks_mut(nw.max(1))
             .zip(wall_eprev.par_chunks_mut(nw.max(1)))
             .zip(wall_released.par_chunks_mut(nw.max(1)));
-        let per_sphere = sc
-            .f
-            .par_iter_mut()
-            .zip(sc.t.par_iter_mut())
-            .zip(sc.df.par_iter_mut())
-            .zip(sc.dt.par_iter_mut())
-            .zip(sc.wall_power.par_iter_mut())
-            .zip(sc.wall_strain.par_iter_mut())
-            .zip(sc.wall_fric.par_iter_mut())
-            .enumerate();
+        let per_sphere =
+            sc.f.par_iter_mut()
+                .zip(sc.t.par_iter_mut())
+                .zip(sc.df.par_iter_mut())
+                .zip(sc.dt.par_iter_mut())
+                .zip(sc.wall_power.par_iter_mut())
+                .zip(sc.wall_strain.par_iter_mut())
+                .zip(sc.wall_fric.par_iter_mut())
+                .enumerate();
         let sum_pairs = |i: usize| {
-            let (mut f, mut t, mut df, mut dtq) = (Vector3::zeros(), Vector3::zeros(), Vector3::zeros(), Vector3::zeros());
+            let (mut f, mut t, mut df, mut dtq) = (
+                Vector3::zeros(),
+                Vector3::zeros(),
+                Vector3::zeros(),
+                Vector3::zeros(),
+            );
             for &e in &inc[inc_start[i] as usize..inc_start[i + 1] as usize] {
                 let o = &outs[(e >> 1) as usize];
                 if e & 1 == 0 {
@@ -495,28 +541,38 @@ impl World {
                 (*f, *t, *df, *dtq) = (a, b, c, d);
             });
         } else {
-            per_sphere.zip(chunks).for_each(|((i, ((((((f, t), df), dtq), pw), ws), wf)), ((hist, ep), rel))| {
-                let (mut a, mut b, mut c, mut d) = sum_pairs(i);
-                let (mut p, mut es, mut ef) = (0.0, 0.0, 0.0);
-                let bi = body(i);
-                let law = laws.wall(s.species[i]);
-                let wreach = contact::reach(law, bi.r);
-                for (k, w) in walls.iter().enumerate() {
-                    let (o, released) = contact::sphere_plane::<E>(law, wreach, w, &bi, dt, &mut hist[k], &mut ep[k]);
-                    a += o.f;
-                    b += o.tj;
-                    if E {
-                        c += o.df;
-                        d += o.dtj;
-                        p += o.f.dot(&w.velocity);
-                        es += o.e_strain;
-                        ef += o.e_fric;
-                        rel[k] = released;
+            per_sphere.zip(chunks).for_each(
+                |((i, ((((((f, t), df), dtq), pw), ws), wf)), ((hist, ep), rel))| {
+                    let (mut a, mut b, mut c, mut d) = sum_pairs(i);
+                    let (mut p, mut es, mut ef) = (0.0, 0.0, 0.0);
+                    let bi = body(i);
+                    let law = laws.wall(s.species[i]);
+                    let wreach = contact::reach(law, bi.r);
+                    for (k, w) in walls.iter().enumerate() {
+                        let (o, released) = contact::sphere_plane::<E>(
+                            law,
+                            wreach,
+                            w,
+                            &bi,
+                            dt,
+                            &mut hist[k],
+                            &mut ep[k],
+                        );
+                        a += o.f;
+                        b += o.tj;
+                        if E {
+                            c += o.df;
+                            d += o.dtj;
+                            p += o.f.dot(&w.velocity);
+                            es += o.e_strain;
+                            ef += o.e_fric;
+                            rel[k] = released;
+                        }
                     }
-                }
-                (*f, *t, *df, *dtq) = (a, b, c, d);
-                (*pw, *ws, *wf) = (p, es, ef);
-            });
+                    (*f, *t, *df, *dtq) = (a, b, c, d);
+                    (*pw, *ws, *wf) = (p, es, ef);
+                },
+            );
         }
         if E {
             // Serial sums in list order: the same bits for any thread count.
@@ -524,7 +580,12 @@ impl World {
             for (o, r) in self.outs.iter().zip(&self.released) {
                 fric += o.e_fric + r;
             }
-            for (f, r) in self.scratch.wall_fric.iter().zip(self.wall_released.chunks(nw.max(1))) {
+            for (f, r) in self
+                .scratch
+                .wall_fric
+                .iter()
+                .zip(self.wall_released.chunks(nw.max(1)))
+            {
                 fric += f + r.iter().sum::<f64>();
             }
             self.energy.friction += fric;

@@ -15,9 +15,17 @@ fn a_sphere_dropped_on_a_plane_rebounds_with_e() {
                 "tangential": {{"model": "linear_history", "kt": 8e3, "mu": 0.5}}}}"#
         ));
         let mut w = World::new(Config::default(), Laws::single(l, l)).unwrap();
-        w.add_wall(Plane::new(Vector3::zeros(), Vector3::z()).unwrap()).unwrap();
+        w.add_wall(Plane::new(Vector3::zeros(), Vector3::z()).unwrap())
+            .unwrap();
         let r = 1e-3;
-        w.add_sphere(Vector3::new(0.0, 0.0, r + 1e-5), Vector3::new(0.0, 0.0, -1.0), r, 2500.0, 0).unwrap();
+        w.add_sphere(
+            Vector3::new(0.0, 0.0, r + 1e-5),
+            Vector3::new(0.0, 0.0, -1.0),
+            r,
+            2500.0,
+            0,
+        )
+        .unwrap();
         w.config.dt = w.critical_dt(0.01, 0.0);
         let gap = |w: &World| w.spheres.x[0].z - r;
         let mut v_in = 0.0;
@@ -30,7 +38,10 @@ fn a_sphere_dropped_on_a_plane_rebounds_with_e() {
         }
         let v_out = w.spheres.v[0].z;
         let e_out = -v_out / v_in;
-        println!("e = {e}: rebound e = {e_out:.6} (rel. error {:.2e})", e_out / e - 1.0);
+        println!(
+            "e = {e}: rebound e = {e_out:.6} (rel. error {:.2e})",
+            e_out / e - 1.0
+        );
         assert!((e_out / e - 1.0).abs() < 0.01, "e {e} -> {e_out}");
     }
 }
@@ -55,13 +66,32 @@ fn impact_integral(p: f64) -> f64 {
 
 #[test]
 fn hertz_contact_time_is_johnsons() {
-    let l = law(r#"{"normal": {"model": "hertz/material", "E": 7e10, "nu": 0.3},
-                    "tangential": {"model": "mindlin", "mu": 0.3}}"#);
-    let cfg = Config { gravity: Vector3::zeros(), ..Config::default() };
+    let l = law(
+        r#"{"normal": {"model": "hertz/material", "E": 7e10, "nu": 0.3},
+                    "tangential": {"model": "mindlin", "mu": 0.3}}"#,
+    );
+    let cfg = Config {
+        gravity: Vector3::zeros(),
+        ..Config::default()
+    };
     let (r1, r2, rho, v) = (1e-3, 1.5e-3, 2500.0, 1.0);
     let mut w = World::new(cfg, Laws::single(l, l)).unwrap();
-    w.add_sphere(Vector3::zeros(), Vector3::new(0.5 * v, 0.0, 0.0), r1, rho, 0).unwrap();
-    w.add_sphere(Vector3::new(r1 + r2 + 1e-7, 0.0, 0.0), Vector3::new(-0.5 * v, 0.0, 0.0), r2, rho, 0).unwrap();
+    w.add_sphere(
+        Vector3::zeros(),
+        Vector3::new(0.5 * v, 0.0, 0.0),
+        r1,
+        rho,
+        0,
+    )
+    .unwrap();
+    w.add_sphere(
+        Vector3::new(r1 + r2 + 1e-7, 0.0, 0.0),
+        Vector3::new(-0.5 * v, 0.0, 0.0),
+        r2,
+        rho,
+        0,
+    )
+    .unwrap();
     let m = |r: f64| rho * 4.0 / 3.0 * std::f64::consts::PI * r.powi(3);
     let m_eff = m(r1) * m(r2) / (m(r1) + m(r2));
     let r_eff = r1 * r2 / (r1 + r2);
@@ -87,7 +117,11 @@ fn hertz_contact_time_is_johnsons() {
     }
     let t = cross(&w, d_prev, overlap(&w)) - t0;
     let e = -(w.spheres.v[1].x - w.spheres.v[0].x) / v0;
-    println!("2·I(5/2) = {:.5}; t_c = {t_c:.6e} s, measured {t:.6e} s (rel. {:.2e}); e = {e:.6}", 2.0 * i, t / t_c - 1.0);
+    println!(
+        "2·I(5/2) = {:.5}; t_c = {t_c:.6e} s, measured {t:.6e} s (rel. {:.2e}); e = {e:.6}",
+        2.0 * i,
+        t / t_c - 1.0
+    );
     assert!((t / t_c - 1.0).abs() < 0.01);
     assert!((e - 1.0).abs() < 1e-3);
 }
@@ -114,14 +148,30 @@ fn cluster(u: Vector3<f64>) -> World {
     let l = hooke_friction(1000.0, 0.1, 0.4);
     let mut w = World::new(Config::default(), Laws::single(l, l)).unwrap();
     // A box of six walls, all translating at u.
-    for p in dem_sphere::box_walls(Vector3::new(-0.004, -0.004, 0.0), Vector3::new(0.004, 0.004, 0.02)).unwrap() {
+    for p in dem_sphere::box_walls(
+        Vector3::new(-0.004, -0.004, 0.0),
+        Vector3::new(0.004, 0.004, 0.02),
+    )
+    .unwrap()
+    {
         w.add_wall(p.moving(u)).unwrap();
     }
     let mut rng = dem_sphere::rng::SplitMix64::new(3);
     let radii: Vec<f64> = (0..20).map(|_| rng.range(0.8e-3, 1.2e-3)).collect();
-    let pl = dem_sphere::pack::insert_rsi(&radii, Vector3::new(-0.004, -0.004, 0.0), Vector3::new(0.004, 0.004, 0.008), 3, 10_000).unwrap();
+    let pl = dem_sphere::pack::insert_rsi(
+        &radii,
+        Vector3::new(-0.004, -0.004, 0.0),
+        Vector3::new(0.004, 0.004, 0.008),
+        3,
+        10_000,
+    )
+    .unwrap();
     for (x, r) in pl {
-        let v = Vector3::new(rng.range(-0.2, 0.2), rng.range(-0.2, 0.2), rng.range(-0.2, 0.2));
+        let v = Vector3::new(
+            rng.range(-0.2, 0.2),
+            rng.range(-0.2, 0.2),
+            rng.range(-0.2, 0.2),
+        );
         w.add_sphere(x, v + u, r, 2500.0, 0).unwrap();
     }
     w.config.dt = w.critical_dt(0.1, 0.05);
@@ -156,25 +206,36 @@ fn motion_relative_to_a_moving_wall_is_galilean_invariant() {
 
 #[test]
 fn a_rigidly_rotating_pair_feels_no_spurious_force() {
-    let l = law(r#"{"normal": {"model": "hertz/material", "E": 7e10, "nu": 0.3},
+    let l = law(
+        r#"{"normal": {"model": "hertz/material", "E": 7e10, "nu": 0.3},
                     "damping": {"model": "tsuji", "e": 0.5},
                     "tangential": {"model": "mindlin", "mu": 0.5},
                     "rolling": {"model": "elastic_plastic", "mu_r": 0.1},
-                    "twisting": {"model": "marshall"}}"#);
-    let cfg = Config { gravity: Vector3::zeros(), dt: 1e-7, ..Config::default() };
+                    "twisting": {"model": "marshall"}}"#,
+    );
+    let cfg = Config {
+        gravity: Vector3::zeros(),
+        dt: 1e-7,
+        ..Config::default()
+    };
     let mut w = World::new(cfg, Laws::single(l, l)).unwrap();
     let (r1, r2, delta) = (1e-3, 0.6e-3, 1e-6);
     let d = r1 + r2 - delta;
-    w.add_sphere(Vector3::zeros(), Vector3::zeros(), r1, 2500.0, 0).unwrap();
-    w.add_sphere(Vector3::zeros(), Vector3::zeros(), r2, 2500.0, 0).unwrap();
+    w.add_sphere(Vector3::zeros(), Vector3::zeros(), r1, 2500.0, 0)
+        .unwrap();
+    w.add_sphere(Vector3::zeros(), Vector3::zeros(), r2, 2500.0, 0)
+        .unwrap();
     let omega = Vector3::new(0.3, -1.0, 2.0).normalize() * 300.0;
     let centre = Vector3::new(1e-3, 2e-3, -1e-3);
-    let x0 = [Vector3::new(-0.4 * d, 0.0, 0.0), Vector3::new(0.6 * d, 0.0, 0.0)];
+    let x0 = [
+        Vector3::new(-0.4 * d, 0.0, 0.0),
+        Vector3::new(0.6 * d, 0.0, 0.0),
+    ];
     let (mut fn0, mut worst_t, mut worst_n, mut worst_m) = (0.0, 0.0f64, 0.0f64, 0.0f64);
     for k in 0..200 {
         let rot = Rotation3::new(omega * (k as f64 * 1e-4));
-        for i in 0..2 {
-            let p = rot * x0[i];
+        for (i, x) in x0.iter().enumerate() {
+            let p = rot * x;
             w.spheres.x[i] = centre + p;
             w.spheres.v[i] = omega.cross(&p);
             w.spheres.w[i] = omega;

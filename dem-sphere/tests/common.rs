@@ -20,7 +20,10 @@ pub fn hooke_friction(kn: f64, e: f64, mu: f64) -> GranularLaw {
 /// A small frictional pour: `n` spheres of radius ~1 mm inserted in a box, walls, gravity.
 pub fn pour(n: usize, seed: u64, energy: bool) -> World {
     let l = hooke_friction(1000.0, 0.5, 0.5);
-    let cfg = Config { energy, ..Config::default() };
+    let cfg = Config {
+        energy,
+        ..Config::default()
+    };
     let mut w = World::new(cfg, Laws::single(l, l)).unwrap();
     let lo = Vector3::zeros();
     let hi = Vector3::new(0.012, 0.012, 0.04);
@@ -29,9 +32,15 @@ pub fn pour(n: usize, seed: u64, energy: bool) -> World {
     }
     let mut rng = dem_sphere::rng::SplitMix64::new(seed);
     let radii: Vec<f64> = (0..n).map(|_| rng.range(0.8e-3, 1.2e-3)).collect();
-    let placed = dem_sphere::pack::insert_rsi(&radii, lo, Vector3::new(hi.x, hi.y, 0.03), seed, 10_000).unwrap();
+    let placed =
+        dem_sphere::pack::insert_rsi(&radii, lo, Vector3::new(hi.x, hi.y, 0.03), seed, 10_000)
+            .unwrap();
     for (x, r) in placed {
-        let v = Vector3::new(rng.range(-0.1, 0.1), rng.range(-0.1, 0.1), rng.range(-0.1, 0.1));
+        let v = Vector3::new(
+            rng.range(-0.1, 0.1),
+            rng.range(-0.1, 0.1),
+            rng.range(-0.1, 0.1),
+        );
         w.add_sphere(x, v, r, 2500.0, 0).unwrap();
     }
     w.config.dt = w.critical_dt(0.1, 0.05);

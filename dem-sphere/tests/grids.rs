@@ -13,7 +13,10 @@ fn bidisperse(n: usize, ratio: f64, phi: f64, seed: u64) -> (Vec<Vector3<f64>>, 
     let nl = ((n as f64) / (1.0 + ratio.powi(3))).round().max(1.0) as usize;
     let mut radii = vec![ratio; nl];
     radii.resize(n, 1.0);
-    let vol: f64 = radii.iter().map(|r| 4.0 / 3.0 * std::f64::consts::PI * r * r * r).sum();
+    let vol: f64 = radii
+        .iter()
+        .map(|r| 4.0 / 3.0 * std::f64::consts::PI * r * r * r)
+        .sum();
     let l = (vol / phi).cbrt().max(2.5 * ratio);
     let p = insert_rsi(&radii, Vector3::zeros(), Vector3::repeat(l), seed, 100_000).unwrap();
     p.into_iter().unzip()
@@ -29,7 +32,11 @@ fn both_grids_find_the_brute_force_pairs() {
         let (multi, s2) = find_pairs(GridKind::MultiLevel { ratio: 2.0 }, &x, &r, margin);
         println!(
             "ratio {ratio}: {} pairs; tests single {} ({} level), multi-level {} ({} levels)",
-            brute.len(), s1.tests, s1.levels, s2.tests, s2.levels
+            brute.len(),
+            s1.tests,
+            s1.levels,
+            s2.tests,
+            s2.levels
         );
         assert_eq!(single, brute);
         assert_eq!(multi, brute);
@@ -38,10 +45,17 @@ fn both_grids_find_the_brute_force_pairs() {
     // A continuous distribution, several level ratios.
     let mut rng = SplitMix64::new(9);
     let radii: Vec<f64> = (0..1200).map(|_| rng.range(0.1, 1.0)).collect();
-    let (x, r): (Vec<_>, Vec<_>) = insert_rsi(&radii, Vector3::zeros(), Vector3::repeat(20.0), 1, 100_000).unwrap().into_iter().unzip();
+    let (x, r): (Vec<_>, Vec<_>) =
+        insert_rsi(&radii, Vector3::zeros(), Vector3::repeat(20.0), 1, 100_000)
+            .unwrap()
+            .into_iter()
+            .unzip();
     let brute = find_pairs_brute(&x, &r, 0.05);
     for q in [1.5, 2.0, 3.0] {
-        assert_eq!(find_pairs(GridKind::MultiLevel { ratio: q }, &x, &r, 0.05).0, brute);
+        assert_eq!(
+            find_pairs(GridKind::MultiLevel { ratio: q }, &x, &r, 0.05).0,
+            brute
+        );
     }
 }
 
@@ -50,23 +64,38 @@ fn digest(w: &World) -> Vec<u64> {
     let mut d = Vec::new();
     for i in 0..s.len() {
         for c in 0..3 {
-            d.extend([s.x[i][c].to_bits(), s.v[i][c].to_bits(), s.w[i][c].to_bits()]);
+            d.extend([
+                s.x[i][c].to_bits(),
+                s.v[i][c].to_bits(),
+                s.w[i][c].to_bits(),
+            ]);
         }
     }
     let e = w.energy();
-    d.extend([e.damping.to_bits(), e.friction.to_bits(), e.strain.to_bits()]);
+    d.extend([
+        e.damping.to_bits(),
+        e.friction.to_bits(),
+        e.strain.to_bits(),
+    ]);
     d
 }
 
 #[test]
 fn runs_are_bit_identical_for_1_and_2_threads_and_either_grid() {
     let run = |threads: usize, grid: GridKind| {
-        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
         pool.install(|| {
             let mut w = pour(300, 11, true);
             w.config.grid = grid;
             w.run(8000);
-            (digest(&w), w.counters.builds, w.contacts().filter(|c| c.2 > 0.0).count())
+            (
+                digest(&w),
+                w.counters.builds,
+                w.contacts().filter(|c| c.2 > 0.0).count(),
+            )
         })
     };
     let (a, builds, contacts) = run(1, GridKind::MultiLevel { ratio: 2.0 });
@@ -85,13 +114,19 @@ fn runs_are_bit_identical_for_1_and_2_threads_and_either_grid() {
 #[ignore]
 fn bench_grids() {
     use std::time::Instant;
-    let n: usize = std::env::var("BENCH_N").ok().and_then(|s| s.parse().ok()).unwrap_or(20_000);
+    let n: usize = std::env::var("BENCH_N")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(20_000);
     let threads = rayon::current_num_threads();
     println!("N = {n}, {threads} threads");
     let mut base = [0.0; 2];
     for &ratio in &[1.0, 10.0] {
         let (x, r) = bidisperse(n, ratio, 0.3, 5);
-        for (g, kind) in [GridKind::Single, GridKind::MultiLevel { ratio: 2.0 }].into_iter().enumerate() {
+        for (g, kind) in [GridKind::Single, GridKind::MultiLevel { ratio: 2.0 }]
+            .into_iter()
+            .enumerate()
+        {
             let margin = 0.2;
             let reps = 10;
             let (_, stats) = find_pairs(kind, &x, &r, margin);
@@ -102,10 +137,17 @@ fn bench_grids() {
             let per = t.elapsed().as_secs_f64() / (reps * n) as f64;
             // Steps with a rebuild every step (a detection-bound step).
             let l = hooke_friction(1000.0, 0.5, 0.5);
-            let cfg = dem_sphere::Config { gravity: Vector3::zeros(), grid: kind, skin: 0.2, dt: 1e-7, energy: false };
+            let cfg = dem_sphere::Config {
+                gravity: Vector3::zeros(),
+                grid: kind,
+                skin: 0.2,
+                dt: 1e-7,
+                energy: false,
+            };
             let mut w = World::new(cfg, dem_sphere::Laws::single(l, l)).unwrap();
             for (p, &ri) in x.iter().zip(&r) {
-                w.add_sphere(p * 1e-3, Vector3::zeros(), ri * 1e-3, 2500.0, 0).unwrap();
+                w.add_sphere(p * 1e-3, Vector3::zeros(), ri * 1e-3, 2500.0, 0)
+                    .unwrap();
             }
             w.step();
             let steps = 10;

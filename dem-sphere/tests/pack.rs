@@ -32,7 +32,13 @@ fn spec(n: usize, sizes: SizeDist) -> PackSpec {
 
 #[test]
 fn a_frictionless_pour_packs_densely() {
-    let s = spec(400, SizeDist::Uniform { min: 0.9e-3, max: 1.1e-3 });
+    let s = spec(
+        400,
+        SizeDist::Uniform {
+            min: 0.9e-3,
+            max: 1.1e-3,
+        },
+    );
     let p = pack(&s).unwrap();
     let (lo, hi) = p.window;
     println!(
@@ -46,16 +52,26 @@ fn a_frictionless_pour_packs_densely() {
     // A tiny bed (6 diameters wide): a sane range, not 0.64.
     assert!(p.fraction > 0.55 && p.fraction < 0.66, "φ = {}", p.fraction);
     // Frictionless, near isostatic (Z → 6) for the non-rattlers.
-    assert!(p.coordination > 4.5 && p.coordination < 7.0, "Z = {}", p.coordination);
+    assert!(
+        p.coordination > 4.5 && p.coordination < 7.0,
+        "Z = {}",
+        p.coordination
+    );
 }
 
 #[test]
 fn bad_input_is_refused_naming_the_field() {
     let mut s = spec(10, SizeDist::Mono(-1e-3));
-    assert!(pack(&s).unwrap_err().to_string().starts_with("sizes.radius: "));
+    assert!(pack(&s)
+        .unwrap_err()
+        .to_string()
+        .starts_with("sizes.radius: "));
     s.sizes = SizeDist::Mono(0.007);
     let e = pack(&s).unwrap_err().to_string();
-    assert!(e.starts_with("box: extent 0.012 on axis 0 is smaller"), "{e}");
+    assert!(
+        e.starts_with("box: extent 0.012 on axis 0 is smaller"),
+        "{e}"
+    );
     s.sizes = SizeDist::Mono(2e-3);
     s.n = 2000;
     let e = pack(&s).unwrap_err().to_string();
@@ -63,7 +79,10 @@ fn bad_input_is_refused_naming_the_field() {
     println!("{e}");
     s.n = 10;
     s.fill_top = 0.06;
-    assert!(pack(&s).unwrap_err().to_string().starts_with("pack.fill_top: "));
+    assert!(pack(&s)
+        .unwrap_err()
+        .to_string()
+        .starts_with("pack.fill_top: "));
     s.fill_top = 0.03;
     s.box_hi = Vector3::new(0.012, -1.0, 0.05);
     assert!(pack(&s).unwrap_err().to_string().starts_with("box"));
