@@ -655,6 +655,11 @@ impl World {
             .collect()
     }
 
+    /// Force a neighbour-list build at the next force pass (benchmarks; histories are kept).
+    pub fn invalidate_list(&mut self) {
+        self.list_valid = false;
+    }
+
     /// Mark the state as edited (positions or velocities set by hand): forces are recomputed
     /// and the neighbour list rebuilt at the next step. Histories are kept.
     pub fn touch(&mut self) {

@@ -107,9 +107,11 @@ fn runs_are_bit_identical_for_1_and_2_threads_and_either_grid() {
     assert_eq!(b, c, "single vs multi-level grid");
 }
 
-/// Cost per particle-step of the broad phase (a list build per step) and of a step, single
-/// vs multi-level grid, size ratio 1 and 10 (equal volumes of the two sizes), N spheres at
-/// φ = 0.3. `cargo test --release -p dem-sphere --test grids -- --ignored --nocapture`.
+/// Cost per particle-step of the broad phase (one list build) and of a step (with a list
+/// build every step, and without), single vs multi-level grid, size ratio 1 and 10 (equal
+/// volumes of the two sizes), N spheres at φ = 0.3, best of 5 repetitions.
+/// `cargo test --release -p dem-sphere --test grids -- --ignored --nocapture`
+/// (`BENCH_N` sets N, default 20 000).
 #[test]
 #[ignore]
 fn bench_grids() {
@@ -119,23 +121,32 @@ fn bench_grids() {
         .and_then(|s| s.parse().ok())
         .unwrap_or(20_000);
     let threads = rayon::current_num_threads();
-    println!("N = {n}, {threads} threads");
-    let mut base = [0.0; 2];
+    println!("N = {n}, {threads} threads; µs per particle(-step), best of 5");
+    let best = |f: &mut dyn FnMut()| {
+        (0..5)
+            .map(|_| {
+                let t = Instant::now();
+                f();
+                t.elapsed().as_secs_f64()
+            })
+            .fold(f64::INFINITY, f64::min)
+    };
+    let mut base = [[0.0; 3]; 2];
     for &ratio in &[1.0, 10.0] {
         let (x, r) = bidisperse(n, ratio, 0.3, 5);
         for (g, kind) in [GridKind::Single, GridKind::MultiLevel { ratio: 2.0 }]
             .into_iter()
             .enumerate()
         {
+            // The world's margin: skin 0.2 r_min, hooke (no reach).
             let margin = 0.2;
-            let reps = 10;
             let (_, stats) = find_pairs(kind, &x, &r, margin);
-            let t = Instant::now();
-            for _ in 0..reps {
-                std::hint::black_box(find_pairs(kind, &x, &r, margin));
-            }
-            let per = t.elapsed().as_secs_f64() / (reps * n) as f64;
-            // Steps with a rebuild every step (a detection-bound step).
+            let reps = 5;
+            let build = best(&mut || {
+                for _ in 0..reps {
+                    std::hint::black_box(find_pairs(kind, &x, &r, margin));
+                }
+            }) / (reps * n) as f64;
             let l = hooke_friction(1000.0, 0.5, 0.5);
             let cfg = dem_sphere::Config {
                 gravity: Vector3::zeros(),
@@ -150,26 +161,31 @@ fn bench_grids() {
                     .unwrap();
             }
             w.step();
-            let steps = 10;
-            let t = Instant::now();
-            for _ in 0..steps {
-                w.touch();
-                w.step();
-            }
-            let per_step = t.elapsed().as_secs_f64() / (steps * n) as f64;
+            let steps = 5;
+            let rebuild = best(&mut || {
+                for _ in 0..steps {
+                    w.invalidate_list();
+                    w.step();
+                }
+            }) / (steps * n) as f64;
+            let plain = best(&mut || w.run(steps as u64)) / (steps * n) as f64;
+            let c = [build, rebuild, plain];
             if ratio == 1.0 {
-                base[g] = per_step;
+                base[g] = c;
             }
             println!(
-                "ratio {ratio:>4}, {:<11}: {} levels, {:.1} tests/sphere; build {:.3} µs/sphere ({:.2e} spheres/s); step with rebuild {:.3} µs/particle-step ({:.2e} particle-steps/s), {:.2}× ratio 1",
+                "ratio {ratio:>4}, {:<11}: {} levels, {:>6.1} tests/sphere | build {:.3} µs ({:.2}× ratio 1) | step + build {:.3} µs = {:.2e} particle-steps/s ({:.2}×) | step {:.3} µs = {:.2e} particle-steps/s ({:.2}×)",
                 if g == 0 { "single" } else { "multi-level" },
                 stats.levels,
                 stats.tests as f64 / n as f64,
-                per * 1e6,
-                1.0 / per,
-                per_step * 1e6,
-                1.0 / per_step,
-                per_step / base[g].max(1e-300),
+                build * 1e6,
+                build / base[g][0],
+                rebuild * 1e6,
+                1.0 / rebuild,
+                rebuild / base[g][1],
+                plain * 1e6,
+                1.0 / plain,
+                plain / base[g][2],
             );
         }
     }
