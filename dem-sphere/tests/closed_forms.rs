@@ -255,3 +255,119 @@ fn a_rigidly_rotating_pair_feels_no_spurious_force() {
     println!("200 rotated states over {:.1} rad: |F_n/F_n0 − 1| ≤ {worst_n:.2e}, |F_t|/F_n ≤ {worst_t:.2e}, |T|/(F_n r) ≤ {worst_m:.2e}", omega.norm() * 199e-4);
     assert!(worst_n < 1e-6 && worst_t < 1e-9 && worst_m < 1e-9);
 }
+
+#[test]
+fn a_sliding_sphere_rolls_at_five_sevenths_of_its_speed() {
+    // Coulomb sliding on a plane: the friction μmg slows the centre and spins the sphere up
+    // until v = rω; for a solid sphere (I = 2/5 mr²) then v = (5/7) v₀, after t = 2v₀/(7μg).
+    let l = hooke_friction(1e4, 0.5, 0.3);
+    let mut w = World::new(Config::default(), Laws::single(l, l)).unwrap();
+    w.add_wall(Plane::new(Vector3::zeros(), Vector3::z()).unwrap())
+        .unwrap();
+    let (r, v0, mu, g) = (1e-3, 0.5, 0.3, 9.81);
+    let m = 2500.0 * 4.0 / 3.0 * std::f64::consts::PI * r * r * r;
+    // Start at the static overlap mg/k_n.
+    w.add_sphere(
+        Vector3::new(0.0, 0.0, r - m * g / 1e4),
+        Vector3::new(v0, 0.0, 0.0),
+        r,
+        2500.0,
+        0,
+    )
+    .unwrap();
+    w.config.dt = w.critical_dt(0.05, 0.0);
+    let t_roll = 2.0 * v0 / (7.0 * mu * g);
+    w.run((2.0 * t_roll / w.config.dt) as u64);
+    let v = w.spheres.v[0].x;
+    let slip = v - r * w.spheres.w[0].y;
+    println!(
+        "v/v0 = {:.5} (5/7 = {:.5}, rel. {:.2e}); slip velocity {slip:.2e} m/s",
+        v / v0,
+        5.0 / 7.0,
+        v / v0 * 7.0 / 5.0 - 1.0
+    );
+    assert!((v / v0 * 7.0 / 5.0 - 1.0).abs() < 0.01);
+    assert!(slip.abs() < 1e-3 * v0);
+}
+
+#[test]
+fn hertz_on_a_plane_uses_r_and_m() {
+    let l = law(
+        r#"{"normal": {"model": "hertz/material", "E": 7e10, "nu": 0.3},
+                    "tangential": {"model": "mindlin", "mu": 0.3}}"#,
+    );
+    let cfg = Config {
+        gravity: Vector3::zeros(),
+        ..Config::default()
+    };
+    let mut w = World::new(cfg, Laws::single(l, l)).unwrap();
+    w.add_wall(Plane::new(Vector3::zeros(), Vector3::new(1.0, 1.0, 1.0)).unwrap())
+        .unwrap();
+    let (r, v) = (1e-3, 1.0);
+    let n = Vector3::new(1.0, 1.0, 1.0).normalize();
+    w.add_sphere(n * (r + 1e-7), -n * v, r, 2500.0, 0).unwrap();
+    let m = w.spheres.m[0];
+    let e_star = 7e10 / (2.0 * (1.0 - 0.09));
+    let d_max = (15.0 * m * v * v / (16.0 * e_star * r.sqrt())).powf(0.4);
+    let t_c = 2.0 * d_max / v * impact_integral(2.5);
+    w.config.dt = t_c / 3777.7;
+    let overlap = |w: &World| r - w.walls[0].gap(&w.spheres.x[0]);
+    let mut d_prev = overlap(&w);
+    while overlap(&w) <= 0.0 {
+        d_prev = overlap(&w);
+        w.step();
+    }
+    let cross = |w: &World, d0: f64, d1: f64| w.time - w.config.dt * d1 / (d1 - d0);
+    let t0 = cross(&w, d_prev, overlap(&w));
+    while overlap(&w) > 0.0 {
+        d_prev = overlap(&w);
+        w.step();
+    }
+    let t = cross(&w, d_prev, overlap(&w)) - t0;
+    let e = w.spheres.v[0].dot(&n) / v;
+    println!("sphere on an oblique plane: t_c = {t_c:.6e} s, measured {t:.6e} s (rel. {:.2e}); e = {e:.6}", t / t_c - 1.0);
+    assert!((t / t_c - 1.0).abs() < 0.01 && (e - 1.0).abs() < 1e-3);
+}
+
+#[test]
+fn an_adhesive_collision_balances_its_energy() {
+    // JKR + van der Waals: the list must keep the pair while the neck stretches (reach).
+    let l = law(
+        r#"{"normal": {"model": "jkr", "E": 1e8, "nu": 0.3, "gamma": 0.05},
+                    "damping": {"model": "viscoelastic", "eta": 20},
+                    "tangential": {"model": "mindlin", "mu": 0.3},
+                    "vdw": {"hamaker": 1e-19, "cutoff": 1e-7}}"#,
+    );
+    let cfg = Config {
+        gravity: Vector3::zeros(),
+        energy: true,
+        ..Config::default()
+    };
+    let mut w = World::new(cfg, Laws::single(l, l)).unwrap();
+    let r = 10e-6;
+    w.add_sphere(Vector3::zeros(), Vector3::new(0.1, 0.02, 0.0), r, 2500.0, 0)
+        .unwrap();
+    w.add_sphere(
+        Vector3::new(2.0 * r + 2e-7, 0.3 * r, 0.0),
+        Vector3::new(-0.1, 0.0, 0.0),
+        0.8 * r,
+        2500.0,
+        0,
+    )
+    .unwrap();
+    w.config.dt = w.critical_dt(0.02, 0.05);
+    let mut worst = 0.0f64;
+    let mut touched = false;
+    for _ in 0..200 {
+        w.run(50);
+        touched |= w.contacts().any(|c| c.2 > 0.0);
+        worst = worst.max(w.energy().balance_error.abs());
+    }
+    let e = w.energy();
+    let sep = (w.spheres.x[1] - w.spheres.x[0]).norm() - 1.8 * r;
+    println!(
+        "{} steps: gap now {sep:.2e} m; E0 {:.3e} J, kinetic {:.3e}, strain {:.3e}, damping {:.3e}, friction {:.3e}; worst balance error {worst:.2e}",
+        w.counters.steps, e.initial, e.kinetic(), e.strain, e.damping, e.friction
+    );
+    assert!(touched && worst < 1e-3);
+}
