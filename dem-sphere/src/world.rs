@@ -85,6 +85,10 @@ pub struct Config {
     pub grid: GridKind,
     /// Track the energy balance (costs the energy terms of the laws).
     pub energy: bool,
+    /// Smallest number of spheres or contacts a parallel task takes (default 512): small
+    /// worlds run on one thread without the cost of waking the pool. The results are the same
+    /// bits for any value and any thread count.
+    pub min_par_len: usize,
 }
 
 impl Default for Config {
@@ -95,6 +99,7 @@ impl Default for Config {
             skin: 0.2,
             grid: GridKind::default(),
             energy: false,
+            min_par_len: 512,
         }
     }
 }
@@ -336,11 +341,13 @@ impl World {
     fn kick(&mut self, h: f64) {
         let g = self.config.gravity;
         let energy = self.config.energy;
+        let min_len = self.config.min_par_len.max(1);
         let s = &mut self.spheres;
         let sc = &mut self.scratch;
         let (diss, work): (Vec<f64>, Vec<f64>) = (s.v.par_iter_mut(), s.w.par_iter_mut())
             .into_par_iter()
             .enumerate()
+            .with_min_len(min_len)
             .map(|(i, (v, w))| {
                 let (v0, w0) = (*v, *w);
                 *v += (sc.f[i] / s.m[i] + g) * h;
@@ -361,9 +368,11 @@ impl World {
     }
 
     fn drift(&mut self, dt: f64) {
+        let min_len = self.config.min_par_len.max(1);
         let s = &mut self.spheres;
         s.x.par_iter_mut()
             .zip(s.v.par_iter())
+            .with_min_len(min_len)
             .for_each(|(x, v)| *x += v * dt);
         for p in &mut self.walls {
             p.point += p.velocity * dt;
@@ -376,11 +385,13 @@ impl World {
         let s = &self.spheres;
         let (r_min, r_max) = s.radius_range();
         let skin = self.config.skin * r_min;
+        let min_len = self.config.min_par_len.max(1);
         if self.list_valid {
             let xb = &self.scratch.x_build;
             let moved =
                 s.x.par_iter()
                     .zip(xb.par_iter())
+                    .with_min_len(min_len)
                     .map(|(a, b)| (a - b).norm_squared())
                     .reduce(|| 0.0, f64::max);
             if moved.sqrt() <= 0.5 * skin {
@@ -456,6 +467,7 @@ impl World {
     fn force_pass<const E: bool>(&mut self) {
         let dt = self.config.dt;
         let reach = self.reach_max;
+        let min_len = self.config.min_par_len.max(1);
         let s = &self.spheres;
         let laws = &self.laws;
         let body = |i: usize| Body {
@@ -472,6 +484,7 @@ impl World {
             .par_iter_mut()
             .zip(self.outs.par_iter_mut())
             .zip(self.released.par_iter_mut())
+            .with_min_len(min_len)
             .for_each(|((c, o), rel)| {
                 let law = laws.pair(s.species[c.i as usize], s.species[c.j as usize]);
                 let (out, released) = contact::sphere_sphere::<E>(

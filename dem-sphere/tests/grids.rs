@@ -90,6 +90,8 @@ fn runs_are_bit_identical_for_1_and_2_threads_and_either_grid() {
         pool.install(|| {
             let mut w = pour(300, 11, true);
             w.config.grid = grid;
+            // Small parallel tasks, so that 2 threads split this small world.
+            w.config.min_par_len = 16;
             w.run(8000);
             (
                 digest(&w),
@@ -154,6 +156,7 @@ fn bench_grids() {
                 skin: 0.2,
                 dt: 1e-7,
                 energy: false,
+                ..dem_sphere::Config::default()
             };
             let mut w = World::new(cfg, dem_sphere::Laws::single(l, l)).unwrap();
             for (p, &ri) in x.iter().zip(&r) {
