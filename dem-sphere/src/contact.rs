@@ -14,6 +14,7 @@
 //! rolling moment M_r (on i, from ω_i − ω_j without its n part) and the twisting moment
 //! M_tw n (on i, from (ω_i − ω_j)·n) act with opposite signs on j.
 
+use crate::grid::Periodic;
 use crate::walls::Plane;
 use dem_laws::{ContactLaw, GranularHistory, GranularLaw, Kin, Out};
 use nalgebra::Vector3;
@@ -112,15 +113,17 @@ fn eval<const E: bool>(
 /// Sphere–sphere contact (module docs). `reach` is the law's largest reach: beyond it an
 /// untouched pair is skipped.
 #[inline]
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn sphere_sphere<const E: bool>(
     law: &GranularLaw,
     reach: f64,
+    per: &Periodic,
     a: &Body,
     b: &Body,
     dt: f64,
     c: &mut PairContact,
 ) -> (PairOut, f64) {
-    let d = b.x - a.x;
+    let d = per.delta(b.x - a.x);
     let dist = d.norm();
     let delta = a.r + b.r - dist;
     let mut released = 0.0;

@@ -49,11 +49,53 @@ impl Default for GridKind {
     }
 }
 
+/// Periodic boundaries: axis k is periodic with period `len[k]` over [lo_k, lo_k + len_k).
+/// Positions are kept unwrapped; pair vectors take the minimum image (Allen & Tildesley
+/// 1987, §1.5.2), and the grids wrap their cells on those axes.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Periodic {
+    /// Origin of the periodic cell (m).
+    pub lo: Vector3<f64>,
+    /// Period along each axis (m), None: not periodic.
+    pub len: [Option<f64>; 3],
+}
+
+impl Periodic {
+    /// No periodic axis.
+    pub fn none() -> Periodic {
+        Periodic::default()
+    }
+
+    /// Minimum image of the pair vector `d`.
+    #[inline]
+    pub fn delta(&self, mut d: Vector3<f64>) -> Vector3<f64> {
+        for k in 0..3 {
+            if let Some(l) = self.len[k] {
+                d[k] -= l * (d[k] / l).round();
+            }
+        }
+        d
+    }
+
+    /// `p` brought into the periodic cell.
+    #[inline]
+    pub fn wrap(&self, mut p: Vector3<f64>) -> Vector3<f64> {
+        for k in 0..3 {
+            if let Some(l) = self.len[k] {
+                p[k] = self.lo[k] + (p[k] - self.lo[k]).rem_euclid(l);
+            }
+        }
+        p
+    }
+}
+
 /// One dense cell grid (counting-sorted particle indices).
 #[derive(Clone, Debug)]
 struct Level {
-    cell: f64,
+    /// Cell side per axis (a periodic axis divides its period exactly).
+    cell: [f64; 3],
     dims: [i64; 3],
+    periodic: [bool; 3],
     /// start[c]..start[c+1] in `items` for cell c.
     start: Vec<u32>,
     items: Vec<u32>,
@@ -62,26 +104,40 @@ struct Level {
 
 impl Level {
     fn build(
-        cell: f64,
-        origin: &Vector3<f64>,
+        side: f64,
         ext: &Vector3<f64>,
+        periodic: [bool; 3],
         x: &[Vector3<f64>],
         members: &[u32],
         cap: usize,
     ) -> Level {
-        let mut cell = cell;
-        let dims = loop {
-            let d = [0, 1, 2].map(|k| ((ext[k] / cell).floor() as i64 + 1).max(1));
+        let mut side = side;
+        let (dims, cell) = loop {
+            let d = [0, 1, 2].map(|k| {
+                if periodic[k] {
+                    ((ext[k] / side).floor() as i64).max(1)
+                } else {
+                    ((ext[k] / side).floor() as i64 + 1).max(1)
+                }
+            });
             if (d[0] * d[1] * d[2]) as usize <= cap {
-                break d;
+                let c = [0, 1, 2].map(|k| {
+                    if periodic[k] {
+                        ext[k] / d[k] as f64
+                    } else {
+                        side
+                    }
+                });
+                break (d, c);
             }
-            cell *= 1.25;
+            side *= 1.25;
         };
         let ncell = (dims[0] * dims[1] * dims[2]) as usize;
         let mut count = vec![0u32; ncell + 1];
+        // `x` is relative to the origin and wrapped.
         let key = |i: u32| -> usize {
-            let p = x[i as usize] - origin;
-            let c = [0, 1, 2].map(|k| ((p[k] / cell).floor() as i64).clamp(0, dims[k] - 1));
+            let p = x[i as usize];
+            let c = [0, 1, 2].map(|k| ((p[k] / cell[k]).floor() as i64).clamp(0, dims[k] - 1));
             ((c[2] * dims[1] + c[1]) * dims[0] + c[0]) as usize
         };
         let keys: Vec<usize> = members.iter().map(|&i| key(i)).collect();
@@ -100,28 +156,53 @@ impl Level {
         Level {
             cell,
             dims,
+            periodic,
             start: count,
             items,
             r_max: 0.0,
         }
     }
 
-    fn coord(&self, p: f64, k: usize) -> i64 {
-        ((p / self.cell).floor() as i64).clamp(0, self.dims[k] - 1)
+    /// The cell range of [lo, hi] along axis k: (first, last, wraps). A periodic range
+    /// covering the whole axis is the axis once.
+    #[inline]
+    fn range(&self, lo: f64, hi: f64, k: usize) -> (i64, i64, bool) {
+        let a = (lo / self.cell[k]).floor() as i64;
+        let b = (hi / self.cell[k]).floor() as i64;
+        let n = self.dims[k];
+        if !self.periodic[k] {
+            (a.clamp(0, n - 1), b.clamp(0, n - 1), false)
+        } else if b - a + 1 >= n {
+            (0, n - 1, false)
+        } else {
+            (a, b, a < 0 || b >= n)
+        }
     }
 
-    /// Visit every particle in the cells overlapping [lo, hi] (relative to the origin).
+    /// Visit every particle in the cells overlapping [lo, hi] (relative to the origin,
+    /// wrapped on the periodic axes), each cell once.
     #[inline]
     fn visit(&self, lo: &Vector3<f64>, hi: &Vector3<f64>, mut f: impl FnMut(u32)) {
-        let a = [0, 1, 2].map(|k| self.coord(lo[k], k));
-        let b = [0, 1, 2].map(|k| self.coord(hi[k], k));
-        for cz in a[2]..=b[2] {
-            for cy in a[1]..=b[1] {
+        let r = [0, 1, 2].map(|k| self.range(lo[k], hi[k], k));
+        let m = |c: i64, k: usize| c.rem_euclid(self.dims[k]);
+        for cz in r[2].0..=r[2].1 {
+            let cz = m(cz, 2);
+            for cy in r[1].0..=r[1].1 {
+                let cy = m(cy, 1);
                 let row = (cz * self.dims[1] + cy) * self.dims[0];
-                let s = self.start[(row + a[0]) as usize] as usize;
-                let e = self.start[(row + b[0]) as usize + 1] as usize;
-                for &j in &self.items[s..e] {
-                    f(j);
+                if !r[0].2 {
+                    let s = self.start[(row + r[0].0) as usize] as usize;
+                    let e = self.start[(row + r[0].1) as usize + 1] as usize;
+                    for &j in &self.items[s..e] {
+                        f(j);
+                    }
+                } else {
+                    for cx in r[0].0..=r[0].1 {
+                        let c = (row + m(cx, 0)) as usize;
+                        for &j in &self.items[self.start[c] as usize..self.start[c + 1] as usize] {
+                            f(j);
+                        }
+                    }
                 }
             }
         }
@@ -140,8 +221,10 @@ pub struct GridStats {
 }
 
 /// All pairs i < j with |x_j − x_i| < r_i + r_j + margin, sorted, and the build statistics.
+/// On the periodic axes of `per` the pair vector is the minimum image.
 pub fn find_pairs(
     kind: GridKind,
+    per: &Periodic,
     x: &[Vector3<f64>],
     r: &[f64],
     margin: f64,
@@ -150,16 +233,26 @@ pub fn find_pairs(
     if n < 2 {
         return (Vec::new(), GridStats::default());
     }
-    let mut lo = x[0];
-    let mut hi = x[0];
+    let xw: Vec<Vector3<f64>> = x.iter().map(|p| per.wrap(*p)).collect();
+    let mut lo = xw[0];
+    let mut hi = xw[0];
     let (mut r_min, mut r_max) = (f64::INFINITY, 0.0f64);
-    for (p, &ri) in x.iter().zip(r) {
+    for (p, &ri) in xw.iter().zip(r) {
         lo = lo.inf(p);
         hi = hi.sup(p);
         r_min = r_min.min(ri);
         r_max = r_max.max(ri);
     }
+    let periodic = [0, 1, 2].map(|k| per.len[k].is_some());
+    for k in 0..3 {
+        if let Some(l) = per.len[k] {
+            lo[k] = per.lo[k];
+            hi[k] = per.lo[k] + l;
+        }
+    }
     let ext = hi - lo;
+    // Positions relative to the grid origin, in the periodic cell.
+    let xr: Vec<Vector3<f64>> = xw.iter().map(|p| p - lo).collect();
     let cap = 64 * n + 4096;
     // Level cell sides and each particle's level.
     let sides: Vec<f64> = match kind {
@@ -194,7 +287,7 @@ pub fn find_pairs(
         members[l as usize].push(i as u32);
     }
     let mut levels: Vec<Level> = (0..nl)
-        .map(|l| Level::build(sides[l], &lo, &ext, x, &members[l], cap))
+        .map(|l| Level::build(sides[l], &ext, periodic, &xr, &members[l], cap))
         .collect();
     for (l, m) in members.iter().enumerate() {
         levels[l].r_max = m.iter().map(|&i| r[i as usize]).fold(0.0, f64::max);
@@ -207,25 +300,24 @@ pub fn find_pairs(
             let mut tests = 0u64;
             for i in c * chunk..((c + 1) * chunk).min(n) {
                 let l = lev[i] as usize;
-                let p = x[i] - lo;
+                let p = xr[i];
                 let ri = r[i];
                 for (k, level) in levels.iter().enumerate().skip(l) {
                     if level.items.is_empty() {
                         continue;
                     }
-                    let reach = if k == l {
-                        level.cell
+                    let e = if k == l {
+                        Vector3::from(level.cell)
                     } else {
-                        ri + level.r_max + margin
+                        Vector3::repeat(ri + level.r_max + margin)
                     };
-                    let e = Vector3::repeat(reach);
                     level.visit(&(p - e), &(p + e), |j| {
                         if k == l && j as usize <= i {
                             return;
                         }
                         tests += 1;
                         let s = ri + r[j as usize] + margin;
-                        if (x[j as usize] - x[i]).norm_squared() < s * s {
+                        if per.delta(x[j as usize] - x[i]).norm_squared() < s * s {
                             let i = i as u32;
                             out.push((i.min(j), i.max(j)));
                         }
@@ -246,13 +338,19 @@ pub fn find_pairs(
     (pairs, stats)
 }
 
-/// Brute-force reference: all pairs by O(N²) search (tests).
-pub fn find_pairs_brute(x: &[Vector3<f64>], r: &[f64], margin: f64) -> Vec<(u32, u32)> {
+/// Brute-force reference: all pairs by O(N²) search, minimum image on the periodic axes
+/// (tests).
+pub fn find_pairs_brute(
+    per: &Periodic,
+    x: &[Vector3<f64>],
+    r: &[f64],
+    margin: f64,
+) -> Vec<(u32, u32)> {
     let mut out = Vec::new();
     for i in 0..x.len() {
         for j in i + 1..x.len() {
             let s = r[i] + r[j] + margin;
-            if (x[j] - x[i]).norm_squared() < s * s {
+            if per.delta(x[j] - x[i]).norm_squared() < s * s {
                 out.push((i as u32, j as u32));
             }
         }

@@ -54,7 +54,7 @@ mod world;
 pub use contact::contact_time_scale;
 pub use energy::EnergyReport;
 pub use error::SphereError;
-pub use grid::{find_pairs, find_pairs_brute, GridKind, GridStats};
+pub use grid::{find_pairs, find_pairs_brute, GridKind, GridStats, Periodic};
 pub use state::Spheres;
 pub use walls::{box_walls, Plane};
 pub use world::{Config, Counters, Laws, World};

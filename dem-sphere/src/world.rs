@@ -2,7 +2,7 @@
 
 use crate::contact::{self, Body, Hist, PairContact, PairOut};
 use crate::error::{finite3, positive, SphereError};
-use crate::grid::{find_pairs, GridKind, GridStats};
+use crate::grid::{find_pairs, GridKind, GridStats, Periodic};
 use crate::state::{Scratch, Spheres};
 use crate::walls::Plane;
 use crate::EnergyReport;
@@ -89,6 +89,9 @@ pub struct Config {
     /// worlds run on one thread without the cost of waking the pool. The results are the same
     /// bits for any value and any thread count.
     pub min_par_len: usize,
+    /// Periodic axes (default none). A period must exceed twice the largest contact
+    /// distance 2(2 r_max + skin r_min), checked when a sphere is added.
+    pub periodic: Periodic,
 }
 
 impl Default for Config {
@@ -100,6 +103,7 @@ impl Default for Config {
             grid: GridKind::default(),
             energy: false,
             min_par_len: 512,
+            periodic: Periodic::none(),
         }
     }
 }
@@ -240,6 +244,17 @@ impl World {
                             ),
                         ));
                     }
+                }
+            }
+        }
+        for k in 0..3 {
+            if let Some(l) = self.config.periodic.len[k] {
+                let need = 2.0 * (2.0 * r + self.config.skin * r);
+                if !(l.is_finite() && l >= need) {
+                    return Err(SphereError::invalid(
+                        format!("config.periodic.len[{k}]"),
+                        format!("must be ≥ 2 (2r + skin·r) = {need} for a sphere of radius {r}, got {l}"),
+                    ));
                 }
             }
         }
@@ -406,7 +421,13 @@ impl World {
             reach = reach.max(contact::reach(self.laws.wall(a), r_max));
         }
         self.reach_max = reach;
-        let (pairs, stats) = find_pairs(self.config.grid, &s.x, &s.r, skin + reach);
+        let (pairs, stats) = find_pairs(
+            self.config.grid,
+            &self.config.periodic,
+            &s.x,
+            &s.r,
+            skin + reach,
+        );
         // Merge-join with the old sorted list: histories follow their pair.
         let old = std::mem::take(&mut self.contacts);
         let mut out = Vec::with_capacity(pairs.len());
@@ -467,6 +488,7 @@ impl World {
     fn force_pass<const E: bool>(&mut self) {
         let dt = self.config.dt;
         let reach = self.reach_max;
+        let per = &self.config.periodic;
         let min_len = self.config.min_par_len.max(1);
         let s = &self.spheres;
         let laws = &self.laws;
@@ -490,6 +512,7 @@ impl World {
                 let (out, released) = contact::sphere_sphere::<E>(
                     law,
                     reach,
+                    per,
                     &body(c.i as usize),
                     &body(c.j as usize),
                     dt,
@@ -661,7 +684,11 @@ impl World {
             .iter()
             .zip(&self.outs)
             .map(|(c, o)| {
-                let n = (self.spheres.x[c.j as usize] - self.spheres.x[c.i as usize]).normalize();
+                let n = self
+                    .config
+                    .periodic
+                    .delta(self.spheres.x[c.j as usize] - self.spheres.x[c.i as usize])
+                    .normalize();
                 let fnn = o.f.dot(&n);
                 (c.i as usize, c.j as usize, fnn, (o.f - n * fnn).norm())
             })

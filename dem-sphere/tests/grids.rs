@@ -5,7 +5,7 @@ mod common;
 use common::*;
 use dem_sphere::pack::insert_rsi;
 use dem_sphere::rng::SplitMix64;
-use dem_sphere::{find_pairs, find_pairs_brute, GridKind, World};
+use dem_sphere::{find_pairs, find_pairs_brute, GridKind, Periodic, World};
 use nalgebra::Vector3;
 
 fn bidisperse(n: usize, ratio: f64, phi: f64, seed: u64) -> (Vec<Vector3<f64>>, Vec<f64>) {
@@ -27,9 +27,15 @@ fn both_grids_find_the_brute_force_pairs() {
     for (k, &ratio) in [1.0, 3.0, 10.0].iter().enumerate() {
         let (x, r) = bidisperse(1500, ratio, 0.3, k as u64);
         let margin = 0.3;
-        let brute = find_pairs_brute(&x, &r, margin);
-        let (single, s1) = find_pairs(GridKind::Single, &x, &r, margin);
-        let (multi, s2) = find_pairs(GridKind::MultiLevel { ratio: 2.0 }, &x, &r, margin);
+        let brute = find_pairs_brute(&Periodic::none(), &x, &r, margin);
+        let (single, s1) = find_pairs(GridKind::Single, &Periodic::none(), &x, &r, margin);
+        let (multi, s2) = find_pairs(
+            GridKind::MultiLevel { ratio: 2.0 },
+            &Periodic::none(),
+            &x,
+            &r,
+            margin,
+        );
         println!(
             "ratio {ratio}: {} pairs; tests single {} ({} level), multi-level {} ({} levels)",
             brute.len(),
@@ -50,13 +56,116 @@ fn both_grids_find_the_brute_force_pairs() {
             .unwrap()
             .into_iter()
             .unzip();
-    let brute = find_pairs_brute(&x, &r, 0.05);
+    let brute = find_pairs_brute(&Periodic::none(), &x, &r, 0.05);
     for q in [1.5, 2.0, 3.0] {
         assert_eq!(
-            find_pairs(GridKind::MultiLevel { ratio: q }, &x, &r, 0.05).0,
+            find_pairs(
+                GridKind::MultiLevel { ratio: q },
+                &Periodic::none(),
+                &x,
+                &r,
+                0.05
+            )
+            .0,
             brute
         );
     }
+}
+
+#[test]
+fn periodic_grids_find_the_minimum_image_pairs() {
+    let mut rng = SplitMix64::new(4);
+    for (k, &(ratio, l)) in [(1.0, 12.0), (10.0, 45.0), (4.0, 9.0)].iter().enumerate() {
+        let n = 800;
+        let radii: Vec<f64> = (0..n)
+            .map(|i| if i % 97 == 0 { ratio } else { 1.0 })
+            .collect();
+        // Unwrapped positions: some far outside the cell.
+        let x: Vec<Vector3<f64>> = (0..n)
+            .map(|_| {
+                let p = Vector3::new(rng.range(0.0, l), rng.range(0.0, l), rng.range(0.0, l));
+                p + Vector3::new(
+                    l * rng.range(-3.0, 3.0).round(),
+                    0.0,
+                    -l * rng.range(0.0, 2.0).round(),
+                )
+            })
+            .collect();
+        let per = Periodic {
+            lo: Vector3::zeros(),
+            len: [Some(l), if k == 2 { None } else { Some(l) }, Some(l)],
+        };
+        let brute = find_pairs_brute(&per, &x, &radii, 0.2);
+        let (single, _) = find_pairs(GridKind::Single, &per, &x, &radii, 0.2);
+        let (multi, st) = find_pairs(GridKind::MultiLevel { ratio: 2.0 }, &per, &x, &radii, 0.2);
+        let plain = find_pairs_brute(&Periodic::none(), &x, &radii, 0.2).len();
+        println!(
+            "periodic, ratio {ratio}, L {l}: {} pairs ({plain} without periodicity), {} levels",
+            brute.len(),
+            st.levels
+        );
+        assert_eq!(single, brute);
+        assert_eq!(multi, brute);
+        assert!(brute.len() > plain);
+    }
+}
+
+#[test]
+fn a_cluster_across_a_periodic_boundary_moves_as_one_inside() {
+    let run = |shift: f64, periodic: bool| {
+        let l = hooke_friction(1000.0, 0.3, 0.5);
+        let mut cfg = dem_sphere::Config {
+            gravity: Vector3::zeros(),
+            ..Default::default()
+        };
+        if periodic {
+            cfg.periodic = Periodic {
+                lo: Vector3::zeros(),
+                len: [Some(0.02), Some(0.02), None],
+            };
+        }
+        let mut w = World::new(cfg, dem_sphere::Laws::single(l, l)).unwrap();
+        let mut rng = SplitMix64::new(8);
+        let radii: Vec<f64> = (0..60).map(|_| rng.range(0.8e-3, 1.2e-3)).collect();
+        let c = Vector3::new(0.01, 0.01, 0.0);
+        let p = insert_rsi(
+            &radii,
+            c - Vector3::repeat(0.0045),
+            c + Vector3::repeat(0.0045),
+            2,
+            10_000,
+        )
+        .unwrap();
+        for (x, r) in p {
+            // Converging velocities: the cluster collapses.
+            let v =
+                (c - x) * 20.0 + Vector3::new(rng.range(-0.02, 0.02), rng.range(-0.02, 0.02), 0.0);
+            w.add_sphere(x + Vector3::new(shift, shift, 0.0), v, r, 2500.0, 0)
+                .unwrap();
+        }
+        w.config.dt = w.critical_dt(0.1, 0.05);
+        let mut most = 0;
+        for _ in 0..30 {
+            w.run(100);
+            most = most.max(w.contacts().filter(|c| c.2 > 0.0).count());
+        }
+        (w, most)
+    };
+    let (a, most) = run(0.0, false);
+    let (b, _) = run(0.01, true);
+    let mut dx = 0.0f64;
+    for i in 0..a.spheres.len() {
+        let d = b.spheres.x[i] - Vector3::new(0.01, 0.01, 0.0) - a.spheres.x[i];
+        dx = dx.max(d.norm());
+    }
+    let crossing = b
+        .spheres
+        .x
+        .iter()
+        .filter(|x| x.x > 0.02 || x.y > 0.02)
+        .count();
+    println!("60 spheres, {most} contacts at most, {crossing} centres past the periodic boundary: max |Δx| = {dx:.2e} m");
+    assert!(most > 10 && crossing > 5 && dx < 1e-10);
 }
 
 fn digest(w: &World) -> Vec<u64> {
@@ -142,11 +251,11 @@ fn bench_grids() {
         {
             // The world's margin: skin 0.2 r_min, hooke (no reach).
             let margin = 0.2;
-            let (_, stats) = find_pairs(kind, &x, &r, margin);
+            let (_, stats) = find_pairs(kind, &Periodic::none(), &x, &r, margin);
             let reps = 5;
             let build = best(&mut || {
                 for _ in 0..reps {
-                    std::hint::black_box(find_pairs(kind, &x, &r, margin));
+                    std::hint::black_box(find_pairs(kind, &Periodic::none(), &x, &r, margin));
                 }
             }) / (reps * n) as f64;
             let l = hooke_friction(1000.0, 0.5, 0.5);
