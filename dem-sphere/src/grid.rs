@@ -26,6 +26,10 @@
 //! cells of a size matched to the partner's. The cost per sphere is then nearly independent
 //! of the size ratio (the paper's result, checked by the benchmark test `bench_grids`).
 //!
+//! **Periodic axes** ([`Periodic`]): positions stay unwrapped; the grids place each sphere by
+//! its wrapped position, the cells of a periodic axis divide the period exactly and wrap,
+//! and every distance is the minimum image.
+//!
 //! Both grids give the same sorted list of pairs (i < j), built in parallel over fixed index
 //! ranges and concatenated in order, so it does not depend on the thread count. Grids are
 //! dense arrays over the particles' bounding box; a level whose array would exceed

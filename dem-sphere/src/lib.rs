@@ -17,7 +17,9 @@
 //! v += ½Δt (F/m + g),  ω += ½Δt T/I          half kick with the forces at x(t + Δt)
 //! ```
 //!
-//! Velocity-dependent forces see the half-step velocities (as LAMMPS). State ([`Spheres`]:
+//! Velocity-dependent forces see the half-step velocities (as LAMMPS). Periodic axes
+//! ([`Periodic`], `Config::periodic`): positions stay unwrapped, pair vectors take the minimum
+//! image and the grids wrap their cells. State ([`Spheres`]:
 //! x, v, ω, r, m, I, species) is kept apart from the step's scratch (forces, torques,
 //! dashpot parts). Time step: [`World::critical_dt`], a fraction of √(m*/k) from the laws'
 //! stiffness (Cundall & Strack 1979, Géotechnique 29:47). Energy balance: [`energy`].
