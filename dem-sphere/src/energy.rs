@@ -16,6 +16,15 @@
 //! and bounded (it does not accumulate). Rolling-spring energy is not in U (the tests run
 //! without rolling resistance).
 
+/// Cumulative energy terms (J).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(crate) struct EnergyAcc {
+    pub damping: f64,
+    pub friction: f64,
+    pub wall_work: f64,
+    pub initial: Option<f64>,
+}
+
 /// Energies of the world (J), [`crate::World::energy`].
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct EnergyReport {
@@ -39,13 +48,7 @@ pub struct EnergyReport {
 }
 
 impl EnergyReport {
-    pub(crate) fn new(
-        kt: f64,
-        kr: f64,
-        pot: f64,
-        strain: f64,
-        acc: &crate::world::EnergyAcc,
-    ) -> EnergyReport {
+    pub(crate) fn new(kt: f64, kr: f64, pot: f64, strain: f64, acc: &EnergyAcc) -> EnergyReport {
         let total = kt + kr + pot + strain;
         let initial = acc.initial.unwrap_or(total);
         let d = acc.damping + acc.friction;

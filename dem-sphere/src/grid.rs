@@ -124,7 +124,8 @@ impl Level {
                     ((ext[k] / side).floor() as i64 + 1).max(1)
                 }
             });
-            if (d[0] * d[1] * d[2]) as usize <= cap {
+            // In f64: a huge extent must not overflow the product.
+            if (d[0] as f64) * (d[1] as f64) * (d[2] as f64) <= cap as f64 {
                 let c = [0, 1, 2].map(|k| {
                     if periodic[k] {
                         ext[k] / d[k] as f64
@@ -254,7 +255,8 @@ pub fn find_pairs(
             hi[k] = per.lo[k] + l;
         }
     }
-    let ext = hi - lo;
+    // Non-finite positions (a blown-up run) must not hang the grid: they find no pairs.
+    let ext = (hi - lo).map(|e| if e.is_finite() { e } else { 0.0 });
     // Positions relative to the grid origin, in the periodic cell.
     let xr: Vec<Vector3<f64>> = xw.iter().map(|p| p - lo).collect();
     let cap = 64 * n + 4096;

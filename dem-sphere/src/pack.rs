@@ -105,8 +105,9 @@ impl CoverGrid {
     fn new(lo: Vector3<f64>, hi: Vector3<f64>, cell: f64) -> CoverGrid {
         let mut cell = cell;
         let dims = loop {
-            let d = [0, 1, 2].map(|k| (((hi[k] - lo[k]) / cell).ceil() as i64).max(1));
-            if d[0] * d[1] * d[2] <= 8_000_000 {
+            let span = (hi - lo).map(|e| if e.is_finite() { e.max(0.0) } else { 0.0 });
+            let d = [0, 1, 2].map(|k| ((span[k] / cell).ceil() as i64).max(1));
+            if (d[0] as f64) * (d[1] as f64) * (d[2] as f64) <= 8e6 {
                 break d;
             }
             cell *= 1.25;

@@ -1,11 +1,11 @@
 //! The world: spheres, walls, laws, configuration, contact lists and the step.
 
 use crate::contact::{self, Body, Hist, PairContact, PairOut};
+use crate::energy::{EnergyAcc, EnergyReport};
 use crate::error::{finite3, positive, SphereError};
 use crate::grid::{find_pairs, GridKind, GridStats, Periodic};
 use crate::state::{Scratch, Spheres};
 use crate::walls::Plane;
-use crate::EnergyReport;
 use dem_laws::GranularLaw;
 use nalgebra::Vector3;
 use rayon::prelude::*;
@@ -106,15 +106,6 @@ impl Default for Config {
             periodic: Periodic::none(),
         }
     }
-}
-
-/// Cumulative energy terms (J).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub(crate) struct EnergyAcc {
-    pub damping: f64,
-    pub friction: f64,
-    pub wall_work: f64,
-    pub initial: Option<f64>,
 }
 
 /// Counters of the run.

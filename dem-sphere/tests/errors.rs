@@ -74,3 +74,18 @@ fn an_empty_world_and_a_lone_sphere_step() {
     let t = 10.0 * w.config.dt;
     assert!((w.spheres.v[0].z + 9.81 * t).abs() < 1e-12);
 }
+
+#[test]
+fn a_blown_up_state_does_not_hang_or_panic_the_grids() {
+    use dem_sphere::{find_pairs, Periodic};
+    let x = vec![
+        Vector3::new(f64::NAN, 0.0, 0.0),
+        Vector3::zeros(),
+        Vector3::new(1e300, -1e300, 0.0),
+    ];
+    let r = vec![1.0, 1.0, 1.0];
+    for kind in [GridKind::Single, GridKind::MultiLevel { ratio: 2.0 }] {
+        let (p, _) = find_pairs(kind, &Periodic::none(), &x, &r, 0.1);
+        assert!(p.is_empty());
+    }
+}
