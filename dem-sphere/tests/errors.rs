@@ -89,3 +89,53 @@ fn a_blown_up_state_does_not_hang_or_panic_the_grids() {
         assert!(p.is_empty());
     }
 }
+
+#[test]
+fn each_species_pair_takes_its_own_law() {
+    let k = |kn: f64| hooke_friction(kn, 0.5, 0.5);
+    // Species 0 and 1: k_00 = 100, k_01 = k_10 = 200, k_11 = 300; walls 400 and 500.
+    let laws = Laws::table(
+        vec![k(100.0), k(200.0), k(200.0), k(300.0)],
+        vec![k(400.0), k(500.0)],
+    )
+    .unwrap();
+    let cfg = Config {
+        gravity: Vector3::zeros(),
+        ..Config::default()
+    };
+    let mut w = World::new(cfg, laws).unwrap();
+    w.add_wall(Plane::new(Vector3::zeros(), Vector3::z()).unwrap())
+        .unwrap();
+    let (r, d) = (1e-3, 1e-5);
+    let z = Vector3::zeros();
+    w.add_sphere(Vector3::new(0.0, 0.0, r - d), z, r, 2500.0, 0)
+        .unwrap();
+    w.add_sphere(Vector3::new(2.0 * r - d, 0.0, r - 2.0 * d), z, r, 2500.0, 1)
+        .unwrap();
+    w.add_sphere(Vector3::new(-2.0 * r + d, 0.0, 0.5), z, r, 2500.0, 0)
+        .unwrap();
+    w.add_sphere(Vector3::new(-4.0 * r + 2.0 * d, 0.0, 0.5), z, r, 2500.0, 0)
+        .unwrap();
+    w.compute_forces();
+    let f = w.forces().0;
+    // Sphere 0: wall 400·d up, species 0–1 pair ≈ 200·d along −x (the pair is tilted by
+    // d/2r: within 1 %); sphere 1: wall 500·2d; spheres 2–3: 100·d.
+    let near = |a: f64, b: f64| (a / b - 1.0).abs() < 0.01;
+    assert!(
+        near(f[0].z, 400.0 * d) && near(-f[0].x, 200.0 * d),
+        "{:?}",
+        f[0]
+    );
+    assert!(
+        near(f[1].z, 1000.0 * d) && near(f[1].x, 200.0 * d),
+        "{:?}",
+        f[1]
+    );
+    assert!(near(f[2].x.abs(), 100.0 * d), "{:?}", f[2]);
+    let e = Laws::table(
+        vec![k(100.0), k(200.0), k(250.0), k(300.0)],
+        vec![k(1.0); 2],
+    )
+    .unwrap_err();
+    assert!(e.to_string().starts_with("laws.pair[1][0]: "));
+}
