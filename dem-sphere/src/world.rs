@@ -628,8 +628,9 @@ impl World {
         }
     }
 
-    /// Energies now (module docs of [`crate::energy`]); the balance terms are tracked only
-    /// with `config.energy`.
+    /// Energies now (module docs of [`crate::energy`]). The strain energy and the balance
+    /// terms (dissipation, wall work, the initial energy) are tracked only with
+    /// `config.energy`; kinetic and gravity terms always.
     pub fn energy(&self) -> EnergyReport {
         let s = &self.spheres;
         let g = self.config.gravity;
