@@ -1,0 +1,37 @@
+#!/usr/bin/env bash
+# The Python bindings (issue 53, docs/python.md), run from .ci/run: a fresh virtual
+# environment in a temporary folder, `pip install .` from the repository root (maturin from
+# PyPI builds python/, timed), then the pytest suite python/tests (its CLI-equal test runs
+# `dem test cutting`: $DEM_CLI, else target/release/dem, else `cargo run --release`) and the
+# tutorial docs/python/tutorial.py. Exits non-zero on any failure.
+#
+# Cost: ~45 s of tests and tutorial on one core; the build shares the workspace's target/
+# (CARGO_TARGET_DIR, default <repo>/target), so after `cargo build --release` it compiles
+# only PyO3 and the bindings (~1.5-2 min on 2 cores; a cold build of everything ~6 min).
+#
+# Usage: scripts/python-check.sh   ($PYTHON: the interpreter, default python3)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+root=$(pwd)
+PY=${PYTHON:-python3}
+export CARGO_TARGET_DIR=${CARGO_TARGET_DIR:-$root/target}
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+"$PY" -m venv "$work/venv"
+venv="$work/venv/bin"
+"$venv/python" -m pip install --quiet --upgrade pip
+t0=$(date +%s)
+"$venv/python" -m pip install --quiet ".[test,pandas]"
+t1=$(date +%s)
+echo "python-check: pip install . took $((t1 - t0)) s"
+# The tests import the installed package, not the source folder.
+(cd "$work" && "$venv/python" -m pytest -q -p no:cacheprovider "$root/python/tests")
+t2=$(date +%s)
+echo "python-check: pytest took $((t2 - t1)) s"
+TUTORIAL_OUT="$work/tutorial" "$venv/python" docs/python/tutorial.py > "$work/tutorial.log" \
+    || { cat "$work/tutorial.log"; echo "python-check: the tutorial failed"; exit 1; }
+for f in grain-01.png forces.png cut.png; do
+    [ -s "$work/tutorial/$f" ] || { echo "python-check: the tutorial wrote no $f"; exit 1; }
+done
+t3=$(date +%s)
+echo "python-check: tutorial took $((t3 - t2)) s; all passed in $((t3 - t0)) s"
