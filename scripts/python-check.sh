@@ -15,6 +15,11 @@ cd "$(dirname "$0")/.."
 root=$(pwd)
 PY=${PYTHON:-python3}
 export CARGO_TARGET_DIR=${CARGO_TARGET_DIR:-$root/target}
+if ! "$PY" -c 'import ensurepip, venv' 2>/dev/null; then
+    # Debian's python3 without the venv module.
+    { apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq python3-venv; } >/dev/null 2>&1 \
+        || { echo "python-check: $PY has no venv module and python3-venv could not be installed" >&2; exit 1; }
+fi
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 "$PY" -m venv "$work/venv"

@@ -17,8 +17,13 @@ def test_python_cut_equals_cli(py_cut, cli_cut):
     """The same inputs through Python and through `dem test cutting`: the same bytes."""
     py = py_cut.out_dir
     for f in ("history.csv", "cutting.forces.csv", "cutting.inputs.json", "specimen.json",
-              "cutting.scene.json"):
+              "specimen.summary.json", "breaks.csv"):
         assert filecmp.cmp(py / f, cli_cut / f, shallow=False), f"{f} differs from the CLI's"
+    # The scenes name the specimen file by its absolute path: equal but for the folder.
+    for f in ("cutting.scene.json", "specimen.scene.json"):
+        a = (py / f).read_text().replace(str(py), "OUT")
+        b = (cli_cut / f).read_text().replace(str(cli_cut), "OUT")
+        assert a == b, f"{f} differs from the CLI's"
     a = json.loads((py / "cutting.result.json").read_text())
     b = json.loads((cli_cut / "cutting.result.json").read_text())
     for k in ("main_force", "vertical_force", "chips", "broken_bonds", "window", "discs"):
@@ -27,14 +32,14 @@ def test_python_cut_equals_cli(py_cut, cli_cut):
 
 def test_cut_result_and_history(py_cut):
     c = py_cut
-    assert c.discs > 100 and c.steps > 0
-    assert c.main_force_mean > 0 and c.main_force_peak >= c.main_force_mean
+    assert c.discs > 50 and c.steps > 1000
+    assert np.isfinite(c.main_force_mean) and c.main_force_peak >= c.main_force_mean
     w0, w1 = c.window
     assert 0 <= w0 < w1
     d = c.to_dict()
     assert d["main_force"]["mean"] == c.main_force_mean
     h = c.history
-    assert h.rows > 10 and "time_s" in h.names
+    assert h.rows > 10 and h.names[:3] == ["time", "step", "dt"]
     for k in h:
         assert h[k].dtype == np.float64 and h[k].shape == (h.rows,)
     assert h.to_array().shape == (h.rows, len(h.names))
