@@ -9,7 +9,7 @@
 //! [`POLL`] to check for Ctrl-C (`py.check_signals()`, which only the main thread can do) and
 //! calls the user's callback on the calling thread when the work asks for it.
 
-use numpy::{PyArray1, PyArray2, PyArrayMethods};
+use numpy::{PyArray1, PyArray2};
 use pyo3::exceptions::{PyOSError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict, PyType};

@@ -50,7 +50,7 @@ def test_template_file_round_trip(tmp_path):
 def test_template_from_file_equals_points(tmp_path):
     pts = ellipse()
     f = tmp_path / "grain.csv"
-    f.write_text("".join(f"{x!r} {y!r}\n" for x, y in pts))
+    f.write_text("".join(f"{float(x)!r} {float(y)!r}\n" for x, y in pts))
     a = bd.template_from_file(f, units="m", max_discs=9)
     b = bd.template_from_points(pts, max_discs=9)
     np.testing.assert_array_equal(a.discs, b.discs)
