@@ -66,7 +66,13 @@ fn exc(py: Python<'_>, name: &str, msg: String) -> PyErr {
 /// A library error as the package's exception.
 fn dem_err<E: std::error::Error + 'static>(e: E) -> PyErr {
     let io = is_io(&e);
-    Python::with_gil(|py| exc(py, if io { "DemIOError" } else { "DemError" }, e.to_string()))
+    Python::with_gil(|py| {
+        exc(
+            py,
+            if io { "DemIOError" } else { "DemError" },
+            e.to_string(),
+        )
+    })
 }
 
 /// A message (the CLI's own checks, which `dem` returns as strings) as a `DemError`.
@@ -99,9 +105,11 @@ fn length_m(v: &Bound<'_, PyAny>, what: &str) -> PyResult<f64> {
     if let Ok(x) = v.extract::<f64>() {
         return Ok(x);
     }
-    let s: String = v
-        .extract()
-        .map_err(|_| msg_err(format!("{what}: a length in m (float) or with unit (\"0.5mm\")")))?;
+    let s: String = v.extract().map_err(|_| {
+        msg_err(format!(
+            "{what}: a length in m (float) or with unit (\"0.5mm\")"
+        ))
+    })?;
     parse_length(&s, what).map_err(msg_err)
 }
 
@@ -117,7 +125,9 @@ fn parse_length(s: &str, what: &str) -> Result<f64, String> {
                 .map_err(|_| format!("{what} {s:?}: not a number with unit"));
         }
     }
-    Err(format!("{what} {s:?}: give a unit: mm, um or m (e.g. 0.5mm)"))
+    Err(format!(
+        "{what} {s:?}: give a unit: mm, um or m (e.g. 0.5mm)"
+    ))
 }
 
 /// A template radius: a float is a fraction of the grain's equivalent radius, a string is
@@ -127,7 +137,9 @@ fn clump_length(v: &Bound<'_, PyAny>, what: &str) -> PyResult<clumpgen::Length> 
         return Ok(clumpgen::Length::OfReq(x));
     }
     let s: String = v.extract().map_err(|_| {
-        msg_err(format!("--{what}: a fraction of R_eq (float) or a length like \"0.1mm\""))
+        msg_err(format!(
+            "--{what}: a fraction of R_eq (float) or a length like \"0.1mm\""
+        ))
     })?;
     let s = s.trim();
     for (suffix, scale) in [("um", 1e-6), ("µm", 1e-6), ("mm", 1e-3), ("m", 1.0)] {
@@ -308,10 +320,8 @@ fn clump_params(
 }
 
 fn units(s: Option<&str>) -> PyResult<Option<clumpgen::Units>> {
-    s.map(|u| {
-        clumpgen::Units::parse(u, None).map_err(dem_err)
-    })
-    .transpose()
+    s.map(|u| clumpgen::Units::parse(u, None).map_err(dem_err))
+        .transpose()
 }
 
 /// A template from an outline given as points: `points` of shape (n, 2) (x, y in `units`, no
@@ -466,7 +476,10 @@ impl LabModel {
             .map_err(|e| msg_err(format!("--model {}: {e}", path.display())))?;
         if let Some(o) = &m.flat_joint {
             o.check().map_err(|(field, why)| {
-                msg_err(format!("--model {}: flat_joint.{field} {why}", path.display()))
+                msg_err(format!(
+                    "--model {}: flat_joint.{field} {why}",
+                    path.display()
+                ))
             })?;
         }
         Ok(LabModel { m })
@@ -1045,9 +1058,8 @@ fn cut(
                 Ok(i) => i,
                 Err(e) => return Err(dem_err(e)),
             };
-            cutting::check_geometry(&test, info.extent).map_err(|e| {
-                msg_err(format!("{e} (specimen {})", path.display()))
-            })?;
+            cutting::check_geometry(&test, info.extent)
+                .map_err(|e| msg_err(format!("{e} (specimen {})", path.display())))?;
             let model = match inputs.model.clone() {
                 Some(m) => m,
                 None => {
@@ -1174,9 +1186,7 @@ fn run_scene(
                     stop: Some(Box::new(move |_| s2.get())),
                 });
             }
-            let (summary, ending) = sim
-                .run(&mut |_, _| ctl.check())
-                .map_err(dem_err)?;
+            let (summary, ending) = sim.run(&mut |_, _| ctl.check()).map_err(dem_err)?;
             let e = match ending {
                 Ending::Completed => "completed",
                 Ending::MaxSteps => "max_steps",
@@ -1330,12 +1340,20 @@ fn render_png<'py>(
     std::fs::create_dir_all(&dir).map_err(|e| io_err(format!("{}: {e}", dir.display())))?;
     let out = dir.join("picture.png");
     let job = render_job(
-        input, out.clone(), width, color, bonds, broken, view, speed_max, outline,
+        input,
+        out.clone(),
+        width,
+        color,
+        bonds,
+        broken,
+        view,
+        speed_max,
+        outline,
     )?;
     let r = py.allow_threads(|| dem_render::run(&job, &mut |_| {}));
-    let bytes = r.map_err(dem_err).and_then(|_| {
-        std::fs::read(&out).map_err(|e| io_err(format!("{}: {e}", out.display())))
-    });
+    let bytes = r
+        .map_err(dem_err)
+        .and_then(|_| std::fs::read(&out).map_err(|e| io_err(format!("{}: {e}", out.display()))));
     let _ = std::fs::remove_dir_all(&dir);
     Ok(PyBytes::new(py, &bytes?))
 }
