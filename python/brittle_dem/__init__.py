@@ -47,6 +47,7 @@ __all__ = [
     "DemStopped",
     "History",
     "LabModel",
+    "LabTest",
     "Run",
     "RunResult",
     "Specimen",
@@ -55,6 +56,7 @@ __all__ = [
     "cut",
     "cutting_test",
     "generate_specimen",
+    "lab_test",
     "load_model",
     "read_history",
     "read_outline",
@@ -244,6 +246,64 @@ def cut(
         resume=resume,
     )
     return Cut(r)
+
+
+# ---------------------------------------------------------------------------------------------
+# The quasi-static lab tests
+
+
+class LabTest:
+    """A finished quasi-static lab test: its result (``<name>.result.json``) and history."""
+
+    def __init__(self, result: "_native.LabResult"):
+        self.lab_result = result
+        self.name = result.name
+        self.out_dir = Path(result.out_dir)
+        self.run_dir = Path(result.run_dir)
+        self._history: Optional[History] = None
+
+    @property
+    def result(self) -> Dict[str, Any]:
+        """What the analysis measured (SI: strengths and moduli in Pa, strains, loads in N)."""
+        return self.lab_result.result
+
+    def to_dict(self) -> Dict[str, Any]:
+        """``<name>.result.json`` as a dict: test, model, specimen, result, run."""
+        return self.lab_result.to_dict()
+
+    @property
+    def history(self) -> History:
+        """The run's ``history.csv`` as numpy arrays."""
+        if self._history is None:
+            self._history = read_history(self.run_dir / "history.csv")
+        return self._history
+
+    def __repr__(self) -> str:
+        return f"LabTest({self.name}: {self.result})"
+
+
+def lab_test(
+    kind: str,
+    out: PathLike,
+    specimen: SpecimenParams,
+    test: Optional[Mapping[str, Any]] = None,
+    *,
+    model: Union[LabModel, PathLike, Mapping[str, Any], None] = None,
+    threads: Optional[int] = None,
+    callback: Optional[Callable[[int, int], Optional[bool]]] = None,
+    every: int = 0,
+) -> LabTest:
+    """A quasi-static lab test, ``kind`` one of ``ucs``, ``brazilian``, ``bending``, ``senb``
+    (``dem test <kind>``), into the folder ``out``: ``test`` the fields to change from the
+    test's defaults (its JSON form, SI: e.g. ``{"width": 0.01, "height": 0.02}`` for ucs,
+    ``{"diameter": 0.01}`` for brazilian; ``loading`` nested), on a specimen of the
+    parameters ``specimen`` cut to the test's shape (``out/<name>.specimen.json``, reused
+    when the same parameters made it), with ``model`` (None: the specimen parameters' own).
+    ``callback(done, total)`` as for :func:`cut`."""
+    m = None if model is None else load_model(model)
+    r = _native.lab_test(kind, os.fspath(out), specimen, test=None if test is None else dict(test),
+                         model=m, threads=threads, callback=callback, every=every)
+    return LabTest(r)
 
 
 # ---------------------------------------------------------------------------------------------

@@ -216,6 +216,30 @@ def cut(
     resume: bool = True,
 ) -> CuttingResult: ...
 
+class LabResult:
+    """A quasi-static lab test's <name>.result.json."""
+    def to_dict(self) -> Dict[str, Any]: ...
+    @property
+    def result(self) -> Dict[str, Any]: ...
+    @property
+    def name(self) -> str: ...
+    @property
+    def run_dir(self) -> str: ...
+    @property
+    def out_dir(self) -> str: ...
+
+def lab_test(
+    kind: str,
+    out: _Path,
+    specimen: SpecimenParams,
+    *,
+    test: Optional[Dict[str, Any]] = None,
+    model: Optional[LabModel] = None,
+    threads: Optional[int] = None,
+    callback: Optional[Callable[[int, int], Optional[bool]]] = None,
+    every: int = 0,
+) -> LabResult: ...
+
 class RunResult:
     @property
     def ending(self) -> str: ...

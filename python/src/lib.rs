@@ -435,6 +435,9 @@ fn template_from_file(
     })
 }
 
+/// An outline's points ((n, 2), m) and origin ((2,), m).
+type PointsAndOrigin<'py> = (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray1<f64>>);
+
 /// Reads an outline file: its points (m, local frame centred on the bounding box, shape
 /// (n, 2)) and the origin (m) subtracted from them.
 #[pyfunction]
@@ -443,7 +446,7 @@ fn read_outline<'py>(
     py: Python<'py>,
     path: PathBuf,
     units: Option<&str>,
-) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray1<f64>>)> {
+) -> PyResult<PointsAndOrigin<'py>> {
     let opts = clumpgen::ReadOptions {
         units: self::units(units)?,
         resample: None,
@@ -1088,6 +1091,171 @@ fn cut(
 }
 
 // ---------------------------------------------------------------------------------------
+// The quasi-static lab tests (`dem test ucs | brazilian | bending | senb`).
+
+/// The result of a quasi-static lab test (`<name>.result.json`: the test, model, specimen,
+/// what the analysis measured, the run's facts) and where its outputs are.
+#[pyclass(module = "brittle_dem._native", frozen)]
+struct LabResult {
+    outcome: serde_json::Value,
+    name: String,
+    out: PathBuf,
+}
+
+#[pymethods]
+impl LabResult {
+    /// The whole result as a dict (`<name>.result.json`).
+    fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        to_py(py, &self.outcome)
+    }
+    /// What the analysis measured (the result's `result`: strengths in Pa, moduli in Pa ...).
+    #[getter]
+    fn result<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        to_py(py, &self.outcome["result"])
+    }
+    /// The test's name (its files' stem).
+    #[getter]
+    fn name(&self) -> String {
+        self.name.clone()
+    }
+    /// The run's output folder (`<out>/<name>.out`: history.csv, summary.json, ...).
+    #[getter]
+    fn run_dir(&self) -> PathBuf {
+        self.out.join(format!("{}.out", self.name))
+    }
+    /// The folder of the test's files.
+    #[getter]
+    fn out_dir(&self) -> PathBuf {
+        self.out.clone()
+    }
+    fn __repr__(&self) -> String {
+        format!("LabResult({}: {})", self.name, self.outcome["result"])
+    }
+}
+
+/// `T::default()` with the fields of `d` (the test's JSON form), as the typed test.
+fn test_of<T: serde::Serialize + serde::de::DeserializeOwned + Default>(
+    d: Option<&Bound<'_, PyDict>>,
+    what: &str,
+) -> PyResult<T> {
+    let Some(d) = d.filter(|d| !d.is_empty()) else {
+        return Ok(T::default());
+    };
+    let v: serde_json::Value = from_py(d.as_any(), what)?;
+    serde_path_to_error::deserialize(v)
+        .map_err(|e| msg_err(format!("{what}: field {}: {}", e.path(), e.inner())))
+}
+
+/// Runs the quasi-static test `test` as `dem test <kind>` does: the specimen of `p` in the
+/// test's shape (generated into `<out>/<name>.specimen.json`, or reused when the same
+/// parameters made it there before), then the test beside it.
+#[allow(clippy::too_many_arguments)]
+fn quasi_static<T>(
+    py: Python<'_>,
+    out: PathBuf,
+    test: T,
+    p: dem_lab::specimen::SpecimenParams,
+    model: Option<dem_lab::LabModel>,
+    threads: Option<usize>,
+    callback: Option<PyObject>,
+    every: u64,
+) -> PyResult<LabResult>
+where
+    T: dem_lab::tests::QuasiStatic + Send + Sync,
+{
+    let model = model.unwrap_or_else(|| dem_lab::LabModel::from_params(&p));
+    let name = test.name().to_string();
+    let file = out.join(format!("{name}.specimen.json"));
+    std::fs::create_dir_all(&out).map_err(|e| io_err(format!("{}: {e}", out.display())))?;
+    let v = drive(
+        py,
+        threads,
+        move |ctl: &Ctl| -> PyResult<serde_json::Value> {
+            let spec =
+                dem_lab::specimen::cache::prepare(&p, test.shape(), &file, &mut |_| ctl.check())
+                    .map_err(dem_err)?;
+            let mut next = 0u64;
+            let o = dem_lab::tests::run(&test, &model, &spec, &mut |done, total| {
+                ctl.check();
+                if done >= next || done == total {
+                    next = done + every;
+                    if ctl.ask(Msg::Progress(done, total)) == Reply::Stop {
+                        ctl.stop();
+                    }
+                }
+            })
+            .map_err(dem_err)?;
+            serde_json::to_value(&o).map_err(|e| msg_err(e.to_string()))
+        },
+        |py, m| on_msg(py, m, callback.as_ref()),
+    )??;
+    Ok(LabResult {
+        outcome: v,
+        name,
+        out,
+    })
+}
+
+/// A quasi-static lab test (`dem test ucs | brazilian | bending | senb`) into the folder `out`:
+/// `test` the fields to change from the test's defaults (SI units: its JSON form, e.g.
+/// `{"width": 0.01, "height": 0.02}` for ucs, `{"diameter": 0.01}` for brazilian), on a
+/// specimen of the parameters `specimen` (the box is the test's shape), with `model` (None:
+/// the specimen parameters' own, as without `--model`). `callback(done, total)` as for
+/// `cut`.
+#[pyfunction]
+#[pyo3(signature = (kind, out, specimen, *, test=None, model=None, threads=None, callback=None,
+    every=0))]
+#[allow(clippy::too_many_arguments)]
+fn lab_test(
+    py: Python<'_>,
+    kind: &str,
+    out: PathBuf,
+    specimen: &SpecimenParams,
+    test: Option<&Bound<'_, PyDict>>,
+    model: Option<&LabModel>,
+    threads: Option<usize>,
+    callback: Option<PyObject>,
+    every: u64,
+) -> PyResult<LabResult> {
+    use dem_lab::tests::ucs::UcsTest;
+    use dem_lab::tests::{bending::BendingTest, brazilian::BrazilianTest, senb::SenbTest};
+    let p = specimen.p.clone();
+    let m = model.map(|m| m.m.clone());
+    let r_mean = 0.5 * (p.r_min + p.r_max);
+    match kind {
+        "ucs" => {
+            let t: UcsTest = test_of(test, "ucs")?;
+            t.validate().map_err(dem_err)?;
+            t.check_geometry([t.width, t.height], r_mean)
+                .map_err(dem_err)?;
+            quasi_static(py, out, t, p, m, threads, callback, every)
+        }
+        "brazilian" => {
+            let t: BrazilianTest = test_of(test, "brazilian")?;
+            t.validate().map_err(dem_err)?;
+            t.check_geometry(t.diameter, r_mean).map_err(dem_err)?;
+            quasi_static(py, out, t, p, m, threads, callback, every)
+        }
+        "bending" => {
+            let t: BendingTest = test_of(test, "bending")?;
+            t.validate().map_err(dem_err)?;
+            t.check_geometry([t.length, t.height], r_mean)
+                .map_err(dem_err)?;
+            quasi_static(py, out, t, p, m, threads, callback, every)
+        }
+        "senb" => {
+            let t: SenbTest = test_of(test, "senb")?;
+            t.validate().map_err(dem_err)?;
+            t.check_geometry(r_mean).map_err(dem_err)?;
+            quasi_static(py, out, t, p, m, threads, callback, every)
+        }
+        k => Err(msg_err(format!(
+            "{k:?} is not a quasi-static lab test: ucs, brazilian, bending or senb (cuts: cut)"
+        ))),
+    }
+}
+
+// ---------------------------------------------------------------------------------------
 // Scenes (`dem run`).
 
 /// How a scene run ended, with its summary (`summary.json`).
@@ -1207,6 +1375,7 @@ fn run_scene(
 // ---------------------------------------------------------------------------------------
 // Pictures (`dem render`).
 
+#[allow(clippy::too_many_arguments)]
 fn render_job(
     input: PathBuf,
     out: PathBuf,
@@ -1380,6 +1549,8 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(read_outline, m)?)?;
     m.add_function(wrap_pyfunction!(generate_specimen, m)?)?;
     m.add_function(wrap_pyfunction!(cut, m)?)?;
+    m.add_function(wrap_pyfunction!(lab_test, m)?)?;
+    m.add_class::<LabResult>()?;
     m.add_function(wrap_pyfunction!(run_scene, m)?)?;
     m.add_function(wrap_pyfunction!(render, m)?)?;
     m.add_function(wrap_pyfunction!(render_png, m)?)?;
