@@ -129,3 +129,24 @@ def test_cut_errors(tmp_path):
     p = bd.SpecimenParams("traditional", "2mm", "1mm", "0.175mm", "0.285mm", 3200.0, 300e9, 5e8)
     with pytest.raises(bd.DemError, match="length"):
         bd.cut(tmp_path, bd.cutting_test(depth=0.3e-3, length=10e-3), specimen=p)
+
+
+def test_gil_released_during_a_cut(tmp_path):
+    """Another Python thread runs while a cut runs (the GIL is released)."""
+    ticks = []
+    done = threading.Event()
+
+    def count():
+        while not done.is_set():
+            ticks.append(1)
+            done.wait(0.01)
+
+    th = threading.Thread(target=count)
+    th.start()
+    try:
+        c = python_cut_with(tmp_path, threads=1)
+    finally:
+        done.set()
+        th.join()
+    # The cut takes about a second or more: the counter ticks every 10 ms meanwhile.
+    assert len(ticks) >= 0.2 * c.wall_time_s / 0.01
