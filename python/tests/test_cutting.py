@@ -150,3 +150,18 @@ def test_gil_released_during_a_cut(tmp_path):
         th.join()
     # The cut takes about a second or more: the counter ticks every 10 ms meanwhile.
     assert len(ticks) >= 0.2 * c.wall_time_s / 0.01
+
+
+def test_cut_of_a_specimen_file(py_cut, tmp_path):
+    """A cut of the specimen file the first cut generated, with the same model: the same
+    history (the specimen file is the same bytes, so the run is the same)."""
+    import shutil
+
+    for f in ("specimen.json", "specimen.summary.json", "specimen.scene.json"):
+        shutil.copy(py_cut.out_dir / f, tmp_path / f)
+    model = bd.LabModel.from_dict(json.loads((py_cut.out_dir / "cutting.inputs.json").read_text())["model"])
+    c = bd.cut(tmp_path / "cut", py_cut.to_dict()["test"], specimen_file=tmp_path / "specimen.json",
+               model=model, threads=1)
+    assert filecmp.cmp(c.out_dir / "history.csv", py_cut.out_dir / "history.csv", shallow=False)
+    inputs = json.loads((c.out_dir / "cutting.inputs.json").read_text())
+    assert inputs["specimen"] is None and inputs["specimen_file"].endswith("specimen.json")
