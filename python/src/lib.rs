@@ -779,6 +779,8 @@ fn generate_specimen(
     callback: Option<PyObject>,
 ) -> PyResult<Specimen> {
     let p = params.p.clone();
+    // (No callback: no hand-off to the calling thread at all.)
+    let asks = callback.is_some();
     let out = drive(
         py,
         threads,
@@ -786,7 +788,7 @@ fn generate_specimen(
             let mut last = String::new();
             dem_lab::specimen::generate(&p, &mut |pr| {
                 ctl.check();
-                if pr.stage != last {
+                if asks && pr.stage != last {
                     last = pr.stage.to_string();
                     if ctl.ask(Msg::Stage(last.clone(), pr.fraction)) == Reply::Stop {
                         ctl.stop();
@@ -1045,6 +1047,8 @@ fn cut(
         ..cutting::CuttingRunOptions::default()
     };
     let out2 = out.clone();
+    // (No callback: no hand-off to the calling thread at all.)
+    let asks = callback.is_some();
     let r = drive(
         py,
         threads,
@@ -1075,7 +1079,7 @@ fn cut(
             let mut next = 0u64;
             let r = cutting::run_with(&test, &model, &info, &out2, &ro, &mut |done, total| {
                 ctl.check();
-                if done >= next || done == total {
+                if asks && (done >= next || done == total) {
                     next = done + every;
                     if ctl.ask(Msg::Progress(done, total)) == Reply::Stop {
                         ctl.stop();
@@ -1167,6 +1171,8 @@ where
     let name = test.name().to_string();
     let file = out.join(format!("{name}.specimen.json"));
     std::fs::create_dir_all(&out).map_err(|e| io_err(format!("{}: {e}", out.display())))?;
+    // (No callback: no hand-off to the calling thread at all.)
+    let asks = callback.is_some();
     let v = drive(
         py,
         threads,
@@ -1177,7 +1183,7 @@ where
             let mut next = 0u64;
             let o = dem_lab::tests::run(&test, &model, &spec, &mut |done, total| {
                 ctl.check();
-                if done >= next || done == total {
+                if asks && (done >= next || done == total) {
                     next = done + every;
                     if ctl.ask(Msg::Progress(done, total)) == Reply::Stop {
                         ctl.stop();
