@@ -62,6 +62,9 @@ __all__ = [
     "read_outline",
     "render",
     "run",
+    "sweep_status",
+    "sweep_table",
+    "SweepTable",
     "template_from_file",
     "template_from_points",
 ]
@@ -377,6 +380,66 @@ def run(
         restart=None if restart is None else os.fspath(restart),
     )
     return Run(r)
+
+
+# ---------------------------------------------------------------------------------------------
+# Studies (`dem sweep`)
+
+
+class SweepTable:
+    """The table of a sweep folder (``dem sweep collect``): ``cases`` (one dict per case: axis
+    values, collected outputs, status, times), ``aggregates`` (over seeds: n, mean, sd, se,
+    median), ``axes``."""
+
+    def __init__(self, table: Dict[str, Any]):
+        self.table = table
+
+    @property
+    def cases(self) -> List[Dict[str, Any]]:
+        return self.table["cases"]
+
+    @property
+    def aggregates(self) -> List[Dict[str, Any]]:
+        return self.table["aggregates"]
+
+    @property
+    def axes(self) -> List[str]:
+        return self.table["axes"]
+
+    def outputs(self, name: str) -> np.ndarray:
+        """The collected output ``name`` (e.g. ``result.tensile_strength``) of every case as a
+        float64 array (NaN where a case has none)."""
+        return np.array([np.nan if c["outputs"].get(name) is None else c["outputs"][name]
+                         for c in self.cases], dtype=np.float64)
+
+    def to_pandas(self):
+        """One row per case: the axes, the outputs, status (needs pandas)."""
+        try:
+            import pandas as pd
+        except ImportError as e:  # pragma: no cover - depends on the environment
+            raise ImportError("SweepTable.to_pandas needs pandas: pip install pandas") from e
+        rows = []
+        for c in self.cases:
+            r = {"index": c["index"], "key": c["key"], "status": c["status"]}
+            r.update(c.get("axes", {}))
+            r.update(c.get("outputs", {}))
+            rows.append(r)
+        return pd.DataFrame(rows)
+
+    def to_dict(self) -> Dict[str, Any]:
+        return self.table
+
+
+def sweep_table(dir: PathLike, *, timing: bool = True) -> SweepTable:
+    """The table of the sweep folder ``dir`` (planned with ``dem sweep plan``, run with ``dem
+    sweep run``): as ``dem sweep collect --out table.json`` writes it (``timing=False``:
+    ``--no-timing``)."""
+    return SweepTable(_native.sweep_table(os.fspath(dir), timing=timing))
+
+
+def sweep_status(dir: PathLike) -> List[str]:
+    """The lines ``dem sweep status DIR`` prints."""
+    return _native.sweep_status(os.fspath(dir))
 
 
 # ---------------------------------------------------------------------------------------------

@@ -1535,6 +1535,39 @@ fn render_png<'py>(
 
 static NEXT: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
 
+// ---------------------------------------------------------------------------------------
+// Studies (`dem sweep`): the table and status of a sweep folder.
+
+/// A dem-run error as the package's exception (its file errors as `DemIOError`).
+fn run_err(e: dem_run::Error) -> PyErr {
+    let io = e.kind() == dem_run::ErrorKind::Io;
+    Python::with_gil(|py| {
+        exc(
+            py,
+            if io { "DemIOError" } else { "DemError" },
+            e.to_string(),
+        )
+    })
+}
+
+/// The table of the sweep folder `dir` (`dem sweep collect --out table.json`): one row per
+/// case (axis values, collected outputs, status, times) and aggregates over seeds.
+/// `timing=False` leaves out the wall and CPU times (`--no-timing`).
+#[pyfunction]
+#[pyo3(signature = (dir, *, timing=true))]
+fn sweep_table<'py>(py: Python<'py>, dir: PathBuf, timing: bool) -> PyResult<Bound<'py, PyAny>> {
+    let v = py
+        .allow_threads(|| dem_run::collect::table(&dir, timing))
+        .map_err(run_err)?;
+    to_py(py, &v)
+}
+
+/// The lines `dem sweep status DIR` prints: the counts, a line per case, the time taken.
+#[pyfunction]
+fn sweep_status(dir: PathBuf) -> PyResult<Vec<String>> {
+    dem_run::collect::status(&dir).map_err(run_err)
+}
+
 /// The library's version and the schema names it writes.
 #[pyfunction]
 fn version() -> &'static str {
@@ -1561,5 +1594,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(render, m)?)?;
     m.add_function(wrap_pyfunction!(render_png, m)?)?;
     m.add_function(wrap_pyfunction!(version, m)?)?;
+    m.add_function(wrap_pyfunction!(sweep_table, m)?)?;
+    m.add_function(wrap_pyfunction!(sweep_status, m)?)?;
     Ok(())
 }
