@@ -108,6 +108,11 @@ pub fn drive<T: Send>(
                         }),
                     };
                     let _ = reply.send(r);
+                    // (Messages may come faster than the poll: Ctrl-C is checked here too.)
+                    if let Err(e) = py.check_signals() {
+                        pending.get_or_insert(e);
+                        cancel.store(true, Ordering::Relaxed);
+                    }
                 }
                 Err(RecvTimeoutError::Timeout) => {
                     if let Err(e) = py.check_signals() {

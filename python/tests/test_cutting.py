@@ -93,20 +93,33 @@ def test_cut_stopped_then_resumed(py_cut, tmp_path):
     assert filecmp.cmp(c.out_dir / "history.csv", py_cut.out_dir / "history.csv", shallow=False)
 
 
-def test_cut_ctrl_c(tmp_path):
-    """Ctrl-C (SIGINT on the main thread) stops a running cut with KeyboardInterrupt."""
-    started = threading.Event()
+@pytest.mark.parametrize("with_callback", [True, False])
+def test_cut_ctrl_c(tmp_path, with_callback):
+    """Ctrl-C (SIGINT on the main thread) stops a running cut with KeyboardInterrupt, with a
+    callback (raised in it) or without (seen by the waiting thread's poll)."""
+    import time
+
+    calls = []
 
     def cb(done, total):
-        started.set()
+        calls.append(done)
+        time.sleep(0.002)  # a slower cut: the interrupt lands inside it
 
     def interrupt():
-        started.wait(60)
+        if with_callback:
+            while len(calls) < 10:
+                time.sleep(0.01)
+        else:
+            time.sleep(0.3)
         _thread.interrupt_main()
 
     threading.Thread(target=interrupt, daemon=True).start()
+    completed = []
     with pytest.raises(KeyboardInterrupt):
-        python_cut_with(tmp_path, threads=1, callback=cb)
+        python_cut_with(tmp_path, threads=1, callback=cb if with_callback else None)
+        completed.append(True)
+        time.sleep(10)  # an interrupt that came after the cut lands here
+    assert not completed, "the interrupt came after the cut had ended"
 
 
 def test_callback_exception_propagates(tmp_path):
