@@ -113,12 +113,20 @@ def test_cut_ctrl_c(tmp_path, with_callback):
             time.sleep(0.3)
         _thread.interrupt_main()
 
-    threading.Thread(target=interrupt, daemon=True).start()
-    completed = []
-    with pytest.raises(KeyboardInterrupt):
-        python_cut_with(tmp_path, threads=1, callback=cb if with_callback else None)
-        completed.append(True)
-        time.sleep(10)  # an interrupt that came after the cut lands here
+    # Python's own SIGINT handler (a shell's background job starts with SIGINT ignored, and
+    # then interrupt_main does nothing).
+    import signal
+
+    old = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        threading.Thread(target=interrupt, daemon=True).start()
+        completed = []
+        with pytest.raises(KeyboardInterrupt):
+            python_cut_with(tmp_path, threads=1, callback=cb if with_callback else None)
+            completed.append(True)
+            time.sleep(10)  # an interrupt that came after the cut lands here
+    finally:
+        signal.signal(signal.SIGINT, old)
     assert not completed, "the interrupt came after the cut had ended"
 
 
