@@ -5,13 +5,14 @@
 # `dem test cutting`: $DEM_CLI, else target/release/dem, else `cargo run --release`) and the
 # tutorial docs/python/tutorial.py. Exits non-zero on any failure.
 #
-# Cost (measured here: 4 min 58 s in all): the build, then ~15-20 s of tests and ~4 s of
-# tutorial. The build uses the quick
-# profile of python/Cargo.toml (opt-level 1; the same results, the CLI-equal test passes with
-# it; runs ~30 % slower): cold, on a fresh clone, 243 s on 2 cores shared with other jobs
-# (the release profile: 358-379 s); with the build folder of an earlier run, ~25 s. PyO3
-# turns on features of syn, num-complex, ... that the workspace does not, so the workspace's
-# own target/ saves little; CARGO_TARGET_DIR (default <repo>/target) is shared all the same.
+# Cost (measured here, on 2 cores shared with other jobs): the build, then ~20-60 s of tests
+# and ~4 s of tutorial. The build uses the quick profile of python/Cargo.toml (opt-level 1;
+# the same results: the CLI-equal tests pass with it; runs ~30 % slower). Cold, on a fresh
+# clone: 243 s at load ~4, 401-414 s at load ~6 (the release profile: 358-379 s at load ~4.5);
+# the whole script 4 min 40 s to 8 min. With the build folder of an earlier run: ~30 s.
+# PyO3 turns on features of syn, num-complex, ... that the workspace does not, so the
+# workspace's own target/ saves little; CARGO_TARGET_DIR (default <repo>/target) is shared all
+# the same.
 #
 # Usage: scripts/python-check.sh   ($PYTHON: the interpreter, default python3;
 # $PYTHON_CHECK_PROFILE: the cargo profile, default quick, `release` for what users build)
