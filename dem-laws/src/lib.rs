@@ -19,6 +19,8 @@
 //! gives its formulas and sources.
 
 mod hertz_mindlin;
+// Two-body impact integrator for the Chung & Ooi (2011) benchmark (issue 50 item 4).
+mod impact;
 mod kin;
 mod law;
 mod linear_spring_dashpot;
@@ -31,3 +33,9 @@ pub use law::ContactLaw;
 pub use linear_spring_dashpot::{LinearSpringDashpot, NormalDamping};
 pub use rolling::RollingResistance;
 pub use tangent::{rotate_history, Tangent};
+
+// The two-body impact integrator (issue 50 item 4).
+pub use impact::{
+    run as run_impact, Body, HertzImpact, Impact, ImpactTangent, Law, Outcome, Partner, TracePoint,
+    HERTZ_TIME_FACTOR,
+};
