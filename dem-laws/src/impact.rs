@@ -381,8 +381,16 @@ mod tests {
     fn glass_pair(v: f64) -> (Impact, HertzImpact) {
         let law = HertzMindlin::from_materials(4.8e10, 0.2, 4.8e10, 0.2, 1.0, 0.35);
         let s = Body::sphere(0.01, 2800.0);
-        let b1 = s.at(Vector3::new(-0.01, 0.0, 0.0), Vector3::new(v, 0.0, 0.0), Vector3::zeros());
-        let b2 = s.at(Vector3::new(0.01, 0.0, 0.0), Vector3::new(-v, 0.0, 0.0), Vector3::zeros());
+        let b1 = s.at(
+            Vector3::new(-0.01, 0.0, 0.0),
+            Vector3::new(v, 0.0, 0.0),
+            Vector3::zeros(),
+        );
+        let b2 = s.at(
+            Vector3::new(0.01, 0.0, 0.0),
+            Vector3::new(-v, 0.0, 0.0),
+            Vector3::zeros(),
+        );
         let h = HertzImpact::new(0.5 * s.mass, 0.005, law.e_star, 2.0 * v);
         (
             Impact {
