@@ -44,7 +44,7 @@ def run(name, r, rho, young, nu, v, wall, e):
     model = f"hertz {kn:.12e} {dcoef} tangential linear_nohistory 0.0 0.0 {damp}"
     L = 20 * r
     lines = [
-        "units si", "atom_style sphere", "dimension 3", "boundary f f f",
+        "units si", "atom_style sphere", "atom_modify map array", "dimension 3", "boundary f f f",
         "newton off", "comm_modify vel yes",
         f"region box block {-L} {L} {-L} {L} {-L} {L} units box",
         "create_box 1 box",

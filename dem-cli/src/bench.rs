@@ -486,7 +486,7 @@ fn chung_ooi(b: ChungOoiBench) -> Result<ExitCode, String> {
     if b.steps_per_contact < 100 {
         return Err("--steps-per-contact must be at least 100".into());
     }
-    let r = run_all(b.steps_per_contact);
+    let mut r = run_all(b.steps_per_contact);
     // The peer file as given, else relative to the repository the binary was built in.
     let peer_path = if b.peer.exists() {
         b.peer.clone()
@@ -524,6 +524,9 @@ fn chung_ooi(b: ChungOoiBench) -> Result<ExitCode, String> {
         for n in &p.not_run {
             println!("LAMMPS did not run: {n}");
         }
+    }
+    if let Some(p) = &peer {
+        r.add_peer(p);
     }
     if let Some(dir) = &b.out {
         std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;

@@ -55,9 +55,10 @@ pub const PEER_SCHEMA: &str = "dem.chung-ooi-peer/1";
 /// Asserted figures must be within this many per cent of their closed form.
 pub const TOLERANCE_PCT: f64 = 1.0;
 /// Oblique figures are asserted where |v_ct|/v_n is at least this factor above the gross
-/// sliding limit K μ (1 + e): near the limit the compliant contact sticks at its end, which
-/// rigid-body theory does not know (see the module docs and the reported rows).
-pub const SLIDING_MARGIN: f64 = 1.5;
+/// sliding limit K μ (1 + e): near the limit the compliant contact sticks while its tangential
+/// spring loads at the start (and its dashpot-carrying spring in the Hertz–Mindlin law), which
+/// rigid-body theory does not know: 0.9 % at 1.8 times the limit with the linear law (see the module docs and the reported rows).
+pub const SLIDING_MARGIN: f64 = 2.0;
 
 /// One elastic material of the benchmark.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -197,8 +198,10 @@ pub struct Check {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct CurveSeries {
     pub name: String,
-    /// A closed form (drawn as a line) or a run (markers).
+    /// A closed form, or a run.
     pub theory: bool,
+    /// Drawn as markers alone (else as a line).
+    pub markers: bool,
     pub points: Vec<(f64, f64)>,
 }
 
@@ -524,6 +527,7 @@ fn normal_tests(b: &mut Builder) {
             series[k].push(CurveSeries {
                 name: format!("{}: ours", m.name),
                 theory: false,
+                markers: false,
                 points: o
                     .trace
                     .iter()
@@ -531,10 +535,10 @@ fn normal_tests(b: &mut Builder) {
                     .collect(),
             });
             series[k].push(CurveSeries {
-                name: format!("{}: Hertz t_c, F_max", m.name),
+                name: format!("{}: Hertz F_max at t_c/2, and t_c", m.name),
                 theory: true,
+                markers: true,
                 points: vec![
-                    (0.0, 0.0),
                     (0.5 * h.contact_time * 1e6, h.max_force * 1e-3),
                     (h.contact_time * 1e6, 0.0),
                 ],
@@ -563,6 +567,7 @@ fn restitution_test(b: &mut Builder) {
     let mut series = vec![CurveSeries {
         name: "e_out = e_in".into(),
         theory: true,
+        markers: false,
         points: vec![(0.0, 0.0), (1.0, 1.0)],
     }];
     for m in [AL_OXIDE, CAST_IRON] {
@@ -636,11 +641,13 @@ fn restitution_test(b: &mut Builder) {
         series.push(CurveSeries {
             name: format!("{}: Hertz–Mindlin", m.name),
             theory: false,
+            markers: true,
             points: hm,
         });
         series.push(CurveSeries {
             name: format!("{}: linear", m.name),
             theory: false,
+            markers: true,
             points: lin,
         });
     }
@@ -788,11 +795,13 @@ fn pairs(data: Vec<(String, Vec<(f64, f64)>, Vec<(f64, f64)>)>) -> Vec<CurveSeri
                 CurveSeries {
                     name: format!("{n}: ours"),
                     theory: false,
+                    markers: true,
                     points: ours,
                 },
                 CurveSeries {
                     name: format!("{n}: rigid body"),
                     theory: true,
+                    markers: false,
                     points: th,
                 },
             ]
@@ -1131,6 +1140,30 @@ impl PartnerVx for Outcome {
 }
 
 impl ChungOoi {
+    /// Adds the peer's test-3 restitutions to the test-3 figure (markers).
+    pub fn add_peer(&mut self, peer: &Peer) {
+        for mat in ["Al oxide", "cast iron"] {
+            let points: Vec<(f64, f64)> = self
+                .checks
+                .iter()
+                .filter(|c| c.test == 3 && c.figure == "e_out (Hertz–Mindlin)")
+                .filter(|c| c.case.starts_with(mat))
+                .filter_map(|c| peer.value(c).map(|v| (c.closed_form, v)))
+                .collect();
+            if points.is_empty() {
+                continue;
+            }
+            if let Some(curve) = self.curves.iter_mut().find(|c| c.file.contains("test3")) {
+                curve.series.push(CurveSeries {
+                    name: format!("{mat}: {} {} (damping tsuji)", peer.code, peer.version),
+                    theory: false,
+                    markers: true,
+                    points,
+                });
+            }
+        }
+    }
+
     /// The SVG plots, one per curve.
     pub fn figures(&self) -> Result<Vec<Figure>> {
         self.curves
@@ -1144,7 +1177,7 @@ impl ChungOoi {
                         points: s.points.clone(),
                     })
                     .collect();
-                let markers: Vec<bool> = c.series.iter().map(|s| !s.theory).collect();
+                let markers: Vec<bool> = c.series.iter().map(|s| s.markers).collect();
                 let svg = plot::scatter_and_lines(
                     &c.title, &c.x_label, &c.y_label, &series, &markers, false, false,
                 )?;
@@ -1203,7 +1236,7 @@ impl ChungOoi {
         );
         md += "What is asserted: the normal tests (Hertz's δ_max, F_max, t_c and e = 1 are exact \
                for the law; e_out = e_in by construction of the damping), test 7 (no tangential \
-               force at all), and the oblique figures where |v_ct|/v_n ≥ 1.5 K μ (1+e), i.e. \
+               force at all), and the oblique figures where |v_ct|/v_n ≥ 2 K μ (1+e), i.e. \
                well into gross sliding, where rigid-body theory is exact for a contact that slides \
                throughout. Not asserted: the stick–slip region and the approach to the sliding \
                limit, where rigid-body theory says the contact point stops but Mindlin's \
@@ -1265,8 +1298,11 @@ impl ChungOoi {
 
 /// The report's `chung-ooi` section.
 pub fn section(data: &Path) -> Result<Section> {
-    let r = run_all(2000);
+    let mut r = run_all(2000);
     let peer = Peer::read(&data.join("peers/chung-ooi-lammps.json")).ok();
+    if let Some(p) = &peer {
+        r.add_peer(p);
+    }
     Ok(Section {
         title: "Chung & Ooi (2011) impact benchmark".into(),
         markdown: r.markdown(peer.as_ref()),
