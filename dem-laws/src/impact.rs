@@ -303,7 +303,7 @@ pub fn run<T: ImpactTangent>(imp: &Impact) -> Outcome {
             }
             max_force = max_force.max(out.f_n);
             max_overlap = max_overlap.max(delta);
-            if imp.trace_every > 0 && steps % imp.trace_every as u64 == 0 {
+            if imp.trace_every > 0 && steps.is_multiple_of(imp.trace_every as u64) {
                 trace.push(TracePoint {
                     t: t - t_start,
                     overlap: delta,

@@ -185,8 +185,8 @@ pub struct Check {
     pub figure: String,
     pub ours: f64,
     pub closed_form: f64,
-    /// 100 (ours − closed form)/|closed form|; against `scale` instead where the closed form
-    /// is zero (a figure that should vanish: its error relative to the scale of the problem).
+    /// 100 (ours − closed form)/|closed form|; against the scale of the problem instead where
+    /// the closed form vanishes (below 1e-6 of that scale: a figure that should be zero).
     pub error_pct: f64,
     /// Held to [`TOLERANCE_PCT`]: the closed form is exact here.
     pub asserted: bool,
@@ -273,7 +273,7 @@ impl Peer {
 }
 
 fn pct(ours: f64, cf: f64, scale: f64) -> f64 {
-    if cf == 0.0 {
+    if cf.abs() <= 1e-6 * scale {
         100.0 * (ours - cf) / scale
     } else {
         100.0 * (ours - cf) / cf.abs()
@@ -447,7 +447,7 @@ pub fn run_all(steps_per_contact: u32) -> ChungOoi {
         asserted: asserted.len(),
         failed: asserted
             .iter()
-            .filter(|c| !(c.error_pct.abs() < TOLERANCE_PCT))
+            .filter(|c| c.error_pct.is_nan() || c.error_pct.abs() >= TOLERANCE_PCT)
             .count(),
         worst_asserted_pct: asserted
             .iter()
@@ -788,7 +788,10 @@ fn oblique_test4(b: &mut Builder) {
 }
 
 /// Ours as markers, the closed form as a line, per case.
-fn pairs(data: Vec<(String, Vec<(f64, f64)>, Vec<(f64, f64)>)>) -> Vec<CurveSeries> {
+/// A case's name, its runs' points and the closed form's.
+type CasePoints = (String, Vec<(f64, f64)>, Vec<(f64, f64)>);
+
+fn pairs(data: Vec<CasePoints>) -> Vec<CurveSeries> {
     data.into_iter()
         .flat_map(|(n, ours, th)| {
             [
@@ -1285,7 +1288,15 @@ impl ChungOoi {
             md += "\n";
         }
         if let Some(p) = peer {
-            md += &format!("\nLAMMPS {} ({}).", p.version, p.how);
+            md += &format!(
+                "\nLAMMPS {} ({}). Its Hertz impacts agree with the closed forms (t_c 0.05 % \
+                 long: its contact ends on the step after δ turns negative, not interpolated). \
+                 Its `damping tsuji` does not give the e it is handed (e_out 0.235 for e = 0.1, \
+                 0.616 for 0.5, 0.928 for 0.9): that style sets η from a polynomial fit α(e), \
+                 an approximation, where ours bisects η on the exact dimensionless impact; this \
+                 LAMMPS (Debian's) has no `damping coeff_restitution`.",
+                p.version, p.how
+            );
             if !p.not_run.is_empty() {
                 md += &format!(" Not run in LAMMPS: {}.", p.not_run.join("; "));
             }
