@@ -201,16 +201,8 @@ fn crush_section(o: &ReportOptions, _: &mut Shared) -> Result<Section> {
 
 /// The Chung & Ooi (2011) impact benchmark ([`crate::chung_ooi`]): runs in about a second.
 fn chung_ooi_section(o: &ReportOptions, sh: &mut Shared) -> Result<Section> {
-    let s = crate::chung_ooi::section(&o.data)?;
-    if let Some(line) = s.markdown.lines().next() {
-        if let Some(i) = line.find(" figures asserted") {
-            let head = line[..i].rsplit(". ").next().unwrap_or("");
-            sh.summary.push(format!(
-                "Chung & Ooi impact benchmark: {head}{}",
-                &line[i..].split(". ").next().unwrap_or("")
-            ));
-        }
-    }
+    let (s, summary) = crate::chung_ooi::section(&o.data)?;
+    sh.summary.push(summary);
     Ok(s)
 }
 

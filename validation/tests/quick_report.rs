@@ -52,7 +52,10 @@ fn quick_report_writes_sane_json_for_every_section() {
     }
     assert!(md.contains("Table 2") && md.contains("error against run time"));
     // The Chung & Ooi impact benchmark: every asserted figure within its tolerance.
-    assert!(md.contains("## Chung & Ooi (2011) impact benchmark"), "{md}");
+    assert!(
+        md.contains("## Chung & Ooi (2011) impact benchmark"),
+        "{md}"
+    );
     let co = read(&out, "chung_ooi.json");
     assert_eq!(co["schema"], "dem.chung-ooi/1");
     assert_eq!(co["failed"], 0, "{co}");
