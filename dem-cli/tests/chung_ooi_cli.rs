@@ -24,8 +24,16 @@ fn bench_chung_ooi_passes_and_writes_its_results() {
         out.to_str().unwrap(),
     ]);
     let stdout = String::from_utf8_lossy(&o.stdout);
-    assert!(o.status.success(), "{stdout}\n{}", String::from_utf8_lossy(&o.stderr));
-    assert!(stdout.lines().last().unwrap().starts_with("worst asserted error: "));
+    assert!(
+        o.status.success(),
+        "{stdout}\n{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    assert!(stdout
+        .lines()
+        .last()
+        .unwrap()
+        .starts_with("worst asserted error: "));
     assert!(stdout.contains("LAMMPS: LAMMPS "), "{stdout}");
     let j: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("chung_ooi.json")).unwrap())

@@ -50,7 +50,7 @@ use std::time::Instant;
 
 /// Schema of the results file.
 pub const SCHEMA: &str = "dem.chung-ooi/1";
-/// Schema of a peer's file (`data/peers/chung-ooi-lammps.json`).
+/// Schema of a peer's file (`data/peers/chung-ooi-lammps.json`: LAMMPS, tests 1–4).
 pub const PEER_SCHEMA: &str = "dem.chung-ooi-peer/1";
 /// Asserted figures must be within this many per cent of their closed form.
 pub const TOLERANCE_PCT: f64 = 1.0;
@@ -1175,8 +1175,43 @@ impl PartnerVx for Outcome {
 }
 
 impl ChungOoi {
-    /// Adds the peer's test-3 restitutions to the test-3 figure (markers).
+    /// Adds the peer's test-3 restitutions and test-4 rebounds to their figures (markers).
     pub fn add_peer(&mut self, peer: &Peer) {
+        for (file, figure) in [
+            ("test4_et", "e_t = v_t'/v_t"),
+            ("test4_spin", "ω' (rad/s)"),
+            ("test4_rebound", "rebound angle (°)"),
+        ] {
+            for mat in ["Al oxide", "Al alloy"] {
+                let points: Vec<(f64, f64)> = self
+                    .checks
+                    .iter()
+                    .filter(|c| c.test == 4 && c.figure == figure)
+                    .filter(|c| c.case.starts_with(&format!("{mat} 3D θ=")))
+                    .filter_map(|c| {
+                        let th: f64 = c
+                            .case
+                            .rsplit('=')
+                            .next()?
+                            .trim_end_matches('°')
+                            .parse()
+                            .ok()?;
+                        peer.value(c).map(|v| (th, v))
+                    })
+                    .collect();
+                if points.is_empty() {
+                    continue;
+                }
+                if let Some(curve) = self.curves.iter_mut().find(|c| c.file.contains(file)) {
+                    curve.series.push(CurveSeries {
+                        name: format!("{mat} 3D: {} {}", peer.code, peer.version),
+                        theory: false,
+                        markers: true,
+                        points,
+                    });
+                }
+            }
+        }
         for mat in ["Al oxide", "cast iron"] {
             let points: Vec<(f64, f64)> = self
                 .checks
@@ -1348,6 +1383,33 @@ impl ChungOoi {
                 md += &format!(" Not run in LAMMPS: {}.", p.not_run.join("; "));
             }
             md += "\n";
+        }
+        if let Some(p) = peer {
+            md += "\nTest 4 in 3D beside LAMMPS (every third angle; `asserted` marks gross \
+                   sliding):\n\n| case | figure | ours | rigid body | error (%) | LAMMPS | \
+                   asserted |\n|---|---|---|---|---|---|---|\n";
+            for c in self.checks.iter().filter(|c| {
+                c.test == 4
+                    && c.case.contains(" 3D ")
+                    && ["θ=5°", "θ=20°", "θ=35°", "θ=50°", "θ=65°", "θ=80°"]
+                        .iter()
+                        .any(|t| c.case.ends_with(t))
+            }) {
+                md += &format!(
+                    "| {} | {} | {:.5} | {:.5} | {:.3} | {} | {} |\n",
+                    c.case,
+                    c.figure,
+                    c.ours,
+                    c.closed_form,
+                    c.error_pct,
+                    p.value(c).map_or("—".into(), |v| format!("{v:.5}")),
+                    if c.asserted { "yes" } else { "no" }
+                );
+            }
+            md += "\nIn the stick–slip region, where rigid-body theory is not exact, LAMMPS \
+                   (Mindlin spring, no tangential dashpot) and ours agree with each other \
+                   (negative rebound angles of the same size); in gross sliding both meet the \
+                   theory (LAMMPS within its e from `damping tsuji`).\n";
         }
         md += "\nEvery row is in `chung_ooi.json`.\n";
         md
