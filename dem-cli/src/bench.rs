@@ -20,6 +20,25 @@ pub enum BenchKind {
     /// The cutting scene `dem test cutting` runs (specimen, slot walls, rigid tool, local
     /// damping, history rows, guard), timed once the tool is in the specimen.
     Cutting(CuttingBench),
+    /// The Chung & Ooi (2011) impact benchmark (tests 1–8, `validation::chung_ooi`): a table
+    /// of each figure against its closed form (and LAMMPS where the committed peer file has
+    /// it); exit status 1 if an asserted figure is 1 % or more off. The last line is the
+    /// worst asserted error.
+    ChungOoi(ChungOoiBench),
+}
+
+/// `dem bench chung-ooi` flags.
+#[derive(Args)]
+pub struct ChungOoiBench {
+    /// Write `chung_ooi.json` (schema dem.chung-ooi/1) and the SVG figures here.
+    #[arg(long)]
+    out: Option<PathBuf>,
+    /// Time step = t_c / this.
+    #[arg(long, default_value_t = 2000)]
+    steps_per_contact: u32,
+    /// The LAMMPS results (`scripts/chung-ooi-lammps.sh`); skipped if absent.
+    #[arg(long, default_value = "data/peers/chung-ooi-lammps.json")]
+    peer: PathBuf,
 }
 
 /// `dem bench cutting` flags.
@@ -253,6 +272,7 @@ pub fn run(k: BenchKind) -> Result<ExitCode, String> {
     match k {
         BenchKind::Clump(b) => clump(b),
         BenchKind::Cutting(b) => cutting(b),
+        BenchKind::ChungOoi(b) => chung_ooi(b),
         BenchKind::Dense(b) => {
             if b.cells.is_some() || b.flat_joint.is_some() {
                 return Err("--cells and --flat-joint apply to `dem bench bonded` only".into());
@@ -458,4 +478,79 @@ fn cutting(b: CuttingBench) -> Result<ExitCode, String> {
     }
     println!("particle-steps/s: {:.4e}", work / secs);
     Ok(ExitCode::SUCCESS)
+}
+
+/// `dem bench chung-ooi`: runs the eight tests, prints every figure, writes the results.
+fn chung_ooi(b: ChungOoiBench) -> Result<ExitCode, String> {
+    use validation::chung_ooi::{run_all, Peer, TOLERANCE_PCT};
+    if b.steps_per_contact < 100 {
+        return Err("--steps-per-contact must be at least 100".into());
+    }
+    let mut r = run_all(b.steps_per_contact);
+    // The peer file as given, else relative to the repository the binary was built in.
+    let peer_path = if b.peer.exists() {
+        b.peer.clone()
+    } else {
+        std::path::Path::new(validation::REPOSITORY).join(&b.peer)
+    };
+    let peer = if peer_path.exists() {
+        Some(Peer::read(&peer_path).map_err(|e| e.to_string())?)
+    } else {
+        None
+    };
+    println!(
+        "{:>4}  {:<34} {:<24} {:>14} {:>14} {:>10} {:>14}  asserted",
+        "test", "case", "figure", "ours", "closed form", "error %", "LAMMPS"
+    );
+    for c in &r.checks {
+        let lmp = peer
+            .as_ref()
+            .and_then(|p| p.value(c))
+            .map_or("—".to_string(), |v| format!("{v:.6e}"));
+        println!(
+            "{:>4}  {:<34} {:<24} {:>14.6e} {:>14.6e} {:>10.4} {:>14}  {}",
+            c.test,
+            c.case,
+            c.figure,
+            c.ours,
+            c.closed_form,
+            c.error_pct,
+            lmp,
+            if c.asserted { "yes" } else { "no" },
+        );
+    }
+    if let Some(p) = &peer {
+        println!("LAMMPS: {} {} ({})", p.code, p.version, p.how);
+        for n in &p.not_run {
+            println!("LAMMPS did not run: {n}");
+        }
+    }
+    if let Some(p) = &peer {
+        r.add_peer(p);
+    }
+    if let Some(dir) = &b.out {
+        std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+        let write = |name: &str, bytes: &[u8]| {
+            let path = dir.join(name);
+            clumpgen::io::write_atomic(&path, bytes).map_err(|e| format!("{}: {e}", path.display()))
+        };
+        let json = serde_json::to_string_pretty(&r).map_err(|e| e.to_string())? + "\n";
+        write("chung_ooi.json", json.as_bytes())?;
+        for f in r.figures().map_err(|e| e.to_string())? {
+            write(&f.file, f.svg.as_bytes())?;
+        }
+    }
+    println!(
+        "{} asserted figures, {} at {TOLERANCE_PCT} % or more; {} reported only; {:.2} s",
+        r.asserted,
+        r.failed,
+        r.checks.len() - r.asserted,
+        r.wall_time_s
+    );
+    println!("worst asserted error: {:.4} %", r.worst_asserted_pct);
+    Ok(if r.failed == 0 {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::FAILURE
+    })
 }

@@ -29,6 +29,8 @@
 //! `docs/laws.md` tabulates them.
 
 mod hertz_mindlin;
+// Two-body impact integrator for the Chung & Ooi (2011) benchmark (issue 50 item 4).
+mod impact;
 mod kin;
 mod law;
 mod linear_spring_dashpot;
@@ -69,4 +71,10 @@ pub use vdw::{
     cylinders_force_per_length, cylinders_potential_per_length, sphere_sphere_force,
     sphere_sphere_force_near, sphere_sphere_potential, sphere_wall_force, sphere_wall_potential,
     VanDerWaals, H_MIN_DEFAULT,
+};
+
+// The two-body impact integrator (issue 50 item 4).
+pub use impact::{
+    run as run_impact, Body, HertzImpact, Impact, ImpactTangent, Law, Outcome, Partner, TracePoint,
+    HERTZ_TIME_FACTOR,
 };

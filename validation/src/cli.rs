@@ -28,7 +28,7 @@ pub struct ReportArgs {
     #[arg(long)]
     pub quick: bool,
     /// Run only these sections (comma-separated): table1, sweep, table2, damping, table3,
-    /// pictures, convergence, stability, crush. Cutting (and Table 3's bending) runs already in the output
+    /// pictures, convergence, stability, crush, chung-ooi. Cutting (and Table 3's bending) runs already in the output
     /// folder with the same parameters are read back, not run again.
     #[arg(long, value_delimiter = ',')]
     pub only: Vec<String>,

@@ -22,6 +22,7 @@ pub fn project_path(given: Option<std::path::PathBuf>, default: &str) -> std::pa
     })
 }
 
+pub mod chung_ooi;
 pub mod cli;
 pub mod clump_sweep;
 pub mod convergence;

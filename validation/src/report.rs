@@ -39,7 +39,7 @@ pub struct ReportOptions {
 }
 
 /// Section names, in the order they run.
-pub const SECTIONS: [&str; 9] = [
+pub const SECTIONS: [&str; 10] = [
     "table1",
     "sweep",
     "table2",
@@ -49,6 +49,7 @@ pub const SECTIONS: [&str; 9] = [
     "convergence",
     "stability",
     "crush",
+    "chung-ooi",
 ];
 
 /// What one section hands to the later ones.
@@ -198,6 +199,13 @@ fn crush_section(o: &ReportOptions, _: &mut Shared) -> Result<Section> {
     crate::crush::section(&o.data, &o.out, o.quick)
 }
 
+/// The Chung & Ooi (2011) impact benchmark ([`crate::chung_ooi`]): runs in about a second.
+fn chung_ooi_section(o: &ReportOptions, sh: &mut Shared) -> Result<Section> {
+    let (s, summary) = crate::chung_ooi::section(&o.data)?;
+    sh.summary.push(summary);
+    Ok(s)
+}
+
 /// What holds and what does not, first on the page (issue 48): the verdict line of each
 /// section that has one, then the sections built and those that failed.
 fn summary_section(
@@ -256,7 +264,7 @@ pub fn run(o: &ReportOptions) -> Result<String> {
     let mut env = Environment::capture(mode);
     let mut sections = Vec::new();
     type Builder = fn(&ReportOptions, &mut Shared) -> Result<Section>;
-    let all: [Builder; 9] = [
+    let all: [Builder; 10] = [
         table1_section,
         sweep_section,
         table2_section,
@@ -266,6 +274,7 @@ pub fn run(o: &ReportOptions) -> Result<String> {
         convergence_section,
         stability_section,
         crush_section,
+        chung_ooi_section,
     ];
     if let Some(bad) = o.only.iter().find(|n| !SECTIONS.contains(&n.as_str())) {
         return Err(Error::UnknownSection {

@@ -51,6 +51,15 @@ fn quick_report_writes_sane_json_for_every_section() {
         assert!(out.join(f).is_file(), "{f} missing");
     }
     assert!(md.contains("Table 2") && md.contains("error against run time"));
+    // The Chung & Ooi impact benchmark: every asserted figure within its tolerance.
+    assert!(
+        md.contains("## Chung & Ooi (2011) impact benchmark"),
+        "{md}"
+    );
+    let co = read(&out, "chung_ooi.json");
+    assert_eq!(co["schema"], "dem.chung-ooi/1");
+    assert_eq!(co["failed"], 0, "{co}");
+    assert!(out.join("chung_ooi_test1_force.svg").is_file());
     // Crushable grains: two grains at two sizes, their strengths and the fits.
     assert!(md.contains("## Crushable grains"), "{md}");
     let cr = read(&out.join("crush"), "results.json");
