@@ -12,7 +12,7 @@ use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
 mod common;
-use common::{dem, material, text, tmp};
+use common::{dem, dem_in, material, text, tmp};
 
 /// A cutting study of tiny cases; `speed` sets the run length (10 m/s: ~60,000 steps).
 fn study(name: &str, speed: &str, depths: &[&str], seeds: &[u64]) -> Value {
@@ -638,4 +638,21 @@ fn an_edited_plan_or_a_changed_input_is_refused_before_running() {
         "{t}"
     );
     std::fs::remove_dir_all(&d).ok();
+}
+
+/// A sweep folder named relative to the working directory: the cases (which start in the
+/// sweep folder) still write into its cases/ (they once wrote to sw/sw/cases/… and every case
+/// failed with "exit code 0 but no …result.json").
+#[test]
+fn a_relative_sweep_folder_runs() {
+    let d = tmp("relative");
+    write(&d, "s.json", &study("r", "10m/s", &["0.3mm"], &[1]));
+    let o = dem_in(&d, &["sweep", "plan", "s.json", "--out", "sw"]);
+    assert!(o.status.success(), "{}", text(&o));
+    let o = dem_in(&d, &["sweep", "run", "sw"]);
+    assert!(o.status.success(), "{}", text(&o));
+    let cs = cases(&d.join("sw"));
+    assert!(case_dir(&d.join("sw"), &cs[0]).join("done.json").exists());
+    assert!(!d.join("sw/sw").exists());
+    let _ = std::fs::remove_dir_all(&d);
 }

@@ -277,8 +277,11 @@ fn start_child(
     threads: usize,
     log: std::fs::File,
 ) -> Result<Child> {
+    let log_path = c.dir(dir).join(LOG_FILE);
+    // The child starts in the sweep folder, so the folders it is given must not be relative
+    // to ours (`dem sweep run dir` once wrote to dir/dir/cases/…).
+    let dir = &std::path::absolute(dir).map_err(|e| Error::io(dir, e))?;
     let cdir = c.dir(dir);
-    let log_path = cdir.join(LOG_FILE);
     let err = log.try_clone().map_err(|e| Error::io(&log_path, e))?;
     let mut cmd = Command::new(exe);
     cmd.args(&c.argv).current_dir(dir);
