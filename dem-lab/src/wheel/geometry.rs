@@ -294,7 +294,9 @@ mod tests {
             assert!((c[0][0].hypot(c[0][1]) - g.r_inner).abs() < 1e-15);
             let depth = (c[0][0] - c[1][0]).hypot(c[0][1] - c[1][1]);
             let width = (c[1][0] - c[2][0]).hypot(c[1][1] - c[2][1]);
-            assert!((depth - g.groove_depth).abs() < 1e-15 && (width - g.groove_width).abs() < 1e-15);
+            assert!(
+                (depth - g.groove_depth).abs() < 1e-15 && (width - g.groove_width).abs() < 1e-15
+            );
         }
         eprintln!("groove corners: worst distance from groove 1's rotated {worst:.2e} m");
         assert!(worst < 1e-15, "{worst}");
@@ -309,11 +311,41 @@ mod tests {
     #[test]
     fn bad_grooves_name_the_field() {
         let cases = [
-            (GrooveRing { grooves: 40, ..ring() }, "grooves"),
-            (GrooveRing { groove_width: 4.5e-3, ..ring() }, "groove_width"),
-            (GrooveRing { groove_depth: 2.5e-3, ..ring() }, "groove_depth"),
-            (GrooveRing { grooves: 0, ..ring() }, "grooves"),
-            (GrooveRing { r_outer: 2.5e-3, ..ring() }, "r_outer"),
+            (
+                GrooveRing {
+                    grooves: 40,
+                    ..ring()
+                },
+                "grooves",
+            ),
+            (
+                GrooveRing {
+                    groove_width: 4.5e-3,
+                    ..ring()
+                },
+                "groove_width",
+            ),
+            (
+                GrooveRing {
+                    groove_depth: 2.5e-3,
+                    ..ring()
+                },
+                "groove_depth",
+            ),
+            (
+                GrooveRing {
+                    grooves: 0,
+                    ..ring()
+                },
+                "grooves",
+            ),
+            (
+                GrooveRing {
+                    r_outer: 2.5e-3,
+                    ..ring()
+                },
+                "r_outer",
+            ),
         ];
         for (g, field) in cases {
             match g.validate(1e-3) {

@@ -115,9 +115,9 @@ pub fn layout(shape: GritShape, rows: u32, r: f64) -> Vec<[f64; 2]> {
         }
     }
     // Centre in x, base row's discs at y = 0.
-    let (x0, x1) = v
-        .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |a, p| (a.0.min(p[0]), a.1.max(p[0])));
+    let (x0, x1) = v.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |a, p| {
+        (a.0.min(p[0]), a.1.max(p[0]))
+    });
     let y0 = v.iter().map(|p| p[1]).fold(f64::INFINITY, f64::min);
     let xc = 0.5 * (x0 + x1);
     v.iter().map(|p| [p[0] - xc, p[1] - y0]).collect()
@@ -126,8 +126,9 @@ pub fn layout(shape: GritShape, rows: u32, r: f64) -> Vec<[f64; 2]> {
 /// Tangential width and radial height of a layout's discs (m), outer edges included.
 pub fn extent(v: &[[f64; 2]], r: f64) -> (f64, f64) {
     let f = |k: usize| {
-        v.iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |a, p| (a.0.min(p[k]), a.1.max(p[k])))
+        v.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |a, p| {
+            (a.0.min(p[k]), a.1.max(p[k]))
+        })
     };
     let (x, y) = (f(0), f(1));
     (x.1 - x.0 + 2.0 * r, y.1 - y.0 + 2.0 * r)
@@ -291,8 +292,19 @@ mod tests {
             Err(LabError::Param { field, .. }) => assert!(field.starts_with("grits"), "{field}"),
             other => panic!("{other:?}"),
         }
-        assert!(GritParams { count: 20, ..g.clone() }.validate(5e-3).is_ok());
-        match (GritParams { protrusion: 1e-3, count: 20, ..g }).validate(5e-3) {
+        assert!(GritParams {
+            count: 20,
+            ..g.clone()
+        }
+        .validate(5e-3)
+        .is_ok());
+        match (GritParams {
+            protrusion: 1e-3,
+            count: 20,
+            ..g
+        })
+        .validate(5e-3)
+        {
             Err(LabError::Param { field, .. }) => assert!(field.contains("protrusion")),
             other => panic!("{other:?}"),
         }

@@ -40,8 +40,8 @@ use crate::specimen::rng::Rng;
 use crate::LabError;
 use dem_core::scene::schema::{
     BodiesSpec, BondGroupSpec, BondListSpec, BondModelName, ContactSpec, CriterionName,
-    DampingSpec, DiscSetSpec, LawName, LengthUnit, RunSpec, SceneFile, SpecimenFile,
-    SpecimenRef, WallSpec, SPECIMEN_SCHEMA,
+    DampingSpec, DiscSetSpec, LawName, LengthUnit, RunSpec, SceneFile, SpecimenFile, SpecimenRef,
+    WallSpec, SPECIMEN_SCHEMA,
 };
 use geometry::{GrooveRing, Walls};
 use grits::GritParams;
@@ -177,10 +177,22 @@ impl WheelParams {
         p("bond_strength (--bond-strength)", self.bond_strength)?;
         p("grit_density (--grit-density)", self.grit_density)?;
         p("grit_modulus (--grit-modulus)", self.grit_modulus)?;
-        p("grit_bond_modulus (--grit-bond-modulus)", self.grit_bond_modulus)?;
-        p("grit_bond_tensile (--grit-bond-tensile)", self.grit_bond_tensile)?;
-        p("grit_bond_cohesion (--grit-bond-cohesion)", self.grit_bond_cohesion)?;
-        p("porosity_tolerance (--porosity-tolerance)", self.porosity_tolerance)?;
+        p(
+            "grit_bond_modulus (--grit-bond-modulus)",
+            self.grit_bond_modulus,
+        )?;
+        p(
+            "grit_bond_tensile (--grit-bond-tensile)",
+            self.grit_bond_tensile,
+        )?;
+        p(
+            "grit_bond_cohesion (--grit-bond-cohesion)",
+            self.grit_bond_cohesion,
+        )?;
+        p(
+            "porosity_tolerance (--porosity-tolerance)",
+            self.porosity_tolerance,
+        )?;
         for (f, v) in [
             ("friction (--friction)", self.friction),
             ("bond_gap (--bond-gap)", self.bond_gap),
@@ -340,7 +352,11 @@ pub fn build(p: &WheelParams, progress: &mut dyn FnMut(&str)) -> Result<Wheel, L
         .grits
         .place(p.ring.r_outer, &mut rng)
         .into_iter()
-        .map(|g| g.into_iter().map(|c| [c[0], c[1], p.grits.radius]).collect())
+        .map(|g| {
+            g.into_iter()
+                .map(|c| [c[0], c[1], p.grits.radius])
+                .collect()
+        })
         .collect();
     let packed = discs.clone();
     let under = |d: [f64; 3]| grits.iter().flatten().any(|g| gap(d, *g) < 0.0);
@@ -582,7 +598,13 @@ impl Wheel {
             seed: p.seed,
             materials: vec![
                 material(WHEEL_MATERIAL, Some(p.density), kn, ks, p.friction),
-                material(GRIT_MATERIAL, Some(p.grit_density), kg, kg / p.stiffness_ratio, p.friction),
+                material(
+                    GRIT_MATERIAL,
+                    Some(p.grit_density),
+                    kg,
+                    kg / p.stiffness_ratio,
+                    p.friction,
+                ),
                 material(WALL_MATERIAL, None, kn, ks, 0.0),
             ],
             contact: ContactSpec {

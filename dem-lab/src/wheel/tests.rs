@@ -193,10 +193,11 @@ fn free_turn(dir: &Path, frame: DampingFrame, omega: f64, turns: f64) -> (f64, f
         .map(|(a, b)| (a - b).abs())
         .fold(0.0, f64::max)
         / w.params.r_min;
-    let broken = world
-        .bonds
-        .as_ref()
-        .map_or(0, |b| b.iter().filter(|v| v.status != dem_core::bond::BondStatus::Intact).count() as u64);
+    let broken = world.bonds.as_ref().map_or(0, |b| {
+        b.iter()
+            .filter(|v| v.status != dem_core::bond::BondStatus::Intact)
+            .count() as u64
+    });
     (spin(&world) / s0, shape, broken)
 }
 
