@@ -102,7 +102,7 @@ pub struct WheelParams {
 
 impl WheelParams {
     /// A small wheel: 5 mm outer, 2 mm hub radius, 6 grooves 0.6 × 0.5 mm, discs 0.1–0.15
-    /// mm at porosity 0.16, 12 triangular grits of 5 rows of 0.06 mm discs, vitrified-bond-like
+    /// mm at porosity 0.18, 12 triangular grits of 5 rows of 0.06 mm discs, vitrified-bond-like
     /// wheel (2500 kg/m³, E_c 30 GPa) and diamond-like grits (3500 kg/m³, 300 GPa).
     pub fn small() -> WheelParams {
         WheelParams {
@@ -116,7 +116,7 @@ impl WheelParams {
             },
             r_min: 0.1e-3,
             r_max: 0.15e-3,
-            porosity: 0.16,
+            porosity: 0.18,
             porosity_tolerance: 0.005,
             seed: 1,
             thickness: 1e-3,
