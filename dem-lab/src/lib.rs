@@ -19,6 +19,8 @@
 //!                 box), lattice (what they share), weibull (strength statistics)
 //! analysis/       the standard formulas (E, ν, UCS, σ_t, σ_f, K_IC, Mohr–Coulomb), force
 //!                 stats of cutting histories (force_stats: seed-averaged moving-mean peak)
+//! wheel/          the grinding wheel of S1: grooved hub and outer circle as walls, annulus
+//!                 packing to a porosity, contact bonds, grits bonded by parallel bonds
 //! calibrate/      micro-parameters from target properties (Potyondy & Cundall 2004), on the
 //!                 virtual_lab of UCS, bending and Brazilian tests
 //!
@@ -58,6 +60,7 @@ pub mod model;
 pub mod run;
 pub mod specimen;
 pub mod tests;
+pub mod wheel;
 
 pub use calibrate::{calibrate, Calibration, MaterialFile, Targets};
 pub use crushing::column::ColumnTest;
