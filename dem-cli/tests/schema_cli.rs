@@ -9,7 +9,14 @@ use std::path::{Path, PathBuf};
 mod common;
 use common::{dem, text, tmp};
 
-const KINDS: [&str; 5] = ["scene", "template", "specimen", "study", "cutting-params"];
+const KINDS: [&str; 6] = [
+    "scene",
+    "template",
+    "specimen",
+    "study",
+    "cutting-params",
+    "law",
+];
 
 fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
