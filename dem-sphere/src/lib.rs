@@ -48,7 +48,10 @@ pub mod energy;
 mod error;
 pub mod grid;
 pub mod pack;
-pub mod rng;
+/// The insertion's random numbers: clumpgen's SplitMix64 (Steele, Lea & Flood 2014).
+pub mod rng {
+    pub use clumpgen::synth::SplitMix64;
+}
 mod state;
 mod walls;
 mod world;
